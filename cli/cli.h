@@ -1,0 +1,57 @@
+/* cli.h - shared pieces of the command-line tool: option parsing, the context, error exits.
+ * The tool uses only the public header. Exit status: 0 ok, 1 error, 2 usage error. */
+#ifndef RAD_CLI_H
+#define RAD_CLI_H
+
+#include "radiosity.h"
+
+#include <stdio.h>
+
+#define EXIT_USAGE 2
+
+typedef enum cli_option_kind {
+    CLI_FLAG,    /* int, set to 1 */
+    CLI_INT,     /* int, >= 0 */
+    CLI_SIZE,    /* size_t */
+    CLI_DOUBLE,  /* double, finite */
+    CLI_STRING,  /* const char * */
+    CLI_VEC3     /* double[3], "X,Y,Z" */
+} cli_option_kind;
+
+typedef struct cli_option {
+    const char *name; /* "--iterations" */
+    cli_option_kind kind;
+    void *target;
+    const char *help; /* "N  stop after N rounds or shots" */
+} cli_option;
+
+/* Parses argv against the options; positional arguments go to positional[] (at most
+ * max_positional). Prints a usage error and returns EXIT_USAGE, or 0 when fine, or -1 after
+ * printing help for --help. */
+int cli_parse(const char *command, const char *synopsis, const cli_option *options, int argc,
+              char **argv, const char **positional, int max_positional, int *positional_count);
+
+/* Prints help for a command: synopsis and options. */
+void cli_print_help(FILE *out, const char *command, const char *synopsis,
+                    const cli_option *options);
+
+/* A context whose warnings go to stderr (unless quiet). Exits with 1 when it cannot. */
+rad_context *cli_context(int threads, uint64_t seed, double max_memory_mib, int quiet);
+
+/* Prints "radiosity: message" for the context's error and returns 1. */
+int cli_fail(rad_context *ctx, rad_status status);
+
+/* Prints "radiosity: ..." and returns the given exit status. */
+int cli_error(int exit_status, const char *format, ...) __attribute__((format(printf, 2, 3)));
+
+/* Loads SCENE as a built-in name or a file. */
+rad_status cli_load_scene(rad_context *ctx, const char *name, rad_scene **out);
+
+/* Parses a form-factor method name; -1 when unknown. */
+int cli_parse_ff_method(const char *name);
+
+/* Commands. */
+int cmd_solve(int argc, char **argv);
+int cmd_scenes(int argc, char **argv);
+
+#endif

@@ -1,0 +1,37 @@
+/* json.c - JSON output helpers. */
+#include "json.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+void json_string(FILE *out, const char *text) {
+    fputc('"', out);
+    for (const unsigned char *s = (const unsigned char *)text; *s; ++s) {
+        if (*s == '"' || *s == '\\') fprintf(out, "\\%c", *s);
+        else if (*s < 0x20) fprintf(out, "\\u%04x", *s);
+        else fputc(*s, out);
+    }
+    fputc('"', out);
+}
+
+void json_number(FILE *out, double value) {
+    if (!isfinite(value)) fputs("null", out);
+    else {
+        /* The shortest form that reads back as the same double. */
+        char text[32];
+        for (int digits = 15; digits <= 17; ++digits) {
+            snprintf(text, sizeof text, "%.*g", digits, value);
+            if (strtod(text, NULL) == value) break;
+        }
+        fputs(text, out);
+    }
+}
+
+void json_rgb(FILE *out, const double rgb[3]) {
+    fputc('[', out);
+    for (int c = 0; c < 3; ++c) {
+        if (c) fputs(", ", out);
+        json_number(out, rgb[c]);
+    }
+    fputc(']', out);
+}

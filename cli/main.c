@@ -1,0 +1,44 @@
+/* main.c - the radiosity command-line tool: dispatch to commands. */
+#include "cli.h"
+
+#include <string.h>
+
+typedef struct command {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} command;
+
+static const command commands[] = {
+    {"solve", cmd_solve, "solve a scene and print the radiosity of each surface"},
+    {"scenes", cmd_scenes, "list the built-in scenes (or export one)"},
+};
+#define COMMAND_COUNT (sizeof commands / sizeof commands[0])
+
+static void usage(FILE *out) {
+    fprintf(out, "usage: radiosity COMMAND [options]\n\n"
+                 "Radiosity global illumination: patches exchanging diffuse light.\n\ncommands:\n");
+    for (size_t i = 0; i < COMMAND_COUNT; ++i)
+        fprintf(out, "  %-12s %s\n", commands[i].name, commands[i].summary);
+    fprintf(out, "\nradiosity COMMAND --help shows a command's options; radiosity --version its "
+                 "version.\n");
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        usage(stderr);
+        return EXIT_USAGE;
+    }
+    const char *name = argv[1];
+    if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0 || strcmp(name, "help") == 0) {
+        usage(stdout);
+        return 0;
+    }
+    if (strcmp(name, "--version") == 0) {
+        printf("radiosity %s\n", rad_version());
+        return 0;
+    }
+    for (size_t i = 0; i < COMMAND_COUNT; ++i)
+        if (strcmp(commands[i].name, name) == 0) return commands[i].run(argc - 2, argv + 2);
+    return cli_error(EXIT_USAGE, "unknown command '%s' (radiosity --help lists them)", name);
+}

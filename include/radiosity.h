@@ -1,0 +1,256 @@
+/*
+ * radiosity.h - the public interface of the radiosity library.
+ *
+ * Radiosity solves the rendering equation for diffuse surfaces as an exchange of energy between
+ * patches:  B_k = E_k + rho_k * sum_j B_j A_j F_jk / A_k.
+ *
+ * The data flows one way:  scene -> mesh -> form factors -> solver -> outputs.
+ *   rad_scene   what was loaded: a patch system with given form factors (.ffm) or geometry.
+ *   rad_system  the scene cut into patches (which shoot) and elements (which receive), with a
+ *               form-factor provider; it holds the radiosity solution.
+ *   rad_solve   runs one of the classic solvers on a system.
+ *
+ * Conventions (after Embree and SQLite):
+ *   - Every fallible call returns a rad_status; the message is kept on the context
+ *     (rad_context_error) until the next failing call.
+ *   - Each create has one destroy; destroying NULL is fine.
+ *   - Option structs are valid when zeroed: zero means "the default".
+ *   - The library never exits and never prints; warnings go to the log callback.
+ *   - Units: see docs/units.md. Emission in scene files is radiance L; the solver works in
+ *     radiosity (exitance) B = pi L. Patch systems (.ffm) give emission directly as radiosity.
+ */
+#ifndef RADIOSITY_H
+#define RADIOSITY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---------------------------------------------------------------------------------------------
+ * Status codes
+ * ------------------------------------------------------------------------------------------- */
+
+typedef enum rad_status {
+    RAD_OK = 0,
+    RAD_ERROR_INVALID_ARGUMENT, /* a bad value handed to the library */
+    RAD_ERROR_PARSE,            /* an input file is malformed; the message names file:line */
+    RAD_ERROR_IO,               /* a file could not be opened, read or written */
+    RAD_ERROR_NO_MEMORY,        /* an allocation failed */
+    RAD_ERROR_MEMORY_BUDGET,    /* the work would not fit rad_context_options.max_memory */
+    RAD_ERROR_UNSUPPORTED,      /* a format or feature this build does not handle */
+    RAD_ERROR_CANCELLED,        /* the progress callback asked to stop */
+    RAD_ERROR_INTERNAL          /* a failure inside a dependency (Embree, assimp) */
+} rad_status;
+
+/* A short name for a status ("parse error"); static storage. */
+const char *rad_status_name(rad_status status);
+
+/* The library version, "MAJOR.MINOR.PATCH"; static storage. */
+const char *rad_version(void);
+
+/* ---------------------------------------------------------------------------------------------
+ * Context: allocator, log, progress, threads, limits, and the last error
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct rad_context rad_context;
+
+typedef enum rad_log_level { RAD_LOG_INFO = 0, RAD_LOG_WARNING = 1 } rad_log_level;
+
+typedef void (*rad_log_fn)(void *user, rad_log_level level, const char *message);
+
+/* Called now and then during long work. `phase` names the step ("form factors", "shooting");
+ * done/total measure it in the phase's own unit. Return nonzero to cancel: the running call
+ * then returns RAD_ERROR_CANCELLED and leaves its results as far as they got. */
+typedef int (*rad_progress_fn)(void *user, const char *phase, double done, double total);
+
+/* One allocator for everything the library allocates itself. All three functions or none. */
+typedef struct rad_allocator {
+    void *(*allocate)(void *user, size_t size);
+    void *(*reallocate)(void *user, void *pointer, size_t size);
+    void (*release)(void *user, void *pointer);
+    void *user;
+} rad_allocator;
+
+typedef struct rad_context_options {
+    rad_allocator allocator; /* zero: malloc, realloc, free */
+    rad_log_fn log;          /* zero: warnings are dropped */
+    void *log_user;
+    rad_progress_fn progress; /* zero: no progress reports */
+    void *progress_user;
+    int threads;          /* worker threads; zero: all cores */
+    uint64_t seed;        /* seed for every random choice; the same seed gives the same result */
+    uint64_t max_memory;  /* bytes a form-factor matrix or dense solve may take; zero: 2 GiB */
+} rad_context_options;
+
+rad_status rad_context_create(const rad_context_options *options, rad_context **out);
+void rad_context_destroy(rad_context *context);
+
+/* The message of the last failing call ("file:line: what is wrong" for parse errors), or "".
+ * Lives until the next failing call on this context. */
+const char *rad_context_error(const rad_context *context);
+
+/* ---------------------------------------------------------------------------------------------
+ * Scenes
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct rad_scene rad_scene;
+
+/* Loads a scene file: ".ffm" is a patch system (docs/formats.md); anything else goes through
+ * assimp (OBJ/MTL, glTF, GLB, PLY, ...). */
+rad_status rad_scene_load(rad_context *context, const char *path, rad_scene **out);
+
+/* Parses a patch system from text. `source_name` is used in error messages. */
+rad_status rad_scene_parse_ffm(rad_context *context, const char *text, size_t length,
+                               const char *source_name, rad_scene **out);
+
+/* Built-in scenes by name ("four-walls", "cornell", ...). */
+rad_status rad_scene_builtin(rad_context *context, const char *name, rad_scene **out);
+size_t rad_builtin_scene_count(void);
+const char *rad_builtin_scene_name(size_t index);        /* static storage */
+const char *rad_builtin_scene_description(size_t index); /* static storage */
+
+void rad_scene_destroy(rad_scene *scene);
+
+/* Nonzero when the scene is geometry (form factors computed), zero for a patch system. */
+int rad_scene_is_geometric(const rad_scene *scene);
+
+/* ---------------------------------------------------------------------------------------------
+ * Systems: patches, elements, form factors and the solution
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct rad_system rad_system;
+
+typedef enum rad_ff_method {
+    RAD_FF_DEFAULT = 0,
+    RAD_FF_ANALYTIC,   /* point-to-polygon contour integral, ray-tested visibility */
+    RAD_FF_HEMICUBE,   /* Cohen & Greenberg 1985 */
+    RAD_FF_RAYCAST,    /* Wallace, Elmquist & Haines 1989 */
+    RAD_FF_MONTECARLO  /* area to area, random point pairs with visibility */
+} rad_ff_method;
+
+/* Meshing, after Cohen et al. 1986: surfaces are cut into patches, patches into elements.
+ * Sizes are the longest edge in scene units. Zero: defaults (docs/meshing.md). */
+typedef struct rad_mesh_options {
+    double patch_size;
+    double element_size;
+    size_t elements; /* approximate total element count; used when element_size is zero */
+} rad_mesh_options;
+
+typedef struct rad_ff_options {
+    rad_ff_method method;
+    int samples;             /* rays or point pairs per form factor; zero: the method's default */
+    int hemicube_resolution; /* pixels along the top face; zero: default */
+} rad_ff_options;
+
+/* Builds the system of a scene: meshing and form-factor set-up for geometry (the options are
+ * ignored for patch systems). The scene may be destroyed afterwards. */
+rad_status rad_system_create(rad_context *context, const rad_scene *scene,
+                             const rad_mesh_options *mesh, const rad_ff_options *ff,
+                             rad_system **out);
+
+/* A patch, for building systems from arrays. */
+typedef struct rad_patch_desc {
+    const char *name;
+    double area;
+    double reflectance[3];
+    double emission[3]; /* radiosity emitted, B units */
+} rad_patch_desc;
+
+/* A system of `count` patches with a dense form-factor matrix given row by row:
+ * form_factors[i * count + j] is the fraction of the energy leaving patch i that arrives at j.
+ * Everything is copied. */
+rad_status rad_system_create_dense(rad_context *context, const rad_patch_desc *patches,
+                                   size_t count, const float *form_factors, rad_system **out);
+
+void rad_system_destroy(rad_system *system);
+
+size_t rad_system_surface_count(const rad_system *system);
+size_t rad_system_patch_count(const rad_system *system);
+size_t rad_system_element_count(const rad_system *system);
+
+/* A named input surface (a patch of a .ffm file, an object of a geometric scene) and its share
+ * of the solution: radiosity is the area-weighted mean over its elements, power = radiosity *
+ * area (W when radiosity is W/m^2). */
+typedef struct rad_surface_info {
+    const char *name; /* lives as long as the system */
+    double area;
+    double reflectance[3];
+    double emission[3];
+    double radiosity[3];
+    double unshot[3];
+    double power[3];
+} rad_surface_info;
+
+rad_status rad_system_surface(const rad_system *system, size_t index, rad_surface_info *out);
+
+/* The form factor between two surfaces, each surface's elements combined by area: the fraction
+ * of the energy leaving surface `from` that arrives at surface `to`. Fills a row-major
+ * surface_count x surface_count matrix. */
+rad_status rad_system_surface_form_factors(rad_system *system, double *matrix);
+
+/* Per-element solution, in element order. `radiosity` may be NULL. */
+rad_status rad_system_element_radiosity(const rad_system *system, size_t element,
+                                        double radiosity[3]);
+
+/* Resets the solution to B = E, unshot = E (what every solver starts from). */
+void rad_system_reset(rad_system *system);
+
+/* ---------------------------------------------------------------------------------------------
+ * Solvers
+ * ------------------------------------------------------------------------------------------- */
+
+typedef enum rad_solver_kind {
+    RAD_SOLVER_DIRECT = 0,  /* Gaussian elimination with partial pivoting (LAPACK dgesv) */
+    RAD_SOLVER_JACOBI,      /* gathering from the previous round */
+    RAD_SOLVER_GAUSS_SEIDEL, /* gathering in place */
+    RAD_SOLVER_SHOOTING     /* progressive refinement, Cohen et al. 1988 */
+} rad_solver_kind;
+
+/* Parses "direct", "jacobi", "gauss-seidel", "shooting"; returns -1 when unknown. */
+int rad_solver_kind_parse(const char *name);
+const char *rad_solver_kind_name(rad_solver_kind kind);
+
+/* What one round (gathering) or one shot (shooting) did, per surface (area-weighted means over
+ * the surface's elements). Arrays have surface_count entries and live during the callback. */
+typedef struct rad_trace_event {
+    int iteration;          /* 1 for the first round or shot */
+    long shooter;           /* surface that shot, or -1 for gathering */
+    size_t surface_count;
+    const double (*received)[3];  /* light arriving: sum_j B_j A_j F_jk / A_k (this round/shot) */
+    const double (*reflected)[3]; /* shooting: rho * received, added to radiosity and unshot */
+    const double (*radiosity)[3]; /* after the round or shot */
+    const double (*unshot)[3];    /* shooting only; NULL for gathering */
+} rad_trace_event;
+
+typedef void (*rad_trace_fn)(void *user, const rad_trace_event *event);
+
+typedef struct rad_solve_options {
+    rad_solver_kind solver;
+    int max_iterations;   /* rounds or shots; zero: until converged (with a safety cap) */
+    double tolerance;     /* zero: 1e-6. Gathering: largest change between rounds relative to
+                             the largest radiosity; shooting: unshot power over emitted power */
+    double omega;         /* over-relaxation, zero: 1 (Gauss-Seidel: SOR; shooting: overshoot) */
+    int ambient;          /* shooting: add the ambient term to displayed results */
+    rad_trace_fn trace;   /* zero: no trace */
+    void *trace_user;
+} rad_solve_options;
+
+typedef struct rad_solve_report {
+    int iterations;
+    int converged;
+    double residual;       /* the stopping measure at the end */
+    double seconds;
+} rad_solve_report;
+
+/* Solves the system from B = E, until converged or max_iterations. The solution stays on the
+ * system. A stop by max_iterations is not an error (report->converged is 0). */
+rad_status rad_solve(rad_system *system, const rad_solve_options *options,
+                     rad_solve_report *report);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* RADIOSITY_H */

@@ -1,0 +1,119 @@
+/* load.c - scene loading by file kind, and the list of built-in scenes. */
+#include "scene/scene.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+static const char four_walls_ffm[] =
+    "# The four-surface room of the lecture notes, seen in cross-section.\n"
+    "# Adjacent surfaces receive 1/4 of the energy leaving a surface, the opposite one 1/2.\n"
+    "patch ceiling area 1 reflectance 0.75 emission 0\n"
+    "patch floor   area 1 reflectance 0.10 emission 0\n"
+    "patch left    area 1 reflectance 0.75 emission 0\n"
+    "patch right   area 1 reflectance 0.01 emission 1   # a window\n"
+    "ff ceiling floor 0.5\nff ceiling left 0.25\nff ceiling right 0.25\n"
+    "ff floor ceiling 0.5\nff floor left 0.25\nff floor right 0.25\n"
+    "ff left right 0.5\nff left ceiling 0.25\nff left floor 0.25\n"
+    "ff right left 0.5\nff right ceiling 0.25\nff right floor 0.25\n";
+
+typedef struct builtin_entry {
+    const char *name;
+    const char *description;
+    const char *ffm; /* NULL: geometry, built by rad_builtin_geometry */
+} builtin_entry;
+
+static const builtin_entry builtins[] = {
+    {"four-walls", "the four-surface room of the lecture notes (patch system)", four_walls_ffm},
+    {"cornell", "the Cornell box, Cornell University Program of Computer Graphics data (mm)", NULL},
+    {"cornell-mirror", "the Cornell box with a mirror tall block and a glass sphere", NULL},
+    {"two-squares", "two opposed unit squares one unit apart, one emitting", NULL},
+    {"unit-cube", "a closed unit cube facing inwards, reflectance 0.5, the top emitting", NULL},
+};
+#define BUILTIN_COUNT (sizeof builtins / sizeof builtins[0])
+
+size_t rad_builtin_scene_count(void) { return BUILTIN_COUNT; }
+const char *rad_builtin_scene_name(size_t index) {
+    return index < BUILTIN_COUNT ? builtins[index].name : NULL;
+}
+const char *rad_builtin_scene_description(size_t index) {
+    return index < BUILTIN_COUNT ? builtins[index].description : NULL;
+}
+
+rad_status rad_scene_builtin(rad_context *ctx, const char *name, rad_scene **out) {
+    if (!ctx || !name || !out) return RAD_ERROR_INVALID_ARGUMENT;
+    *out = NULL;
+    for (size_t i = 0; i < BUILTIN_COUNT; ++i) {
+        if (strcmp(builtins[i].name, name) != 0) continue;
+        if (builtins[i].ffm)
+            return rad_scene_parse_ffm(ctx, builtins[i].ffm, strlen(builtins[i].ffm), name, out);
+        return rad_builtin_geometry(ctx, name, out);
+    }
+    return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                    "no built-in scene '%s' (radiosity scenes lists them)", name);
+}
+
+static int has_extension(const char *path, const char *extension) {
+    size_t n = strlen(path), m = strlen(extension);
+    if (n < m) return 0;
+    for (size_t i = 0; i < m; ++i) {
+        char a = path[n - m + i], b = extension[i];
+        if (a >= 'A' && a <= 'Z') a = (char)(a - 'A' + 'a');
+        if (a != b) return 0;
+    }
+    return 1;
+}
+
+/* Reads a whole file into memory (NUL-terminated). */
+static rad_status read_file(rad_context *ctx, const char *path, char **text, size_t *length) {
+    FILE *file = fopen(path, "rb");
+    if (!file) return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(errno));
+    size_t capacity = 4096, used = 0;
+    char *buffer = rad_alloc(ctx, capacity, 1);
+    if (!buffer) {
+        fclose(file);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    for (;;) {
+        if (used + 1 >= capacity) {
+            char *grown = rad_realloc(ctx, buffer, capacity * 2, 1);
+            if (!grown) {
+                rad_free(ctx, buffer);
+                fclose(file);
+                return RAD_ERROR_NO_MEMORY;
+            }
+            buffer = grown;
+            capacity *= 2;
+        }
+        size_t got = fread(buffer + used, 1, capacity - used - 1, file);
+        used += got;
+        if (got == 0) break;
+    }
+    int failed = ferror(file);
+    fclose(file);
+    if (failed) {
+        rad_free(ctx, buffer);
+        return rad_fail(ctx, RAD_ERROR_IO, "%s: read error", path);
+    }
+    buffer[used] = '\0';
+    *text = buffer;
+    *length = used;
+    return RAD_OK;
+}
+
+rad_status rad_scene_load(rad_context *ctx, const char *path, rad_scene **out) {
+    if (!ctx || !path || !out) return RAD_ERROR_INVALID_ARGUMENT;
+    *out = NULL;
+    if (!has_extension(path, ".ffm")) return rad_scene_import(ctx, path, out);
+    char *text = NULL;
+    size_t length = 0;
+    rad_status status = read_file(ctx, path, &text, &length);
+    if (status) return status;
+    if (length == 0) {
+        rad_free(ctx, text);
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: empty file", path);
+    }
+    status = rad_scene_parse_ffm(ctx, text, length, path, out);
+    rad_free(ctx, text);
+    return status;
+}

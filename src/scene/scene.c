@@ -1,0 +1,148 @@
+/* scene.c - scene storage and builders shared by the .ffm parser, the built-in scenes and the
+ * importer. */
+#include "scene/scene.h"
+
+#include <string.h>
+
+rad_status rad_scene_new(rad_context *ctx, int geometric, const char *source, rad_scene **out) {
+    *out = NULL;
+    rad_scene *scene = rad_alloc_zero(ctx, 1, sizeof *scene);
+    if (!scene) return RAD_ERROR_NO_MEMORY;
+    scene->ctx = ctx;
+    scene->geometric = geometric;
+    scene->source = rad_strdup(ctx, source ? source : "");
+    if (!scene->source) {
+        rad_free(ctx, scene);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    *out = scene;
+    return RAD_OK;
+}
+
+void rad_scene_destroy(rad_scene *scene) {
+    if (!scene) return;
+    rad_context *ctx = scene->ctx;
+    for (size_t i = 0; i < scene->patch_count; ++i) rad_free(ctx, scene->patches[i].name);
+    rad_free(ctx, scene->patches);
+    rad_free(ctx, scene->form_factors);
+    for (size_t i = 0; i < scene->surface_count; ++i) rad_free(ctx, scene->surfaces[i].name);
+    for (size_t i = 0; i < scene->material_count; ++i) rad_free(ctx, scene->materials[i].name);
+    rad_free(ctx, scene->surfaces);
+    rad_free(ctx, scene->materials);
+    rad_free(ctx, scene->vertices);
+    rad_free(ctx, scene->polygon_vertices);
+    rad_free(ctx, scene->polygons);
+    rad_free(ctx, scene->source);
+    rad_free(ctx, scene);
+}
+
+int rad_scene_is_geometric(const rad_scene *scene) { return scene && scene->geometric; }
+
+/* Makes room for one more item in a growing array. */
+static rad_status grow(rad_context *ctx, void **items, size_t *capacity, size_t count,
+                       size_t item_size) {
+    if (count < *capacity) return RAD_OK;
+    size_t wanted = *capacity ? *capacity * 2 : 16;
+    void *grown = rad_realloc(ctx, *items, wanted, item_size);
+    if (!grown) return RAD_ERROR_NO_MEMORY;
+    *items = grown;
+    *capacity = wanted;
+    return RAD_OK;
+}
+
+#define GROW(scene, array, count, capacity)                                                     \
+    grow((scene)->ctx, (void **)&(scene)->array, &(scene)->capacity, (scene)->count,             \
+         sizeof *(scene)->array)
+
+rad_status rad_scene_add_material(rad_scene *scene, const rad_material *material, uint32_t *index) {
+    if (GROW(scene, materials, material_count, material_capacity)) return RAD_ERROR_NO_MEMORY;
+    rad_material copy = *material;
+    copy.name = rad_strdup(scene->ctx, material->name ? material->name : "");
+    if (!copy.name) return RAD_ERROR_NO_MEMORY;
+    if (index) *index = (uint32_t)scene->material_count;
+    scene->materials[scene->material_count++] = copy;
+    return RAD_OK;
+}
+
+rad_status rad_scene_add_surface(rad_scene *scene, const char *name, uint32_t material,
+                                 uint32_t *index) {
+    if (material >= scene->material_count)
+        return rad_fail(scene->ctx, RAD_ERROR_INVALID_ARGUMENT, "surface %s: no material %u",
+                        name, material);
+    if (GROW(scene, surfaces, surface_count, surface_capacity)) return RAD_ERROR_NO_MEMORY;
+    char *copy = rad_strdup(scene->ctx, name);
+    if (!copy) return RAD_ERROR_NO_MEMORY;
+    if (index) *index = (uint32_t)scene->surface_count;
+    scene->surfaces[scene->surface_count++] = (rad_surface_def){copy, material};
+    return RAD_OK;
+}
+
+rad_status rad_scene_add_vertex(rad_scene *scene, rad_vec3 position, uint32_t *index) {
+    if (GROW(scene, vertices, vertex_count, vertex_capacity)) return RAD_ERROR_NO_MEMORY;
+    if (index) *index = (uint32_t)scene->vertex_count;
+    scene->vertices[scene->vertex_count++] = position;
+    return RAD_OK;
+}
+
+rad_status rad_scene_add_polygon(rad_scene *scene, uint32_t surface, const uint32_t *vertices,
+                                 uint32_t count) {
+    if (count < 3 || surface >= scene->surface_count)
+        return rad_fail(scene->ctx, RAD_ERROR_INVALID_ARGUMENT, "bad polygon");
+    for (uint32_t k = 0; k < count; ++k) {
+        if (vertices[k] >= scene->vertex_count)
+            return rad_fail(scene->ctx, RAD_ERROR_INVALID_ARGUMENT, "polygon vertex out of range");
+        if (GROW(scene, polygon_vertices, polygon_vertex_count, polygon_vertex_capacity))
+            return RAD_ERROR_NO_MEMORY;
+        scene->polygon_vertices[scene->polygon_vertex_count++] = vertices[k];
+    }
+    if (GROW(scene, polygons, polygon_count, polygon_capacity)) return RAD_ERROR_NO_MEMORY;
+    scene->polygons[scene->polygon_count++] =
+        (rad_polygon){(uint32_t)(scene->polygon_vertex_count - count), count, surface};
+    return RAD_OK;
+}
+
+rad_status rad_scene_add_polygon_points(rad_scene *scene, uint32_t surface,
+                                        const rad_vec3 *points, uint32_t count) {
+    uint32_t indices[64];
+    if (count > 64) return rad_fail(scene->ctx, RAD_ERROR_INVALID_ARGUMENT, "polygon too large");
+    for (uint32_t k = 0; k < count; ++k) {
+        rad_status status = rad_scene_add_vertex(scene, points[k], &indices[k]);
+        if (status) return status;
+    }
+    return rad_scene_add_polygon(scene, surface, indices, count);
+}
+
+rad_vec3 rad_polygon_vertex(const rad_scene *scene, const rad_polygon *polygon, uint32_t k) {
+    return scene->vertices[scene->polygon_vertices[polygon->first + k]];
+}
+
+/* Newell's method: robust for slightly non-planar polygons. The length is twice the area. */
+static rad_vec3 newell(const rad_scene *scene, const rad_polygon *polygon) {
+    rad_vec3 n = v3(0, 0, 0);
+    for (uint32_t k = 0; k < polygon->count; ++k) {
+        rad_vec3 a = rad_polygon_vertex(scene, polygon, k);
+        rad_vec3 b = rad_polygon_vertex(scene, polygon, (k + 1) % polygon->count);
+        n.x += (a.y - b.y) * (a.z + b.z);
+        n.y += (a.z - b.z) * (a.x + b.x);
+        n.z += (a.x - b.x) * (a.y + b.y);
+    }
+    return n;
+}
+
+rad_vec3 rad_polygon_normal(const rad_scene *scene, const rad_polygon *polygon) {
+    return v3_normalize(newell(scene, polygon));
+}
+
+double rad_polygon_area(const rad_scene *scene, const rad_polygon *polygon) {
+    return 0.5 * v3_length(newell(scene, polygon));
+}
+
+void rad_scene_bounds(const rad_scene *scene, rad_vec3 *lo, rad_vec3 *hi) {
+    *lo = v3(INFINITY, INFINITY, INFINITY);
+    *hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (size_t i = 0; i < scene->vertex_count; ++i) {
+        rad_vec3 p = scene->vertices[i];
+        *lo = v3(fmin(lo->x, p.x), fmin(lo->y, p.y), fmin(lo->z, p.z));
+        *hi = v3(fmax(hi->x, p.x), fmax(hi->y, p.y), fmax(hi->z, p.z));
+    }
+}

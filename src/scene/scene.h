@@ -1,0 +1,107 @@
+/* scene.h - what was loaded: a patch system with given form factors, or geometry (named
+ * surfaces made of convex polygons, materials, an optional camera). */
+#ifndef RAD_SCENE_SCENE_H
+#define RAD_SCENE_SCENE_H
+
+#include "core/context.h"
+#include "core/vec3.h"
+
+#include <stdint.h>
+
+/* How a material scatters light beyond the diffuse part (the ray-traced second pass). */
+typedef enum rad_material_kind {
+    RAD_MATERIAL_DIFFUSE = 0,
+    RAD_MATERIAL_MIRROR,  /* perfect or glossy specular reflection */
+    RAD_MATERIAL_GLASS    /* smooth dielectric: Fresnel reflection and refraction */
+} rad_material_kind;
+
+typedef struct rad_material {
+    char *name;
+    double reflectance[3]; /* diffuse albedo, in [0, 1] */
+    double emission[3];    /* emitted radiance L (W / m^2 / sr); radiosity B = pi L */
+    rad_material_kind kind;
+    double specular[3];    /* mirror / glass tint */
+    double roughness;      /* 0: perfect mirror */
+    double ior;            /* glass index of refraction */
+} rad_material;
+
+/* A named input object: results are reported per surface. */
+typedef struct rad_surface_def {
+    char *name;
+    uint32_t material;
+} rad_surface_def;
+
+/* A convex polygon, counter-clockwise seen from its front (the lit side). */
+typedef struct rad_polygon {
+    uint32_t first; /* index into scene->polygon_vertices */
+    uint32_t count; /* 3 or more */
+    uint32_t surface;
+} rad_polygon;
+
+typedef struct rad_camera {
+    rad_vec3 eye, look, up;
+    double fov_degrees; /* vertical */
+} rad_camera;
+
+typedef struct rad_ffm_patch {
+    char *name;
+    double area;
+    double reflectance[3];
+    double emission[3]; /* radiosity units (B), as the .ffm file gives it */
+} rad_ffm_patch;
+
+struct rad_scene {
+    rad_context *ctx;
+    int geometric;
+    char *source; /* file path or built-in name */
+
+    /* A patch system: patches and a dense row-major form-factor matrix. */
+    size_t patch_count;
+    rad_ffm_patch *patches;
+    double *form_factors;
+
+    /* Geometry. */
+    size_t vertex_count, vertex_capacity;
+    rad_vec3 *vertices;
+    size_t polygon_vertex_count, polygon_vertex_capacity;
+    uint32_t *polygon_vertices;
+    size_t polygon_count, polygon_capacity;
+    rad_polygon *polygons;
+    size_t surface_count, surface_capacity;
+    rad_surface_def *surfaces;
+    size_t material_count, material_capacity;
+    rad_material *materials;
+    int has_camera;
+    rad_camera camera;
+};
+
+/* An empty scene of either kind. */
+rad_status rad_scene_new(rad_context *ctx, int geometric, const char *source, rad_scene **out);
+
+/* Builders for geometric scenes. Indices of the new item go to *index (may be NULL). */
+rad_status rad_scene_add_material(rad_scene *scene, const rad_material *material, uint32_t *index);
+rad_status rad_scene_add_surface(rad_scene *scene, const char *name, uint32_t material,
+                                 uint32_t *index);
+rad_status rad_scene_add_vertex(rad_scene *scene, rad_vec3 position, uint32_t *index);
+/* A convex polygon from vertex indices, counter-clockwise seen from the front. */
+rad_status rad_scene_add_polygon(rad_scene *scene, uint32_t surface, const uint32_t *vertices,
+                                 uint32_t count);
+/* A convex polygon from positions (adds the vertices). */
+rad_status rad_scene_add_polygon_points(rad_scene *scene, uint32_t surface,
+                                        const rad_vec3 *points, uint32_t count);
+
+/* Geometry of a polygon: unit normal (Newell's method), area, centroid. */
+rad_vec3 rad_polygon_normal(const rad_scene *scene, const rad_polygon *polygon);
+double rad_polygon_area(const rad_scene *scene, const rad_polygon *polygon);
+rad_vec3 rad_polygon_vertex(const rad_scene *scene, const rad_polygon *polygon, uint32_t k);
+
+/* Bounds of all vertices. */
+void rad_scene_bounds(const rad_scene *scene, rad_vec3 *lo, rad_vec3 *hi);
+
+/* Built-in geometric scenes (src/scene/builtin_*.c). */
+rad_status rad_builtin_geometry(rad_context *ctx, const char *name, rad_scene **out);
+
+/* Import through assimp (src/scene/import.c). */
+rad_status rad_scene_import(rad_context *ctx, const char *path, rad_scene **out);
+
+#endif

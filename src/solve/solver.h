@@ -1,0 +1,44 @@
+/* solver.h - the internal shape of a solver: begin, one step (a gathering round or a shot),
+ * end. The driver in solve.c owns the loop, stopping, cancelling, timing and tracing, so a new
+ * solver is one new file plus one line in the table in solve.c. */
+#ifndef RAD_SOLVE_SOLVER_H
+#define RAD_SOLVE_SOLVER_H
+
+#include "solve/system.h"
+
+typedef struct rad_solver_run {
+    rad_system *system;
+    const rad_solve_options *options;
+    double omega;
+    int tracing;
+    /* Per-element scratch for the trace: what each element received and reflected. */
+    rad_rgb *received;
+    rad_rgb *reflected;
+    long shooter_surface; /* set by shooting steps */
+    void *state;          /* the solver's own */
+} rad_solver_run;
+
+typedef struct rad_solver_impl {
+    rad_solver_kind kind;
+    const char *name;
+    int iterative;        /* zero: one step solves it (direct) */
+    int default_is_power; /* the stopping measure is unshot power (shooting) */
+    rad_status (*begin)(rad_solver_run *run);
+    /* One round or shot; *residual is the stopping measure after it. */
+    rad_status (*step)(rad_solver_run *run, int iteration, double *residual);
+    void (*end)(rad_solver_run *run);
+} rad_solver_impl;
+
+extern const rad_solver_impl rad_solver_direct;
+extern const rad_solver_impl rad_solver_jacobi;
+extern const rad_solver_impl rad_solver_gauss_seidel;
+extern const rad_solver_impl rad_solver_shooting;
+
+/* The gathering matrix, stored in float32 when it fits the memory budget:
+ * G[e * patch_count + p] = A_p F_pe / A_e, so that element e gathers sum_p G_ep B_p. */
+rad_status rad_gather_matrix(rad_system *system, float **out);
+
+/* Largest |B| over elements and channels (at least a tiny positive number). */
+double rad_max_radiosity(const rad_system *system);
+
+#endif

@@ -1,0 +1,66 @@
+/* system.h - a scene cut into patches (which shoot) and elements (which receive and are shown),
+ * with its form-factor provider and the radiosity solution.
+ *
+ * Elements of one patch are contiguous: patch p owns elements patch_first[p] .. patch_first[p+1].
+ * The radiosity of a patch is the area-weighted mean of its elements (Cohen et al. 1986). */
+#ifndef RAD_SOLVE_SYSTEM_H
+#define RAD_SOLVE_SYSTEM_H
+
+#include "core/context.h"
+#include "formfactor/provider.h"
+
+#include <stdint.h>
+
+struct rad_mesh;
+
+typedef double rad_rgb[3];
+
+struct rad_system {
+    rad_context *ctx;
+    size_t element_count, patch_count, surface_count;
+
+    /* Elements. */
+    double *area;
+    rad_rgb *reflectance;
+    rad_rgb *emission; /* radiosity units: B = pi L for Lambertian emitters */
+    uint32_t *element_patch;
+    uint32_t *element_surface;
+
+    /* Patches. */
+    size_t *patch_first; /* patch_count + 1 entries */
+    double *patch_area;
+
+    /* Named input surfaces. */
+    char **surface_name;
+    double *surface_area;
+
+    /* The solution. */
+    rad_rgb *radiosity;
+    rad_rgb *unshot;
+    double ambient[3]; /* Cohen et al. 1988 ambient radiosity; zero unless asked for */
+
+    rad_ff_provider *ff;
+    struct rad_mesh *mesh; /* geometric scenes only; owned */
+};
+
+/* Allocates the arrays of a system with the given counts (zeroed). */
+rad_status rad_system_alloc(rad_context *ctx, size_t elements, size_t patches, size_t surfaces,
+                            rad_system **out);
+
+/* Derives patch_area and surface_area from element areas; call after filling elements. */
+void rad_system_finish_areas(rad_system *system);
+
+/* Patch means of a per-element quantity (area-weighted). */
+void rad_system_patch_mean(const rad_system *system, const rad_rgb *per_element, size_t patch,
+                           double out[3]);
+
+/* Surface means of a per-element quantity (area-weighted), into surface_count entries. */
+void rad_system_surface_means(const rad_system *system, const rad_rgb *per_element,
+                              rad_rgb *per_surface);
+
+/* Geometric systems (src/mesh, src/formfactor): builds mesh and provider. */
+rad_status rad_system_from_geometry(rad_context *ctx, const struct rad_scene *scene,
+                                    const rad_mesh_options *mesh, const rad_ff_options *ff,
+                                    rad_system **out);
+
+#endif
