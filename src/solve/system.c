@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
-void rad_mesh_destroy(struct rad_mesh *mesh); /* src/mesh/mesh.c */
+#include "mesh/mesh.h"
 
 rad_status rad_system_alloc(rad_context *ctx, size_t elements, size_t patches, size_t surfaces,
                             rad_system **out) {

@@ -1,0 +1,501 @@
+/* mesh.c - cutting surfaces into patches and elements (see mesh.h).
+ *
+ * 1. Weld polygon corners by position within each surface.
+ * 2. Fan polygons of more than four corners into triangles: every cell is a triangle or a quad.
+ * 3. Decide how many pieces each edge is cut into. A quad's opposite edges and all of a
+ *    triangle's edges must agree, and an edge shared by two cells is one edge: union-find over
+ *    edges ties them into classes, and a class takes the largest count any member asks for.
+ * 4. Cut each cell into a grid, reusing the vertices along shared edges, and group the grid into
+ *    k x k blocks, the patches. */
+#include "mesh/mesh.h"
+
+#include "scene/scene.h"
+
+#include <math.h>
+#include <string.h>
+
+/* ------------------------------------------------------------------------------------------- */
+/* An open-addressing hash map from a 64-bit key pair to a 32-bit value.                        */
+
+typedef struct key_map {
+    uint64_t *keys_a, *keys_b;
+    uint32_t *values;
+    size_t capacity; /* power of two */
+    size_t count;
+} key_map;
+
+static uint64_t mix64(uint64_t x) {
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdull;
+    x ^= x >> 33;
+    x *= 0xc4ceb9fe1a85ec53ull;
+    return x ^ (x >> 33);
+}
+
+static rad_status key_map_init(rad_context *ctx, key_map *map, size_t expected) {
+    size_t capacity = 64;
+    while (capacity < 2 * expected + 1) capacity *= 2;
+    map->capacity = capacity;
+    map->count = 0;
+    map->keys_a = rad_alloc(ctx, capacity, sizeof *map->keys_a);
+    map->keys_b = rad_alloc(ctx, capacity, sizeof *map->keys_b);
+    map->values = rad_alloc(ctx, capacity, sizeof *map->values);
+    if (!map->keys_a || !map->keys_b || !map->values) return RAD_ERROR_NO_MEMORY;
+    for (size_t i = 0; i < capacity; ++i) map->values[i] = UINT32_MAX;
+    return RAD_OK;
+}
+
+static void key_map_free(rad_context *ctx, key_map *map) {
+    rad_free(ctx, map->keys_a);
+    rad_free(ctx, map->keys_b);
+    rad_free(ctx, map->values);
+}
+
+/* Returns the value for (a, b), inserting `fresh` when absent. */
+static uint32_t key_map_get(key_map *map, uint64_t a, uint64_t b, uint32_t fresh, int *inserted) {
+    size_t mask = map->capacity - 1;
+    size_t slot = (size_t)(mix64(a * 0x9e3779b97f4a7c15ull ^ b)) & mask;
+    while (map->values[slot] != UINT32_MAX) {
+        if (map->keys_a[slot] == a && map->keys_b[slot] == b) {
+            *inserted = 0;
+            return map->values[slot];
+        }
+        slot = (slot + 1) & mask;
+    }
+    map->keys_a[slot] = a;
+    map->keys_b[slot] = b;
+    map->values[slot] = fresh;
+    map->count++;
+    *inserted = 1;
+    return fresh;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+typedef struct cell {
+    uint32_t corner[4]; /* welded corner ids; corner[3] == RAD_NO_VERTEX for triangles */
+    uint32_t edge[4];
+    uint32_t polygon, surface;
+} cell;
+
+typedef struct mesher {
+    rad_context *ctx;
+    const rad_scene *scene;
+    /* Welded corners. */
+    size_t corner_count;
+    rad_vec3 *corner_position;
+    uint32_t *corner_surface;
+    uint32_t *corner_vertex; /* mesh vertex, once made */
+    /* Cells. */
+    size_t cell_count;
+    cell *cells;
+    /* Edges. */
+    size_t edge_count;
+    uint32_t *edge_a, *edge_b; /* welded corners, a < b */
+    uint32_t *edge_parent;     /* union-find */
+    uint32_t *edge_cuts;
+    uint32_t *edge_first_vertex; /* interior vertices along a -> b */
+    size_t skipped;
+} mesher;
+
+static uint32_t find(uint32_t *parent, uint32_t x) {
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+static void unite(uint32_t *parent, uint32_t a, uint32_t b) {
+    a = find(parent, a);
+    b = find(parent, b);
+    if (a != b) parent[a < b ? b : a] = a < b ? a : b;
+}
+
+static int cell_corners(const cell *c) { return c->corner[3] == RAD_NO_VERTEX ? 3 : 4; }
+
+/* Steps 1 and 2: welded corners and cells. */
+static rad_status build_cells(mesher *m) {
+    const rad_scene *scene = m->scene;
+    rad_context *ctx = m->ctx;
+    rad_vec3 lo, hi;
+    rad_scene_bounds(scene, &lo, &hi);
+    double diagonal = v3_length(v3_sub(hi, lo));
+    double quantum = diagonal > 0 ? diagonal * 1e-7 : 1e-9;
+    double min_area = diagonal * diagonal * 1e-14;
+
+    size_t max_cells = 0;
+    for (size_t i = 0; i < scene->polygon_count; ++i)
+        max_cells += scene->polygons[i].count <= 4 ? 1 : scene->polygons[i].count - 2;
+    m->cells = rad_alloc(ctx, max_cells ? max_cells : 1, sizeof *m->cells);
+    m->corner_position = rad_alloc(ctx, scene->polygon_vertex_count + 1, sizeof(rad_vec3));
+    m->corner_surface = rad_alloc(ctx, scene->polygon_vertex_count + 1, sizeof(uint32_t));
+    if (!m->cells || !m->corner_position || !m->corner_surface) return RAD_ERROR_NO_MEMORY;
+
+    key_map weld;
+    rad_status status = key_map_init(ctx, &weld, scene->polygon_vertex_count);
+    if (status) {
+        key_map_free(ctx, &weld);
+        return status;
+    }
+    uint32_t ids[64];
+    for (size_t i = 0; i < scene->polygon_count; ++i) {
+        const rad_polygon *polygon = &scene->polygons[i];
+        int bad = polygon->count > 64 || rad_polygon_area(scene, polygon) <= min_area;
+        for (uint32_t k = 0; k < polygon->count && !bad; ++k) {
+            rad_vec3 p = rad_polygon_vertex(scene, polygon, k);
+            if (!isfinite(p.x) || !isfinite(p.y) || !isfinite(p.z)) bad = 1;
+        }
+        if (bad) {
+            m->skipped++;
+            continue;
+        }
+        for (uint32_t k = 0; k < polygon->count; ++k) {
+            rad_vec3 p = rad_polygon_vertex(scene, polygon, k);
+            /* Quantised relative to the bounds, so each coordinate fits 32 bits. */
+            uint64_t qx = (uint64_t)llround((p.x - lo.x) / quantum);
+            uint64_t qy = (uint64_t)llround((p.y - lo.y) / quantum);
+            uint64_t qz = (uint64_t)llround((p.z - lo.z) / quantum);
+            uint64_t key_a = ((uint64_t)polygon->surface << 32) | (qx & 0xffffffffu);
+            uint64_t key_b = (qy << 32) | (qz & 0xffffffffu);
+            int inserted;
+            ids[k] = key_map_get(&weld, key_a, key_b, (uint32_t)m->corner_count, &inserted);
+            if (inserted) {
+                m->corner_position[m->corner_count] = p;
+                m->corner_surface[m->corner_count] = polygon->surface;
+                m->corner_count++;
+            }
+        }
+        /* Fan anything larger than a quad into triangles. */
+        if (polygon->count <= 4) {
+            cell c = {{ids[0], ids[1], ids[2], polygon->count == 4 ? ids[3] : RAD_NO_VERTEX},
+                      {0}, (uint32_t)i, polygon->surface};
+            m->cells[m->cell_count++] = c;
+        } else {
+            for (uint32_t k = 1; k + 1 < polygon->count; ++k) {
+                cell c = {{ids[0], ids[k], ids[k + 1], RAD_NO_VERTEX}, {0}, (uint32_t)i,
+                          polygon->surface};
+                m->cells[m->cell_count++] = c;
+            }
+        }
+    }
+    key_map_free(ctx, &weld);
+    return RAD_OK;
+}
+
+/* Step 3: edges, their classes and cut counts. */
+static rad_status build_edges(mesher *m, double element_size) {
+    rad_context *ctx = m->ctx;
+    size_t max_edges = 4 * m->cell_count + 1;
+    m->edge_a = rad_alloc(ctx, max_edges, sizeof(uint32_t));
+    m->edge_b = rad_alloc(ctx, max_edges, sizeof(uint32_t));
+    m->edge_parent = rad_alloc(ctx, max_edges, sizeof(uint32_t));
+    m->edge_cuts = rad_alloc(ctx, max_edges, sizeof(uint32_t));
+    m->edge_first_vertex = rad_alloc(ctx, max_edges, sizeof(uint32_t));
+    if (!m->edge_a || !m->edge_b || !m->edge_parent || !m->edge_cuts || !m->edge_first_vertex)
+        return RAD_ERROR_NO_MEMORY;
+    key_map edges;
+    rad_status status = key_map_init(ctx, &edges, max_edges);
+    if (status) {
+        key_map_free(ctx, &edges);
+        return status;
+    }
+    for (size_t i = 0; i < m->cell_count; ++i) {
+        cell *c = &m->cells[i];
+        int n = cell_corners(c);
+        for (int k = 0; k < n; ++k) {
+            uint32_t a = c->corner[k], b = c->corner[(k + 1) % n];
+            uint32_t lo = a < b ? a : b, hi = a < b ? b : a;
+            int inserted;
+            uint32_t e = key_map_get(&edges, lo, hi, (uint32_t)m->edge_count, &inserted);
+            if (inserted) {
+                m->edge_a[e] = lo;
+                m->edge_b[e] = hi;
+                m->edge_parent[e] = e;
+                double length = v3_length(v3_sub(m->corner_position[a], m->corner_position[b]));
+                double cuts = ceil(length / element_size - 1e-9);
+                m->edge_cuts[e] = (uint32_t)fmax(1.0, fmin(cuts, 1e6));
+                m->edge_count++;
+            }
+            c->edge[k] = e;
+        }
+        if (n == 3) {
+            unite(m->edge_parent, c->edge[0], c->edge[1]);
+            unite(m->edge_parent, c->edge[1], c->edge[2]);
+        } else {
+            unite(m->edge_parent, c->edge[0], c->edge[2]);
+            unite(m->edge_parent, c->edge[1], c->edge[3]);
+        }
+    }
+    key_map_free(ctx, &edges);
+    /* A class takes the largest count any of its edges asks for. */
+    for (size_t e = 0; e < m->edge_count; ++e) {
+        uint32_t root = find(m->edge_parent, (uint32_t)e);
+        if (m->edge_cuts[e] > m->edge_cuts[root]) m->edge_cuts[root] = m->edge_cuts[e];
+    }
+    for (size_t e = 0; e < m->edge_count; ++e)
+        m->edge_cuts[e] = m->edge_cuts[find(m->edge_parent, (uint32_t)e)];
+    return RAD_OK;
+}
+
+/* The mesh vertex at position `index` (0 .. cuts) along a cell edge walked from corner `from`. */
+static uint32_t edge_vertex(const mesher *m, uint32_t edge, uint32_t from, uint32_t index) {
+    uint32_t cuts = m->edge_cuts[edge];
+    uint32_t along = m->edge_a[edge] == from ? index : cuts - index;
+    if (along == 0) return m->corner_vertex[m->edge_a[edge]];
+    if (along == cuts) return m->corner_vertex[m->edge_b[edge]];
+    return m->edge_first_vertex[edge] + along - 1;
+}
+
+typedef struct mesh_builder {
+    rad_mesh *mesh;
+    size_t vertex_capacity, element_capacity;
+} mesh_builder;
+
+static uint32_t add_vertex(rad_mesh *mesh, rad_vec3 p, uint32_t surface) {
+    mesh->vertices[mesh->vertex_count] = p;
+    mesh->vertex_surface[mesh->vertex_count] = surface;
+    return (uint32_t)mesh->vertex_count++;
+}
+
+static void add_element(rad_mesh *mesh, const cell *c, uint32_t a, uint32_t b, uint32_t d,
+                        uint32_t e) {
+    size_t i = mesh->element_count++;
+    mesh->element_vertices[i][0] = a;
+    mesh->element_vertices[i][1] = b;
+    mesh->element_vertices[i][2] = d;
+    mesh->element_vertices[i][3] = e;
+    int n = e == RAD_NO_VERTEX ? 3 : 4;
+    rad_vec3 normal = v3(0, 0, 0), centroid = v3(0, 0, 0);
+    for (int k = 0; k < n; ++k) {
+        rad_vec3 p = mesh->vertices[mesh->element_vertices[i][k]];
+        rad_vec3 q = mesh->vertices[mesh->element_vertices[i][(k + 1) % n]];
+        normal = v3_add(normal, v3_cross(p, q));
+        centroid = v3_add(centroid, p);
+    }
+    mesh->element_area[i] = 0.5 * v3_length(normal);
+    mesh->element_normal[i] = v3_normalize(normal);
+    mesh->element_centroid[i] = v3_scale(centroid, 1.0 / n);
+    mesh->element_polygon[i] = c->polygon;
+    mesh->element_surface[i] = c->surface;
+    mesh->element_patch[i] = (uint32_t)mesh->patch_count;
+}
+
+/* Step 4 for a quad: an nu x nv grid, k x k blocks as patches. */
+static void cut_quad(mesher *m, rad_mesh *mesh, const cell *c, uint32_t k, uint32_t *grid) {
+    uint32_t nu = m->edge_cuts[c->edge[0]], nv = m->edge_cuts[c->edge[1]];
+    const uint32_t *q = c->corner;
+    rad_vec3 p0 = m->corner_position[q[0]], p1 = m->corner_position[q[1]],
+             p2 = m->corner_position[q[2]], p3 = m->corner_position[q[3]];
+#define GRID(i, j) grid[(size_t)(j) * (nu + 1) + (i)]
+    for (uint32_t j = 0; j <= nv; ++j)
+        for (uint32_t i = 0; i <= nu; ++i) {
+            uint32_t v;
+            if (j == 0) v = edge_vertex(m, c->edge[0], q[0], i);
+            else if (i == nu) v = edge_vertex(m, c->edge[1], q[1], j);
+            else if (j == nv) v = edge_vertex(m, c->edge[2], q[2], nu - i);
+            else if (i == 0) v = edge_vertex(m, c->edge[3], q[3], nv - j);
+            else {
+                double u = (double)i / nu, t = (double)j / nv;
+                rad_vec3 p = v3_add(v3_add(v3_scale(p0, (1 - u) * (1 - t)), v3_scale(p1, u * (1 - t))),
+                                    v3_add(v3_scale(p2, u * t), v3_scale(p3, (1 - u) * t)));
+                v = add_vertex(mesh, p, c->surface);
+            }
+            GRID(i, j) = v;
+        }
+    for (uint32_t pj = 0; pj < nv; pj += k)
+        for (uint32_t pi = 0; pi < nu; pi += k) {
+            for (uint32_t j = pj; j < pj + k && j < nv; ++j)
+                for (uint32_t i = pi; i < pi + k && i < nu; ++i)
+                    add_element(mesh, c, GRID(i, j), GRID(i + 1, j), GRID(i + 1, j + 1),
+                                GRID(i, j + 1));
+            mesh->patch_first[++mesh->patch_count] = mesh->element_count;
+        }
+#undef GRID
+}
+
+/* Step 4 for a triangle: n cuts per edge, n^2 triangles; cells (i, j) grouped in k x k blocks. */
+static void cut_triangle(mesher *m, rad_mesh *mesh, const cell *c, uint32_t k, uint32_t *grid) {
+    uint32_t n = m->edge_cuts[c->edge[0]];
+    const uint32_t *q = c->corner;
+    rad_vec3 p0 = m->corner_position[q[0]], p1 = m->corner_position[q[1]],
+             p2 = m->corner_position[q[2]];
+#define TGRID(i, j) grid[(size_t)(j) * (n + 1) + (i)]
+    for (uint32_t j = 0; j <= n; ++j)
+        for (uint32_t i = 0; i + j <= n; ++i) {
+            uint32_t v;
+            if (j == 0) v = edge_vertex(m, c->edge[0], q[0], i);
+            else if (i + j == n) v = edge_vertex(m, c->edge[1], q[1], j);
+            else if (i == 0) v = edge_vertex(m, c->edge[2], q[2], n - j);
+            else {
+                rad_vec3 p = v3_add(p0, v3_add(v3_scale(v3_sub(p1, p0), (double)i / n),
+                                               v3_scale(v3_sub(p2, p0), (double)j / n)));
+                v = add_vertex(mesh, p, c->surface);
+            }
+            TGRID(i, j) = v;
+        }
+    for (uint32_t pj = 0; pj < n; pj += k)
+        for (uint32_t pi = 0; pi + pj < n; pi += k) {
+            size_t before = mesh->element_count;
+            for (uint32_t j = pj; j < pj + k && j < n; ++j)
+                for (uint32_t i = pi; i < pi + k && i + j < n; ++i) {
+                    add_element(mesh, c, TGRID(i, j), TGRID(i + 1, j), TGRID(i, j + 1),
+                                RAD_NO_VERTEX);
+                    if (i + j + 2 <= n)
+                        add_element(mesh, c, TGRID(i + 1, j), TGRID(i + 1, j + 1),
+                                    TGRID(i, j + 1), RAD_NO_VERTEX);
+                }
+            if (mesh->element_count > before) mesh->patch_first[++mesh->patch_count] = mesh->element_count;
+        }
+#undef TGRID
+}
+
+static void mesher_free(mesher *m) {
+    rad_context *ctx = m->ctx;
+    rad_free(ctx, m->corner_position);
+    rad_free(ctx, m->corner_surface);
+    rad_free(ctx, m->corner_vertex);
+    rad_free(ctx, m->cells);
+    rad_free(ctx, m->edge_a);
+    rad_free(ctx, m->edge_b);
+    rad_free(ctx, m->edge_parent);
+    rad_free(ctx, m->edge_cuts);
+    rad_free(ctx, m->edge_first_vertex);
+}
+
+void rad_mesh_destroy(rad_mesh *mesh) {
+    if (!mesh) return;
+    rad_context *ctx = mesh->ctx;
+    rad_free(ctx, mesh->vertices);
+    rad_free(ctx, mesh->vertex_surface);
+    rad_free(ctx, mesh->element_vertices);
+    rad_free(ctx, mesh->element_normal);
+    rad_free(ctx, mesh->element_centroid);
+    rad_free(ctx, mesh->element_area);
+    rad_free(ctx, mesh->element_polygon);
+    rad_free(ctx, mesh->element_surface);
+    rad_free(ctx, mesh->element_patch);
+    rad_free(ctx, mesh->patch_first);
+    rad_free(ctx, mesh);
+}
+
+static double scene_area(const rad_scene *scene) {
+    double area = 0;
+    for (size_t i = 0; i < scene->polygon_count; ++i) {
+        double a = rad_polygon_area(scene, &scene->polygons[i]);
+        if (isfinite(a)) area += a;
+    }
+    return area;
+}
+
+rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
+                           const rad_mesh_options *options, rad_mesh **out) {
+    *out = NULL;
+    rad_mesh_options o = options ? *options : (rad_mesh_options){0};
+    if (o.element_size < 0 || o.patch_size < 0 || !isfinite(o.element_size) || !isfinite(o.patch_size))
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "patch and element sizes must be positive");
+    if (scene->polygon_count == 0)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "%s: the scene has no faces", scene->source);
+    double total_area = scene_area(scene);
+    if (!(total_area > 0))
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "%s: the scene has no area", scene->source);
+
+    /* Sizes: an element count gives the edge of a square of that share of the area. */
+    if (o.element_size == 0) {
+        if (o.patch_size > 0 && o.elements == 0) o.element_size = o.patch_size / 2;
+        else {
+            size_t wanted = o.elements ? o.elements : RAD_MESH_DEFAULT_ELEMENTS;
+            o.element_size = sqrt(total_area / (double)wanted);
+        }
+    }
+    if (o.patch_size == 0) o.patch_size = 2 * o.element_size;
+    if (o.patch_size < o.element_size) o.element_size = o.patch_size;
+    uint32_t k = (uint32_t)fmax(1.0, floor(o.patch_size / o.element_size + 0.5));
+
+    mesher m = {0};
+    m.ctx = ctx;
+    m.scene = scene;
+    rad_status status = build_cells(&m);
+    if (!status && m.cell_count == 0)
+        status = rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                          "%s: every face is degenerate (zero area or not finite)", scene->source);
+    if (!status) status = build_edges(&m, o.element_size);
+    if (status) {
+        mesher_free(&m);
+        return status;
+    }
+    if (m.skipped) rad_warn(ctx, "%s: skipped %zu degenerate faces (zero area or not finite)",
+                            scene->source, m.skipped);
+
+    /* Count what the grids will make, and check it fits before allocating. */
+    double vertices = (double)m.corner_count, elements = 0, grid = 0;
+    for (size_t e = 0; e < m.edge_count; ++e) vertices += m.edge_cuts[e] - 1.0;
+    for (size_t i = 0; i < m.cell_count; ++i) {
+        const cell *c = &m.cells[i];
+        double nu = m.edge_cuts[c->edge[0]], nv = m.edge_cuts[c->edge[1]];
+        if (cell_corners(c) == 4) {
+            vertices += (nu - 1) * (nv - 1);
+            elements += nu * nv;
+            grid = fmax(grid, (nu + 1) * (nv + 1));
+        } else {
+            vertices += (nu - 1) * (nu - 2) / 2;
+            elements += nu * nu;
+            grid = fmax(grid, (nu + 1) * (nu + 1));
+        }
+    }
+    double bytes = vertices * 40 + elements * 120;
+    status = rad_check_budget(ctx, bytes, "the mesh");
+    if (!status && elements > 2e9)
+        status = rad_fail(ctx, RAD_ERROR_MEMORY_BUDGET, "%.0f elements are too many", elements);
+    if (status) {
+        mesher_free(&m);
+        return status;
+    }
+
+    rad_mesh *mesh = rad_alloc_zero(ctx, 1, sizeof *mesh);
+    size_t nv = (size_t)vertices, ne = (size_t)elements;
+    uint32_t *scratch = rad_alloc(ctx, (size_t)grid, sizeof *scratch);
+    m.corner_vertex = rad_alloc(ctx, m.corner_count + 1, sizeof *m.corner_vertex);
+    if (mesh) {
+        mesh->ctx = ctx;
+        mesh->vertices = rad_alloc(ctx, nv, sizeof *mesh->vertices);
+        mesh->vertex_surface = rad_alloc(ctx, nv, sizeof *mesh->vertex_surface);
+        mesh->element_vertices = rad_alloc(ctx, ne, sizeof *mesh->element_vertices);
+        mesh->element_normal = rad_alloc(ctx, ne, sizeof *mesh->element_normal);
+        mesh->element_centroid = rad_alloc(ctx, ne, sizeof *mesh->element_centroid);
+        mesh->element_area = rad_alloc(ctx, ne, sizeof *mesh->element_area);
+        mesh->element_polygon = rad_alloc(ctx, ne, sizeof *mesh->element_polygon);
+        mesh->element_surface = rad_alloc(ctx, ne, sizeof *mesh->element_surface);
+        mesh->element_patch = rad_alloc(ctx, ne, sizeof *mesh->element_patch);
+        mesh->patch_first = rad_alloc(ctx, ne + 1, sizeof *mesh->patch_first);
+    }
+    if (!mesh || !scratch || !m.corner_vertex || !mesh->vertices || !mesh->vertex_surface ||
+        !mesh->element_vertices || !mesh->element_normal || !mesh->element_centroid ||
+        !mesh->element_area || !mesh->element_polygon || !mesh->element_surface ||
+        !mesh->element_patch || !mesh->patch_first) {
+        rad_free(ctx, scratch);
+        rad_mesh_destroy(mesh);
+        mesher_free(&m);
+        return rad_fail(ctx, RAD_ERROR_NO_MEMORY, "out of memory for a mesh of %zu elements", ne);
+    }
+    /* Corners, then the vertices inside each edge, then each cell's grid. */
+    for (size_t i = 0; i < m.corner_count; ++i)
+        m.corner_vertex[i] = add_vertex(mesh, m.corner_position[i], m.corner_surface[i]);
+    for (size_t e = 0; e < m.edge_count; ++e) {
+        m.edge_first_vertex[e] = (uint32_t)mesh->vertex_count;
+        rad_vec3 a = m.corner_position[m.edge_a[e]], b = m.corner_position[m.edge_b[e]];
+        for (uint32_t t = 1; t < m.edge_cuts[e]; ++t)
+            add_vertex(mesh, v3_lerp(a, b, (double)t / m.edge_cuts[e]), m.corner_surface[m.edge_a[e]]);
+    }
+    mesh->patch_first[0] = 0;
+    for (size_t i = 0; i < m.cell_count; ++i) {
+        if (cell_corners(&m.cells[i]) == 4) cut_quad(&m, mesh, &m.cells[i], k, scratch);
+        else cut_triangle(&m, mesh, &m.cells[i], k, scratch);
+    }
+    mesh->element_size = o.element_size;
+    mesh->patch_size = o.patch_size;
+    rad_free(ctx, scratch);
+    mesher_free(&m);
+    *out = mesh;
+    return RAD_OK;
+}

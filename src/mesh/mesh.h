@@ -1,0 +1,56 @@
+/* mesh.h - surfaces cut into patches and patches into elements (Cohen et al. 1986).
+ *
+ * Each input polygon is cut into a regular grid of elements (quads into quads, triangles into
+ * triangles, larger convex polygons fanned into triangles first). The number of cuts along an
+ * edge is shared by every polygon of the surface that uses the edge, so elements of a surface
+ * share their vertices: no T-junctions inside a surface. Vertices are never shared between
+ * surfaces, so a corner between two surfaces keeps one value per side.
+ *
+ * Patches are blocks of k x k elements of one polygon; elements of a patch are contiguous. */
+#ifndef RAD_MESH_MESH_H
+#define RAD_MESH_MESH_H
+
+#include "core/context.h"
+#include "core/vec3.h"
+
+#include <stdint.h>
+
+#define RAD_NO_VERTEX UINT32_MAX
+
+struct rad_scene;
+
+typedef struct rad_mesh {
+    rad_context *ctx;
+    size_t vertex_count;
+    rad_vec3 *vertices;
+    uint32_t *vertex_surface; /* the surface a vertex belongs to */
+
+    size_t element_count;
+    uint32_t (*element_vertices)[4]; /* counter-clockwise; [3] == RAD_NO_VERTEX for triangles */
+    rad_vec3 *element_normal;
+    rad_vec3 *element_centroid;
+    double *element_area;
+    uint32_t *element_polygon; /* the input polygon it was cut from */
+    uint32_t *element_surface;
+    uint32_t *element_patch;
+
+    size_t patch_count;
+    size_t *patch_first; /* patch_count + 1 */
+
+    double element_size, patch_size; /* what was used */
+} rad_mesh;
+
+/* Meshes a geometric scene. Zero options pick defaults (docs/meshing.md). Degenerate (zero-area)
+ * polygons are skipped and counted in a warning. */
+rad_status rad_mesh_create(rad_context *ctx, const struct rad_scene *scene,
+                           const rad_mesh_options *options, rad_mesh **out);
+void rad_mesh_destroy(rad_mesh *mesh);
+
+static inline int rad_mesh_corner_count(const rad_mesh *mesh, size_t element) {
+    return mesh->element_vertices[element][3] == RAD_NO_VERTEX ? 3 : 4;
+}
+
+/* The default number of elements when no size is given. */
+#define RAD_MESH_DEFAULT_ELEMENTS 2500
+
+#endif

@@ -1,0 +1,148 @@
+/* rays.c - Embree scene of the input geometry (see rays.h). */
+#include "scene/rays.h"
+
+#include <float.h>
+#include <stdio.h>
+#include <string.h>
+
+static void embree_error(void *user, enum RTCError code, const char *message) {
+    rad_context *ctx = user;
+    rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree error %d: %s", (int)code, message ? message : "");
+}
+
+rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **out) {
+    *out = NULL;
+    rad_rays *rays = rad_alloc_zero(ctx, 1, sizeof *rays);
+    if (!rays) return RAD_ERROR_NO_MEMORY;
+    rays->ctx = ctx;
+    size_t triangles = 0;
+    for (size_t i = 0; i < scene->polygon_count; ++i) triangles += scene->polygons[i].count - 2;
+    rays->triangle_count = triangles;
+    rays->triangle_polygon = rad_alloc(ctx, triangles + 1, sizeof *rays->triangle_polygon);
+    if (!rays->triangle_polygon) {
+        rad_rays_destroy(rays);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    char config[64];
+    snprintf(config, sizeof config, "threads=%d", rad_thread_count(ctx));
+    rays->device = rtcNewDevice(config);
+    if (!rays->device) {
+        rad_rays_destroy(rays);
+        return rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree: cannot create a device");
+    }
+    rtcSetDeviceErrorFunction(rays->device, embree_error, ctx);
+    rays->scene = rtcNewScene(rays->device);
+    rtcSetSceneFlags(rays->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(rays->scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geometry = rtcNewGeometry(rays->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *positions = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                               scene->vertex_count ? scene->vertex_count : 1);
+    unsigned *indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
+                                                RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                                triangles ? triangles : 1);
+    if (!positions || !indices) {
+        rtcReleaseGeometry(geometry);
+        rad_rays_destroy(rays);
+        return rad_fail(ctx, RAD_ERROR_NO_MEMORY, "Embree: out of memory for %zu triangles",
+                        triangles);
+    }
+    for (size_t i = 0; i < scene->vertex_count; ++i) {
+        positions[3 * i + 0] = (float)scene->vertices[i].x;
+        positions[3 * i + 1] = (float)scene->vertices[i].y;
+        positions[3 * i + 2] = (float)scene->vertices[i].z;
+    }
+    size_t t = 0;
+    for (size_t i = 0; i < scene->polygon_count; ++i) {
+        const rad_polygon *polygon = &scene->polygons[i];
+        const uint32_t *v = scene->polygon_vertices + polygon->first;
+        for (uint32_t k = 1; k + 1 < polygon->count; ++k, ++t) {
+            indices[3 * t + 0] = v[0];
+            indices[3 * t + 1] = v[k];
+            indices[3 * t + 2] = v[k + 1];
+            rays->triangle_polygon[t] = (uint32_t)i;
+        }
+    }
+    if (triangles == 0) { /* an empty scene still needs a valid (degenerate) triangle */
+        positions[0] = positions[1] = positions[2] = 0;
+        indices[0] = indices[1] = indices[2] = 0;
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(rays->scene, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(rays->scene);
+    if (rtcGetDeviceError(rays->device) != RTC_ERROR_NONE) {
+        rad_rays_destroy(rays);
+        return RAD_ERROR_INTERNAL;
+    }
+    rad_vec3 lo, hi;
+    rad_scene_bounds(scene, &lo, &hi);
+    double diagonal = scene->vertex_count ? v3_length(v3_sub(hi, lo)) : 1;
+    double magnitude = fmax(v3_max_component(v3(fabs(lo.x), fabs(lo.y), fabs(lo.z))),
+                            v3_max_component(v3(fabs(hi.x), fabs(hi.y), fabs(hi.z))));
+    /* Larger than float rounding at the scene's coordinates, small against its features. */
+    rays->epsilon = fmax(diagonal * 1e-5, magnitude * 4e-6);
+    *out = rays;
+    return RAD_OK;
+}
+
+void rad_rays_destroy(rad_rays *rays) {
+    if (!rays) return;
+    if (rays->scene) rtcReleaseScene(rays->scene);
+    if (rays->device) rtcReleaseDevice(rays->device);
+    rad_free(rays->ctx, rays->triangle_polygon);
+    rad_free(rays->ctx, rays);
+}
+
+int rad_rays_occluded(const rad_rays *rays, rad_vec3 a, rad_vec3 b) {
+    rad_vec3 d = v3_sub(b, a);
+    double length = v3_length(d);
+    if (length <= 2 * rays->epsilon) return 0;
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    struct RTCRay ray;
+    ray.org_x = (float)a.x;
+    ray.org_y = (float)a.y;
+    ray.org_z = (float)a.z;
+    ray.dir_x = (float)(d.x / length);
+    ray.dir_y = (float)(d.y / length);
+    ray.dir_z = (float)(d.z / length);
+    ray.tnear = (float)rays->epsilon;
+    ray.tfar = (float)(length - rays->epsilon);
+    ray.time = 0;
+    ray.mask = UINT32_MAX;
+    ray.id = 0;
+    ray.flags = 0;
+    rtcOccluded1(rays->scene, &context, &ray);
+    return ray.tfar < 0;
+}
+
+int rad_rays_intersect(const rad_rays *rays, rad_vec3 origin, rad_vec3 direction, double tnear,
+                       double tfar, rad_hit *hit) {
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    struct RTCRayHit rh;
+    rh.ray.org_x = (float)origin.x;
+    rh.ray.org_y = (float)origin.y;
+    rh.ray.org_z = (float)origin.z;
+    rh.ray.dir_x = (float)direction.x;
+    rh.ray.dir_y = (float)direction.y;
+    rh.ray.dir_z = (float)direction.z;
+    rh.ray.tnear = (float)tnear;
+    rh.ray.tfar = tfar < FLT_MAX ? (float)tfar : FLT_MAX;
+    rh.ray.time = 0;
+    rh.ray.mask = UINT32_MAX;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(rays->scene, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return 0;
+    hit->t = rh.ray.tfar;
+    hit->polygon = rays->triangle_polygon[rh.hit.primID];
+    /* Embree's Ng is (e1 x e2) for v0, v1, v2 = counter-clockwise: the front normal. */
+    rad_vec3 n = v3_normalize(v3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    hit->front = v3_dot(n, direction) < 0;
+    hit->normal = n;
+    return 1;
+}
