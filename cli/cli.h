@@ -53,5 +53,10 @@ int cli_parse_ff_method(const char *name);
 /* Commands. */
 int cmd_solve(int argc, char **argv);
 int cmd_scenes(int argc, char **argv);
+int cmd_formfactors(int argc, char **argv);
+int cmd_render(int argc, char **argv);
+int cmd_pathtrace(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
+int cmd_bake(int argc, char **argv);
 
 #endif

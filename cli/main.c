@@ -11,6 +11,11 @@ typedef struct command {
 
 static const command commands[] = {
     {"solve", cmd_solve, "solve a scene and print the radiosity of each surface"},
+    {"formfactors", cmd_formfactors, "print the form factors between a scene's surfaces"},
+    {"render", cmd_render, "render an image of the radiosity solution"},
+    {"pathtrace", cmd_pathtrace, "render a path-traced reference image"},
+    {"compare", cmd_compare, "compare two images (RMSE, relative MSE, PSNR)"},
+    {"bake", cmd_bake, "export the solution as a mesh with vertex colours"},
     {"scenes", cmd_scenes, "list the built-in scenes (or export one)"},
 };
 #define COMMAND_COUNT (sizeof commands / sizeof commands[0])
