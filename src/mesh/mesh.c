@@ -1,6 +1,8 @@
 /* mesh.c - cutting surfaces into patches and elements (see mesh.h).
  *
- * 1. Weld polygon corners by position within each surface.
+ * 1. Weld polygon corners by position within each surface, then split every welded corner
+ *    where the faces around it bend by more than the crease angle, so that a box's faces or a
+ *    wall and the floor never share a vertex (and never smooth across the corner).
  * 2. Fan polygons of more than four corners into triangles: every cell is a triangle or a quad.
  * 3. Decide how many pieces each edge is cut into. A quad's opposite edges and all of a
  *    triangle's edges must agree, and an edge shared by two cells is one edge: union-find over
@@ -76,7 +78,11 @@ typedef struct cell {
     uint32_t corner[4]; /* welded corner ids; corner[3] == RAD_NO_VERTEX for triangles */
     uint32_t edge[4];
     uint32_t polygon, surface;
+    rad_vec3 normal;
 } cell;
+
+/* Faces meeting at less than this angle share vertices (smooth); more, and they split. */
+#define CREASE_COSINE 0.866 /* 30 degrees */
 
 typedef struct mesher {
     rad_context *ctx;
@@ -167,20 +173,88 @@ static rad_status build_cells(mesher *m) {
             }
         }
         /* Fan anything larger than a quad into triangles. */
+        rad_vec3 normal = rad_polygon_normal(scene, polygon);
         if (polygon->count <= 4) {
             cell c = {{ids[0], ids[1], ids[2], polygon->count == 4 ? ids[3] : RAD_NO_VERTEX},
-                      {0}, (uint32_t)i, polygon->surface};
+                      {0}, (uint32_t)i, polygon->surface, normal};
             m->cells[m->cell_count++] = c;
         } else {
             for (uint32_t k = 1; k + 1 < polygon->count; ++k) {
                 cell c = {{ids[0], ids[k], ids[k + 1], RAD_NO_VERTEX}, {0}, (uint32_t)i,
-                          polygon->surface};
+                          polygon->surface, normal};
                 m->cells[m->cell_count++] = c;
             }
         }
     }
     key_map_free(ctx, &weld);
     return RAD_OK;
+}
+
+/* Step 1, second half: give each welded corner one id per group of faces around it whose
+ * normals agree within the crease angle. */
+static rad_status split_creases(mesher *m) {
+    rad_context *ctx = m->ctx;
+    size_t corners = m->corner_count, uses = 0;
+    size_t *start = rad_alloc_zero(ctx, corners + 1, sizeof *start);
+    if (!start) return RAD_ERROR_NO_MEMORY;
+    for (size_t i = 0; i < m->cell_count; ++i)
+        for (int k = 0; k < cell_corners(&m->cells[i]); ++k) start[m->cells[i].corner[k] + 1]++, uses++;
+    for (size_t c = 0; c < corners; ++c) start[c + 1] += start[c];
+    /* use = (cell, corner slot), grouped by corner. */
+    uint32_t *use_cell = rad_alloc(ctx, uses + 1, sizeof *use_cell);
+    uint8_t *use_slot = rad_alloc(ctx, uses + 1, sizeof *use_slot);
+    size_t *fill = rad_alloc(ctx, corners + 1, sizeof *fill);
+    rad_vec3 *position = rad_alloc(ctx, uses + 1, sizeof *position);
+    uint32_t *surface = rad_alloc(ctx, uses + 1, sizeof *surface);
+    rad_vec3 *representative = rad_alloc(ctx, uses + 1, sizeof *representative);
+    rad_status status = RAD_OK;
+    if (!use_cell || !use_slot || !fill || !position || !surface || !representative) {
+        status = RAD_ERROR_NO_MEMORY;
+        goto done;
+    }
+    memcpy(fill, start, corners * sizeof *fill);
+    for (size_t i = 0; i < m->cell_count; ++i)
+        for (int k = 0; k < cell_corners(&m->cells[i]); ++k) {
+            size_t at = fill[m->cells[i].corner[k]]++;
+            use_cell[at] = (uint32_t)i;
+            use_slot[at] = (uint8_t)k;
+        }
+    size_t fresh = 0;
+    for (size_t c = 0; c < corners; ++c) {
+        size_t groups_begin = fresh;
+        for (size_t at = start[c]; at < start[c + 1]; ++at) {
+            cell *owner = &m->cells[use_cell[at]];
+            size_t group = fresh;
+            for (size_t g = groups_begin; g < fresh; ++g)
+                if (v3_dot(representative[g], owner->normal) >= CREASE_COSINE) {
+                    group = g;
+                    break;
+                }
+            if (group == fresh) {
+                representative[fresh] = owner->normal;
+                position[fresh] = m->corner_position[c];
+                surface[fresh] = m->corner_surface[c];
+                fresh++;
+            }
+            owner->corner[use_slot[at]] = (uint32_t)group;
+        }
+    }
+    rad_free(ctx, m->corner_position);
+    rad_free(ctx, m->corner_surface);
+    m->corner_position = position;
+    m->corner_surface = surface;
+    m->corner_count = fresh;
+    position = NULL;
+    surface = NULL;
+done:
+    rad_free(ctx, start);
+    rad_free(ctx, use_cell);
+    rad_free(ctx, use_slot);
+    rad_free(ctx, fill);
+    rad_free(ctx, position);
+    rad_free(ctx, surface);
+    rad_free(ctx, representative);
+    return status;
 }
 
 /* Step 3: edges, their classes and cut counts. */
@@ -419,6 +493,7 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
     if (!status && m.cell_count == 0)
         status = rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                           "%s: every face is degenerate (zero area or not finite)", scene->source);
+    if (!status) status = split_creases(&m);
     if (!status) status = build_edges(&m, o.element_size);
     if (status) {
         mesher_free(&m);

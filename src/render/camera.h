@@ -1,0 +1,38 @@
+/* camera.h - pinhole cameras: the scene's own (or one that frames the scene), overridden by
+ * --eye/--look/--up/--fov; primary ray directions for pixel positions. Vertical field of view,
+ * square pixels; pixel (0, 0) is the top-left corner of the image; +x on screen is
+ * forward x up (so the Cornell box shows its red wall on the left). */
+#ifndef RAD_RENDER_CAMERA_H
+#define RAD_RENDER_CAMERA_H
+
+#include "scene/scene.h"
+
+typedef struct rad_view {
+    rad_vec3 eye;
+    rad_vec3 forward, right, up; /* orthonormal */
+    double tan_half_fov;         /* vertical */
+    int width, height;
+} rad_view;
+
+/* A camera that frames the whole scene from the -z side looking along +z, for scenes without
+ * one. */
+rad_camera rad_camera_framing(const rad_scene *scene);
+
+/* The scene's camera or, when it has none, one that frames it. */
+rad_camera rad_scene_camera(const rad_scene *scene);
+
+/* Checks the camera (finite, eye != look, up not parallel to the view, 0 < fov < 180) and the
+ * size (1 .. 16384 per side) and builds the view. */
+rad_status rad_view_make(rad_context *ctx, const rad_camera *camera, int width, int height,
+                         rad_view *out);
+
+/* Unit direction through the image point (px, py) in pixels: (0, 0) top-left corner,
+ * (width, height) bottom-right. */
+static inline rad_vec3 rad_view_direction(const rad_view *view, double px, double py) {
+    double aspect = (double)view->width / view->height;
+    double sx = (2 * px / view->width - 1) * view->tan_half_fov * aspect;
+    double sy = (1 - 2 * py / view->height) * view->tan_half_fov;
+    return v3_normalize(v3_add(view->forward, v3_add(v3_scale(view->right, sx), v3_scale(view->up, sy))));
+}
+
+#endif
