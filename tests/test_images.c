@@ -1,0 +1,200 @@
+/* test_images.c - image files: PFM and HDR round trips, PFM row order and byte layout, PNG tone
+ * mapping decoded with stb_image, unknown extensions and unwritable paths. */
+#include "io/image.h"
+#include "render/tonemap.h"
+#include "test.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <stb/stb_image.h>
+
+static rad_context *ctx;
+
+static rad_image *gradient(int width, int height) {
+    rad_image *image;
+    if (rad_image_new(ctx, width, height, &image)) return NULL;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            float *p = image->pixels + 3 * ((size_t)y * width + x);
+            p[0] = 0.01f * (float)x + 0.5f;
+            p[1] = 3.0f * (float)y + 0.25f;
+            p[2] = (float)(x * y) * 1e-3f + 1e-4f;
+        }
+    return image;
+}
+
+static int file_exists(const char *path) { return access(path, F_OK) == 0; }
+
+static void test_pfm_round_trip(void) {
+    rad_image *image = gradient(7, 5);
+    CHECK(image != NULL);
+    if (!image) return;
+    CHECK(rad_image_write(image, "test_images.pfm", NULL) == RAD_OK);
+    rad_image *back = NULL;
+    CHECK(rad_image_read(ctx, "test_images.pfm", &back) == RAD_OK);
+    if (back) {
+        CHECK(back->width == 7 && back->height == 5);
+        CHECK(memcmp(back->pixels, image->pixels, 7 * 5 * 3 * sizeof(float)) == 0);
+    }
+    /* The file itself: header, then the BOTTOM row first, little-endian floats. */
+    FILE *file = fopen("test_images.pfm", "rb");
+    CHECK(file != NULL);
+    if (file) {
+        char header[32] = {0};
+        size_t header_length = strlen("PF\n7 5\n-1.0\n");
+        CHECK(fread(header, 1, header_length, file) == header_length);
+        CHECK(strcmp(header, "PF\n7 5\n-1.0\n") == 0);
+        uint8_t bytes[4];
+        CHECK(fread(bytes, 1, 4, file) == 4);
+        uint32_t bits = (uint32_t)bytes[0] | (uint32_t)bytes[1] << 8 | (uint32_t)bytes[2] << 16 |
+                        (uint32_t)bytes[3] << 24;
+        float first;
+        memcpy(&first, &bits, 4);
+        CHECK(first == image->pixels[3 * (4 * 7) + 0]); /* pixel (0, 4): bottom-left, red */
+        fclose(file);
+    }
+    rad_image_free(back);
+    rad_image_free(image);
+}
+
+static void test_pfm_big_endian_and_grey(void) {
+    /* A hand-made big-endian greyscale file: "Pf", positive scale, 2x1. */
+    FILE *file = fopen("test_images_be.pfm", "wb");
+    if (!file) {
+        CHECK(0);
+        return;
+    }
+    fputs("Pf\n2 1\n1.0\n", file);
+    const uint8_t data[] = {0x3f, 0x80, 0x00, 0x00, 0x40, 0x00, 0x00, 0x00}; /* 1.0, 2.0 */
+    fwrite(data, 1, sizeof data, file);
+    fclose(file);
+    rad_image *image = NULL;
+    CHECK(rad_image_read(ctx, "test_images_be.pfm", &image) == RAD_OK);
+    if (image) {
+        CHECK(image->width == 2 && image->height == 1);
+        CHECK(image->pixels[0] == 1.0f && image->pixels[1] == 1.0f && image->pixels[2] == 1.0f);
+        CHECK(image->pixels[3] == 2.0f && image->pixels[5] == 2.0f);
+    }
+    rad_image_free(image);
+    /* Truncated data is a parse error. */
+    file = fopen("test_images_short.pfm", "wb");
+    if (file) {
+        fputs("PF\n4 4\n-1.0\n", file);
+        fwrite(data, 1, sizeof data, file);
+        fclose(file);
+    }
+    image = NULL;
+    CHECK(rad_image_read(ctx, "test_images_short.pfm", &image) == RAD_ERROR_PARSE);
+    CHECK(image == NULL);
+    CHECK(strstr(rad_context_error(ctx), "ends early") != NULL);
+    remove("test_images_be.pfm");
+    remove("test_images_short.pfm");
+}
+
+static void test_hdr_round_trip(void) {
+    rad_image *image = gradient(9, 4);
+    if (!image) {
+        CHECK(0);
+        return;
+    }
+    CHECK(rad_image_write(image, "test_images.hdr", NULL) == RAD_OK);
+    rad_image *back = NULL;
+    CHECK(rad_image_read(ctx, "test_images.hdr", &back) == RAD_OK);
+    if (back) {
+        CHECK(back->width == 9 && back->height == 4);
+        /* RGBE keeps 8 bits of mantissa relative to the largest channel of a pixel. */
+        double worst = 0;
+        for (int i = 0; i < 9 * 4; ++i) {
+            const float *a = image->pixels + 3 * i, *b = back->pixels + 3 * i;
+            float largest = fmaxf(a[0], fmaxf(a[1], a[2]));
+            for (int c = 0; c < 3; ++c) worst = fmax(worst, fabs(a[c] - b[c]) / largest);
+        }
+        CHECK(worst < 1.0 / 128);
+        /* Row order: the top row (y = 0) has the smallest green. */
+        CHECK(back->pixels[1] < back->pixels[3 * 9 * 3 + 1]);
+    }
+    rad_image_free(back);
+    rad_image_free(image);
+}
+
+static void test_png_values(void) {
+    rad_image *image;
+    if (rad_image_new(ctx, 4, 2, &image)) {
+        CHECK(0);
+        return;
+    }
+    const float values[8] = {0.0f, 0.001f, 0.18f, 0.5f, 1.0f, 4.0f, -1.0f, 0.25f};
+    for (int i = 0; i < 8; ++i) {
+        image->pixels[3 * i + 0] = values[i];
+        image->pixels[3 * i + 1] = values[i] * 0.5f;
+        image->pixels[3 * i + 2] = 0;
+    }
+    rad_image_write_options options = {0, RAD_TONEMAP_CLAMP};
+    CHECK(rad_image_write(image, "test_images.png", &options) == RAD_OK);
+    int width, height, channels;
+    unsigned char *png = stbi_load("test_images.png", &width, &height, &channels, 3);
+    CHECK(png != NULL);
+    if (png) {
+        CHECK(width == 4 && height == 2);
+        /* Known sRGB codes: 0.18 -> 118, 0.5 -> 188, 0.09 -> 85, 0.25 -> 137, clamps at 1. */
+        CHECK(png[0] == 0);
+        CHECK(png[3 * 2] == 118);
+        CHECK(png[3 * 2 + 1] == 85);
+        CHECK(png[3 * 3] == 188);
+        CHECK(png[3 * 4] == 255);
+        CHECK(png[3 * 5] == 255 && png[3 * 5 + 1] == 255);
+        CHECK(png[3 * 6] == 0); /* negative clamps to black */
+        CHECK(png[3 * 7] == 137);
+        CHECK(png[3 * 1] == rad_srgb_encode(0.001f));
+        stbi_image_free(png);
+    }
+    /* Exposure +1 stop doubles the linear value: 0.25 -> 0.5 -> 188. */
+    options.exposure = 1;
+    CHECK(rad_image_write(image, "test_images.png", &options) == RAD_OK);
+    png = stbi_load("test_images.png", &width, &height, &channels, 3);
+    if (png) {
+        CHECK(png[3 * 7] == 188);
+        stbi_image_free(png);
+    }
+    rad_image_free(image);
+}
+
+static void test_bad_outputs(void) {
+    rad_image *image = gradient(2, 2);
+    if (!image) {
+        CHECK(0);
+        return;
+    }
+    CHECK(!rad_image_extension_known("picture.jpg"));
+    CHECK(!rad_image_extension_known("no_extension"));
+    CHECK(!rad_image_extension_known("dir.png/file"));
+    CHECK(rad_image_extension_known("UPPER.PNG"));
+    CHECK(rad_image_write(image, "test_images.jpg", NULL) == RAD_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(rad_context_error(ctx), "unknown image format") != NULL);
+    CHECK(!file_exists("test_images.jpg"));
+    CHECK(rad_image_write(image, "no-such-directory/x.pfm", NULL) == RAD_ERROR_IO);
+    CHECK(strstr(rad_context_error(ctx), "no-such-directory/x.pfm") != NULL);
+    rad_image *none = NULL;
+    CHECK(rad_image_read(ctx, "missing.pfm", &none) == RAD_ERROR_IO);
+    CHECK(rad_image_read(ctx, "test_images.png", &none) == RAD_ERROR_UNSUPPORTED);
+    CHECK(rad_image_new(ctx, 0, 4, &none) == RAD_ERROR_INVALID_ARGUMENT);
+    CHECK(none == NULL);
+    rad_image_free(image);
+}
+
+int main(void) {
+    if (rad_context_create(NULL, &ctx)) return 1;
+    test_pfm_round_trip();
+    test_pfm_big_endian_and_grey();
+    test_hdr_round_trip();
+    test_png_values();
+    test_bad_outputs();
+    remove("test_images.pfm");
+    remove("test_images.hdr");
+    remove("test_images.png");
+    rad_context_destroy(ctx);
+    return test_finish();
+}
