@@ -1,0 +1,262 @@
+/* test_core.c - the radiosity system in matrix form: the lecture's four-surface room round by
+ * round and shot by shot, exact small systems, closed enclosures, and every solver against the
+ * direct solution. */
+#include "radiosity.h"
+#include "test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static rad_context *ctx;
+
+/* The lecture prints three decimals: the value must round to the printed number. Form factors
+ * are stored in float32, so allow their rounding (1e-7) on top. */
+#define PRINTED 5.001e-4
+/* float32 form factors: about 7 significant digits. */
+#define FLOAT_FF 1.5e-7
+
+static rad_system *load(const char *name) {
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    CHECK(rad_scene_builtin(ctx, name, &scene) == RAD_OK);
+    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
+    rad_scene_destroy(scene);
+    return system;
+}
+
+static double radiosity_of(const rad_system *system, const char *name) {
+    for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
+        rad_surface_info info;
+        rad_system_surface(system, i, &info);
+        if (strcmp(info.name, name) == 0) return info.radiosity[0];
+    }
+    return NAN;
+}
+
+/* Records the trace: per iteration, per surface, received / reflected / radiosity / unshot. */
+typedef struct recorded {
+    int count;
+    long shooter[8];
+    double received[8][4], reflected[8][4], radiosity[8][4], unshot[8][4];
+} recorded;
+
+static void record(void *user, const rad_trace_event *event) {
+    recorded *r = user;
+    if (r->count >= 8 || event->surface_count != 4) return;
+    int i = r->count++;
+    r->shooter[i] = event->shooter;
+    for (int s = 0; s < 4; ++s) {
+        r->received[i][s] = event->received[s][0];
+        r->radiosity[i][s] = event->radiosity[s][0];
+        r->reflected[i][s] = event->reflected ? event->reflected[s][0] : NAN;
+        r->unshot[i][s] = event->unshot ? event->unshot[s][0] : NAN;
+    }
+}
+
+enum { CEILING, FLOOR, LEFT, RIGHT };
+
+/* The lecture's gathering example, to the printed digits. */
+static void test_jacobi_rounds(void) {
+    rad_system *system = load("four-walls");
+    recorded r = {0};
+    rad_solve_options options = {.solver = RAD_SOLVER_JACOBI, .max_iterations = 2,
+                                 .trace = record, .trace_user = &r};
+    rad_solve_report report;
+    CHECK(rad_solve(system, &options, &report) == RAD_OK);
+    CHECK(report.iterations == 2 && !report.converged && r.count == 2);
+    CHECK_NEAR(r.radiosity[0][CEILING], .1875, PRINTED);
+    CHECK_NEAR(r.radiosity[0][FLOOR], .025, PRINTED);
+    CHECK_NEAR(r.radiosity[0][LEFT], .375, PRINTED);
+    CHECK_NEAR(r.radiosity[0][RIGHT], 1, PRINTED);
+    CHECK_NEAR(r.received[1][FLOOR], .438, PRINTED);
+    CHECK_NEAR(r.received[1][LEFT], .553, PRINTED);
+    CHECK_NEAR(r.received[1][CEILING], .356, PRINTED);
+    CHECK_NEAR(r.received[1][RIGHT], .241, PRINTED);
+    CHECK_NEAR(r.radiosity[1][FLOOR], .044, PRINTED);
+    CHECK_NEAR(r.radiosity[1][LEFT], .415, PRINTED);
+    CHECK_NEAR(r.radiosity[1][CEILING], .267, PRINTED);
+    CHECK_NEAR(r.radiosity[1][RIGHT], 1.002, PRINTED);
+    CHECK(r.shooter[0] == -1);
+    rad_system_destroy(system);
+}
+
+/* The lecture's shooting example: the right wall shoots, then the left wall. */
+static void test_shooting_shots(void) {
+    rad_system *system = load("four-walls");
+    recorded r = {0};
+    rad_solve_options options = {.solver = RAD_SOLVER_SHOOTING, .max_iterations = 2,
+                                 .trace = record, .trace_user = &r};
+    CHECK(rad_solve(system, &options, NULL) == RAD_OK);
+    CHECK(r.count == 2);
+    CHECK(r.shooter[0] == RIGHT);
+    CHECK_NEAR(r.received[0][LEFT], .5, PRINTED);
+    CHECK_NEAR(r.reflected[0][LEFT], .375, PRINTED);
+    CHECK_NEAR(r.received[0][CEILING], .25, PRINTED);
+    CHECK_NEAR(r.reflected[0][CEILING], .188, PRINTED);
+    CHECK_NEAR(r.received[0][FLOOR], .25, PRINTED);
+    CHECK_NEAR(r.reflected[0][FLOOR], .025, PRINTED);
+    CHECK_NEAR(r.unshot[0][RIGHT], 0, 1e-12);
+    CHECK(r.shooter[1] == LEFT);
+    CHECK_NEAR(r.received[1][CEILING], .094, PRINTED);
+    CHECK_NEAR(r.reflected[1][CEILING], .070, PRINTED * 10); /* printed with two decimals */
+    CHECK_NEAR(r.received[1][RIGHT], .188, PRINTED);
+    CHECK_NEAR(r.reflected[1][RIGHT], .002, PRINTED);
+    CHECK_NEAR(r.received[1][FLOOR], .094, PRINTED);
+    CHECK_NEAR(r.reflected[1][FLOOR], .009, PRINTED);
+    CHECK_NEAR(r.unshot[1][LEFT], 0, 1e-12);
+    CHECK_NEAR(r.radiosity[1][LEFT], .375, PRINTED);
+    rad_system_destroy(system);
+}
+
+/* Every solver (and over-relaxed variants) converges to the direct solution. */
+static void test_solvers_agree(const char *scene) {
+    rad_system *system = load(scene);
+    size_t n = rad_system_surface_count(system);
+    double direct[16];
+    rad_solve_options options = {.solver = RAD_SOLVER_DIRECT};
+    CHECK(rad_solve(system, &options, NULL) == RAD_OK);
+    for (size_t i = 0; i < n && i < 16; ++i) {
+        rad_surface_info info;
+        rad_system_surface(system, i, &info);
+        direct[i] = info.radiosity[0];
+    }
+    struct { rad_solver_kind kind; double omega; } runs[] = {
+        {RAD_SOLVER_JACOBI, 1},   {RAD_SOLVER_GAUSS_SEIDEL, 1}, {RAD_SOLVER_GAUSS_SEIDEL, 1.2},
+        {RAD_SOLVER_SHOOTING, 1}, {RAD_SOLVER_SHOOTING, 1.3},
+    };
+    for (size_t k = 0; k < sizeof runs / sizeof runs[0]; ++k) {
+        rad_solve_options o = {.solver = runs[k].kind, .omega = runs[k].omega, .tolerance = 1e-10};
+        rad_solve_report report;
+        CHECK(rad_solve(system, &o, &report) == RAD_OK);
+        CHECK(report.converged);
+        for (size_t i = 0; i < n && i < 16; ++i) {
+            rad_surface_info info;
+            rad_system_surface(system, i, &info);
+            CHECK_NEAR(info.radiosity[0], direct[i], 1e-6);
+        }
+    }
+    rad_system_destroy(system);
+}
+
+/* Two opposed unit squares one apart: F = 0.199824895698, rho = 0.5, E = 1 on one. */
+static void test_two_squares_exact(void) {
+    const char text[] = "patch a area 1 reflectance 0.5 emission 1\n"
+                        "patch b area 1 reflectance 0.5 emission 0\n"
+                        "ff a b 0.199824895698\nff b a 0.199824895698\n";
+    rad_scene *scene;
+    rad_system *system;
+    CHECK(rad_scene_parse_ffm(ctx, text, strlen(text), "squares", &scene) == RAD_OK);
+    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
+    for (int kind = RAD_SOLVER_DIRECT; kind <= RAD_SOLVER_SHOOTING; ++kind) {
+        rad_solve_options o = {.solver = (rad_solver_kind)kind, .tolerance = 1e-13};
+        CHECK(rad_solve(system, &o, NULL) == RAD_OK);
+        CHECK_NEAR(radiosity_of(system, "a"), 1.01008315227, FLOAT_FF);
+        CHECK_NEAR(radiosity_of(system, "b"), 0.100919880275, FLOAT_FF);
+    }
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+}
+
+/* A closed enclosure (the inside of a sphere: F_ij = A_j / A) with uniform rho and E has
+ * B = E / (1 - rho) everywhere, and absorbs what it emits. */
+static void test_enclosure(void) {
+    enum { N = 40 };
+    rad_patch_desc patches[N];
+    static float ff[N * N];
+    double total = 0, rho = 0.8, emission = 2.5;
+    for (int i = 0; i < N; ++i) {
+        patches[i] = (rad_patch_desc){NULL, 0.5 + (i % 7) * 0.3, {rho, rho, rho},
+                                      {emission, emission, emission}};
+        total += patches[i].area;
+    }
+    for (int i = 0; i < N; ++i)
+        for (int j = 0; j < N; ++j) ff[i * N + j] = (float)(patches[j].area / total);
+    rad_system *system;
+    CHECK(rad_system_create_dense(ctx, patches, N, ff, &system) == RAD_OK);
+    for (int kind = RAD_SOLVER_DIRECT; kind <= RAD_SOLVER_SHOOTING; ++kind) {
+        rad_solve_options o = {.solver = (rad_solver_kind)kind, .tolerance = 1e-9};
+        CHECK(rad_solve(system, &o, NULL) == RAD_OK);
+        double absorbed = 0, emitted = 0, worst = 0;
+        for (int i = 0; i < N; ++i) {
+            rad_surface_info info;
+            rad_system_surface(system, (size_t)i, &info);
+            worst = fmax(worst, fabs(info.radiosity[1] - emission / (1 - rho)));
+            double irradiance = (info.radiosity[1] - emission) / rho;
+            absorbed += (1 - rho) * irradiance * info.area;
+            emitted += emission * info.area;
+        }
+        CHECK_NEAR(worst, 0, 1e-5 * emission / (1 - rho));
+        CHECK_NEAR(absorbed / emitted, 1, 1e-5);
+    }
+    rad_system_destroy(system);
+}
+
+/* Colour: each channel is its own system; the direct solver factorises per channel. */
+static void test_colour(void) {
+    const char text[] = "patch red area 2 reflectance 0.9 0.2 0.1 emission 0\n"
+                        "patch lamp area 1 reflectance 0.5 emission 1 2 3\n"
+                        "ff red lamp 0.3\nff lamp red 0.6\n";
+    rad_scene *scene;
+    rad_system *system;
+    CHECK(rad_scene_parse_ffm(ctx, text, strlen(text), "colour", &scene) == RAD_OK);
+    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
+    rad_solve_options o = {.solver = RAD_SOLVER_DIRECT};
+    CHECK(rad_solve(system, &o, NULL) == RAD_OK);
+    /* B_lamp = E + rho_l * F_red,lamp * A_red / A_lamp * B_red, B_red = rho_r * F_lamp,red * A_lamp / A_red * B_lamp */
+    for (int c = 0; c < 3; ++c) {
+        double rho_r = c == 0 ? 0.9 : c == 1 ? 0.2 : 0.1, e = c + 1.0;
+        double a = 0.5 * 0.3 * 2.0, b = rho_r * 0.6 * 0.5;
+        double lamp = e / (1 - a * b), red = b * lamp;
+        rad_surface_info info;
+        rad_system_surface(system, 0, &info);
+        CHECK_NEAR(info.radiosity[c], red, FLOAT_FF * red);
+        rad_system_surface(system, 1, &info);
+        CHECK_NEAR(info.radiosity[c], lamp, FLOAT_FF * lamp);
+        CHECK_NEAR(info.power[c], lamp * 1.0, FLOAT_FF * lamp);
+    }
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+}
+
+/* The direct solver refuses, naming the iterative solvers, when the matrix would not fit. */
+static void test_memory_budget(void) {
+    rad_context_options options = {.max_memory = 1000};
+    rad_context *small;
+    CHECK(rad_context_create(&options, &small) == RAD_OK);
+    rad_scene *scene;
+    rad_system *system = NULL;
+    CHECK(rad_scene_builtin(small, "four-walls", &scene) == RAD_OK);
+    CHECK(rad_system_create(small, scene, NULL, NULL, &system) == RAD_OK);
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+
+    enum { N = 64 };
+    rad_patch_desc patches[N];
+    static float ff[N * N];
+    for (int i = 0; i < N; ++i) patches[i] = (rad_patch_desc){NULL, 1, {0.5, 0.5, 0.5}, {1, 1, 1}};
+    options.max_memory = 4 * N * N + 100; /* the matrix fits, the dense solve does not */
+    rad_context *tight;
+    CHECK(rad_context_create(&options, &tight) == RAD_OK);
+    CHECK(rad_system_create_dense(tight, patches, N, ff, &system) == RAD_OK);
+    rad_solve_options o = {.solver = RAD_SOLVER_DIRECT};
+    CHECK(rad_solve(system, &o, NULL) == RAD_ERROR_MEMORY_BUDGET);
+    CHECK(strstr(rad_context_error(tight), "gauss-seidel") != NULL);
+    o.solver = RAD_SOLVER_SHOOTING;
+    CHECK(rad_solve(system, &o, NULL) == RAD_OK);
+    rad_system_destroy(system);
+    rad_context_destroy(tight);
+    rad_context_destroy(small);
+}
+
+int main(void) {
+    CHECK(rad_context_create(NULL, &ctx) == RAD_OK);
+    test_jacobi_rounds();
+    test_shooting_shots();
+    test_solvers_agree("four-walls");
+    test_two_squares_exact();
+    test_enclosure();
+    test_colour();
+    test_memory_budget();
+    rad_context_destroy(ctx);
+    return test_finish();
+}
