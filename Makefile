@@ -22,8 +22,9 @@ run: deps build
 test: deps build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# Every bench/bench_*.c; tables go to stdout (bench/README.md keeps the measured ones).
 bench: deps build
-	$(BUILD)/bench_solvers
+	@for b in $(BUILD)/bench_*; do [ -x "$$b" ] && "$$b"; echo; done
 
 clean:
 	rm -rf $(BUILD)
