@@ -262,3 +262,51 @@ rad_status rad_image_read(rad_context *ctx, const char *path, rad_image **out) {
     fclose(file);
     return status;
 }
+
+/* ---- the public interface (include/radiosity.h, "Rendering") ------------------------------- */
+
+int rad_image_width(const rad_image *image) { return image ? image->width : 0; }
+int rad_image_height(const rad_image *image) { return image ? image->height : 0; }
+const float *rad_image_pixels(const rad_image *image) { return image ? image->pixels : NULL; }
+void rad_image_destroy(rad_image *image) { rad_image_free(image); }
+
+static rad_status write_options(rad_context *ctx, const rad_image_save_options *options,
+                                rad_image_write_options *out) {
+    out->exposure = options ? options->exposure : 0;
+    out->curve = RAD_TONEMAP_CLAMP;
+    if (!isfinite(out->exposure))
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "exposure must be finite");
+    const char *name = options ? options->tonemap : NULL;
+    if (!name) return RAD_OK;
+    int curve = rad_tonemap_parse(name);
+    if (curve < 0)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "unknown tone curve '%s' (none, clamp, reinhard or aces)", name);
+    out->curve = (rad_tonemap)curve;
+    return RAD_OK;
+}
+
+rad_status rad_image_check_path(rad_context *ctx, const char *path,
+                                const rad_image_save_options *options) {
+    if (!rad_image_extension_known(path))
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "%s: unknown image format (use .png, .hdr or .pfm)", path ? path : "");
+    rad_image_write_options write;
+    rad_status status = write_options(ctx, options, &write);
+    if (status) return status;
+    /* Make (and drop) the temporary file the write will use: the directory takes new files. */
+    rad_atomic_file file;
+    status = rad_atomic_open(ctx, path, &file);
+    if (status) return status;
+    rad_atomic_abandon(&file);
+    return RAD_OK;
+}
+
+rad_status rad_image_save(const rad_image *image, const char *path,
+                          const rad_image_save_options *options) {
+    if (!image) return RAD_ERROR_INVALID_ARGUMENT;
+    rad_image_write_options write;
+    rad_status status = write_options(image->ctx, options, &write);
+    if (status) return status;
+    return rad_image_write(image, path, &write);
+}

@@ -1,9 +1,71 @@
 /* builtin_mirror.c - cornell-mirror: the Cornell box with the tall block a mirror and a glass
- * sphere on the floor. PLACEHOLDER: the images issue turns the tall block into a mirror and adds
- * the sphere; until then the scene is the plain Cornell box. */
+ * sphere on the floor, for the ray-traced second pass and the path tracer.
+ *
+ * Both new materials reflect nothing diffusely (reflectance 0): the radiosity solution sees them
+ * as black occluders, and only the ray-traced passes show what they reflect and refract
+ * (docs/pathtracing.md). The sphere stands on the floor in front of the mirror, clear of both
+ * blocks (short block footprint x 82..290, z 65..272; tall block x 265..472, z 247..456). */
 #include "scene/scene.h"
 
+#include <string.h>
+
+#define SPHERE_RADIUS 80.0
+#define SPHERE_SLICES 48 /* around the vertical axis */
+#define SPHERE_STACKS 24 /* pole to pole */
+
+static const rad_vec3 sphere_center = {400.0, SPHERE_RADIUS + 0.5, 140.0};
+
+/* A UV sphere of convex faces (planar trapezoids between rings, triangles at the poles),
+ * counter-clockwise seen from outside. */
+static rad_status add_sphere(rad_scene *scene, uint32_t surface, rad_vec3 center, double radius) {
+    rad_vec3 ring[SPHERE_STACKS + 1][SPHERE_SLICES];
+    for (int i = 0; i <= SPHERE_STACKS; ++i) {
+        double theta = RAD_PI * i / SPHERE_STACKS; /* from the top */
+        for (int j = 0; j < SPHERE_SLICES; ++j) {
+            double phi = 2 * RAD_PI * j / SPHERE_SLICES;
+            ring[i][j] = v3_add(center, v3(radius * sin(theta) * cos(phi), radius * cos(theta),
+                                           radius * sin(theta) * sin(phi)));
+        }
+    }
+    rad_status status = RAD_OK;
+    for (int i = 0; i < SPHERE_STACKS && !status; ++i)
+        for (int j = 0; j < SPHERE_SLICES && !status; ++j) {
+            int k = (j + 1) % SPHERE_SLICES;
+            /* Counter-clockwise seen from outside: along the upper ring towards larger phi,
+             * down the meridian, back along the lower ring, up. */
+            rad_vec3 a = ring[i][j], b = ring[i][k], c = ring[i + 1][k], d = ring[i + 1][j];
+            if (i == 0) status = rad_scene_add_polygon_points(scene, surface, (rad_vec3[]){a, c, d}, 3);
+            else if (i == SPHERE_STACKS - 1)
+                status = rad_scene_add_polygon_points(scene, surface, (rad_vec3[]){a, b, c}, 3);
+            else status = rad_scene_add_polygon_points(scene, surface, (rad_vec3[]){a, b, c, d}, 4);
+        }
+    return status;
+}
+
 rad_status rad_builtin_cornell_mirror(rad_scene *scene) {
-    (void)scene;
-    return RAD_OK;
+    rad_material mirror = {0};
+    mirror.name = "mirror";
+    mirror.kind = RAD_MATERIAL_MIRROR;
+    mirror.specular[0] = mirror.specular[1] = mirror.specular[2] = 0.9;
+    mirror.ior = 1.5;
+    rad_material glass = {0};
+    glass.name = "glass";
+    glass.kind = RAD_MATERIAL_GLASS;
+    glass.specular[0] = glass.specular[1] = glass.specular[2] = 1;
+    glass.ior = 1.5;
+    uint32_t mirror_index, glass_index, sphere;
+    rad_status status = rad_scene_add_material(scene, &mirror, &mirror_index);
+    if (!status) status = rad_scene_add_material(scene, &glass, &glass_index);
+    if (status) return status;
+    int found = 0;
+    for (size_t i = 0; i < scene->surface_count; ++i)
+        if (strcmp(scene->surfaces[i].name, "tall-block") == 0) {
+            scene->surfaces[i].material = mirror_index;
+            found = 1;
+        }
+    if (!found)
+        return rad_fail(scene->ctx, RAD_ERROR_INTERNAL, "cornell-mirror: no tall block to silver");
+    status = rad_scene_add_surface(scene, "glass-sphere", glass_index, &sphere);
+    if (!status) status = add_sphere(scene, sphere, sphere_center, SPHERE_RADIUS);
+    return status;
 }
