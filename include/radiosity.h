@@ -250,6 +250,59 @@ typedef struct rad_solve_report {
 rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                      rad_solve_report *report);
 
+/* ---------------------------------------------------------------------------------------------
+ * Images and path tracing: reference images and their comparison (docs/pathtracing.md,
+ * docs/images.md). Cameras and image files are those of "Rendering" above.
+ * ------------------------------------------------------------------------------------------- */
+
+/* Reads a linear image: .pfm (Portable Float Map) or .hdr (Radiance RGBE). */
+rad_status rad_image_read(rad_context *context, const char *path, rad_image **out);
+
+typedef struct rad_pathtrace_options {
+    int width, height;             /* pixels; zero: 512 */
+    const rad_camera_desc *camera; /* NULL: rad_scene_get_camera of the scene */
+    int samples_per_pixel;         /* paths per pixel, uniformly jittered, box filter; zero: 64 */
+    int max_bounces;               /* scattering events per path (1: direct light only); zero:
+                                      no limit, Russian roulette ends the paths */
+} rad_pathtrace_options;
+
+typedef struct rad_pathtrace_stats {
+    double seconds;
+    uint64_t paths; /* camera samples traced to the end */
+    uint64_t rays;  /* closest-hit and shadow rays */
+} rad_pathtrace_stats;
+
+/* Path-traces a geometric scene: unbiased for diffuse, mirror, glossy and glass materials, with
+ * next-event estimation and multiple importance sampling. Pixels are radiance. Random choices
+ * follow the context's seed (each pixel has its own stream): the same seed gives the same image
+ * whatever the thread count. Fails with RAD_ERROR_INVALID_ARGUMENT when the camera sees nothing
+ * or only the backs of surfaces (it is inside an object). Reports progress as "path tracing"
+ * (rows done); `stats` may be NULL. */
+rad_status rad_pathtrace(rad_context *context, const rad_scene *scene,
+                         const rad_pathtrace_options *options, rad_image **out,
+                         rad_pathtrace_stats *stats);
+
+/* How far a test image is from a reference, over every channel of every pixel. */
+typedef struct rad_image_comparison {
+    double rmse;         /* sqrt(mean (t - r)^2) */
+    double relative_mse; /* mean (t - r)^2 / (r^2 + 0.01), as pbrt's imgtool computes it */
+    double psnr;         /* dB, 10 log10(peak^2 / MSE), peak = the reference's largest value;
+                            infinite for identical images */
+    double mean_test, mean_reference;
+    double mean_ratio;   /* mean_test / mean_reference */
+} rad_image_comparison;
+
+/* Compares two images of the same size (else RAD_ERROR_INVALID_ARGUMENT). Non-finite pixels of
+ * the test image count as errors (RAD_ERROR_INVALID_ARGUMENT names the first). */
+rad_status rad_image_compare(rad_context *context, const rad_image *test,
+                             const rad_image *reference, rad_image_comparison *out);
+
+/* A false-colour picture of the per-pixel relative error sqrt(mean_c (t - r)^2 / (r^2 + 0.01)):
+ * black (none) through blue, magenta and orange to pale yellow at `scale` and above; zero scale:
+ * the 99th percentile of the error (stored back into *scale). Linear values, for rad_image_save. */
+rad_status rad_image_error_map(rad_context *context, const rad_image *test,
+                               const rad_image *reference, double *scale, rad_image **out);
+
 #ifdef __cplusplus
 }
 #endif
