@@ -1,14 +1,40 @@
-/* cmd_scenes.c - `radiosity scenes`: the built-in scenes. */
+/* cmd_scenes.c - `radiosity scenes`: lists the built-in scenes; with --export, writes a
+ * geometric scene (a built-in name or any file the importer reads) as OBJ + MTL. */
 #include "cli.h"
 
 int cmd_scenes(int argc, char **argv) {
-    static const char synopsis[] = "";
-    const cli_option options[] = {{0}};
+    static const char synopsis[] = "[--export SCENE FILE.obj]   (without options: list the "
+                                   "built-in scenes)";
+    const char *export_scene = NULL;
+    int quiet = 0;
+    const cli_option options[] = {
+        {"--export", CLI_STRING, &export_scene,
+         "SCENE FILE.obj  write a geometric scene (built-in or file) as OBJ, with FILE.mtl"},
+        {"--quiet", CLI_FLAG, &quiet, "no notes on stderr"},
+        {0},
+    };
     const char *positional[1];
     int count;
-    int status = cli_parse("scenes", synopsis, options, argc, argv, positional, 0, &count);
+    int status = cli_parse("scenes", synopsis, options, argc, argv, positional, 1, &count);
     if (status) return status < 0 ? 0 : status;
-    for (size_t i = 0; i < rad_builtin_scene_count(); ++i)
-        printf("%-16s %s\n", rad_builtin_scene_name(i), rad_builtin_scene_description(i));
-    return 0;
+    if (!export_scene) {
+        if (count)
+            return cli_error(EXIT_USAGE, "scenes: unexpected argument '%s' (usage: radiosity "
+                             "scenes %s)", positional[0], synopsis);
+        for (size_t i = 0; i < rad_builtin_scene_count(); ++i)
+            printf("%-16s %s\n", rad_builtin_scene_name(i), rad_builtin_scene_description(i));
+        return 0;
+    }
+    if (count != 1)
+        return cli_error(EXIT_USAGE, "scenes: --export needs a scene and an output file "
+                         "(usage: radiosity scenes --export SCENE FILE.obj)");
+
+    rad_context *ctx = cli_context(1, 0, 0, quiet);
+    rad_scene *scene = NULL;
+    rad_status rs = cli_load_scene(ctx, export_scene, &scene);
+    if (!rs) rs = rad_scene_export_obj(ctx, scene, positional[0]);
+    int exit_status = rs ? cli_fail(ctx, rs) : 0;
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+    return exit_status;
 }

@@ -303,6 +303,17 @@ rad_status rad_image_compare(rad_context *context, const rad_image *test,
 rad_status rad_image_error_map(rad_context *context, const rad_image *test,
                                const rad_image *reference, double *scale, rad_image **out);
 
+/* ---------------------------------------------------------------------------------------------
+ * Scene files: export (import is rad_scene_load; both in docs/formats.md, "Scene files")
+ * ------------------------------------------------------------------------------------------- */
+
+/* Writes a geometric scene as Wavefront OBJ (`path`) with its material library next to it (the
+ * same name ending in .mtl): one object (`o`) per surface, named as the surface (white space
+ * becomes '_'); materials keep reflectance (Kd), emitted radiance (Ke) and the mirror/glass
+ * hints (illum, Ks, Ns, Ni, Tf). Both files appear whole or not at all. A patch system (.ffm)
+ * has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
+rad_status rad_scene_export_obj(rad_context *context, const rad_scene *scene, const char *path);
+
 #ifdef __cplusplus
 }
 #endif

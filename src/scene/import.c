@@ -1,6 +1,747 @@
-/* import.c - PLACEHOLDER until the assimp importer lands (geometry issue). */
+/* import.c - geometric scenes from files, through assimp's C API (docs/formats.md).
+ *
+ * 1. assimp reads the file (OBJ/MTL, glTF 2.0/GLB, PLY, STL, Collada, FBX, 3DS, ...) without
+ *    post-processing, so faces stay the polygons the file has.
+ * 2. The node tree is walked with each node's world transform; every (node, mesh) pair becomes
+ *    one named surface: the node's name (or node/material when a node holds several meshes),
+ *    made unique with ".2", ".3", ... suffixes. Results are reported per surface.
+ * 3. Faces: points and lines are ignored; repeated corners are removed; faces with fewer than
+ *    three distinct corners or (near) zero area are dropped and counted in a warning; a corner
+ *    with a NaN or infinite coordinate is an error. Faces under a mirroring transform are
+ *    turned so that the front stays the front (counter-clockwise). Non-convex faces are cut
+ *    into triangles (ear clipping); two consecutive coplanar triangles that form a convex quad
+ *    are joined again, since the mesher cuts quads into better elements than triangles.
+ * 4. Materials: diffuse reflectance and emitted radiance, plus mirror/glass hints for the
+ *    ray-traced pass. Values are kept as the file gives them (a reflectance above 1 is refused
+ *    later, when the system is built).
+ * 5. The first camera, if the file has one. */
+#include "scene/gltf_extras.h"
 #include "scene/scene.h"
+
+#include <assimp/cimport.h>
+#include <assimp/ObjMaterial.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+/* A face is degenerate when its area is below this fraction of its longest edge squared: a
+ * height below 2e-7 of its length, which is what rounding to float leaves of collinear points. */
+#define DEGENERATE_RELATIVE_AREA 1e-7
+/* Two triangles are joined into a quad only when their normals agree to this (cosine). */
+#define COPLANAR_COSINE (1.0 - 1e-9)
+/* The mesher takes polygons of up to 64 corners; larger faces are cut into triangles. */
+#define MAX_POLYGON_CORNERS 64
+/* The reflectance of faces without a material of their own (assimp's default material). */
+#define DEFAULT_REFLECTANCE 0.5
+
+/* ------------------------------------------------------------------------------------------- */
+/* Unique surface names: an open-addressing set of the names given so far.                      */
+
+typedef struct name_set {
+    const char **names; /* owned by the scene's surfaces */
+    size_t capacity, count;
+} name_set;
+
+static uint64_t hash_name(const char *name) {
+    uint64_t h = 1469598103934665603ull; /* FNV-1a */
+    for (; *name; ++name) h = (h ^ (unsigned char)*name) * 1099511628211ull;
+    return h;
+}
+
+static int name_set_has(const name_set *set, const char *name) {
+    if (!set->capacity) return 0;
+    size_t mask = set->capacity - 1;
+    for (size_t slot = hash_name(name) & mask; set->names[slot]; slot = (slot + 1) & mask)
+        if (strcmp(set->names[slot], name) == 0) return 1;
+    return 0;
+}
+
+static rad_status name_set_add(rad_context *ctx, name_set *set, const char *name) {
+    if (2 * (set->count + 1) > set->capacity) {
+        size_t capacity = set->capacity ? set->capacity * 2 : 64;
+        const char **names = rad_alloc_zero(ctx, capacity, sizeof *names);
+        if (!names) return RAD_ERROR_NO_MEMORY;
+        for (size_t i = 0; i < set->capacity; ++i) {
+            if (!set->names[i]) continue;
+            size_t slot = hash_name(set->names[i]) & (capacity - 1);
+            while (names[slot]) slot = (slot + 1) & (capacity - 1);
+            names[slot] = set->names[i];
+        }
+        rad_free(ctx, set->names);
+        set->names = names;
+        set->capacity = capacity;
+    }
+    size_t mask = set->capacity - 1, slot = hash_name(name) & mask;
+    while (set->names[slot]) slot = (slot + 1) & mask;
+    set->names[slot] = name;
+    set->count++;
+    return RAD_OK;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Transforms: row-major 4x4, as assimp stores them (a1..a4 is the first row).                  */
+
+typedef struct transform {
+    double m[4][4];
+} transform;
+
+static transform transform_from(const struct aiMatrix4x4 *a) {
+    transform t = {{{a->a1, a->a2, a->a3, a->a4},
+                    {a->b1, a->b2, a->b3, a->b4},
+                    {a->c1, a->c2, a->c3, a->c4},
+                    {a->d1, a->d2, a->d3, a->d4}}};
+    return t;
+}
+
+static transform transform_multiply(const transform *a, const transform *b) {
+    transform t;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            double sum = 0;
+            for (int k = 0; k < 4; ++k) sum += a->m[i][k] * b->m[k][j];
+            t.m[i][j] = sum;
+        }
+    return t;
+}
+
+static rad_vec3 transform_point(const transform *t, rad_vec3 p) {
+    const double(*m)[4] = t->m;
+    double x = m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3];
+    double y = m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3];
+    double z = m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3];
+    double w = m[3][0] * p.x + m[3][1] * p.y + m[3][2] * p.z + m[3][3];
+    if (w != 1.0 && w != 0.0) return v3(x / w, y / w, z / w);
+    return v3(x, y, z);
+}
+
+static rad_vec3 transform_direction(const transform *t, rad_vec3 d) {
+    const double(*m)[4] = t->m;
+    return v3(m[0][0] * d.x + m[0][1] * d.y + m[0][2] * d.z,
+              m[1][0] * d.x + m[1][1] * d.y + m[1][2] * d.z,
+              m[2][0] * d.x + m[2][1] * d.y + m[2][2] * d.z);
+}
+
+static double transform_determinant(const transform *t) {
+    const double(*m)[4] = t->m;
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Polygon tests.                                                                               */
+
+static int finite3(rad_vec3 p) { return isfinite(p.x) && isfinite(p.y) && isfinite(p.z); }
+
+static int same_point(rad_vec3 a, rad_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+/* Newell's normal: its length is twice the area. */
+static rad_vec3 newell_normal(const rad_vec3 *p, size_t n) {
+    rad_vec3 normal = v3(0, 0, 0);
+    for (size_t k = 0; k < n; ++k) {
+        rad_vec3 a = p[k], b = p[(k + 1) % n];
+        normal.x += (a.y - b.y) * (a.z + b.z);
+        normal.y += (a.z - b.z) * (a.x + b.x);
+        normal.z += (a.x - b.x) * (a.y + b.y);
+    }
+    return normal;
+}
+
+static int degenerate(const rad_vec3 *p, size_t n) {
+    if (n < 3) return 1;
+    double longest = 0;
+    for (size_t k = 0; k < n; ++k) longest = fmax(longest, v3_length(v3_sub(p[(k + 1) % n], p[k])));
+    double area = 0.5 * v3_length(newell_normal(p, n));
+    return !(area > DEGENERATE_RELATIVE_AREA * longest * longest);
+}
+
+/* Convex and simple, seen from the side its Newell normal points to: projected onto the plane
+ * across that normal (so slightly non-planar quads count), every corner turns left or goes
+ * straight, and the turns add up to one full turn. */
+static int convex(const rad_vec3 *p, size_t n) {
+    rad_vec3 normal = v3_normalize(newell_normal(p, n)), u, v;
+    v3_basis(normal, &u, &v);
+    double turning = 0;
+    for (size_t k = 0; k < n; ++k) {
+        rad_vec3 a3 = v3_sub(p[(k + 1) % n], p[k]), b3 = v3_sub(p[(k + 2) % n], p[(k + 1) % n]);
+        double ax = v3_dot(a3, u), ay = v3_dot(a3, v), bx = v3_dot(b3, u), by = v3_dot(b3, v);
+        double sine = ax * by - ay * bx, cosine = ax * bx + ay * by;
+        if (sine < -1e-12 * (fabs(ax) + fabs(ay)) * (fabs(bx) + fabs(by))) return 0;
+        turning += atan2(sine, cosine);
+    }
+    return fabs(turning - 2 * RAD_PI) < 1e-6;
+}
+
+/* Is 2-D point p strictly inside the counter-clockwise triangle abc? */
+static int inside_triangle(const double *a, const double *b, const double *c, const double *p) {
+    double ab = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+    double bc = (c[0] - b[0]) * (p[1] - b[1]) - (c[1] - b[1]) * (p[0] - b[0]);
+    double ca = (a[0] - c[0]) * (p[1] - c[1]) - (a[1] - c[1]) * (p[0] - c[0]);
+    return ab > 0 && bc > 0 && ca > 0;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+typedef struct face {
+    size_t count;
+    rad_vec3 *points;
+    uint32_t *corners; /* assimp vertex indices of the mesh */
+} face;
+
+typedef struct importer {
+    rad_context *ctx;
+    rad_scene *scene;
+    const struct aiScene *ai;
+    const char *path;
+    int is_gltf;
+    rad_gltf_extras gltf;
+    uint32_t *material_of; /* per assimp material: scene material, or UINT32_MAX */
+    name_set names;
+
+    /* The (node, mesh) being read. */
+    const struct aiNode *node;
+    const struct aiMesh *mesh;
+    uint32_t surface; /* UINT32_MAX until its first face */
+    uint32_t *vertex_of; /* per mesh vertex: scene vertex, or UINT32_MAX */
+    size_t vertex_of_capacity;
+    rad_vec3 *points;   /* a face's corners: scratch */
+    uint32_t *corners;
+    double (*plane)[2];
+    uint32_t *order;
+    size_t scratch_capacity;
+    /* A triangle waiting for a partner to make a quad with. */
+    int pending;
+    rad_vec3 pending_points[3];
+    uint32_t pending_corners[3];
+
+    /* What was done, for the notes at the end. */
+    size_t degenerate, points_and_lines, turned, cut, joined;
+} importer;
+
+/* The stem of a path: "dir/room.obj" -> "room". */
+static void path_stem(const char *path, char *stem, size_t size) {
+    const char *slash = strrchr(path, '/');
+    const char *start = slash ? slash + 1 : path;
+    const char *dot = strrchr(start, '.');
+    size_t length = dot && dot > start ? (size_t)(dot - start) : strlen(start);
+    if (length >= size) length = size - 1;
+    memcpy(stem, start, length);
+    stem[length] = '\0';
+}
+
+static int material_color(const struct aiMaterial *m, const char *key, unsigned type,
+                          unsigned index, double rgb[3]) {
+    struct aiColor4D c;
+    if (aiGetMaterialColor(m, key, type, index, &c) != aiReturn_SUCCESS) return 0;
+    rgb[0] = c.r;
+    rgb[1] = c.g;
+    rgb[2] = c.b;
+    return 1;
+}
+
+static int material_float(const struct aiMaterial *m, const char *key, unsigned type,
+                          unsigned index, double *value) {
+    ai_real v;
+    unsigned count = 1;
+    if (aiGetMaterialFloatArray(m, key, type, index, &v, &count) != aiReturn_SUCCESS || count < 1)
+        return 0;
+    *value = v;
+    return 1;
+}
+
+static int material_int(const struct aiMaterial *m, const char *key, unsigned type,
+                        unsigned index, int *value) {
+    unsigned count = 1;
+    return aiGetMaterialIntegerArray(m, key, type, index, value, &count) == aiReturn_SUCCESS &&
+           count >= 1;
+}
+
+/* Translates assimp material `index` into a scene material (docs/formats.md, "Materials"). */
+static rad_status convert_material(importer *im, unsigned index, uint32_t *out) {
+    const struct aiMaterial *m = im->ai->mMaterials[index];
+    rad_material mat = {0};
+    char name[64];
+    struct aiString ai_name;
+    int named = aiGetMaterialString(m, AI_MATKEY_NAME, &ai_name) == aiReturn_SUCCESS &&
+                ai_name.length > 0;
+    /* assimp's stand-in for faces without a material: by name (OBJ, STL), as the extra last
+     * material (glTF), or unnamed in formats without materials (PLY). */
+    int fallback = named ? strcmp(ai_name.data, AI_DEFAULT_MATERIAL_NAME) == 0
+                         : !im->is_gltf || index >= im->gltf.material_count;
+    if (named) mat.name = ai_name.data;
+    else {
+        snprintf(name, sizeof name, fallback ? "default" : "material-%u", index);
+        mat.name = name;
+    }
+    mat.kind = RAD_MATERIAL_DIFFUSE;
+    mat.ior = 1.5;
+    if (fallback) {
+        for (int c = 0; c < 3; ++c) mat.reflectance[c] = DEFAULT_REFLECTANCE;
+        return rad_scene_add_material(im->scene, &mat, out);
+    }
+
+    double base[3] = {DEFAULT_REFLECTANCE, DEFAULT_REFLECTANCE, DEFAULT_REFLECTANCE};
+    if (!material_color(m, AI_MATKEY_BASE_COLOR, base)) material_color(m, AI_MATKEY_COLOR_DIFFUSE, base);
+    memcpy(mat.reflectance, base, sizeof base);
+
+    /* Emitted radiance: Ke (OBJ) or emissiveFactor x emissiveStrength (glTF). */
+    double emission[3] = {0, 0, 0}, strength = 1;
+    material_color(m, AI_MATKEY_COLOR_EMISSIVE, emission);
+    if (!material_float(m, AI_MATKEY_EMISSIVE_INTENSITY, &strength) && im->is_gltf &&
+        index < im->gltf.material_count)
+        strength = im->gltf.emissive_strength[index];
+    for (int c = 0; c < 3; ++c) mat.emission[c] = emission[c] * strength;
+
+    double ior = 0, metallic = 0, roughness = 1, transmission = 0, opacity = 1, shininess = 0;
+    material_float(m, AI_MATKEY_REFRACTI, &ior);
+    if (ior > 1) mat.ior = ior;
+    if (material_float(m, AI_MATKEY_METALLIC_FACTOR, &metallic)) {
+        /* glTF metallic-roughness. */
+        material_float(m, AI_MATKEY_ROUGHNESS_FACTOR, &roughness);
+        material_float(m, AI_MATKEY_TRANSMISSION_FACTOR, &transmission);
+        if (transmission > 0) {
+            mat.kind = RAD_MATERIAL_GLASS;
+            for (int c = 0; c < 3; ++c) {
+                mat.specular[c] = base[c];
+                mat.reflectance[c] = base[c] * (1 - transmission);
+            }
+            mat.roughness = roughness;
+        } else if (metallic >= 0.5) {
+            mat.kind = RAD_MATERIAL_MIRROR;
+            for (int c = 0; c < 3; ++c) {
+                mat.specular[c] = base[c];
+                mat.reflectance[c] = base[c] * (1 - metallic);
+            }
+            mat.roughness = roughness;
+        }
+    } else {
+        /* Wavefront MTL and other classic materials: illum, Ks, Ns, Ni, d, Tf. */
+        int illum = -1;
+        material_int(m, AI_MATKEY_OBJ_ILLUM, &illum);
+        material_float(m, AI_MATKEY_OPACITY, &opacity);
+        material_float(m, AI_MATKEY_SHININESS, &shininess);
+        if (illum == 4 || illum == 6 || illum == 7 || illum == 9 || opacity < 1) {
+            mat.kind = RAD_MATERIAL_GLASS;
+            double filter[3] = {1, 1, 1};
+            material_color(m, AI_MATKEY_COLOR_TRANSPARENT, filter);
+            memcpy(mat.specular, filter, sizeof filter);
+        } else if (illum == 3 || illum == 5) {
+            mat.kind = RAD_MATERIAL_MIRROR;
+            double specular[3] = {1, 1, 1};
+            material_color(m, AI_MATKEY_COLOR_SPECULAR, specular);
+            memcpy(mat.specular, specular, sizeof specular);
+            /* Blender's convention: Ns = 1000 (1 - roughness)^2; no Ns means a perfect mirror. */
+            mat.roughness = shininess > 0 ? fmin(1.0, fmax(0.0, 1 - sqrt(shininess / 1000))) : 0;
+        }
+    }
+    return rad_scene_add_material(im->scene, &mat, out);
+}
+
+static rad_status material_for(importer *im, unsigned index, uint32_t *out) {
+    if (index >= im->ai->mNumMaterials)
+        return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: a mesh uses material %u of %u", im->path,
+                        index, im->ai->mNumMaterials);
+    if (im->material_of[index] == UINT32_MAX) {
+        rad_status status = convert_material(im, index, &im->material_of[index]);
+        if (status) return status;
+    }
+    *out = im->material_of[index];
+    return RAD_OK;
+}
+
+/* The surface of the current (node, mesh), made on its first face. */
+static rad_status current_surface(importer *im, uint32_t *out) {
+    if (im->surface != UINT32_MAX) {
+        *out = im->surface;
+        return RAD_OK;
+    }
+    const struct aiNode *node = im->node;
+    const struct aiMesh *mesh = im->mesh;
+    char base[2 * MAXLEN + 2], name[2 * MAXLEN + 16], stem[256];
+    path_stem(im->path, stem, sizeof stem);
+    const char *node_name = node->mName.length ? node->mName.data : "";
+    const char *mesh_name = mesh->mName.length ? mesh->mName.data : "";
+    if (node->mNumMeshes > 1 && node_name[0]) {
+        /* Several meshes under one node: one per material (OBJ usemtl, glTF primitives). */
+        const char *detail = mesh_name;
+        struct aiString material_name;
+        if ((!detail[0] || strcmp(detail, node_name) == 0) &&
+            mesh->mMaterialIndex < im->ai->mNumMaterials &&
+            aiGetMaterialString(im->ai->mMaterials[mesh->mMaterialIndex], AI_MATKEY_NAME,
+                                &material_name) == aiReturn_SUCCESS && material_name.length)
+            detail = material_name.data;
+        if (detail[0] && strcmp(detail, node_name) != 0)
+            snprintf(base, sizeof base, "%s/%s", node_name, detail);
+        else snprintf(base, sizeof base, "%s", node_name);
+    } else {
+        snprintf(base, sizeof base, "%s",
+                 node_name[0] ? node_name : mesh_name[0] ? mesh_name : stem[0] ? stem : "surface");
+    }
+    /* Unique: "name", "name.2", "name.3", ... */
+    snprintf(name, sizeof name, "%s", base);
+    for (unsigned suffix = 2; name_set_has(&im->names, name); ++suffix)
+        snprintf(name, sizeof name, "%s.%u", base, suffix);
+    uint32_t material = 0;
+    rad_status status = material_for(im, mesh->mMaterialIndex, &material);
+    if (!status) status = rad_scene_add_surface(im->scene, name, material, &im->surface);
+    if (!status)
+        status = name_set_add(im->ctx, &im->names, im->scene->surfaces[im->surface].name);
+    if (!status) *out = im->surface;
+    return status;
+}
+
+/* Adds a polygon (already checked: convex, not degenerate) to the current surface. */
+static rad_status emit(importer *im, const rad_vec3 *points, const uint32_t *corners, size_t n) {
+    uint32_t surface, indices[MAX_POLYGON_CORNERS];
+    rad_status status = current_surface(im, &surface);
+    for (size_t k = 0; k < n && !status; ++k) {
+        uint32_t *mapped = &im->vertex_of[corners[k]];
+        if (*mapped == UINT32_MAX) status = rad_scene_add_vertex(im->scene, points[k], mapped);
+        indices[k] = *mapped;
+    }
+    if (!status) status = rad_scene_add_polygon(im->scene, surface, indices, (uint32_t)n);
+    return status;
+}
+
+static rad_status flush_pending(importer *im) {
+    if (!im->pending) return RAD_OK;
+    im->pending = 0;
+    return emit(im, im->pending_points, im->pending_corners, 3);
+}
+
+/* Joins the pending triangle and triangle t into a convex, flat quad, if they share an edge. */
+static int join_triangles(importer *im, const rad_vec3 *t, const uint32_t *tc, rad_vec3 *quad,
+                          uint32_t *quad_corners) {
+    const rad_vec3 *s = im->pending_points;
+    rad_vec3 ns = v3_normalize(newell_normal(s, 3)), nt = v3_normalize(newell_normal(t, 3));
+    if (v3_dot(ns, nt) < COPLANAR_COSINE) return 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            /* s has the edge x -> y (x = s[i]), t has y -> x: the quad is y, z, x, w. */
+            if (!same_point(s[i], t[(j + 1) % 3]) || !same_point(s[(i + 1) % 3], t[j])) continue;
+            int order_s[3] = {(i + 1) % 3, (i + 2) % 3, i};
+            for (int k = 0; k < 3; ++k) {
+                quad[k] = s[order_s[k]];
+                quad_corners[k] = im->pending_corners[order_s[k]];
+            }
+            quad[3] = t[(j + 2) % 3];
+            quad_corners[3] = tc[(j + 2) % 3];
+            return convex(quad, 4) && !degenerate(quad, 4);
+        }
+    return 0;
+}
+
+/* Cuts a non-convex (or very large) face into triangles by ear clipping in its plane. */
+static rad_status cut_face(importer *im, const face *f) {
+    size_t n = f->count;
+    rad_vec3 normal = v3_normalize(newell_normal(f->points, n)), u, v;
+    v3_basis(normal, &u, &v);
+    for (size_t k = 0; k < n; ++k) {
+        im->plane[k][0] = v3_dot(f->points[k], u);
+        im->plane[k][1] = v3_dot(f->points[k], v);
+        im->order[k] = (uint32_t)k;
+    }
+    size_t left = n;
+    rad_status status = RAD_OK;
+    while (left > 3 && !status) {
+        size_t ear = left;
+        for (size_t k = 0; k < left && ear == left; ++k) {
+            const double *a = im->plane[im->order[(k + left - 1) % left]];
+            const double *b = im->plane[im->order[k]];
+            const double *c = im->plane[im->order[(k + 1) % left]];
+            double turn = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
+            if (turn <= 0) continue;
+            int empty = 1;
+            for (size_t q = 0; q < left && empty; ++q) {
+                if (q == k || q == (k + 1) % left || q == (k + left - 1) % left) continue;
+                if (inside_triangle(a, b, c, im->plane[im->order[q]])) empty = 0;
+            }
+            if (empty) ear = k;
+        }
+        if (ear == left) ear = 0; /* self-intersecting: cut anyway, as a fan would */
+        uint32_t ia = im->order[(ear + left - 1) % left], ib = im->order[ear],
+                 ic = im->order[(ear + 1) % left];
+        rad_vec3 tri[3] = {f->points[ia], f->points[ib], f->points[ic]};
+        uint32_t tri_corners[3] = {f->corners[ia], f->corners[ib], f->corners[ic]};
+        if (!degenerate(tri, 3)) status = emit(im, tri, tri_corners, 3);
+        memmove(im->order + ear, im->order + ear + 1, (left - ear - 1) * sizeof *im->order);
+        --left;
+    }
+    rad_vec3 tri[3] = {f->points[im->order[0]], f->points[im->order[1]], f->points[im->order[2]]};
+    uint32_t tri_corners[3] = {f->corners[im->order[0]], f->corners[im->order[1]],
+                               f->corners[im->order[2]]};
+    if (!status && !degenerate(tri, 3)) status = emit(im, tri, tri_corners, 3);
+    return status;
+}
+
+static rad_status add_face(importer *im, face *f) {
+    if (degenerate(f->points, f->count)) {
+        im->degenerate++;
+        return RAD_OK;
+    }
+    if (f->count == 3) {
+        rad_vec3 quad[4];
+        uint32_t quad_corners[4];
+        if (im->pending && join_triangles(im, f->points, f->corners, quad, quad_corners)) {
+            im->pending = 0;
+            im->joined++;
+            return emit(im, quad, quad_corners, 4);
+        }
+        rad_status status = flush_pending(im);
+        im->pending = 1;
+        memcpy(im->pending_points, f->points, sizeof im->pending_points);
+        memcpy(im->pending_corners, f->corners, sizeof im->pending_corners);
+        return status;
+    }
+    rad_status status = flush_pending(im);
+    if (status) return status;
+    if (f->count <= MAX_POLYGON_CORNERS && convex(f->points, f->count))
+        return emit(im, f->points, f->corners, f->count);
+    im->cut++;
+    return cut_face(im, f);
+}
+
+static rad_status grow_scratch(importer *im, size_t corners, size_t vertices) {
+    rad_context *ctx = im->ctx;
+    if (corners > im->scratch_capacity) {
+        rad_free(ctx, im->points);
+        rad_free(ctx, im->corners);
+        rad_free(ctx, im->plane);
+        rad_free(ctx, im->order);
+        im->points = rad_alloc(ctx, corners, sizeof *im->points);
+        im->corners = rad_alloc(ctx, corners, sizeof *im->corners);
+        im->plane = rad_alloc(ctx, corners, sizeof *im->plane);
+        im->order = rad_alloc(ctx, corners, sizeof *im->order);
+        im->scratch_capacity = corners;
+        if (!im->points || !im->corners || !im->plane || !im->order) {
+            im->scratch_capacity = 0;
+            return RAD_ERROR_NO_MEMORY;
+        }
+    }
+    if (vertices > im->vertex_of_capacity) {
+        rad_free(ctx, im->vertex_of);
+        im->vertex_of = rad_alloc(ctx, vertices, sizeof *im->vertex_of);
+        im->vertex_of_capacity = im->vertex_of ? vertices : 0;
+        if (!im->vertex_of) return RAD_ERROR_NO_MEMORY;
+    }
+    return RAD_OK;
+}
+
+static rad_status read_mesh(importer *im, const struct aiNode *node, const struct aiMesh *mesh,
+                            const transform *world) {
+    size_t largest = 3;
+    for (unsigned i = 0; i < mesh->mNumFaces; ++i)
+        if (mesh->mFaces[i].mNumIndices > largest) largest = mesh->mFaces[i].mNumIndices;
+    rad_status status = grow_scratch(im, largest, mesh->mNumVertices ? mesh->mNumVertices : 1);
+    if (status) return status;
+    for (unsigned i = 0; i < mesh->mNumVertices; ++i) im->vertex_of[i] = UINT32_MAX;
+    im->node = node;
+    im->mesh = mesh;
+    im->surface = UINT32_MAX;
+    im->pending = 0;
+    int mirrored = transform_determinant(world) < 0;
+
+    for (unsigned i = 0; i < mesh->mNumFaces && !status; ++i) {
+        const struct aiFace *ai_face = &mesh->mFaces[i];
+        if (ai_face->mNumIndices < 3) {
+            im->points_and_lines++;
+            continue;
+        }
+        face f = {0, im->points, im->corners};
+        for (unsigned k = 0; k < ai_face->mNumIndices; ++k) {
+            /* Turn faces under a mirroring transform: their front stays the front. */
+            unsigned index = ai_face->mIndices[mirrored ? ai_face->mNumIndices - 1 - k : k];
+            if (index >= mesh->mNumVertices)
+                return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: object '%s': face %u uses vertex "
+                                "%u of %u", im->path, node->mName.data, i, index,
+                                mesh->mNumVertices);
+            const struct aiVector3D *a = &mesh->mVertices[index];
+            rad_vec3 p = transform_point(world, v3(a->x, a->y, a->z));
+            if (!finite3(p))
+                return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: object '%s': vertex %u has a "
+                                "coordinate that is not a finite number (%g %g %g)", im->path,
+                                node->mName.data, index, (double)a->x, (double)a->y,
+                                (double)a->z);
+            /* Repeated corners (consecutive, or the last one again) add nothing. */
+            if (f.count > 0 && same_point(p, f.points[f.count - 1])) continue;
+            f.points[f.count] = p;
+            f.corners[f.count] = index;
+            f.count++;
+        }
+        while (f.count > 1 && same_point(f.points[0], f.points[f.count - 1])) f.count--;
+        if (mirrored) im->turned++;
+        status = add_face(im, &f);
+    }
+    if (!status) status = flush_pending(im);
+    return status;
+}
+
+static rad_status read_node(importer *im, const struct aiNode *node, const transform *parent,
+                            int depth) {
+    if (depth > 1000)
+        return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: the node tree is too deep", im->path);
+    transform local = transform_from(&node->mTransformation);
+    transform world = transform_multiply(parent, &local);
+    rad_status status = RAD_OK;
+    for (unsigned i = 0; i < node->mNumMeshes && !status; ++i) {
+        unsigned index = node->mMeshes[i];
+        if (index >= im->ai->mNumMeshes)
+            return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: node '%s' uses mesh %u of %u",
+                            im->path, node->mName.data, index, im->ai->mNumMeshes);
+        status = read_mesh(im, node, im->ai->mMeshes[index], &world);
+    }
+    for (unsigned i = 0; i < node->mNumChildren && !status; ++i)
+        status = read_node(im, node->mChildren[i], &world, depth + 1);
+    return status;
+}
+
+/* The world transform of the node called `name`; returns 0 when there is none. */
+static int find_node(const struct aiNode *node, const char *name, const transform *parent,
+                     transform *out, int depth) {
+    transform local = transform_from(&node->mTransformation);
+    transform world = transform_multiply(parent, &local);
+    if (strcmp(node->mName.data, name) == 0) {
+        *out = world;
+        return 1;
+    }
+    for (unsigned i = 0; i < node->mNumChildren && depth < 1000; ++i)
+        if (find_node(node->mChildren[i], name, &world, out, depth + 1)) return 1;
+    return 0;
+}
+
+static const transform identity = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
+
+/* The first camera: position, view direction and up in world space; the vertical field of
+ * view from glTF's yfov, or from assimp's half horizontal angle and aspect ratio. A glTF camera
+ * is by definition at its node's origin looking along the node's -z with +y up; assimp 5.2.5
+ * also copies the node's translation into mPosition (applying it twice), so for glTF the
+ * camera's own fields are not used. */
+static void read_camera(importer *im) {
+    const struct aiCamera *camera = im->ai->mCameras[0];
+    transform world = identity;
+    find_node(im->ai->mRootNode, camera->mName.data, &identity, &world, 0);
+    rad_vec3 position = v3(camera->mPosition.x, camera->mPosition.y, camera->mPosition.z);
+    rad_vec3 look = v3(camera->mLookAt.x, camera->mLookAt.y, camera->mLookAt.z);
+    rad_vec3 up = v3(camera->mUp.x, camera->mUp.y, camera->mUp.z);
+    if (im->is_gltf) {
+        position = v3(0, 0, 0);
+        look = v3(0, 0, -1);
+        up = v3(0, 1, 0);
+    }
+    rad_vec3 eye = transform_point(&world, position);
+    rad_vec3 view = v3_normalize(transform_direction(&world, look));
+    up = v3_normalize(transform_direction(&world, up));
+    double fov;
+    if (im->is_gltf && im->gltf.camera_count > 0) {
+        fov = im->gltf.camera_yfov[0] * 180 / RAD_PI;
+    } else {
+        double aspect = camera->mAspect > 0 ? camera->mAspect : 1;
+        fov = 2 * atan(tan(camera->mHorizontalFOV) / aspect) * 180 / RAD_PI;
+    }
+    if (!(fov > 0 && fov < 180) || !finite3(eye) || !(v3_length(view) > 0) ||
+        !(v3_length(up) > 0)) {
+        rad_warn(im->ctx, "%s: camera '%s' is not a perspective camera this program can use; "
+                 "ignored", im->path, camera->mName.data);
+        return;
+    }
+    im->scene->has_camera = 1;
+    im->scene->camera = (rad_camera){eye, v3_add(eye, view), up, fov};
+}
+
+static void importer_free(importer *im) {
+    rad_context *ctx = im->ctx;
+    rad_free(ctx, im->material_of);
+    rad_free(ctx, im->names.names);
+    rad_free(ctx, im->vertex_of);
+    rad_free(ctx, im->points);
+    rad_free(ctx, im->corners);
+    rad_free(ctx, im->plane);
+    rad_free(ctx, im->order);
+    rad_gltf_extras_free(ctx, &im->gltf);
+    if (im->ai) aiReleaseImport(im->ai);
+}
+
+static int has_extension(const char *path, const char *extension) {
+    size_t n = strlen(path), m = strlen(extension);
+    if (n < m) return 0;
+    for (size_t i = 0; i < m; ++i) {
+        char a = path[n - m + i];
+        if (a >= 'A' && a <= 'Z') a = (char)(a - 'A' + 'a');
+        if (a != extension[i]) return 0;
+    }
+    return 1;
+}
+
 rad_status rad_scene_import(rad_context *ctx, const char *path, rad_scene **out) {
     *out = NULL;
-    return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "%s: import is not written yet", path);
+    /* A clear message for a file that is not there, before assimp's own. */
+    FILE *probe = fopen(path, "rb");
+    if (!probe) return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(errno));
+    fclose(probe);
+
+    importer im = {0};
+    im.ctx = ctx;
+    im.path = path;
+    im.is_gltf = has_extension(path, ".gltf") || has_extension(path, ".glb");
+    im.ai = aiImportFile(path, 0);
+    if (!im.ai) {
+        const char *why = aiGetErrorString();
+        const char *dot = strrchr(path, '.');
+        if (!dot || !aiIsExtensionSupported(dot))
+            return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "%s: not a scene format assimp can read "
+                            "(%s)", path, why && *why ? why : "unknown format");
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: assimp cannot read it: %s", path,
+                        why && *why ? why : "unknown error");
+    }
+    if (!im.ai->mRootNode) {
+        importer_free(&im);
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: the scene has no faces", path);
+    }
+    rad_status status = RAD_OK;
+    if (im.is_gltf && rad_gltf_extras_read(ctx, path, &im.gltf) != RAD_OK) {
+        /* assimp read it, so this is unlikely; the defaults are safe. */
+        rad_warn(ctx, "%s: emissive strength and camera field of view not read (%s)", path,
+                 rad_context_error(ctx));
+        rad_gltf_extras_free(ctx, &im.gltf);
+    }
+    im.material_of = rad_alloc(ctx, im.ai->mNumMaterials + 1, sizeof *im.material_of);
+    if (!im.material_of) status = RAD_ERROR_NO_MEMORY;
+    for (unsigned i = 0; i < im.ai->mNumMaterials && !status; ++i) im.material_of[i] = UINT32_MAX;
+    if (!status) status = rad_scene_new(ctx, 1, path, &im.scene);
+    if (!status) status = read_node(&im, im.ai->mRootNode, &identity, 0);
+    if (!status && im.scene->polygon_count == 0) {
+        if (im.degenerate)
+            status = rad_fail(ctx, RAD_ERROR_PARSE, "%s: every face is degenerate (%zu faces "
+                              "with zero area or fewer than 3 distinct corners)", path,
+                              im.degenerate);
+        else
+            status = rad_fail(ctx, RAD_ERROR_PARSE, "%s: the scene has no faces%s", path,
+                              im.points_and_lines ? " (only points and lines)" : "");
+    }
+    if (status) {
+        rad_scene_destroy(im.scene);
+        importer_free(&im);
+        return status;
+    }
+    if (im.ai->mNumCameras > 0) read_camera(&im);
+
+    if (im.degenerate)
+        rad_warn(ctx, "%s: dropped %zu degenerate faces (zero area or fewer than 3 distinct "
+                 "corners)", path, im.degenerate);
+    if (im.points_and_lines)
+        rad_info(ctx, "%s: ignored %zu points and lines", path, im.points_and_lines);
+    if (im.turned)
+        rad_info(ctx, "%s: turned %zu faces under mirroring transforms so their fronts stay "
+                 "counter-clockwise", path, im.turned);
+    if (im.cut) rad_info(ctx, "%s: cut %zu non-convex faces into triangles", path, im.cut);
+    if (im.ai->mNumLights > 0)
+        rad_info(ctx, "%s: ignored %u point/spot/directional lights: only emitting surfaces "
+                 "give light in radiosity", path, im.ai->mNumLights);
+    *out = im.scene;
+    importer_free(&im);
+    return RAD_OK;
 }

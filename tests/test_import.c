@@ -1,0 +1,543 @@
+/* test_import.c - scene files: the sample scenes in scenes/ (OBJ/MTL, glTF, GLB, PLY) imported
+ * with their names, transforms, materials and cameras; bad input refused with a clear message;
+ * OBJ export and re-import of the built-in scenes giving the same surfaces and solution. */
+#include "scene/scene.h"
+#include "test.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static char log_text[16384];
+
+static void on_log(void *user, rad_log_level level, const char *message) {
+    (void)user;
+    size_t used = strlen(log_text);
+    snprintf(log_text + used, sizeof log_text - used, "%s%s\n",
+             level == RAD_LOG_WARNING ? "warning: " : "", message);
+}
+
+static rad_context *make_context(void) {
+    rad_context_options options = {0};
+    options.log = on_log;
+    options.threads = 2;
+    rad_context *ctx = NULL;
+    if (rad_context_create(&options, &ctx)) {
+        fprintf(stderr, "cannot create a context\n");
+        exit(1);
+    }
+    return ctx;
+}
+
+static char temp_dir[256];
+
+static const char *temp_path(const char *name) {
+    static char path[4][512];
+    static int next;
+    char *p = path[next++ % 4];
+    snprintf(p, 512, "%s/%s", temp_dir, name);
+    return p;
+}
+
+static void write_text(const char *path, const char *text) {
+    FILE *file = fopen(path, "w");
+    if (!file) {
+        fprintf(stderr, "cannot write %s\n", path);
+        exit(1);
+    }
+    fputs(text, file);
+    fclose(file);
+}
+
+static long find_surface(const rad_scene *scene, const char *name) {
+    for (size_t i = 0; i < scene->surface_count; ++i)
+        if (strcmp(scene->surfaces[i].name, name) == 0) return (long)i;
+    return -1;
+}
+
+static double surface_area(const rad_scene *scene, long surface) {
+    double area = 0;
+    for (size_t i = 0; i < scene->polygon_count; ++i)
+        if ((long)scene->polygons[i].surface == surface)
+            area += rad_polygon_area(scene, &scene->polygons[i]);
+    return area;
+}
+
+static size_t surface_polygons(const rad_scene *scene, long surface, size_t *corners) {
+    size_t count = 0;
+    *corners = 0;
+    for (size_t i = 0; i < scene->polygon_count; ++i)
+        if ((long)scene->polygons[i].surface == surface) {
+            count++;
+            *corners += scene->polygons[i].count;
+        }
+    return count;
+}
+
+/* Area-weighted mean normal and centroid of a surface. */
+static rad_vec3 surface_normal(const rad_scene *scene, long surface) {
+    rad_vec3 sum = v3(0, 0, 0);
+    for (size_t i = 0; i < scene->polygon_count; ++i)
+        if ((long)scene->polygons[i].surface == surface) {
+            const rad_polygon *p = &scene->polygons[i];
+            sum = v3_add(sum, v3_scale(rad_polygon_normal(scene, p), rad_polygon_area(scene, p)));
+        }
+    return v3_normalize(sum);
+}
+
+static rad_vec3 surface_centroid(const rad_scene *scene, long surface) {
+    rad_vec3 sum = v3(0, 0, 0);
+    double weight = 0;
+    for (size_t i = 0; i < scene->polygon_count; ++i)
+        if ((long)scene->polygons[i].surface == surface) {
+            const rad_polygon *p = &scene->polygons[i];
+            rad_vec3 c = v3(0, 0, 0);
+            for (uint32_t k = 0; k < p->count; ++k) c = v3_add(c, rad_polygon_vertex(scene, p, k));
+            double a = rad_polygon_area(scene, p);
+            sum = v3_add(sum, v3_scale(c, a / p->count));
+            weight += a;
+        }
+    return v3_scale(sum, 1.0 / weight);
+}
+
+static const rad_material *surface_material(const rad_scene *scene, long surface) {
+    return &scene->materials[scene->surfaces[surface].material];
+}
+
+#define CHECK_VEC(actual, ex, ey, ez, tolerance)                                                  \
+    do {                                                                                          \
+        rad_vec3 check_v = (actual);                                                              \
+        CHECK_NEAR(check_v.x, ex, tolerance);                                                     \
+        CHECK_NEAR(check_v.y, ey, tolerance);                                                     \
+        CHECK_NEAR(check_v.z, ez, tolerance);                                                     \
+    } while (0)
+
+#define CHECK_RGB(array, r, g, b, tolerance)                                                      \
+    do {                                                                                          \
+        CHECK_NEAR((array)[0], r, tolerance);                                                     \
+        CHECK_NEAR((array)[1], g, tolerance);                                                     \
+        CHECK_NEAR((array)[2], b, tolerance);                                                     \
+    } while (0)
+
+/* ------------------------------------------------------------------------------------------- */
+
+static void test_obj_room(void) {
+    rad_context *ctx = make_context();
+    log_text[0] = '\0';
+    rad_scene *scene = NULL;
+    rad_status status = rad_scene_load(ctx, RAD_SOURCE_DIR "/scenes/room.obj", &scene);
+    CHECK(status == RAD_OK);
+    if (status) {
+        fprintf(stderr, "room.obj: %s\n", rad_context_error(ctx));
+        rad_context_destroy(ctx);
+        return;
+    }
+    CHECK(scene->geometric);
+    CHECK(scene->surface_count == 8);
+    static const char *const names[] = {"floor", "lamp", "wall/red", "wall/white",
+                                        "mirror", "glass", "block", "step"};
+    for (int i = 0; i < 8; ++i) CHECK(find_surface(scene, names[i]) == i);
+
+    long floor = find_surface(scene, "floor");
+    CHECK_NEAR(surface_area(scene, floor), 3.0, 1e-6); /* the non-convex L, cut into triangles */
+    CHECK_VEC(surface_normal(scene, floor), 0, 1, 0, 1e-9);
+    size_t corners, polygons = surface_polygons(scene, floor, &corners);
+    CHECK(polygons == 4 && corners == 12);
+    CHECK(strstr(log_text, "cut 1 non-convex faces into triangles") != NULL);
+
+    long lamp = find_surface(scene, "lamp");
+    CHECK_NEAR(surface_area(scene, lamp), 0.25, 1e-6);
+    CHECK_VEC(surface_normal(scene, lamp), 0, -1, 0, 1e-9);
+    CHECK_RGB(surface_material(scene, lamp)->emission, 4, 4, 4, 1e-6);
+    CHECK_RGB(surface_material(scene, lamp)->reflectance, 0.5, 0.5, 0.5, 1e-6);
+    CHECK(surface_material(scene, lamp)->kind == RAD_MATERIAL_DIFFUSE);
+
+    long red = find_surface(scene, "wall/red"), white = find_surface(scene, "wall/white");
+    CHECK_NEAR(surface_area(scene, red), 2.0, 1e-6);
+    CHECK_NEAR(surface_area(scene, white), 2.0, 1e-6);
+    CHECK_VEC(surface_normal(scene, red), 1, 0, 0, 1e-9);
+    CHECK_RGB(surface_material(scene, red)->reflectance, 0.7, 0.1, 0.1, 1e-6);
+    CHECK_RGB(surface_material(scene, white)->reflectance, 0.8, 0.8, 0.8, 1e-6);
+    CHECK_RGB(surface_material(scene, white)->emission, 0, 0, 0, 0);
+
+    const rad_material *chrome = surface_material(scene, find_surface(scene, "mirror"));
+    CHECK(chrome->kind == RAD_MATERIAL_MIRROR);
+    CHECK_RGB(chrome->specular, 0.9, 0.9, 0.9, 1e-6);
+    CHECK_NEAR(chrome->roughness, 0.0, 1e-9); /* Ns 1000 */
+    CHECK_VEC(surface_normal(scene, find_surface(scene, "mirror")), 0, 0, -1, 1e-9);
+
+    const rad_material *glass = surface_material(scene, find_surface(scene, "glass"));
+    CHECK(glass->kind == RAD_MATERIAL_GLASS);
+    CHECK_NEAR(glass->ior, 1.5, 1e-6);
+    CHECK_RGB(glass->specular, 0.9, 1, 0.9, 1e-6);
+    CHECK_VEC(surface_normal(scene, find_surface(scene, "glass")), -1, 0, 0, 1e-9);
+
+    /* The step keeps its quad; a face with a repeated corner and a collinear one are dropped. */
+    long step = find_surface(scene, "step");
+    CHECK_NEAR(surface_area(scene, step), 0.16, 1e-6);
+    CHECK(surface_polygons(scene, step, &corners) == 1);
+    CHECK(strstr(log_text, "warning: ") && strstr(log_text, "dropped 2 degenerate faces"));
+    CHECK(strstr(log_text, "ignored 1 points and lines") != NULL);
+    CHECK(!scene->has_camera);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+static void test_gltf_lamp_room(const char *path) {
+    rad_context *ctx = make_context();
+    log_text[0] = '\0';
+    rad_scene *scene = NULL;
+    rad_status status = rad_scene_load(ctx, path, &scene);
+    CHECK(status == RAD_OK);
+    if (status) {
+        fprintf(stderr, "%s: %s\n", path, rad_context_error(ctx));
+        rad_context_destroy(ctx);
+        return;
+    }
+    static const char *const names[] = {"floor", "lamp", "shelf", "shelf.2", "pane", "mirror"};
+    CHECK(scene->surface_count == 6);
+    for (int i = 0; i < 6; ++i) CHECK(find_surface(scene, names[i]) == i);
+    /* Every node's quad comes as two triangles and is joined back into one quad. */
+    for (long s = 0; s < (long)scene->surface_count; ++s) {
+        size_t corners;
+        CHECK(surface_polygons(scene, s, &corners) == 1 && corners == 4);
+    }
+    long floor = find_surface(scene, "floor");
+    CHECK_NEAR(surface_area(scene, floor), 4.0, 1e-6); /* scale 2 x 2 */
+    CHECK_VEC(surface_normal(scene, floor), 0, 1, 0, 1e-9);
+    CHECK_RGB(surface_material(scene, floor)->reflectance, 0.8, 0.7, 0.6, 1e-6);
+
+    /* Upside down at y = 2; emission = emissiveFactor x KHR_materials_emissive_strength. */
+    long lamp = find_surface(scene, "lamp");
+    CHECK_NEAR(surface_area(scene, lamp), 1.0, 1e-6);
+    CHECK_VEC(surface_normal(scene, lamp), 0, -1, 0, 1e-6);
+    CHECK_VEC(surface_centroid(scene, lamp), 0, 2, 0, 1e-6);
+    CHECK_RGB(surface_material(scene, lamp)->emission, 5, 4, 3, 1e-5);
+
+    /* Nested nodes: translation of the parent, scale of the child. */
+    long shelf = find_surface(scene, "shelf");
+    CHECK_NEAR(surface_area(scene, shelf), 0.16, 1e-6);
+    CHECK_VEC(surface_centroid(scene, shelf), 0, 0.5, 0, 1e-6);
+    CHECK_VEC(surface_normal(scene, shelf), 0, 1, 0, 1e-9);
+
+    /* A mirroring transform (scale y -1): the face is turned, its front faces -y. */
+    long turned = find_surface(scene, "shelf.2");
+    CHECK_VEC(surface_normal(scene, turned), 0, -1, 0, 1e-9);
+    CHECK_VEC(surface_centroid(scene, turned), 0, 1, 0, 1e-6);
+    CHECK(strstr(log_text, "turned 2 faces") != NULL);
+
+    const rad_material *pane = surface_material(scene, find_surface(scene, "pane"));
+    CHECK(pane->kind == RAD_MATERIAL_GLASS);
+    CHECK_NEAR(pane->ior, 1.33, 1e-6);
+    CHECK_RGB(pane->reflectance, 0, 0, 0, 1e-9); /* transmission 1 */
+    CHECK_VEC(surface_normal(scene, find_surface(scene, "pane")), 0, 0, 1, 1e-6);
+
+    const rad_material *metal = surface_material(scene, find_surface(scene, "mirror"));
+    CHECK(metal->kind == RAD_MATERIAL_MIRROR);
+    CHECK_NEAR(metal->roughness, 0.2, 1e-6);
+    CHECK_RGB(metal->specular, 0.9, 0.9, 0.9, 1e-6);
+    CHECK_VEC(surface_normal(scene, find_surface(scene, "mirror")), -1, 0, 0, 1e-6);
+
+    /* The camera node: at (0, 1, 4) looking along -z, yfov 0.8 rad. */
+    CHECK(scene->has_camera);
+    CHECK_VEC(scene->camera.eye, 0, 1, 4, 1e-6);
+    CHECK_VEC(v3_normalize(v3_sub(scene->camera.look, scene->camera.eye)), 0, 0, -1, 1e-6);
+    CHECK_VEC(scene->camera.up, 0, 1, 0, 1e-6);
+    CHECK_NEAR(scene->camera.fov_degrees, 0.8 * 180 / RAD_PI, 1e-4);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+static void test_ply(void) {
+    rad_context *ctx = make_context();
+    rad_scene *scene = NULL;
+    rad_status status = rad_scene_load(ctx, RAD_SOURCE_DIR "/scenes/square.ply", &scene);
+    CHECK(status == RAD_OK);
+    if (!status) {
+        /* No names in PLY: the surface is named after the file. No materials: grey 0.5. */
+        CHECK(scene->surface_count == 1 && find_surface(scene, "square") == 0);
+        CHECK_NEAR(surface_area(scene, 0), 1.5, 1e-6);
+        CHECK(scene->polygon_count == 2);
+        CHECK(scene->polygon_count == 2 && scene->polygons[0].count == 4 &&
+              scene->polygons[1].count == 3);
+        CHECK_RGB(surface_material(scene, 0)->reflectance, 0.5, 0.5, 0.5, 0);
+        CHECK_RGB(surface_material(scene, 0)->emission, 0, 0, 0, 0);
+    }
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Bad input: each one a clear message and the right status, never a crash.                     */
+
+static const char quad_obj[] = "o square\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+
+static void expect_failure(rad_context *ctx, const char *path, rad_status expected,
+                           const char *fragment) {
+    rad_scene *scene = NULL;
+    rad_status status = rad_scene_load(ctx, path, &scene);
+    CHECK(status == expected);
+    CHECK(scene == NULL);
+    const char *message = rad_context_error(ctx);
+    CHECK(strstr(message, fragment) != NULL);
+    CHECK(strchr(message, '\n') == NULL);
+    if (status != expected || !strstr(message, fragment))
+        fprintf(stderr, "  %s: status %s, message '%s' (wanted '%s')\n", path,
+                rad_status_name(status), message, fragment);
+    rad_scene_destroy(scene);
+}
+
+static void test_bad_input(void) {
+    rad_context *ctx = make_context();
+    expect_failure(ctx, temp_path("missing.obj"), RAD_ERROR_IO, "No such file");
+
+    write_text(temp_path("noise.xyz"), "this is not a scene\n");
+    expect_failure(ctx, temp_path("noise.xyz"), RAD_ERROR_UNSUPPORTED, "not a scene format");
+
+    write_text(temp_path("tiny.obj"), "hello\n");
+    expect_failure(ctx, temp_path("tiny.obj"), RAD_ERROR_PARSE, "assimp cannot read it");
+
+    write_text(temp_path("empty.obj"), "# nothing but corners, and no faces at all\n"
+                                       "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n");
+    expect_failure(ctx, temp_path("empty.obj"), RAD_ERROR_PARSE, "no faces");
+
+    write_text(temp_path("lines.obj"), "# lines only, no faces\nv 0 0 0\nv 1 0 0\nv 1 1 0\n"
+                                       "l 1 2\nl 2 3\n");
+    expect_failure(ctx, temp_path("lines.obj"), RAD_ERROR_PARSE, "no faces");
+
+    write_text(temp_path("nan.obj"), "o broken\nv 0 0 0\nv nan 0 0\nv 1 1 0\nf 1 2 3\n");
+    expect_failure(ctx, temp_path("nan.obj"), RAD_ERROR_PARSE, "not a finite number");
+
+    write_text(temp_path("inf.obj"), "o broken\nv 0 0 0\nv 1 0 0\nv 1 inf 0\nf 1 2 3\n");
+    expect_failure(ctx, temp_path("inf.obj"), RAD_ERROR_PARSE, "not a finite number");
+
+    write_text(temp_path("flat.obj"), "o flat\nv 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\n"
+                                      "f 1 2 3\nf 1 2 4\nf 1 1 2\n");
+    expect_failure(ctx, temp_path("flat.obj"), RAD_ERROR_PARSE, "every face is degenerate");
+
+    write_text(temp_path("index.obj"), "o bad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n");
+    expect_failure(ctx, temp_path("index.obj"), RAD_ERROR_PARSE, "index.obj");
+
+    write_text(temp_path("broken.gltf"), "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [");
+    expect_failure(ctx, temp_path("broken.gltf"), RAD_ERROR_PARSE, "broken.gltf");
+
+    write_text(temp_path("empty.gltf"), "{\"asset\": {\"version\": \"2.0\"}}");
+    expect_failure(ctx, temp_path("empty.gltf"), RAD_ERROR_PARSE, "empty.gltf");
+
+    /* A truncated binary glTF. */
+    FILE *in = fopen(RAD_SOURCE_DIR "/scenes/lamp-room.glb", "rb");
+    char bytes[400];
+    size_t got = in ? fread(bytes, 1, sizeof bytes, in) : 0;
+    if (in) fclose(in);
+    FILE *out = fopen(temp_path("cut.glb"), "wb");
+    if (out) {
+        fwrite(bytes, 1, got, out);
+        fclose(out);
+    }
+    expect_failure(ctx, temp_path("cut.glb"), RAD_ERROR_PARSE, "cut.glb");
+
+    /* Some faces degenerate: dropped and counted, the rest imported. */
+    log_text[0] = '\0';
+    write_text(temp_path("some.obj"), "o some\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
+                                      "f 1 2 3 4\nf 1 2 5\nf 2 2 3\n");
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_load(ctx, temp_path("some.obj"), &scene) == RAD_OK);
+    CHECK(scene && scene->polygon_count == 1);
+    CHECK(strstr(log_text, "warning: ") && strstr(log_text, "dropped 2 degenerate faces"));
+    rad_scene_destroy(scene);
+
+    /* Reflectance above 1 is kept as given, so building the system refuses it. */
+    write_text(temp_path("bright.mtl"), "newmtl bright\nKd 1.5 0.5 0.5\nKe 1 1 1\n");
+    write_text(temp_path("bright.obj"), "mtllib bright.mtl\nusemtl bright\nv 0 0 0\nv 1 0 0\n"
+                                        "v 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+    CHECK(rad_scene_load(ctx, temp_path("bright.obj"), &scene) == RAD_OK);
+    if (scene) {
+        CHECK_NEAR(scene->materials[scene->surfaces[0].material].reflectance[0], 1.5, 1e-6);
+        rad_system *system = NULL;
+        rad_mesh_options mesh = {0, 0, 16};
+        CHECK(rad_system_create(ctx, scene, &mesh, NULL, &system) == RAD_ERROR_INVALID_ARGUMENT);
+        CHECK(strstr(rad_context_error(ctx), "reflectance 1.5") != NULL);
+        rad_system_destroy(system);
+    }
+    rad_scene_destroy(scene);
+
+    /* No emitters: a warning, and a black result. */
+    log_text[0] = '\0';
+    write_text(temp_path("dark.obj"), quad_obj);
+    CHECK(rad_scene_load(ctx, temp_path("dark.obj"), &scene) == RAD_OK);
+    if (scene) {
+        rad_system *system = NULL;
+        rad_mesh_options mesh = {0, 0, 16};
+        CHECK(rad_system_create(ctx, scene, &mesh, NULL, &system) == RAD_OK);
+        CHECK(strstr(log_text, "nothing emits light") != NULL);
+        if (system) {
+            rad_solve_report report;
+            rad_solve_options solve = {0};
+            solve.solver = RAD_SOLVER_SHOOTING;
+            CHECK(rad_solve(system, &solve, &report) == RAD_OK);
+            rad_surface_info info;
+            CHECK(rad_system_surface(system, 0, &info) == RAD_OK);
+            CHECK(info.radiosity[0] == 0 && info.radiosity[1] == 0 && info.radiosity[2] == 0);
+        }
+        rad_system_destroy(system);
+    }
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Export and re-import.                                                                        */
+
+static rad_system *solve_scene(rad_context *ctx, const rad_scene *scene) {
+    rad_system *system = NULL;
+    rad_mesh_options mesh = {0, 0, 400};
+    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0};
+    if (rad_system_create(ctx, scene, &mesh, &ff, &system)) {
+        fprintf(stderr, "system: %s\n", rad_context_error(ctx));
+        return NULL;
+    }
+    rad_solve_options solve = {0};
+    solve.solver = RAD_SOLVER_SHOOTING;
+    solve.tolerance = 1e-10;
+    rad_solve_report report;
+    if (rad_solve(system, &solve, &report)) {
+        fprintf(stderr, "solve: %s\n", rad_context_error(ctx));
+        rad_system_destroy(system);
+        return NULL;
+    }
+    return system;
+}
+
+static double relative_difference(double a, double b) {
+    double scale = fmax(fabs(a), fabs(b));
+    return scale > 0 ? fabs(a - b) / scale : 0;
+}
+
+static void test_round_trip(const char *name, int solve) {
+    rad_context *ctx = make_context();
+    rad_scene *original = NULL, *copy = NULL;
+    char file[64];
+    snprintf(file, sizeof file, "%s.obj", name);
+    const char *path = temp_path(file);
+    CHECK(rad_scene_builtin(ctx, name, &original) == RAD_OK);
+    CHECK(original && rad_scene_export_obj(ctx, original, path) == RAD_OK);
+    CHECK(rad_scene_load(ctx, path, &copy) == RAD_OK);
+    if (!original || !copy) {
+        fprintf(stderr, "%s: %s\n", name, rad_context_error(ctx));
+        rad_scene_destroy(original);
+        rad_context_destroy(ctx);
+        return;
+    }
+    /* Same surfaces in the same order, same areas and materials. */
+    CHECK(copy->surface_count == original->surface_count);
+    CHECK(copy->polygon_count == original->polygon_count);
+    double worst_area = 0, worst_material = 0;
+    for (size_t s = 0; s < original->surface_count && s < copy->surface_count; ++s) {
+        CHECK(strcmp(copy->surfaces[s].name, original->surfaces[s].name) == 0);
+        worst_area = fmax(worst_area, relative_difference(surface_area(copy, (long)s),
+                                                          surface_area(original, (long)s)));
+        const rad_material *a = surface_material(original, (long)s);
+        const rad_material *b = surface_material(copy, (long)s);
+        for (int c = 0; c < 3; ++c) {
+            worst_material = fmax(worst_material, relative_difference(a->reflectance[c],
+                                                                      b->reflectance[c]));
+            worst_material = fmax(worst_material, relative_difference(a->emission[c],
+                                                                      b->emission[c]));
+        }
+        CHECK(a->kind == b->kind);
+    }
+    CHECK(worst_area < 1e-6);
+    CHECK(worst_material < 1e-6);
+    if (solve) {
+        /* assimp reads coordinates in single precision (ai_real is float), so the file carries
+         * each coordinate rounded to float: the same solution as the scene rounded so. */
+        rad_scene *rounded = NULL;
+        CHECK(rad_scene_builtin(ctx, name, &rounded) == RAD_OK);
+        for (size_t i = 0; rounded && i < rounded->vertex_count; ++i) {
+            rad_vec3 *p = &rounded->vertices[i];
+            *p = v3((float)p->x, (float)p->y, (float)p->z);
+        }
+        rad_system *x = rounded ? solve_scene(ctx, rounded) : NULL, *y = solve_scene(ctx, copy);
+        rad_system *z = solve_scene(ctx, original);
+        CHECK(x && y && z);
+        double worst = 0, worst_unrounded = 0;
+        for (size_t s = 0; x && y && z && s < rad_system_surface_count(x); ++s) {
+            rad_surface_info a, b, c;
+            rad_system_surface(x, s, &a);
+            rad_system_surface(y, s, &b);
+            rad_system_surface(z, s, &c);
+            for (int k = 0; k < 3; ++k) {
+                worst = fmax(worst, relative_difference(a.radiosity[k], b.radiosity[k]));
+                worst_unrounded = fmax(worst_unrounded,
+                                       relative_difference(c.radiosity[k], b.radiosity[k]));
+            }
+        }
+        printf("round trip %s: largest relative difference: area %.2g, material %.2g, surface "
+               "radiosity %.2g (%.2g against the scene before rounding to float)\n", name,
+               worst_area, worst_material, worst, worst_unrounded);
+        CHECK(worst < 1e-6);
+        CHECK(worst_unrounded < 1e-2);
+        rad_system_destroy(x);
+        rad_system_destroy(y);
+        rad_system_destroy(z);
+        rad_scene_destroy(rounded);
+    }
+    rad_scene_destroy(original);
+    rad_scene_destroy(copy);
+    rad_context_destroy(ctx);
+}
+
+/* glTF in, OBJ out, OBJ in: mirror and glass hints survive the MTL file. */
+static void test_gltf_to_obj(void) {
+    rad_context *ctx = make_context();
+    rad_scene *original = NULL, *copy = NULL;
+    CHECK(rad_scene_load(ctx, RAD_SOURCE_DIR "/scenes/lamp-room.gltf", &original) == RAD_OK);
+    CHECK(original && rad_scene_export_obj(ctx, original, temp_path("lamp-room.obj")) == RAD_OK);
+    CHECK(rad_scene_load(ctx, temp_path("lamp-room.obj"), &copy) == RAD_OK);
+    if (original && copy) {
+        CHECK(copy->surface_count == original->surface_count);
+        for (size_t s = 0; s < original->surface_count && s < copy->surface_count; ++s) {
+            const rad_material *a = surface_material(original, (long)s);
+            const rad_material *b = surface_material(copy, (long)s);
+            CHECK(strcmp(copy->surfaces[s].name, original->surfaces[s].name) == 0);
+            CHECK(a->kind == b->kind);
+            if (a->kind == RAD_MATERIAL_MIRROR) CHECK_NEAR(b->roughness, a->roughness, 1e-6);
+            if (a->kind == RAD_MATERIAL_GLASS) CHECK_NEAR(b->ior, a->ior, 1e-6);
+            CHECK_NEAR(surface_area(copy, (long)s), surface_area(original, (long)s), 1e-6);
+        }
+    }
+    /* A patch system has no geometry to export. */
+    rad_scene *ffm = NULL;
+    CHECK(rad_scene_builtin(ctx, "four-walls", &ffm) == RAD_OK);
+    CHECK(rad_scene_export_obj(ctx, ffm, temp_path("four-walls.obj")) == RAD_ERROR_INVALID_ARGUMENT);
+    CHECK(access(temp_path("four-walls.obj"), F_OK) != 0);
+    /* A directory that does not exist: an error, and nothing left behind. */
+    CHECK(rad_scene_export_obj(ctx, original, temp_path("no/such/dir.obj")) == RAD_ERROR_IO);
+    rad_scene_destroy(ffm);
+    rad_scene_destroy(original);
+    rad_scene_destroy(copy);
+    rad_context_destroy(ctx);
+}
+
+int main(void) {
+    snprintf(temp_dir, sizeof temp_dir, "/tmp/test_import.XXXXXX");
+    if (!mkdtemp(temp_dir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    test_obj_room();
+    test_gltf_lamp_room(RAD_SOURCE_DIR "/scenes/lamp-room.gltf");
+    test_gltf_lamp_room(RAD_SOURCE_DIR "/scenes/lamp-room.glb");
+    test_ply();
+    test_bad_input();
+    test_round_trip("cornell", 1);
+    test_round_trip("two-squares", 1);
+    test_round_trip("unit-cube", 1);
+    test_round_trip("cornell-mirror", 0);
+    test_gltf_to_obj();
+    char command[600];
+    snprintf(command, sizeof command, "rm -rf '%s'", temp_dir);
+    if (system(command) != 0) fprintf(stderr, "could not remove %s\n", temp_dir);
+    return test_finish();
+}
