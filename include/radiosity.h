@@ -314,6 +314,44 @@ rad_status rad_image_error_map(rad_context *context, const rad_image *test,
  * has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
 rad_status rad_scene_export_obj(rad_context *context, const rad_scene *scene, const char *path);
 
+/* ---------------------------------------------------------------------------------------------
+ * Baking: the solution as vertex colours that other tools open (docs/bake.md)
+ * ------------------------------------------------------------------------------------------- */
+
+typedef enum rad_bake_format {
+    RAD_BAKE_AUTO = 0, /* from the extension of the path */
+    RAD_BAKE_GLB,      /* binary glTF 2.0 */
+    RAD_BAKE_GLTF,     /* glTF 2.0 JSON and its buffer beside it: FILE.gltf + FILE.bin */
+    RAD_BAKE_PLY,      /* binary little-endian PLY */
+    RAD_BAKE_OBJ       /* Wavefront OBJ with the "v x y z r g b" vertex-colour extension */
+} rad_bake_format;
+
+typedef struct rad_bake_options {
+    rad_bake_format format;  /* zero: from the path's extension */
+    const rad_scene *scene;  /* the scene the system was built from, for its camera; may be NULL */
+    double scale;            /* positions are multiplied by this (0.001: mm to m); zero: 1 */
+    double exposure;         /* stops, for the display colours (glTF COLOR_0, PLY, OBJ) */
+    const char *tonemap;     /* "clamp" (NULL), "none", "reinhard", "aces": display colours */
+    double aspect;           /* glTF camera aspect ratio, width / height; zero: 1 */
+    int ambient;             /* add the ambient term of progressive refinement */
+} rad_bake_options;
+
+/* The format a path's extension names (.glb, .gltf, .ply, .obj in any case), or RAD_BAKE_AUTO
+ * when it names none. */
+rad_bake_format rad_bake_format_of(const char *path);
+
+/* Checks before any work is done: a known format and tone curve (RAD_ERROR_INVALID_ARGUMENT),
+ * and a directory that takes a new file (RAD_ERROR_IO; a temporary file is made and removed). */
+rad_status rad_bake_check(rad_context *context, const char *path,
+                          const rad_bake_options *options);
+
+/* Writes the solution of a geometric system as a mesh with vertex colours: one mesh per surface,
+ * each vertex carrying the linear radiance B / pi averaged over the elements around it on its
+ * own surface and side of a crease (never across a corner), and its display colour (exposure
+ * and tone curve). The file, and the .bin of a .gltf, appear whole or not at all. A patch
+ * system (.ffm) has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
+rad_status rad_bake(const rad_system *system, const char *path, const rad_bake_options *options);
+
 #ifdef __cplusplus
 }
 #endif
