@@ -1,9 +1,184 @@
-/* cmd_render.c - `radiosity render`. PLACEHOLDER: being written in this session; not a finished
- * command until this comment is gone. */
+/* cmd_render.c - `radiosity render`: solve a scene and render the solution as an image, with
+ * the final gather and the ray-traced second pass for mirrors and glass (docs/rendering.md).
+ *
+ * Order of work: everything that can be refused cheaply is refused before the solve (flags, the
+ * output path, the camera), so a bad command fails in milliseconds and never leaves a file. */
 #include "cli.h"
+#include "output_path.h"
+#include "pipeline.h"
+#include "progress.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_SIDE 16384
+
+typedef struct render_args {
+    cli_pipeline_args pipeline;
+    const char *output, *tonemap, *shading;
+    int width, height, spp, final_gather, light_samples, max_depth, stats;
+    double eye[3], look[3], up[3], fov, exposure;
+} render_args;
+
+static int given(const double v[3]) { return !isnan(v[0]); }
+
+/* "scenes/room.obj" -> "room.png"; "cornell" -> "cornell.png". */
+static char *default_output(const char *scene) {
+    const char *base = strrchr(scene, '/');
+    base = base ? base + 1 : scene;
+    const char *dot = strrchr(base, '.');
+    size_t length = dot && dot != base ? (size_t)(dot - base) : strlen(base);
+    char *path = malloc(length + 5);
+    if (!path) return NULL;
+    memcpy(path, base, length);
+    memcpy(path + length, ".png", 5);
+    return path;
+}
+
+static void print_stats(const cli_timings *t, double renderer_seconds, double write_seconds,
+                        const rad_solve_report *report, const rad_solve_options *solve,
+                        const rad_render_stats *stats, size_t elements) {
+    double total = t->load + t->system + t->solve + renderer_seconds + stats->seconds + write_seconds;
+    uint64_t rays = stats->camera_rays + stats->gather_rays + stats->shadow_rays + stats->specular_rays;
+    printf("load           %8.3f s\n", t->load);
+    printf("mesh, setup    %8.3f s   %zu elements\n", t->system, elements);
+    printf("solve          %8.3f s   %s, %d %s, %s\n", t->solve, rad_solver_kind_name(solve->solver),
+           report->iterations, solve->solver == RAD_SOLVER_SHOOTING ? "shots" : "rounds",
+           report->converged ? "converged" : "not converged");
+    printf("ray structures %8.3f s\n", renderer_seconds);
+    printf("render         %8.3f s   %.3g Mrays/s (camera %llu, gather %llu, shadow %llu, "
+           "specular %llu)\n", stats->seconds, stats->seconds > 0 ? rays / stats->seconds * 1e-6 : 0,
+           (unsigned long long)stats->camera_rays, (unsigned long long)stats->gather_rays,
+           (unsigned long long)stats->shadow_rays, (unsigned long long)stats->specular_rays);
+    printf("write          %8.3f s\n", write_seconds);
+    printf("total          %8.3f s\n", total);
+}
 
 int cmd_render(int argc, char **argv) {
-    (void)argc;
-    (void)argv;
-    return cli_error(1, "render: not available in this build yet");
+    static const char synopsis[] =
+        "[SCENE] [-o FILE] [options]   (SCENE: a file or a built-in name; default cornell)";
+    render_args a = {0};
+    a.pipeline.solver = "gauss-seidel";
+    a.pipeline.ff = "default";
+    a.tonemap = "clamp";
+    a.shading = "smooth";
+    a.width = a.height = 512;
+    a.spp = 4;
+    a.eye[0] = a.look[0] = a.up[0] = a.fov = NAN;
+    cli_option options[32] = {
+        {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm (SCENE.png)"},
+        {"--output", CLI_STRING, &a.output, "FILE  the same as -o"},
+        {"--width", CLI_INT, &a.width, "W  image width in pixels (512)"},
+        {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
+        {"--spp", CLI_INT, &a.spp, "N  jittered samples per pixel, box filter (4)"},
+        {"--eye", CLI_VEC3, a.eye, "X,Y,Z  camera position (the scene's camera)"},
+        {"--look", CLI_VEC3, a.look, "X,Y,Z  point the camera looks at"},
+        {"--up", CLI_VEC3, a.up, "X,Y,Z  up direction"},
+        {"--fov", CLI_DOUBLE, &a.fov, "DEG  vertical field of view"},
+        {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
+        {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
+        {"--shading", CLI_STRING, &a.shading, "MODE  smooth|flat (smooth)"},
+        {"--final-gather", CLI_INT, &a.final_gather,
+         "N  direct light sampled + N gather rays per sample into the solution (0: off)"},
+        {"--light-samples", CLI_INT, &a.light_samples,
+         "N  final gather: emitter samples per sample (N/4 of --final-gather)"},
+        {"--max-depth", CLI_INT, &a.max_depth, "N  mirror and glass bounces per path (16)"},
+        {"--stats", CLI_FLAG, &a.stats, "print the time of each step and ray counts"},
+    };
+    size_t count = 0;
+    while (options[count].name) ++count;
+    cli_pipeline_options(&a.pipeline, "gauss-seidel", options + count);
+    const char *positional[1];
+    int positional_count;
+    int status = cli_parse("render", synopsis, options, argc, argv, positional, 1, &positional_count);
+    if (status) return status < 0 ? 0 : status;
+
+    rad_solve_options solve;
+    rad_mesh_options mesh;
+    rad_ff_options ff;
+    status = cli_pipeline_check("render", &a.pipeline, &solve, &mesh, &ff);
+    if (status) return status;
+    if (a.width < 1 || a.width > MAX_SIDE || a.height < 1 || a.height > MAX_SIDE)
+        return cli_error(EXIT_USAGE, "render: image size %dx%d: each side must be 1 to %d pixels",
+                         a.width, a.height, MAX_SIDE);
+    if (a.spp < 1) return cli_error(EXIT_USAGE, "render: --spp must be at least 1");
+    if (!isnan(a.fov) && !(a.fov > 0 && a.fov < 180))
+        return cli_error(EXIT_USAGE, "render: --fov must be between 0 and 180 degrees, not %g", a.fov);
+    int shading = rad_shading_parse(a.shading);
+    if (shading < 0)
+        return cli_error(EXIT_USAGE, "render: unknown shading '%s' (smooth, flat)", a.shading);
+    const char *scene_name = positional_count ? positional[0] : "cornell";
+    char *fallback_output = a.output ? NULL : default_output(scene_name);
+    const char *output = a.output ? a.output : fallback_output;
+    if (!output) return cli_error(1, "render: out of memory");
+    status = cli_check_output_path("render", output, &scene_name, 1);
+    if (status) {
+        free(fallback_output);
+        return status;
+    }
+
+    cli_pipeline_args *p = &a.pipeline;
+    rad_context *ctx = cli_context_with_progress(p->threads, p->seed, p->max_memory, p->quiet);
+    rad_image_save_options save = {a.exposure, a.tonemap};
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    rad_renderer *renderer = NULL;
+    rad_image *image = NULL;
+    cli_timings timings = {0, 0, 0};
+    rad_solve_report report = {0};
+    rad_render_stats stats = {0};
+    double renderer_seconds = 0, write_seconds = 0;
+
+    rad_status rs = rad_image_check_path(ctx, output, &save);
+    if (rs) {
+        /* A bad extension or tone curve is a usage error; an unwritable place is not. */
+        int usage = rs == RAD_ERROR_INVALID_ARGUMENT;
+        cli_fail(ctx, rs);
+        rad_context_destroy(ctx);
+        free(fallback_output);
+        return usage ? EXIT_USAGE : 1;
+    }
+    rs = cli_pipeline_build(ctx, scene_name, &mesh, &ff, &scene, &system, &timings);
+    if (!rs) {
+        rad_camera_desc camera;
+        rad_scene_get_camera(scene, &camera);
+        if (given(a.eye)) memcpy(camera.eye, a.eye, sizeof a.eye);
+        if (given(a.look)) memcpy(camera.look, a.look, sizeof a.look);
+        if (given(a.up)) memcpy(camera.up, a.up, sizeof a.up);
+        if (!isnan(a.fov)) camera.fov_degrees = a.fov;
+        rad_render_options render = {0};
+        render.width = a.width;
+        render.height = a.height;
+        render.camera = &camera;
+        render.samples_per_pixel = a.spp;
+        render.shading = (rad_shading)shading;
+        render.final_gather = a.final_gather;
+        render.light_samples = a.light_samples;
+        render.max_depth = a.max_depth;
+        render.ambient = p->ambient;
+        double start = cli_seconds();
+        rs = rad_renderer_create(scene, system, &render, &renderer);
+        renderer_seconds = cli_seconds() - start;
+    }
+    if (!rs) rs = cli_pipeline_solve(system, &solve, &report, &timings);
+    if (!rs) rs = rad_renderer_render(renderer, &image, &stats);
+    if (!rs) {
+        double start = cli_seconds();
+        rs = rad_image_save(image, output, &save);
+        write_seconds = cli_seconds() - start;
+    }
+    cli_progress_clear();
+    int exit_status = 0;
+    if (rs) exit_status = cli_fail(ctx, rs);
+    else if (a.stats)
+        print_stats(&timings, renderer_seconds, write_seconds, &report, &solve, &stats,
+                    rad_system_element_count(system));
+    rad_image_destroy(image);
+    rad_renderer_destroy(renderer);
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+    free(fallback_output);
+    return exit_status;
 }

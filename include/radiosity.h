@@ -251,6 +251,81 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                      rad_solve_report *report);
 
 /* ---------------------------------------------------------------------------------------------
+ * Rendering: pictures of the solution and the ray-traced second pass (docs/rendering.md)
+ *
+ * Images here are shared with the path tracer; cameras are rad_camera_desc (pixels square, the
+ * field of view vertical). A pixel is the radiance seen:
+ * B / pi on diffuse surfaces (on an emitter that includes its emitted radiance L = E / pi).
+ * ------------------------------------------------------------------------------------------- */
+
+/* A float RGB image of linear radiance, row 0 at the top. */
+typedef struct rad_image rad_image;
+
+int rad_image_width(const rad_image *image);
+int rad_image_height(const rad_image *image);
+/* width * height * 3 floats, row by row from the top; lives as long as the image. */
+const float *rad_image_pixels(const rad_image *image);
+void rad_image_destroy(rad_image *image);
+
+typedef struct rad_image_save_options {
+    double exposure;     /* stops; PNG only */
+    const char *tonemap; /* "clamp" (NULL), "none", "reinhard", "aces"; PNG only */
+} rad_image_save_options;
+
+/* Checks before any work is done: an extension rad_image_save knows and a known tone curve
+ * (RAD_ERROR_INVALID_ARGUMENT), a directory that takes a new file (RAD_ERROR_IO). */
+rad_status rad_image_check_path(rad_context *context, const char *path,
+                                const rad_image_save_options *options);
+
+/* Writes by extension: .png tone mapped sRGB 8 bit; .hdr (Radiance RGBE) and .pfm (32-bit float)
+ * linear, never tone mapped. The file appears whole or not at all. */
+rad_status rad_image_save(const rad_image *image, const char *path,
+                          const rad_image_save_options *options);
+
+typedef enum rad_shading {
+    RAD_SHADING_SMOOTH = 0, /* radiosity averaged to element vertices, interpolated across */
+    RAD_SHADING_FLAT        /* constant per element */
+} rad_shading;
+
+/* Parses "smooth", "flat"; -1 when unknown. */
+int rad_shading_parse(const char *name);
+
+typedef struct rad_render_options {
+    int width, height;             /* pixels; zero: 512 */
+    const rad_camera_desc *camera; /* NULL: the scene's own, or one framing it */
+    int samples_per_pixel;         /* jittered samples, box filter; zero: 4 */
+    rad_shading shading;
+    int final_gather;   /* gather rays per sample at the first diffuse hit; zero: off */
+    int light_samples;  /* final gather: emitter samples per sample; zero: from final_gather */
+    int max_depth;      /* specular bounces (mirrors, glass) per path; zero: 16 */
+    int ambient;        /* add the ambient term of progressive refinement */
+} rad_render_options;
+
+typedef struct rad_render_stats {
+    double seconds; /* the last rad_renderer_render */
+    uint64_t camera_rays, gather_rays, shadow_rays, specular_rays;
+} rad_render_stats;
+
+typedef struct rad_renderer rad_renderer;
+
+/* Checks the options and the camera (it must see the front of some surface) and builds the ray
+ * tracing structures. The scene must be the one the system was built from; it may be destroyed
+ * afterwards; the system must outlive the renderer. Patch systems (.ffm) have no geometry:
+ * RAD_ERROR_INVALID_ARGUMENT. Random choices follow the context's seed: the same seed gives the
+ * same image whatever the thread count. */
+rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
+                               const rad_render_options *options, rad_renderer **out);
+
+/* Renders the system's current solution. Reports progress as "rendering" (rows done). */
+rad_status rad_renderer_render(rad_renderer *renderer, rad_image **out, rad_render_stats *stats);
+
+void rad_renderer_destroy(rad_renderer *renderer);
+
+/* Create, render, destroy in one call. */
+rad_status rad_render(const rad_scene *scene, const rad_system *system,
+                      const rad_render_options *options, rad_image **out);
+
+/* ---------------------------------------------------------------------------------------------
  * Images and path tracing: reference images and their comparison (docs/pathtracing.md,
  * docs/images.md). Cameras and image files are those of "Rendering" above.
  * ------------------------------------------------------------------------------------------- */

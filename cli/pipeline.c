@@ -1,0 +1,87 @@
+/* pipeline.c - the shared load, mesh and solve steps of the commands (see pipeline.h). */
+#include "pipeline.h"
+
+#include <time.h>
+
+double cli_seconds(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+void cli_pipeline_options(cli_pipeline_args *a, const char *default_solver, cli_option *o) {
+    static char solver_help[96];
+    snprintf(solver_help, sizeof solver_help,
+             "NAME  direct|jacobi|gauss-seidel|shooting (%s)", default_solver);
+    const cli_option shared[CLI_PIPELINE_OPTION_COUNT] = {
+        {"--solver", CLI_STRING, &a->solver, solver_help},
+        {"--iterations", CLI_INT, &a->iterations, "N  stop after N rounds or shots"},
+        {"--tolerance", CLI_DOUBLE, &a->tolerance,
+         "T  gathering: largest relative change; shooting: unshot power fraction (1e-6)"},
+        {"--omega", CLI_DOUBLE, &a->omega, "W  over-relaxation in (0, 2) (1)"},
+        {"--ambient", CLI_FLAG, &a->ambient, "shooting: add the ambient term"},
+        {"--ff", CLI_STRING, &a->ff, "METHOD  analytic|hemicube|raycast|montecarlo"},
+        {"--ff-samples", CLI_INT, &a->ff_samples, "N  rays or point pairs per form factor"},
+        {"--hemicube-res", CLI_INT, &a->hemicube_res, "N  hemicube top-face resolution"},
+        {"--patch-size", CLI_DOUBLE, &a->patch_size, "S  longest patch edge (scene units)"},
+        {"--element-size", CLI_DOUBLE, &a->element_size, "S  longest element edge (scene units)"},
+        {"--elements", CLI_SIZE, &a->elements, "N  approximate element count (2500)"},
+        {"--max-memory", CLI_DOUBLE, &a->max_memory, "MIB  memory budget for matrices (2048)"},
+        {"--threads", CLI_INT, &a->threads, "N  worker threads (all cores)"},
+        {"--seed", CLI_SIZE, &a->seed, "S  random seed (0)"},
+        {"--quiet", CLI_FLAG, &a->quiet, "no notes or progress on stderr"},
+    };
+    for (int i = 0; i < CLI_PIPELINE_OPTION_COUNT; ++i) o[i] = shared[i];
+}
+
+int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solve_options *solve,
+                       rad_mesh_options *mesh, rad_ff_options *ff) {
+    int kind = rad_solver_kind_parse(a->solver);
+    if (kind < 0)
+        return cli_error(EXIT_USAGE, "%s: unknown solver '%s' (direct, jacobi, gauss-seidel, "
+                                     "shooting)", command, a->solver);
+    int method = cli_parse_ff_method(a->ff);
+    if (method < 0)
+        return cli_error(EXIT_USAGE, "%s: unknown form-factor method '%s' (analytic, hemicube, "
+                                     "raycast, montecarlo)", command, a->ff);
+    if (a->max_memory < 0) return cli_error(EXIT_USAGE, "%s: --max-memory must be positive", command);
+    if (a->patch_size < 0 || a->element_size < 0)
+        return cli_error(EXIT_USAGE, "%s: sizes must be positive", command);
+    if (a->tolerance < 0) return cli_error(EXIT_USAGE, "%s: --tolerance must be positive", command);
+    if (a->omega != 0 && !(a->omega > 0 && a->omega < 2))
+        return cli_error(EXIT_USAGE, "%s: --omega must be in (0, 2), not %g", command, a->omega);
+    rad_solve_options s = {0};
+    s.solver = (rad_solver_kind)kind;
+    s.max_iterations = a->iterations;
+    s.tolerance = a->tolerance;
+    s.omega = a->omega;
+    s.ambient = a->ambient;
+    *solve = s;
+    *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements};
+    *ff = (rad_ff_options){(rad_ff_method)method, a->ff_samples, a->hemicube_res};
+    return 0;
+}
+
+rad_status cli_pipeline_build(rad_context *ctx, const char *scene_name,
+                              const rad_mesh_options *mesh, const rad_ff_options *ff,
+                              rad_scene **scene, rad_system **system, cli_timings *timings) {
+    *scene = NULL;
+    *system = NULL;
+    double start = cli_seconds();
+    rad_status status = cli_load_scene(ctx, scene_name, scene);
+    double loaded = cli_seconds();
+    if (!status) status = rad_system_create(ctx, *scene, mesh, ff, system);
+    if (timings) {
+        timings->load = loaded - start;
+        timings->system = cli_seconds() - loaded;
+    }
+    return status;
+}
+
+rad_status cli_pipeline_solve(rad_system *system, const rad_solve_options *solve,
+                              rad_solve_report *report, cli_timings *timings) {
+    double start = cli_seconds();
+    rad_status status = rad_solve(system, solve, report);
+    if (timings) timings->solve = cli_seconds() - start;
+    return status;
+}

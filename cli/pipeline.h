@@ -1,0 +1,46 @@
+/* pipeline.h - what commands that mesh and solve a scene before using it (solve, render) share:
+ * the solver, form-factor and meshing options, their checks, and the load-build-solve steps,
+ * timed for --stats. */
+#ifndef RAD_CLI_PIPELINE_H
+#define RAD_CLI_PIPELINE_H
+
+#include "cli.h"
+
+typedef struct cli_pipeline_args {
+    const char *solver, *ff;
+    int iterations, ambient, threads, quiet, ff_samples, hemicube_res;
+    double tolerance, omega, max_memory, patch_size, element_size;
+    size_t elements;
+    size_t seed;
+} cli_pipeline_args;
+
+/* How many entries cli_pipeline_options writes. */
+#define CLI_PIPELINE_OPTION_COUNT 15
+
+/* Writes the shared options (--solver ... --quiet) into `options`, which must have room for
+ * CLI_PIPELINE_OPTION_COUNT entries; `default_solver` names the solver shown as the default. */
+void cli_pipeline_options(cli_pipeline_args *args, const char *default_solver, cli_option *options);
+
+/* The library's option structs from the arguments, checked. Prints a usage error and returns
+ * EXIT_USAGE, or 0. */
+int cli_pipeline_check(const char *command, const cli_pipeline_args *args, rad_solve_options *solve,
+                       rad_mesh_options *mesh, rad_ff_options *ff);
+
+/* Seconds spent in each step, for --stats. */
+typedef struct cli_timings {
+    double load, system, solve;
+} cli_timings;
+
+/* Loads SCENE (a built-in name or a file) and builds its system. */
+rad_status cli_pipeline_build(rad_context *ctx, const char *scene_name,
+                              const rad_mesh_options *mesh, const rad_ff_options *ff,
+                              rad_scene **scene, rad_system **system, cli_timings *timings);
+
+/* Solves, timed. */
+rad_status cli_pipeline_solve(rad_system *system, const rad_solve_options *solve,
+                              rad_solve_report *report, cli_timings *timings);
+
+/* Wall-clock seconds. */
+double cli_seconds(void);
+
+#endif

@@ -1,0 +1,124 @@
+/* progress.c - the progress bar on stderr (see progress.h).
+ *
+ *   rendering     [##########..........]  48%  246/512  812/s  0.3 s left
+ *
+ * Drawn at most ten times a second, only when stderr is a terminal; the line is rewritten in
+ * place (carriage return, then erase to the end of the line). Solver phases report a safety cap
+ * as their total, not a forecast, so they show the count and the rate without a bar. */
+#include "progress.h"
+
+#include "cli.h"
+#include "interrupt.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define BAR_WIDTH 24
+#define REDRAW_SECONDS 0.1
+
+static struct {
+    int enabled;   /* stderr is a terminal and not --quiet */
+    int quiet;
+    int shown;     /* a bar is on the line now */
+    char phase[48];
+    double phase_start, phase_start_done, last_draw;
+} bar;
+
+static double now_seconds(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+void cli_progress_clear(void) {
+    if (!bar.shown) return;
+    fputs("\r\033[K", stderr);
+    fflush(stderr);
+    bar.shown = 0;
+}
+
+/* Phases whose total is a cap rather than the amount of work. */
+static int open_ended(const char *phase) {
+    for (int k = 0; k < 16; ++k) {
+        const char *name = rad_solver_kind_name((rad_solver_kind)k);
+        if (name && strcmp(name, phase) == 0) return 1;
+    }
+    return 0;
+}
+
+static void format_duration(char *out, size_t size, double seconds) {
+    if (seconds < 60) snprintf(out, size, "%.1f s", seconds);
+    else if (seconds < 3600) snprintf(out, size, "%d min %02d s", (int)(seconds / 60), (int)seconds % 60);
+    else snprintf(out, size, "%d h %02d min", (int)(seconds / 3600), (int)(seconds / 60) % 60);
+}
+
+int cli_progress_report(void *user, const char *phase, double done, double total) {
+    (void)user;
+    if (cli_interrupted()) return 1; /* Ctrl-C: the library stops and reports it cancelled */
+    if (!bar.enabled || !phase) return 0;
+    double now = now_seconds();
+    if (strncmp(bar.phase, phase, sizeof bar.phase - 1) != 0) {
+        snprintf(bar.phase, sizeof bar.phase, "%s", phase);
+        bar.phase_start = now;
+        bar.phase_start_done = done;
+        bar.last_draw = 0;
+    }
+    int finished = total > 0 && done >= total;
+    if (now - bar.last_draw < REDRAW_SECONDS && !finished) return 0;
+    bar.last_draw = now;
+    double elapsed = now - bar.phase_start;
+    double rate = elapsed > 0 ? (done - bar.phase_start_done) / elapsed : 0;
+    char line[160];
+    int n;
+    if (open_ended(phase) || !(total > 0)) {
+        n = snprintf(line, sizeof line, "%-13s %.0f", phase, done);
+        if (rate > 0) n += snprintf(line + n, sizeof line - (size_t)n, "  %.3g/s", rate);
+    } else {
+        double fraction = done / total < 1 ? done / total : 1;
+        char cells[BAR_WIDTH + 1];
+        int filled = (int)(fraction * BAR_WIDTH);
+        for (int i = 0; i < BAR_WIDTH; ++i) cells[i] = i < filled ? '#' : '.';
+        cells[BAR_WIDTH] = '\0';
+        n = snprintf(line, sizeof line, "%-13s [%s] %3.0f%%  %.0f/%.0f", phase, cells,
+                     100 * fraction, done, total);
+        if (rate > 0) {
+            char left[32];
+            format_duration(left, sizeof left, (total - done) / rate);
+            n += snprintf(line + n, sizeof line - (size_t)n, "  %.3g/s  %s left", rate, left);
+        }
+    }
+    (void)n;
+    fprintf(stderr, "\r%s\033[K", line);
+    fflush(stderr);
+    bar.shown = 1;
+    return 0;
+}
+
+static void log_line(void *user, rad_log_level level, const char *message) {
+    (void)user;
+    if (bar.quiet && level != RAD_LOG_WARNING) return;
+    cli_progress_clear();
+    fprintf(stderr, "radiosity: %s%s\n", level == RAD_LOG_WARNING ? "warning: " : "", message);
+}
+
+rad_context *cli_context_with_progress(int threads, uint64_t seed, double max_memory_mib,
+                                       int quiet) {
+    cli_interrupt_install();
+    bar.quiet = quiet;
+    bar.enabled = !quiet && isatty(STDERR_FILENO);
+    rad_context_options options = {0};
+    options.log = log_line;
+    options.progress = cli_progress_report;
+    options.threads = threads;
+    options.seed = seed;
+    options.max_memory = max_memory_mib > 0 ? (uint64_t)(max_memory_mib * 1048576.0) : 0;
+    rad_context *ctx = NULL;
+    rad_status status = rad_context_create(&options, &ctx);
+    if (status) {
+        cli_error(1, "cannot create a context: %s", rad_status_name(status));
+        exit(1);
+    }
+    return ctx;
+}

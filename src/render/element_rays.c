@@ -1,0 +1,176 @@
+/* element_rays.c - Embree scene of the element mesh (see element_rays.h). */
+#include "render/element_rays.h"
+
+#include <float.h>
+#include <stdio.h>
+
+static void embree_error(void *user, enum RTCError code, const char *message) {
+    rad_fail(user, RAD_ERROR_INTERNAL, "Embree error %d: %s", (int)code, message ? message : "");
+}
+
+void rad_element_rays_destroy(rad_element_rays *rays) {
+    if (!rays) return;
+    if (rays->scene) rtcReleaseScene(rays->scene);
+    if (rays->device) rtcReleaseDevice(rays->device);
+    rad_free(rays->ctx, rays->quad_element);
+    rad_free(rays->ctx, rays->triangle_element);
+    rad_free(rays->ctx, rays);
+}
+
+/* One Embree geometry holding every element with `corners` corners; returns its id. */
+static rad_status add_geometry(rad_element_rays *rays, int corners, size_t count,
+                               uint32_t *element_of, unsigned *id) {
+    const rad_mesh *mesh = rays->mesh;
+    *id = RTC_INVALID_GEOMETRY_ID;
+    if (count == 0) return RAD_OK;
+    RTCGeometry geometry = rtcNewGeometry(
+        rays->device, corners == 4 ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *positions = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                               mesh->vertex_count);
+    unsigned *indices = rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, corners == 4 ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
+        (size_t)corners * sizeof(unsigned), count);
+    if (!positions || !indices) {
+        rtcReleaseGeometry(geometry);
+        return rad_fail(rays->ctx, RAD_ERROR_NO_MEMORY, "Embree: out of memory for %zu elements",
+                        count);
+    }
+    for (size_t i = 0; i < mesh->vertex_count; ++i) {
+        positions[3 * i + 0] = (float)mesh->vertices[i].x;
+        positions[3 * i + 1] = (float)mesh->vertices[i].y;
+        positions[3 * i + 2] = (float)mesh->vertices[i].z;
+    }
+    size_t primitive = 0;
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        if (rad_mesh_corner_count(mesh, e) != corners) continue;
+        for (int k = 0; k < corners; ++k)
+            indices[(size_t)corners * primitive + k] = mesh->element_vertices[e][k];
+        element_of[primitive++] = (uint32_t)e;
+    }
+    rtcCommitGeometry(geometry);
+    *id = rtcAttachGeometry(rays->scene, geometry);
+    rtcReleaseGeometry(geometry);
+    return RAD_OK;
+}
+
+rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_element_rays **out) {
+    *out = NULL;
+    rad_element_rays *rays = rad_alloc_zero(ctx, 1, sizeof *rays);
+    if (!rays) return RAD_ERROR_NO_MEMORY;
+    rays->ctx = ctx;
+    rays->mesh = mesh;
+    size_t quads = 0, triangles = 0;
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        if (rad_mesh_corner_count(mesh, e) == 4) ++quads;
+        else ++triangles;
+    }
+    rays->quad_element = rad_alloc(ctx, quads + 1, sizeof *rays->quad_element);
+    rays->triangle_element = rad_alloc(ctx, triangles + 1, sizeof *rays->triangle_element);
+    if (!rays->quad_element || !rays->triangle_element) {
+        rad_element_rays_destroy(rays);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    char config[64];
+    snprintf(config, sizeof config, "threads=%d", rad_thread_count(ctx));
+    rays->device = rtcNewDevice(config);
+    if (!rays->device) {
+        rad_element_rays_destroy(rays);
+        return rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree: cannot create a device");
+    }
+    rtcSetDeviceErrorFunction(rays->device, embree_error, ctx);
+    rays->scene = rtcNewScene(rays->device);
+    /* Robust traversal: no rays slip through the shared edges of neighbouring elements. */
+    rtcSetSceneFlags(rays->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(rays->scene, RTC_BUILD_QUALITY_HIGH);
+    rad_status status = add_geometry(rays, 4, quads, rays->quad_element, &rays->quad_geometry);
+    if (!status)
+        status = add_geometry(rays, 3, triangles, rays->triangle_element, &rays->triangle_geometry);
+    if (status) {
+        rad_element_rays_destroy(rays);
+        return status;
+    }
+    rtcCommitScene(rays->scene);
+    if (rtcGetDeviceError(rays->device) != RTC_ERROR_NONE) {
+        rad_element_rays_destroy(rays);
+        return RAD_ERROR_INTERNAL;
+    }
+    rad_vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (size_t i = 0; i < mesh->vertex_count; ++i) {
+        rad_vec3 p = mesh->vertices[i];
+        lo = v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+        hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+    }
+    double diagonal = mesh->vertex_count ? v3_length(v3_sub(hi, lo)) : 1;
+    double magnitude = mesh->vertex_count
+                           ? fmax(v3_max_component(v3(fabs(lo.x), fabs(lo.y), fabs(lo.z))),
+                                  v3_max_component(v3(fabs(hi.x), fabs(hi.y), fabs(hi.z))))
+                           : 1;
+    /* Larger than float rounding at the scene's coordinates, small against its features. */
+    rays->epsilon = fmax(diagonal * 1e-5, magnitude * 4e-6);
+    *out = rays;
+    return RAD_OK;
+}
+
+static void set_ray(struct RTCRay *ray, rad_vec3 origin, rad_vec3 direction, double tnear,
+                    double tfar) {
+    ray->org_x = (float)origin.x;
+    ray->org_y = (float)origin.y;
+    ray->org_z = (float)origin.z;
+    ray->dir_x = (float)direction.x;
+    ray->dir_y = (float)direction.y;
+    ray->dir_z = (float)direction.z;
+    ray->tnear = (float)tnear;
+    ray->tfar = tfar < FLT_MAX ? (float)tfar : FLT_MAX;
+    ray->time = 0;
+    ray->mask = UINT32_MAX;
+    ray->id = 0;
+    ray->flags = 0;
+}
+
+int rad_element_rays_intersect(const rad_element_rays *rays, rad_vec3 origin, rad_vec3 direction,
+                               double tnear, double tfar, rad_element_hit *hit) {
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    struct RTCRayHit rh;
+    set_ray(&rh.ray, origin, direction, tnear, tfar);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(rays->scene, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return 0;
+    hit->t = rh.ray.tfar;
+    hit->element = rh.hit.geomID == rays->quad_geometry ? rays->quad_element[rh.hit.primID]
+                                                        : rays->triangle_element[rh.hit.primID];
+    hit->u = rh.hit.u;
+    hit->v = rh.hit.v;
+    /* Embree's Ng is (e1 x e2) for counter-clockwise corners: the front normal. */
+    hit->front = (double)rh.hit.Ng_x * direction.x + (double)rh.hit.Ng_y * direction.y +
+                     (double)rh.hit.Ng_z * direction.z < 0;
+    return 1;
+}
+
+int rad_element_rays_occluded(const rad_element_rays *rays, rad_vec3 a, rad_vec3 b) {
+    rad_vec3 d = v3_sub(b, a);
+    double length = v3_length(d);
+    if (length <= 2 * rays->epsilon) return 0;
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    struct RTCRay ray;
+    set_ray(&ray, a, v3_scale(d, 1.0 / length), rays->epsilon, length - rays->epsilon);
+    rtcOccluded1(rays->scene, &context, &ray);
+    return ray.tfar < 0;
+}
+
+rad_vec3 rad_element_point(const rad_mesh *mesh, uint32_t element, double u, double v) {
+    const uint32_t *c = mesh->element_vertices[element];
+    const rad_vec3 *p = mesh->vertices;
+    if (rad_mesh_corner_count(mesh, element) == 3)
+        return v3_add(p[c[0]], v3_add(v3_scale(v3_sub(p[c[1]], p[c[0]]), u),
+                                      v3_scale(v3_sub(p[c[2]], p[c[0]]), v)));
+    /* Embree's two triangles: (v0, v1, v3) below the diagonal, (v2, v3, v1) above it. */
+    if (u + v <= 1)
+        return v3_add(p[c[0]], v3_add(v3_scale(v3_sub(p[c[1]], p[c[0]]), u),
+                                      v3_scale(v3_sub(p[c[3]], p[c[0]]), v)));
+    return v3_add(p[c[2]], v3_add(v3_scale(v3_sub(p[c[3]], p[c[2]]), 1 - u),
+                                  v3_scale(v3_sub(p[c[1]], p[c[2]]), 1 - v)));
+}

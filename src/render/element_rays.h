@@ -1,0 +1,71 @@
+/* element_rays.h - ray queries against the ELEMENT mesh (Embree 3): the surfaces the radiosity
+ * solution lives on. A hit names the element and where on it (Embree's u, v), so the renderer can
+ * interpolate the radiosity at the hit. Quads go in as RTC_GEOMETRY_TYPE_QUAD, triangles as
+ * RTC_GEOMETRY_TYPE_TRIANGLE.
+ *
+ * The renderer traces every ray (camera, gather, shadow, specular) against this one geometry, so
+ * a point found by one query is exactly on the surface the next query starts from; the input
+ * polygons (scene/rays.h) may differ from it by a few units where a quad is not planar (the
+ * Cornell box's walls are off by about 3 mm). */
+#ifndef RAD_RENDER_ELEMENT_RAYS_H
+#define RAD_RENDER_ELEMENT_RAYS_H
+
+#include "mesh/mesh.h"
+
+#include <embree3/rtcore.h>
+
+typedef struct rad_element_rays {
+    rad_context *ctx;
+    const rad_mesh *mesh;
+    RTCDevice device;
+    RTCScene scene;
+    unsigned quad_geometry, triangle_geometry; /* Embree geometry ids; RTC_INVALID_GEOMETRY_ID if none */
+    uint32_t *quad_element;     /* primID of the quad geometry -> element */
+    uint32_t *triangle_element; /* primID of the triangle geometry -> element */
+    double epsilon;             /* scene-scaled offset that keeps rays off their start surface */
+} rad_element_rays;
+
+/* Builds the Embree scene of the mesh's elements. The mesh must outlive the result. */
+rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_element_rays **out);
+void rad_element_rays_destroy(rad_element_rays *rays);
+
+typedef struct rad_element_hit {
+    double t;
+    uint32_t element;
+    /* Where on the element, Embree's parametrisation: for a triangle (v0, v1, v2) the point is
+     * (1-u-v) v0 + u v1 + v v2; for a quad (v0, v1, v2, v3) u runs along v0 -> v1 and v along
+     * v0 -> v3, and vertex values interpolate bilinearly with weights (1-u)(1-v), u(1-v), uv,
+     * (1-u)v. */
+    double u, v;
+    int front; /* nonzero when the ray arrived on the element's front (counter-clockwise) side */
+} rad_element_hit;
+
+/* The closest hit along origin + t * direction, t in (tnear, tfar); nonzero on a hit.
+ * Thread safe. */
+int rad_element_rays_intersect(const rad_element_rays *rays, rad_vec3 origin, rad_vec3 direction,
+                               double tnear, double tfar, rad_element_hit *hit);
+
+/* Nonzero when something blocks the segment from a to b, its ends excluded by epsilon.
+ * Thread safe. */
+int rad_element_rays_occluded(const rad_element_rays *rays, rad_vec3 a, rad_vec3 b);
+
+/* The interpolation weights of the element's corners at (u, v) (3 or 4 of them). */
+static inline int rad_element_weights(const rad_mesh *mesh, uint32_t element, double u, double v,
+                                      double weight[4]) {
+    if (rad_mesh_corner_count(mesh, element) == 3) {
+        weight[0] = 1 - u - v;
+        weight[1] = u;
+        weight[2] = v;
+        return 3;
+    }
+    weight[0] = (1 - u) * (1 - v);
+    weight[1] = u * (1 - v);
+    weight[2] = u * v;
+    weight[3] = (1 - u) * v;
+    return 4;
+}
+
+/* The point at (u, v) on the element, on the same two triangles Embree intersects. */
+rad_vec3 rad_element_point(const rad_mesh *mesh, uint32_t element, double u, double v);
+
+#endif

@@ -1,0 +1,193 @@
+/* final_gather.c - the final gather: one more bounce of light computed per pixel, on top of the
+ * radiosity solution.
+ *
+ * At the first diffuse point x a camera path reaches (normal n, reflectance rho, emitted
+ * radiance L_e) the radiance leaving towards the camera is
+ *
+ *     L(x) = L_e(x) + rho / pi * E_direct(x) + rho * mean_i L_reflected(y_i)
+ *
+ *   E_direct   irradiance straight from the emitters, estimated by sampling points y on the
+ *              emitting elements by power and area, with a shadow ray each:
+ *              L_e(y) cos_x cos_y / |x - y|^2 / pdf_area(y).
+ *   y_i        the hits of N rays leaving x with density cos / pi; what they see is taken from
+ *              the radiosity solution, but only its reflected part (B - E) / pi, because the
+ *              light coming straight from the emitters is already in E_direct. (Rays that pass
+ *              through mirrors or glass first take the full B / pi where they land: the direct
+ *              light does not reach x that way.)
+ *
+ * The solution is thus only seen one bounce away, where its flaws (light leaking under walls,
+ * blocky shadows of coarse elements, the smoothing of interpolation) are blurred by the
+ * integral over the hemisphere, and direct light, the sharpest part, is exact up to noise.
+ * After Reichert 1992 (MSc thesis, "A two-pass radiosity method driven by lights and viewer
+ * position") and Lischinski, Tampieri & Greenberg 1993 ("Combining hierarchical radiosity and
+ * discontinuity meshing"), who render the solution this way; photon mapping reuses the idea
+ * (Jensen 1996, "Global illumination using photon maps").
+ *
+ * Both point sets are stratified: sample i of n takes the 2D point (i / n, radical_inverse(i))
+ * (a Hammersley set) shifted by one random offset per pixel sample (Cranley & Patterson 1976),
+ * so a few rays cover the hemisphere and the light evenly. */
+#include "render/render.h"
+
+/* ------------------------------------------------------------------------------------------- */
+/* The emitters                                                                                 */
+
+static rad_emitter emitter_triangle(const rad_mesh *mesh, uint32_t a, uint32_t b, uint32_t c,
+                                    const float radiance[3]) {
+    rad_emitter t;
+    t.p0 = mesh->vertices[a];
+    t.e1 = v3_sub(mesh->vertices[b], t.p0);
+    t.e2 = v3_sub(mesh->vertices[c], t.p0);
+    rad_vec3 cross = v3_cross(t.e1, t.e2);
+    t.area = 0.5 * v3_length(cross);
+    t.normal = v3_normalize(cross);
+    for (int k = 0; k < 3; ++k) t.radiance[k] = radiance[k];
+    return t;
+}
+
+rad_status rad_emitters_build(rad_renderer *r) {
+    const rad_mesh *mesh = r->mesh;
+    const rad_system *s = r->system;
+    size_t count = 0;
+    for (size_t e = 0; e < mesh->element_count; ++e)
+        if (s->emission[e][0] > 0 || s->emission[e][1] > 0 || s->emission[e][2] > 0)
+            count += (size_t)rad_mesh_corner_count(mesh, e) - 2;
+    r->emitter_count = 0;
+    if (count == 0) return RAD_OK;
+    r->emitters = rad_alloc(r->ctx, count, sizeof *r->emitters);
+    r->emitter_cdf = rad_alloc(r->ctx, count, sizeof *r->emitter_cdf);
+    if (!r->emitters || !r->emitter_cdf) return RAD_ERROR_NO_MEMORY;
+    double total = 0;
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        const double *emission = s->emission[e];
+        if (!(emission[0] > 0 || emission[1] > 0 || emission[2] > 0)) continue;
+        float radiance[3];
+        for (int c = 0; c < 3; ++c) radiance[c] = (float)(emission[c] / RAD_PI);
+        const uint32_t *v = mesh->element_vertices[e];
+        rad_emitter pieces[2];
+        int n = 0;
+        if (rad_mesh_corner_count(mesh, e) == 3) pieces[n++] = emitter_triangle(mesh, v[0], v[1], v[2], radiance);
+        else {
+            /* Embree's split of a quad: (v0, v1, v3) and (v2, v3, v1). */
+            pieces[n++] = emitter_triangle(mesh, v[0], v[1], v[3], radiance);
+            pieces[n++] = emitter_triangle(mesh, v[2], v[3], v[1], radiance);
+        }
+        for (int k = 0; k < n; ++k) {
+            if (!(pieces[k].area > 0)) continue;
+            double power = pieces[k].area * ((double)radiance[0] + radiance[1] + radiance[2]);
+            total += power;
+            r->emitters[r->emitter_count] = pieces[k];
+            r->emitter_cdf[r->emitter_count++] = total;
+        }
+    }
+    for (size_t i = 0; i < r->emitter_count; ++i) r->emitter_cdf[i] /= total;
+    if (r->emitter_count) r->emitter_cdf[r->emitter_count - 1] = 1;
+    return RAD_OK;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Stratified points                                                                            */
+
+static double radical_inverse2(uint32_t i) {
+    i = (i << 16) | (i >> 16);
+    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
+    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
+    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
+    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
+    return (double)i * (1.0 / 4294967296.0);
+}
+
+static double wrap(double x) { return x >= 1 ? x - 1 : x; }
+
+/* Point i of a shifted Hammersley set of n points. */
+static void stratified(uint32_t i, uint32_t n, const double shift[2], double out[2]) {
+    out[0] = wrap((i + 0.5) / n + shift[0]);
+    out[1] = wrap(radical_inverse2(i) + shift[1]);
+    /* Keep inside [0, 1) whatever the rounding. */
+    if (out[0] >= 1) out[0] = 0x1.fffffffffffffp-1;
+    if (out[1] >= 1) out[1] = 0x1.fffffffffffffp-1;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Direct light                                                                                 */
+
+/* Picks an emitter with the first coordinate and rescales it for reuse inside the emitter. */
+static size_t pick_emitter(const rad_renderer *r, double *u) {
+    size_t lo = 0, hi = r->emitter_count - 1;
+    while (lo < hi) {
+        size_t mid = (lo + hi) / 2;
+        if (r->emitter_cdf[mid] <= *u) lo = mid + 1;
+        else hi = mid;
+    }
+    double before = lo ? r->emitter_cdf[lo - 1] : 0;
+    double p = r->emitter_cdf[lo] - before;
+    *u = p > 0 ? fmin((*u - before) / p, 0x1.fffffffffffffp-1) : 0;
+    return lo;
+}
+
+static double emitter_probability(const rad_renderer *r, size_t k) {
+    return r->emitter_cdf[k] - (k ? r->emitter_cdf[k - 1] : 0);
+}
+
+/* Irradiance at x (normal n) straight from the emitters, by `count` stratified samples. */
+static void direct_irradiance(const rad_renderer *r, rad_rng *rng, rad_vec3 x, rad_vec3 n,
+                              int count, rad_ray_counts *counts, double out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    if (r->emitter_count == 0 || count <= 0) return;
+    double shift[2] = {rad_rng_uniform(rng), rad_rng_uniform(rng)};
+    for (int i = 0; i < count; ++i) {
+        double u[2];
+        stratified((uint32_t)i, (uint32_t)count, shift, u);
+        size_t k = pick_emitter(r, &u[0]);
+        const rad_emitter *light = &r->emitters[k];
+        /* Uniform point on the triangle (Turk 1990). */
+        double root = sqrt(u[0]);
+        rad_vec3 y = v3_add(light->p0, v3_add(v3_scale(light->e1, root * (1 - u[1])),
+                                              v3_scale(light->e2, root * u[1])));
+        rad_vec3 to_light = v3_sub(y, x);
+        double distance2 = v3_dot(to_light, to_light);
+        if (!(distance2 > 0)) continue;
+        rad_vec3 wi = v3_scale(to_light, 1 / sqrt(distance2));
+        double cos_x = v3_dot(n, wi), cos_y = -v3_dot(light->normal, wi);
+        if (cos_x <= 0 || cos_y <= 0) continue;
+        counts->shadow++;
+        if (rad_element_rays_occluded(r->rays, x, y)) continue;
+        double g = cos_x * cos_y / distance2 * light->area / emitter_probability(r, k);
+        for (int c = 0; c < 3; ++c) out[c] += light->radiance[c] * g;
+    }
+    for (int c = 0; c < 3; ++c) out[c] /= count;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+void rad_final_gather(const rad_renderer *r, rad_rng *rng, uint32_t element, rad_vec3 x,
+                      rad_vec3 n, rad_ray_counts *counts, double out[3]) {
+    const float *rho = r->element_reflectance[element];
+    const float *emitted = r->element_emission[element];
+    for (int c = 0; c < 3; ++c) out[c] = emitted[c];
+    if (!(rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return;
+
+    /* Direct light. */
+    double direct[3];
+    direct_irradiance(r, rng, x, n, r->settings.light_samples, counts, direct);
+    for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * direct[c];
+
+    /* Indirect light: cosine-weighted rays into the solution. With density cos / pi the
+     * estimate of (rho / pi) * integral L cos dw is rho * mean L. */
+    int rays = r->settings.final_gather;
+    rad_vec3 t, b;
+    v3_basis(n, &t, &b);
+    double shift[2] = {rad_rng_uniform(rng), rad_rng_uniform(rng)};
+    double sum[3] = {0, 0, 0};
+    for (int i = 0; i < rays; ++i) {
+        double u[2];
+        stratified((uint32_t)i, (uint32_t)rays, shift, u);
+        double radius = sqrt(u[0]), phi = 2 * RAD_PI * u[1];
+        double z = sqrt(fmax(0.0, 1 - u[0]));
+        rad_vec3 direction = v3_normalize(v3_add(
+            v3_add(v3_scale(t, radius * cos(phi)), v3_scale(b, radius * sin(phi))), v3_scale(n, z)));
+        double radiance[3];
+        rad_trace_radiance(r, rng, x, direction, 1, counts, radiance);
+        for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
+    }
+    for (int c = 0; c < 3; ++c) out[c] += rho[c] * sum[c] / rays;
+}

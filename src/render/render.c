@@ -1,0 +1,274 @@
+/* render.c - the renderer: options, camera, the pixel loop on all cores, the public API (see
+ * render.h and docs/rendering.md).
+ *
+ * Each pixel averages samples_per_pixel camera rays through jittered points of the pixel (a box
+ * filter), as the path tracer does. Every pixel draws its random numbers from its
+ * own PCG32 stream (seed, pixel index), so the image does not depend on the thread count or on
+ * the order rows are handed out. */
+#include "render/render.h"
+
+#include "io/image.h"
+
+#include <omp.h>
+#include <string.h>
+
+#define DEFAULT_SIZE 512
+#define DEFAULT_SAMPLES 4
+#define DEFAULT_MAX_DEPTH 16
+#define MAX_SAMPLES (1 << 20)
+#define MAX_GATHER (1 << 20)
+/* Camera probe: rays per side of the grid that checks the camera sees something. */
+#define PROBE_SIDE 64
+
+int rad_shading_parse(const char *name) {
+    if (!name) return -1;
+    if (strcmp(name, "smooth") == 0) return RAD_SHADING_SMOOTH;
+    if (strcmp(name, "flat") == 0) return RAD_SHADING_FLAT;
+    return -1;
+}
+
+void rad_renderer_destroy(rad_renderer *r) {
+    if (!r) return;
+    rad_context *ctx = r->ctx;
+    rad_element_rays_destroy(r->rays);
+    rad_free(ctx, r->surface_material);
+    rad_free(ctx, r->emitters);
+    rad_free(ctx, r->emitter_cdf);
+    rad_free(ctx, r->vertex_radiance);
+    rad_free(ctx, r->element_radiance);
+    rad_free(ctx, r->element_emission);
+    rad_free(ctx, r->element_reflectance);
+    rad_free(ctx, r);
+}
+
+static rad_status settings_from(rad_context *ctx, const rad_render_options *o,
+                                rad_render_settings *s) {
+    rad_render_options zero = {0};
+    if (!o) o = &zero;
+    if (o->width < 0 || o->height < 0)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "image size %dx%d: each side must be 1 to 16384 pixels", o->width,
+                        o->height);
+    if (o->samples_per_pixel < 0 || o->samples_per_pixel > MAX_SAMPLES)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "samples per pixel must be 1 to %d, not %d", MAX_SAMPLES,
+                        o->samples_per_pixel);
+    if (o->final_gather < 0 || o->final_gather > MAX_GATHER || o->light_samples < 0 ||
+        o->light_samples > MAX_GATHER)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "final gather: rays and light samples must be 0 to %d", MAX_GATHER);
+    if (o->max_depth < 0 || o->max_depth > 1000)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "max depth must be 0 to 1000, not %d", o->max_depth);
+    if (o->shading != RAD_SHADING_SMOOTH && o->shading != RAD_SHADING_FLAT)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "unknown shading %d", (int)o->shading);
+    s->width = o->width ? o->width : DEFAULT_SIZE;
+    s->height = o->height ? o->height : DEFAULT_SIZE;
+    s->samples_per_pixel = o->samples_per_pixel ? o->samples_per_pixel : DEFAULT_SAMPLES;
+    s->shading = o->shading;
+    s->final_gather = o->final_gather;
+    s->light_samples = o->light_samples ? o->light_samples
+                                        : (o->final_gather > 0 ? (o->final_gather + 3) / 4 : 0);
+    s->max_depth = o->max_depth ? o->max_depth : DEFAULT_MAX_DEPTH;
+    s->ambient = o->ambient;
+    return RAD_OK;
+}
+
+/* Refuses cameras that see nothing or only the backs of one-sided surfaces: the image would be
+ * black. A coarse grid of pixel centres first, then every pixel before giving up. */
+static rad_status probe_camera(const rad_renderer *r) {
+    const rad_view *view = &r->view;
+    int hits = 0, fronts = 0;
+    for (int pass = 0; pass < 2 && fronts == 0; ++pass) {
+        int nx = pass == 0 && view->width > PROBE_SIDE ? PROBE_SIDE : view->width;
+        int ny = pass == 0 && view->height > PROBE_SIDE ? PROBE_SIDE : view->height;
+        for (int j = 0; j < ny && fronts == 0; ++j)
+            for (int i = 0; i < nx; ++i) {
+                double px = (i + 0.5) * view->width / nx, py = (j + 0.5) * view->height / ny;
+                rad_element_hit hit;
+                rad_vec3 direction = rad_view_direction(view, px, py);
+                if (!rad_element_rays_intersect(r->rays, view->eye, direction, 0, INFINITY, &hit))
+                    continue;
+                ++hits;
+                const rad_material *m = rad_renderer_material(r, hit.element);
+                if (hit.front || m->kind == RAD_MATERIAL_GLASS) {
+                    ++fronts;
+                    break;
+                }
+            }
+        if (nx == view->width && ny == view->height) break;
+    }
+    if (fronts) return RAD_OK;
+    if (!hits)
+        return rad_fail(r->ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "the camera sees nothing: no surface is in view (check --eye, --look, "
+                        "--fov)");
+    return rad_fail(r->ctx, RAD_ERROR_INVALID_ARGUMENT,
+                    "the camera sees only the backs of one-sided surfaces: is it inside an "
+                    "object? (check --eye)");
+}
+
+rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
+                               const rad_render_options *options, rad_renderer **out) {
+    if (!out) return RAD_ERROR_INVALID_ARGUMENT;
+    *out = NULL;
+    if (!scene || !system) return RAD_ERROR_INVALID_ARGUMENT;
+    rad_context *ctx = system->ctx;
+    if (!system->mesh || !scene->geometric)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "%s: a patch system has no geometry to render", scene->source);
+    if (scene->surface_count != system->surface_count)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "render: the scene is not the one the system was built from");
+    rad_render_settings settings;
+    rad_status status = settings_from(ctx, options, &settings);
+    if (status) return status;
+    rad_camera camera;
+    if (options && options->camera) {
+        const rad_camera_desc *d = options->camera;
+        camera.eye = v3(d->eye[0], d->eye[1], d->eye[2]);
+        camera.look = v3(d->look[0], d->look[1], d->look[2]);
+        camera.up = v3(d->up[0], d->up[1], d->up[2]);
+        camera.fov_degrees = d->fov_degrees;
+    } else camera = rad_scene_camera(scene);
+    rad_view view;
+    status = rad_view_make(ctx, &camera, settings.width, settings.height, &view);
+    if (status) return status;
+    /* The image, before the work: a size that cannot be kept fails now, not after the solve. */
+    status = rad_check_budget(ctx, (double)settings.width * settings.height * 3 * sizeof(float),
+                              "the image");
+    if (status) return status;
+
+    rad_renderer *r = rad_alloc_zero(ctx, 1, sizeof *r);
+    if (!r) return RAD_ERROR_NO_MEMORY;
+    r->ctx = ctx;
+    r->system = system;
+    r->mesh = system->mesh;
+    r->view = view;
+    r->settings = settings;
+    r->seed = ctx->seed;
+    r->surface_count = scene->surface_count;
+    const rad_mesh *mesh = system->mesh;
+    r->surface_material = rad_alloc_zero(ctx, scene->surface_count + 1, sizeof *r->surface_material);
+    r->vertex_radiance = rad_alloc(ctx, mesh->vertex_count + 1, sizeof *r->vertex_radiance);
+    r->element_radiance = rad_alloc(ctx, mesh->element_count + 1, sizeof *r->element_radiance);
+    r->element_emission = rad_alloc(ctx, mesh->element_count + 1, sizeof *r->element_emission);
+    r->element_reflectance = rad_alloc(ctx, mesh->element_count + 1, sizeof *r->element_reflectance);
+    if (!r->surface_material || !r->vertex_radiance || !r->element_radiance ||
+        !r->element_emission || !r->element_reflectance) {
+        rad_renderer_destroy(r);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    for (size_t s = 0; s < scene->surface_count; ++s) {
+        r->surface_material[s] = scene->materials[scene->surfaces[s].material];
+        r->surface_material[s].name = NULL; /* the scene may go away */
+    }
+    status = rad_element_rays_create(ctx, mesh, &r->rays);
+    if (!status) status = rad_emitters_build(r);
+    if (!status) status = probe_camera(r);
+    if (status) {
+        rad_renderer_destroy(r);
+        return status;
+    }
+    *out = r;
+    return RAD_OK;
+}
+
+/* One pixel: the mean of its jittered samples. With n = k * k + m samples, k * k of them are
+ * stratified (one uniform point in each cell of a k x k grid, Cook 1986) and the m others
+ * uniform in the pixel: every sample is uniform over the pixel, so the expected value is the
+ * box-filtered image the path tracer converges to, with less noise along edges. */
+static void render_pixel(const rad_renderer *r, int x, int y, rad_ray_counts *counts,
+                         float out[3]) {
+    const rad_view *view = &r->view;
+    rad_rng rng = rad_rng_make(r->seed, (uint64_t)y * (uint64_t)view->width + (uint64_t)x);
+    int samples = r->settings.samples_per_pixel;
+    int side = (int)sqrt((double)samples);
+    while ((side + 1) * (side + 1) <= samples) ++side;
+    while (side * side > samples) --side;
+    double sum[3] = {0, 0, 0};
+    for (int s = 0; s < samples; ++s) {
+        double jx = rad_rng_uniform(&rng), jy = rad_rng_uniform(&rng);
+        if (s < side * side) {
+            jx = (s % side + jx) / side;
+            jy = (s / side + jy) / side;
+        }
+        double radiance[3];
+        rad_trace_radiance(r, &rng, view->eye, rad_view_direction(view, x + jx, y + jy), 0,
+                           counts, radiance);
+        for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
+    }
+    for (int c = 0; c < 3; ++c) out[c] = (float)(sum[c] / samples);
+}
+
+rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stats *stats) {
+    if (!r || !out) return RAD_ERROR_INVALID_ARGUMENT;
+    *out = NULL;
+    rad_context *ctx = r->ctx;
+    double start = rad_seconds();
+    rad_status status = rad_reconstruct_prepare(r);
+    rad_image *image = NULL;
+    if (!status) status = rad_image_new(ctx, r->view.width, r->view.height, &image);
+    if (status) return status;
+
+    const int width = r->view.width, height = r->view.height;
+    rad_ray_counts total = {0, 0, 0, 0};
+    int rows_done = 0, cancelled = 0;
+    double last_report = start;
+    if (rad_progress(ctx, "rendering", 0, height)) cancelled = 1;
+#pragma omp parallel num_threads(rad_thread_count(ctx))
+    {
+        rad_ray_counts counts = {0, 0, 0, 0};
+#pragma omp for schedule(dynamic, 1)
+        for (int y = 0; y < height; ++y) {
+            int stop;
+#pragma omp atomic read
+            stop = cancelled;
+            if (stop) continue;
+            for (int x = 0; x < width; ++x)
+                render_pixel(r, x, y, &counts, image->pixels + 3 * ((size_t)y * width + x));
+#pragma omp critical(rad_render_progress)
+            {
+                ++rows_done;
+                double now = rad_seconds();
+                if (!cancelled && (now - last_report > 0.05 || rows_done == height)) {
+                    last_report = now;
+                    if (rad_progress(ctx, "rendering", rows_done, height)) {
+#pragma omp atomic write
+                        cancelled = 1;
+                    }
+                }
+            }
+        }
+#pragma omp critical(rad_render_counts)
+        {
+            total.camera += counts.camera;
+            total.gather += counts.gather;
+            total.shadow += counts.shadow;
+            total.specular += counts.specular;
+        }
+    }
+    if (cancelled) {
+        rad_image_free(image);
+        return rad_fail(ctx, RAD_ERROR_CANCELLED, "rendering cancelled after %d of %d rows",
+                        rows_done, height);
+    }
+    if (stats) {
+        stats->seconds = rad_seconds() - start;
+        stats->camera_rays = total.camera;
+        stats->gather_rays = total.gather;
+        stats->shadow_rays = total.shadow;
+        stats->specular_rays = total.specular;
+    }
+    *out = image;
+    return RAD_OK;
+}
+
+rad_status rad_render(const rad_scene *scene, const rad_system *system,
+                      const rad_render_options *options, rad_image **out) {
+    rad_renderer *r = NULL;
+    rad_status status = rad_renderer_create(scene, system, options, &r);
+    if (!status) status = rad_renderer_render(r, out, NULL);
+    rad_renderer_destroy(r);
+    return status;
+}

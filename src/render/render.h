@@ -1,0 +1,93 @@
+/* render.h - pictures of a radiosity solution (docs/rendering.md).
+ *
+ * The renderer shoots camera rays at the element mesh (render/element_rays.h) and turns what
+ * they hit into radiance:
+ *   reconstruct.c   radiance from the solution at a point: B / pi interpolated from the element
+ *                   vertices (smooth) or constant per element (flat), Cohen et al. 1986
+ *   final_gather.c  direct light sampled from the emitters plus N gather rays into the solution,
+ *                   at the first diffuse surface a camera path reaches (Reichert 1992)
+ *   second_pass.c   the path of a ray through mirrors and glass until it lands on a diffuse
+ *                   surface (Wallace, Cohen & Greenberg 1987)
+ *   render.c        camera, pixels, threads, the public API
+ *
+ * Units: a pixel is the radiance seen, W / (m^2 sr) when the scene's emission is in those units:
+ * B / pi on diffuse surfaces, which on an emitter includes its emitted radiance L = E / pi. */
+#ifndef RAD_RENDER_RENDER_H
+#define RAD_RENDER_RENDER_H
+
+#include "core/rng.h"
+#include "render/camera.h"
+#include "render/element_rays.h"
+#include "scene/scene.h"
+#include "solve/system.h"
+
+/* A piece of emitting surface for light sampling: a triangle of an emitting element, cut the
+ * same way Embree cuts it, so sampled points lie exactly on the traced geometry. */
+typedef struct rad_emitter {
+    rad_vec3 p0, e1, e2; /* corner and edges: p = p0 + s e1 + t e2, s, t >= 0, s + t <= 1 */
+    rad_vec3 normal;     /* front, unit */
+    double area;
+    float radiance[3];   /* emitted radiance L = E / pi */
+} rad_emitter;
+
+typedef struct rad_render_settings {
+    int width, height, samples_per_pixel;
+    rad_shading shading;
+    int final_gather, light_samples, max_depth, ambient;
+} rad_render_settings;
+
+struct rad_renderer {
+    rad_context *ctx;
+    const rad_system *system;
+    const rad_mesh *mesh;
+    rad_element_rays *rays;
+    rad_view view;
+    rad_render_settings settings;
+    uint64_t seed;
+
+    /* Materials by surface (copied from the scene, which may go away). */
+    size_t surface_count;
+    rad_material *surface_material;
+
+    /* Light sampling: emitter triangles and their cumulative distribution by power. */
+    size_t emitter_count;
+    rad_emitter *emitters;
+    double *emitter_cdf; /* emitter_count entries, the last is 1 */
+
+    /* The solution as radiance, refreshed by each render (the system may have been re-solved). */
+    float (*vertex_radiance)[3];   /* B / pi averaged at mesh vertices (smooth) */
+    float (*element_radiance)[3];  /* B / pi per element (flat) */
+    float (*element_emission)[3];  /* E / pi per element */
+    float (*element_reflectance)[3];
+};
+
+/* Counters one thread keeps while rendering. */
+typedef struct rad_ray_counts {
+    uint64_t camera, gather, shadow, specular;
+} rad_ray_counts;
+
+/* The material of an element. */
+static inline const rad_material *rad_renderer_material(const rad_renderer *r, uint32_t element) {
+    return &r->surface_material[r->mesh->element_surface[element]];
+}
+
+/* reconstruct.c: the solution's radiance B / pi at (u, v) on an element (smooth or flat). */
+void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u, double v,
+                              double out[3]);
+/* Fills the radiance arrays from the system's current solution. */
+rad_status rad_reconstruct_prepare(rad_renderer *r);
+
+/* final_gather.c: the emitter table, and the radiance leaving the diffuse point x (on element,
+ * front normal n) by direct light plus gathered indirect light. */
+rad_status rad_emitters_build(rad_renderer *r);
+void rad_final_gather(const rad_renderer *r, rad_rng *rng, uint32_t element, rad_vec3 x,
+                      rad_vec3 n, rad_ray_counts *counts, double out[3]);
+
+/* second_pass.c: the radiance arriving at `origin` from `direction`, following mirrors and glass
+ * up to max_depth bounces. `gather` is nonzero for gather rays of the final gather: their first
+ * diffuse hit contributes only its reflected radiance (B - E) / pi, because the direct light
+ * is sampled separately; camera rays take full B / pi, or a final gather when it is on. */
+void rad_trace_radiance(const rad_renderer *r, rad_rng *rng, rad_vec3 origin, rad_vec3 direction,
+                        int gather, rad_ray_counts *counts, double out[3]);
+
+#endif

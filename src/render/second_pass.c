@@ -1,0 +1,88 @@
+/* second_pass.c - the ray-traced second pass: what radiosity cannot show.
+ *
+ * Radiosity is view independent and diffuse only. Wallace, Cohen & Greenberg 1987 ("A two-pass
+ * solution to the rendering equation: a synthesis of ray tracing and radiosity methods") add the
+ * view-dependent part in a second pass: rays from the eye that meet a mirror or glass follow the
+ * specular bounce, and where they land on a diffuse surface they take its radiance from the
+ * radiosity solution (the first pass).
+ *
+ * Here a camera (or gather) ray is followed through
+ *   - perfect mirrors: the reflected ray, weighted by the specular tint; a diffuse part of the
+ *     mirror material is taken from the solution, like any diffuse surface;
+ *   - glass and rough mirrors: one direction drawn from the BSDF (render/bsdf.h, shared with the
+ *     path tracer): Fresnel reflection or refraction, or a GGX lobe;
+ * for at most max_depth bounces, until it lands on a diffuse surface (radiance from the solution,
+ * or a final gather there when asked for), leaves the scene (black) or hits the back of a
+ * one-sided surface (black: surfaces reflect from their front only, as in the solution).
+ *
+ * What this cannot show (docs/rendering.md): light that reaches a diffuse surface by way of a
+ * mirror or through glass (caustics, and the brightening next to the mirror), because the first
+ * pass treats mirrors and glass as what their diffuse part says: absorbers that cast shadows. */
+#include "render/render.h"
+
+#include "render/bsdf.h"
+
+#include <float.h>
+
+static double largest3(const double c[3]) { return fmax(c[0], fmax(c[1], c[2])); }
+
+/* The solution's radiance at a hit, without the emitted part when `reflected_only`. */
+static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
+                              int reflected_only, double out[3]) {
+    rad_reconstruct_radiance(r, hit->element, hit->u, hit->v, out);
+    if (!reflected_only) return;
+    const float *emitted = r->element_emission[hit->element];
+    for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - emitted[c]);
+}
+
+void rad_trace_radiance(const rad_renderer *r, rad_rng *rng, rad_vec3 origin, rad_vec3 direction,
+                        int gather, rad_ray_counts *counts, double out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    double throughput[3] = {1, 1, 1};
+    double tnear = gather ? r->rays->epsilon : 0;
+    for (int depth = 0;; ++depth) {
+        if (depth > 0) counts->specular++;
+        else if (gather) counts->gather++;
+        else counts->camera++;
+        rad_element_hit hit;
+        if (!rad_element_rays_intersect(r->rays, origin, direction, tnear, INFINITY, &hit)) return;
+        const rad_material *material = rad_renderer_material(r, hit.element);
+        rad_vec3 x = v3_add(origin, v3_scale(direction, hit.t));
+        rad_vec3 normal = r->mesh->element_normal[hit.element];
+        /* Emitted light seen straight from a gather ray is in the direct term already. */
+        int reflected_only = gather && depth == 0;
+
+        if (material->kind == RAD_MATERIAL_DIFFUSE) {
+            if (!hit.front) return;
+            double radiance[3];
+            if (!gather && r->settings.final_gather > 0)
+                rad_final_gather(r, rng, hit.element, x, normal, counts, radiance);
+            else solution_radiance(r, &hit, reflected_only, radiance);
+            for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
+            return;
+        }
+        if (depth >= r->settings.max_depth) return;
+        rad_vec3 wo = v3_scale(direction, -1);
+        if (material->kind == RAD_MATERIAL_MIRROR && material->roughness <= 0) {
+            if (!hit.front) return;
+            /* The diffuse part from the solution, the mirror part traced. */
+            if (largest3(material->reflectance) > 0) {
+                double radiance[3];
+                solution_radiance(r, &hit, reflected_only, radiance);
+                for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
+            }
+            for (int c = 0; c < 3; ++c) throughput[c] *= fmax(0.0, material->specular[c]);
+            direction = rad_reflect(wo, normal);
+        } else {
+            /* Glass, rough mirrors: one sample of the whole BSDF. */
+            double u[3] = {rad_rng_uniform(rng), rad_rng_uniform(rng), rad_rng_uniform(rng)};
+            rad_bsdf_sample sample;
+            if (rad_bsdf_sample_direction(material, normal, wo, u, &sample) == RAD_LOBE_NONE) return;
+            for (int c = 0; c < 3; ++c) throughput[c] *= sample.weight[c];
+            direction = sample.direction;
+        }
+        if (!(largest3(throughput) > 0)) return;
+        origin = x;
+        tnear = r->rays->epsilon;
+    }
+}
