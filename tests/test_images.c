@@ -1,6 +1,7 @@
 /* test_images.c - image files: PFM and HDR round trips, PFM row order and byte layout, PNG tone
  * mapping decoded with stb_image, unknown extensions and unwritable paths. */
 #include "io/image.h"
+#include "render/compare.h"
 #include "render/tonemap.h"
 #include "test.h"
 
@@ -185,6 +186,71 @@ static void test_bad_outputs(void) {
     rad_image_free(image);
 }
 
+/* Metrics on images whose answers are known. */
+static void test_compare(void) {
+    rad_image *reference, *test, *other;
+    if (rad_image_new(ctx, 4, 2, &reference) || rad_image_new(ctx, 4, 2, &test) ||
+        rad_image_new(ctx, 2, 4, &other)) {
+        CHECK(0);
+        return;
+    }
+    for (int i = 0; i < 24; ++i) {
+        reference->pixels[i] = 1.0f;
+        test->pixels[i] = 1.1f;
+    }
+    rad_image_comparison c;
+    CHECK(rad_image_compare(ctx, test, reference, &c) == RAD_OK);
+    CHECK_NEAR(c.rmse, 0.1, 1e-6);
+    CHECK_NEAR(c.relative_mse, 0.01 / 1.01, 1e-6);
+    CHECK_NEAR(c.psnr, 20, 1e-4); /* peak 1, MSE 0.01 */
+    CHECK_NEAR(c.mean_ratio, 1.1, 1e-6);
+    CHECK_NEAR(c.mean_test, 1.1, 1e-6);
+    /* Half the values off by 2 against a reference of 0 and 3: pbrt's relative MSE. */
+    for (int i = 0; i < 24; ++i) {
+        reference->pixels[i] = i % 2 ? 3.0f : 0.0f;
+        test->pixels[i] = i % 4 == 0 ? 2.0f : reference->pixels[i];
+    }
+    CHECK(rad_image_compare(ctx, test, reference, &c) == RAD_OK);
+    CHECK_NEAR(c.relative_mse, (6.0 * 4 / 0.01) / 24, 1e-3);
+    CHECK_NEAR(c.rmse, sqrt(6.0 * 4 / 24), 1e-6);
+    CHECK_NEAR(c.psnr, 10 * log10(9 / (6.0 * 4 / 24)), 1e-4);
+    CHECK_NEAR(c.mean_ratio, (12 * 3 + 6 * 2) / 36.0, 1e-6);
+    /* Identical: infinite PSNR, zero error. */
+    CHECK(rad_image_compare(ctx, reference, reference, &c) == RAD_OK);
+    CHECK(c.rmse == 0 && c.relative_mse == 0 && isinf(c.psnr) && c.mean_ratio == 1);
+    /* Size mismatch and non-finite values are refused with a clear message. */
+    CHECK(rad_image_compare(ctx, test, other, &c) == RAD_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(rad_context_error(ctx), "4x2 against a 2x4") != NULL);
+    test->pixels[5] = NAN;
+    CHECK(rad_image_compare(ctx, test, reference, &c) == RAD_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(rad_context_error(ctx), "pixel (1, 0)") != NULL);
+    test->pixels[5] = 3.0f;
+    /* Error map: black where equal, the top colour where the error reaches the scale. */
+    rad_image *map = NULL;
+    double scale = 0;
+    CHECK(rad_image_error_map(ctx, test, reference, &scale, &map) == RAD_OK);
+    if (map) {
+        /* Pixel 0 has errors 20/sqrt(3) relative (2 / 0.1 in one channel of three). */
+        CHECK_NEAR(scale, sqrt(400.0 / 3), 1e-3);
+        float top[3], black[3];
+        rad_heat_colour(1, top);
+        rad_heat_colour(0, black);
+        CHECK_NEAR(map->pixels[0], top[0], 1e-6);
+        CHECK_NEAR(map->pixels[3 * 3 + 1], black[1], 1e-6); /* pixel 3: exact */
+        CHECK(black[0] < 1e-3 && top[1] > 0.9);
+        rad_image_free(map);
+    }
+    scale = 1e6;
+    CHECK(rad_image_error_map(ctx, test, reference, &scale, &map) == RAD_OK);
+    if (map) {
+        CHECK(map->pixels[0] < 0.01); /* far below the scale: nearly black */
+        rad_image_free(map);
+    }
+    rad_image_free(reference);
+    rad_image_free(test);
+    rad_image_free(other);
+}
+
 int main(void) {
     if (rad_context_create(NULL, &ctx)) return 1;
     test_pfm_round_trip();
@@ -192,6 +258,7 @@ int main(void) {
     test_hdr_round_trip();
     test_png_values();
     test_bad_outputs();
+    test_compare();
     remove("test_images.pfm");
     remove("test_images.hdr");
     remove("test_images.png");

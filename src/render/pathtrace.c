@@ -39,6 +39,7 @@ rad_status rad_tracer_create(rad_context *ctx, const rad_scene *scene, int max_b
     t->ctx = ctx;
     t->scene = scene;
     t->max_bounces = max_bounces > 0 ? max_bounces : HARD_MAX_BOUNCES;
+    t->next_event = 1;
     size_t polygons = scene->polygon_count;
     t->polygon_material = rad_alloc(ctx, polygons, sizeof *t->polygon_material);
     t->polygon_light_pdf = rad_alloc_zero(ctx, polygons, sizeof *t->polygon_light_pdf);
@@ -160,7 +161,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad
         /* Emission seen along the path (front sides only). */
         if (hit.front && t->polygon_light_pdf[hit.polygon] > 0) {
             double weight = 1;
-            if (!previous_delta) {
+            if (!previous_delta && t->next_event) {
                 double cos_light = v3_dot(wo, hit.normal);
                 double light_pdf = t->polygon_light_pdf[hit.polygon] * hit.t * hit.t / cos_light;
                 weight = power_heuristic(previous_pdf, light_pdf);
@@ -170,7 +171,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad
         if (bounce >= t->max_bounces) break;
 
         /* Next-event estimation: one point on the emitters, weighted against BSDF sampling. */
-        if (t->light_count && rad_bsdf_has_smooth_lobe(m)) {
+        if (t->next_event && t->light_count && rad_bsdf_has_smooth_lobe(m)) {
             rad_vec3 y;
             const rad_light_triangle *l = sample_light(t, rng, &y);
             rad_vec3 to_light = v3_sub(y, x);

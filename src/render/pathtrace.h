@@ -29,6 +29,8 @@ typedef struct rad_tracer {
     rad_light_triangle *lights;
     double *light_cdf; /* light_count entries, the last is 1 */
     int max_bounces;   /* 0: no limit (Russian roulette ends paths) */
+    int next_event;    /* nonzero (the default): sample the emitters at every smooth vertex;
+                          zero: BSDF sampling only (a slower estimator, for tests) */
 } rad_tracer;
 
 rad_status rad_tracer_create(rad_context *ctx, const rad_scene *scene, int max_bounces,
