@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# cli_compare.sh - `radiosity compare`: metrics on hand-made PFM images with known answers,
+# JSON, the --diff map, .hdr input, and bad input (one line, exit 1 or 2, no file left).
+# Usage: cli_compare.sh RADIOSITY SOURCE_DIR
+set -u
+radiosity=$1
+passed=0 failed=0
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+check() { # check NAME CONDITION...
+    local name=$1; shift
+    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
+}
+expect_exit() { # expect_exit STATUS MESSAGE-PATTERN -- command...
+    local want=$1 pattern=$2; shift 3
+    "$@" >"$work/out" 2>"$work/err"
+    local got=$?
+    check "exit $want from $*" test "$got" -eq "$want"
+    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
+    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -le 1
+}
+# pfm FILE WIDTH HEIGHT VALUE: a little-endian PFM filled with one value.
+pfm() {
+    python3 - "$@" <<'PY'
+import struct, sys
+path, w, h, v = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
+with open(path, "wb") as f:
+    f.write(b"PF\n%d %d\n-1.0\n" % (w, h))
+    f.write(struct.pack("<%df" % (w * h * 3), *([v] * (w * h * 3))))
+PY
+}
+
+pfm "$work/one.pfm" 8 4 1.0
+pfm "$work/more.pfm" 8 4 1.1
+pfm "$work/tall.pfm" 4 8 1.0
+
+"$radiosity" compare "$work/more.pfm" "$work/one.pfm" >"$work/out"
+check "exit 0" test $? -eq 0
+check "rmse" grep -Eq '^rmse +0\.1$' "$work/out"
+check "relative mse" grep -Eq '^relative mse +0\.00990099' "$work/out"
+check "psnr" grep -Eq '^psnr +20 dB$' "$work/out"
+check "mean ratio" grep -Eq '= 1\.1$' "$work/out"
+
+"$radiosity" compare "$work/more.pfm" "$work/one.pfm" --json >"$work/out"
+check "json" grep -Eq '^\{"width": 8, "height": 4, "rmse": 0\.1000000[0-9]*, "relative_mse": 0\.0099' "$work/out"
+"$radiosity" compare "$work/one.pfm" "$work/one.pfm" --json >"$work/out"
+check "json identical: psnr null" grep -q '"rmse": 0, "relative_mse": 0, "psnr": null' "$work/out"
+
+"$radiosity" compare "$work/more.pfm" "$work/one.pfm" --diff "$work/diff.png" >"$work/out"
+check "diff written" test -s "$work/diff.png"
+check "diff reported" grep -q 'diff.png' "$work/out"
+
+# A path-traced .hdr against itself as .pfm: the RGBE rounding only.
+"$radiosity" pathtrace -o "$work/a.pfm" --width 16 --height 16 --spp 1 --quiet
+"$radiosity" pathtrace -o "$work/a.hdr" --width 16 --height 16 --spp 1 --quiet
+"$radiosity" compare "$work/a.hdr" "$work/a.pfm" --json >"$work/out"
+check "hdr reads" grep -q '"mean_ratio": 0\.99' "$work/out"
+
+rm -f "$work/diff.png" "$work/a.hdr" "$work/a.pfm"
+expect_exit 2 'needs two images' -- "$radiosity" compare "$work/one.pfm"
+expect_exit 2 'unknown option' -- "$radiosity" compare "$work/one.pfm" "$work/one.pfm" --frobnicate
+expect_exit 2 'unknown image format' -- "$radiosity" compare "$work/one.pfm" "$work/one.pfm" --diff "$work/d.gif"
+expect_exit 1 'differ in size: 8x4 against a 4x8' -- "$radiosity" compare "$work/one.pfm" "$work/tall.pfm" --diff "$work/d.png"
+expect_exit 1 'missing.pfm: cannot open' -- "$radiosity" compare "$work/missing.pfm" "$work/one.pfm"
+expect_exit 1 'only read linear images' -- "$radiosity" compare "$work/one.png" "$work/one.pfm"
+head -c 100 /dev/urandom >"$work/garbage.pfm"
+expect_exit 1 'garbage.pfm: not a PFM file' -- "$radiosity" compare "$work/garbage.pfm" "$work/one.pfm"
+check "no diff left behind" test -z "$(ls "$work" | grep -v -e '\.pfm$' -e '^out$' -e '^err$')"
+
+echo "$passed passed, $failed failed"
+test "$failed" -eq 0

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# cli_pathtrace.sh - `radiosity pathtrace`: images in every format, the same image for the same
+# seed whatever the thread count, and bad input: one line, exit 1 or 2, no file left behind.
+# Usage: cli_pathtrace.sh RADIOSITY SOURCE_DIR
+set -u
+radiosity=$1
+passed=0 failed=0
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+check() { # check NAME CONDITION...
+    local name=$1; shift
+    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
+}
+# expect_exit STATUS MESSAGE-PATTERN -- command...
+expect_exit() {
+    local want=$1 pattern=$2; shift 3
+    "$@" >"$work/out" 2>"$work/err"
+    local got=$?
+    check "exit $want from $*" test "$got" -eq "$want"
+    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
+    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -le 1
+}
+# Nothing but the files a test made on purpose: no temporaries, no half-written images.
+no_stray_files() { test -z "$(ls "$work" | grep -v -e '^out$' -e '^err$' -e '^keep')"; }
+
+small=(--width 24 --height 20 --spp 2 --quiet)
+
+"$radiosity" pathtrace --help | grep -q -- '--max-bounces'; check "help" test $? -eq 0
+
+# Every format; the PNG is a PNG, the PFM has its header and size.
+for ext in png hdr pfm; do
+    "$radiosity" pathtrace -o "$work/keep.$ext" "${small[@]}"
+    check "writes .$ext" test -s "$work/keep.$ext"
+done
+check "png signature" test "$(head -c 4 "$work/keep.png" | tail -c 3)" = "PNG"
+check "pfm header" test "$(head -c 11 "$work/keep.pfm" | tr '\n' ' ')" = "PF 24 20 -1"
+check "hdr header" grep -q -a '#?RADIANCE' "$work/keep.hdr"
+check "pfm size" test "$(stat -c %s "$work/keep.pfm")" -eq $((14 + 24 * 20 * 12))
+
+# Same seed: the same bytes with 1 and 2 threads; another seed: other bytes.
+"$radiosity" pathtrace cornell-mirror -o "$work/keep1.pfm" "${small[@]}" --seed 7 --threads 1
+"$radiosity" pathtrace cornell-mirror -o "$work/keep2.pfm" "${small[@]}" --seed 7 --threads 2
+"$radiosity" pathtrace cornell-mirror -o "$work/keep3.pfm" "${small[@]}" --seed 8 --threads 2
+check "same seed, threads 1 and 2" cmp -s "$work/keep1.pfm" "$work/keep2.pfm"
+differ() { ! cmp -s "$1" "$2"; }
+check "another seed differs" differ "$work/keep1.pfm" "$work/keep3.pfm"
+
+# --stats reports the rate.
+"$radiosity" pathtrace -o "$work/keep.pfm" "${small[@]}" --stats >"$work/out"
+check "stats" grep -q 'Mpaths/s' "$work/out"
+
+# Usage errors: exit 2, nothing written.
+expect_exit 2 'output file is required' -- "$radiosity" pathtrace "${small[@]}"
+expect_exit 2 'unknown image format' -- "$radiosity" pathtrace -o "$work/x.jpg" "${small[@]}"
+expect_exit 2 'unknown image format' -- "$radiosity" pathtrace -o "$work/x" "${small[@]}"
+expect_exit 2 'unknown tone curve' -- "$radiosity" pathtrace -o "$work/x.png" --tonemap fancy "${small[@]}"
+expect_exit 2 'each side must be 1 to' -- "$radiosity" pathtrace -o "$work/x.png" --spp 1 --width 0
+expect_exit 2 'each side must be 1 to' -- "$radiosity" pathtrace -o "$work/x.png" --spp 1 --height 100000
+expect_exit 2 'spp must be at least 1' -- "$radiosity" pathtrace -o "$work/x.png" --spp 0
+expect_exit 2 'max-bounces must be at least 1' -- "$radiosity" pathtrace -o "$work/x.png" --max-bounces 0
+expect_exit 2 'between 0 and 180' -- "$radiosity" pathtrace -o "$work/x.png" --fov 180
+expect_exit 2 'wants X,Y,Z' -- "$radiosity" pathtrace -o "$work/x.png" --eye 1,2
+expect_exit 2 'unexpected argument' -- "$radiosity" pathtrace cornell extra -o "$work/x.png"
+check "usage errors leave no file" no_stray_files
+
+# Errors: exit 1, nothing written.
+expect_exit 1 'cannot write' -- "$radiosity" pathtrace -o "$work/no/such/dir/x.png" "${small[@]}"
+expect_exit 1 'camera sees nothing' -- "$radiosity" pathtrace -o "$work/x.png" "${small[@]}" --look 278,273,-1600
+expect_exit 1 'inside an object' -- "$radiosity" pathtrace -o "$work/x.png" "${small[@]}" --eye 368,165,351 --look 368,165,600
+expect_exit 1 'memory budget' -- "$radiosity" pathtrace -o "$work/x.pfm" --width 16384 --height 16384 --quiet
+expect_exit 1 'no-such-scene' -- "$radiosity" pathtrace "$work/no-such-scene.obj" -o "$work/x.png" "${small[@]}"
+expect_exit 1 'up must not be' -- "$radiosity" pathtrace -o "$work/x.png" "${small[@]}" --up 0,0,1
+check "errors leave no file" no_stray_files
+
+echo "$passed passed, $failed failed"
+test "$failed" -eq 0
