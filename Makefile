@@ -3,7 +3,7 @@ BUILD ?= build
 BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build run test bench clean test-sanitize
+.PHONY: all deps configure build run test bench clean test-sanitize fuzz valgrind
 
 all: build
 
@@ -25,6 +25,19 @@ test: deps build
 # Every bench/bench_*.c; tables go to stdout (bench/README.md keeps the measured ones).
 bench: deps build
 	@for b in $(BUILD)/bench_*; do [ -x "$$b" ] && "$$b"; echo; done
+
+# The whole suite again under AddressSanitizer and UndefinedBehaviorSanitizer, in its own build
+# dir; any sanitizer report fails it (scripts/test-sanitize.sh).
+test-sanitize: deps
+	@scripts/test-sanitize.sh build-sanitize
+
+# Each libFuzzer target (fuzz/fuzz_*.c, clang) for FUZZ_SECONDS (default 60) from its seed corpus.
+fuzz: deps
+	@scripts/fuzz.sh build-fuzz
+
+# A short solve and render under valgrind memcheck: no errors, no leaks.
+valgrind: deps build
+	@scripts/valgrind-check.sh $(BUILD)/radiosity
 
 clean:
 	rm -rf $(BUILD)
