@@ -1,5 +1,6 @@
 /* options.c - the declarative option parser and the shared helpers of every command. */
 #include "cli.h"
+#include "interrupt.h"
 
 #include <errno.h>
 #include <math.h>
@@ -119,11 +120,19 @@ static void log_to_stderr(void *user, rad_log_level level, const char *message) 
 
 static int quiet_flag;
 
+/* The progress callback: no display, only Ctrl-C (interrupt.h) asking the library to stop. */
+static int stop_when_interrupted(void *user, const char *phase, double done, double total) {
+    (void)user, (void)phase, (void)done, (void)total;
+    return cli_interrupted();
+}
+
 rad_context *cli_context(int threads, uint64_t seed, double max_memory_mib, int quiet) {
     quiet_flag = quiet;
+    cli_interrupt_install();
     rad_context_options options = {0};
     options.log = log_to_stderr;
     options.log_user = &quiet_flag;
+    options.progress = stop_when_interrupted;
     options.threads = threads;
     options.seed = seed;
     options.max_memory = max_memory_mib > 0 ? (uint64_t)(max_memory_mib * 1048576.0) : 0;
@@ -138,6 +147,10 @@ rad_context *cli_context(int threads, uint64_t seed, double max_memory_mib, int 
 
 int cli_fail(rad_context *ctx, rad_status status) {
     const char *message = rad_context_error(ctx);
+    if (status == RAD_ERROR_CANCELLED && cli_interrupted()) {
+        cli_error(1, "interrupted (%s)", message && *message ? message : "cancelled");
+        return cli_interrupt_exit_status();
+    }
     return cli_error(1, "%s", message && *message ? message : rad_status_name(status));
 }
 
