@@ -1,9 +1,93 @@
-/* cmd_bake.c - `radiosity bake`. PLACEHOLDER: being written in this session; not a finished
- * command until this comment is gone. */
+/* cmd_bake.c - `radiosity bake`: solve a scene and write the solution as vertex colours that
+ * other tools open: glTF 2.0 (.glb, .gltf + .bin), PLY or OBJ (docs/bake.md). The solver,
+ * form-factor and meshing options are the ones every solving command shares (pipeline.h). */
 #include "cli.h"
+#include "pipeline.h"
+#include "progress.h"
+
+#include <stdlib.h>
+#include <string.h>
 
 int cmd_bake(int argc, char **argv) {
-    (void)argc;
-    (void)argv;
-    return cli_error(1, "bake: not available in this build yet");
+    static const char synopsis[] =
+        "SCENE -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj [options]   (SCENE: a file or a built-in name)";
+    cli_pipeline_args p = {0};
+    p.solver = "shooting";
+    p.ff = "default";
+    const char *output = NULL, *tonemap = "clamp";
+    double exposure = 0, scale = 0, aspect = 0;
+    cli_option options[6 + CLI_PIPELINE_OPTION_COUNT + 1] = {
+        {"-o", CLI_STRING, &output, "FILE  .glb, .gltf (writes FILE.bin beside it), .ply or .obj"},
+        {"--output", CLI_STRING, &output, "FILE  the same as -o"},
+        {"--exposure", CLI_DOUBLE, &exposure, "STOPS  PLY and OBJ display colours: exposure (0)"},
+        {"--tonemap", CLI_STRING, &tonemap,
+         "CURVE  PLY and OBJ display colours: none|clamp|reinhard|aces (clamp)"},
+        {"--scale", CLI_DOUBLE, &scale, "S  multiply positions, e.g. 0.001 for mm to m (1)"},
+        {"--aspect", CLI_DOUBLE, &aspect, "A  glTF camera aspect ratio, width / height (1)"},
+    };
+    cli_pipeline_options(&p, "shooting", options + 6);
+    options[6 + CLI_PIPELINE_OPTION_COUNT] = (cli_option){0};
+
+    const char *positional[1];
+    int count;
+    int status = cli_parse("bake", synopsis, options, argc, argv, positional, 1, &count);
+    if (status) return status < 0 ? 0 : status;
+    if (count != 1) return cli_error(EXIT_USAGE, "bake: which scene? (usage: radiosity bake %s)", synopsis);
+    if (!output) return cli_error(EXIT_USAGE, "bake: where to? -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj");
+    if (scale < 0 || aspect < 0) return cli_error(EXIT_USAGE, "bake: --scale and --aspect must be positive");
+    rad_solve_options solve;
+    rad_mesh_options mesh;
+    rad_ff_options ff;
+    status = cli_pipeline_check("bake", &p, &solve, &mesh, &ff);
+    if (status) return status;
+
+    rad_context *ctx = cli_context_with_progress(p.threads, p.seed, p.max_memory, p.quiet);
+    rad_bake_options bake = {0};
+    bake.exposure = exposure;
+    bake.tonemap = tonemap;
+    bake.scale = scale;
+    bake.aspect = aspect;
+    bake.ambient = p.ambient;
+    /* Refuse a bad name or an unwritable place before the work, not after it. */
+    rad_status rs = rad_bake_check(ctx, output, &bake);
+    if (rs) {
+        int exit_status = rs == RAD_ERROR_INVALID_ARGUMENT ? EXIT_USAGE : 1;
+        cli_error(exit_status, "%s", rad_context_error(ctx));
+        rad_context_destroy(ctx);
+        return exit_status;
+    }
+
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    rad_solve_report report = {0};
+    int exit_status = 0;
+    rs = cli_pipeline_build(ctx, positional[0], &mesh, &ff, &scene, &system, NULL);
+    if (!rs && !rad_scene_is_geometric(scene)) {
+        cli_progress_clear();
+        exit_status = cli_error(1, "bake: %s is a patch system (.ffm): it has no geometry to bake",
+                                positional[0]);
+        goto done;
+    }
+    if (!rs) rs = cli_pipeline_solve(system, &solve, &report, NULL);
+    bake.scene = scene;
+    if (!rs) rs = rad_bake(system, output, &bake);
+    cli_progress_clear();
+    if (rs) {
+        exit_status = cli_fail(ctx, rs);
+        goto done;
+    }
+    if (!p.quiet) {
+        int gathering = solve.solver == RAD_SOLVER_JACOBI || solve.solver == RAD_SOLVER_GAUSS_SEIDEL;
+        printf("baked %zu elements of %zu surfaces into %s (%s", rad_system_element_count(system),
+               rad_system_surface_count(system), output, rad_solver_kind_name(solve.solver));
+        if (solve.solver != RAD_SOLVER_DIRECT)
+            printf(": %d %s, %s", report.iterations, gathering ? "rounds" : "shots",
+                   report.converged ? "converged" : "not converged");
+        printf(")\n");
+    }
+done:
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+    return exit_status;
 }

@@ -192,14 +192,20 @@ static rad_status bake_camera(rad_context *ctx, const rad_scene *scene, const ra
     out->eye[2] = (float)(view.eye.z * scale);
     out->yfov = scene->camera.fov_degrees * RAD_PI / 180;
     out->aspect = aspect;
-    double farthest = 0;
+    /* Far: twice the farthest vertex. Near: as far out as the nearest geometry allows (a
+     * vertex's distance less an element's size bounds the distance to the elements around it),
+     * since depth precision goes with near / far and surfaces lie close together (the Cornell
+     * lamp is 0.1 mm below the ceiling); at least far / 10^4. */
+    double farthest = 0, nearest = INFINITY;
     for (size_t v = 0; v < mesh->vertex_count; ++v) {
         double d = v3_length(v3_sub(mesh->vertices[v], view.eye));
         if (d > farthest) farthest = d;
+        if (d < nearest) nearest = d;
     }
     if (!(farthest > 0)) farthest = 1;
     out->zfar = 2 * farthest * scale;
-    out->znear = out->zfar * 1e-4;
+    double clear = 0.5 * (nearest - mesh->element_size) * scale;
+    out->znear = fmax(out->zfar * 1e-4, isfinite(clear) ? clear : 0);
     return RAD_OK;
 }
 
