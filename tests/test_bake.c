@@ -686,6 +686,102 @@ static void test_obj(void) {
     solved_free(&s);
 }
 
+/* The writers on a made-up mesh: a surface of more than 65534 vertices needs 32-bit indices,
+ * and a name with quotes, a backslash and spaces must survive JSON (and become one OBJ word). */
+static void test_large_and_odd_names(void) {
+    enum { COLUMNS = 400, ROWS = 200 }; /* 401 x 201 = 80601 vertices, 80000 quads */
+    size_t nv = (COLUMNS + 1) * (ROWS + 1), nf = COLUMNS * ROWS;
+    rad_baked_surface surfaces[2] = {
+        {"wall \"north\"\\ 1", 0, nv, 0, nf, 2 * nf},
+        {"tiny", nv, 3, nf, 1, 1},
+    };
+    rad_baked_mesh b = {0};
+    b.ctx = ctx;
+    b.surface_count = 2;
+    b.surfaces = surfaces;
+    b.vertex_count = nv + 3;
+    b.face_count = nf + 1;
+    b.position = calloc(b.vertex_count, sizeof *b.position);
+    b.normal = calloc(b.vertex_count, sizeof *b.normal);
+    b.radiance = calloc(b.vertex_count, sizeof *b.radiance);
+    b.shown = calloc(b.vertex_count, sizeof *b.shown);
+    b.display = calloc(b.vertex_count, sizeof *b.display);
+    b.face = calloc(b.face_count, sizeof *b.face);
+    b.tonemap = "clamp";
+    b.generator = "test";
+    for (size_t j = 0; j <= ROWS; ++j)
+        for (size_t i = 0; i <= COLUMNS; ++i) {
+            size_t v = j * (COLUMNS + 1) + i;
+            b.position[v][0] = (float)i;
+            b.position[v][1] = (float)j;
+            b.normal[v][2] = 1;
+            b.radiance[v][0] = b.shown[v][0] = (float)v / (float)nv;
+        }
+    for (size_t j = 0; j < ROWS; ++j)
+        for (size_t i = 0; i < COLUMNS; ++i) {
+            uint32_t v = (uint32_t)(j * (COLUMNS + 1) + i);
+            uint32_t *f = b.face[j * COLUMNS + i];
+            f[0] = v;
+            f[1] = v + 1;
+            f[2] = v + COLUMNS + 2;
+            f[3] = v + COLUMNS + 1;
+        }
+    for (int k = 0; k < 3; ++k) {
+        b.position[nv + k][k] = 1;
+        b.normal[nv + k][2] = 1;
+        b.face[nf][k] = (uint32_t)k;
+    }
+    b.face[nf][3] = RAD_BAKED_NO_VERTEX;
+
+    const char *path = path_in("large.glb");
+    CHECK(rad_bake_write_gltf(&b, path, 1) == RAD_OK);
+    size_t size;
+    uint8_t *file = read_all(path, &size);
+    if (file && size > 28) {
+        uint32_t json_length = get_u32(file + 12);
+        char *text = malloc(json_length + 1);
+        memcpy(text, file + 20, json_length);
+        text[json_length] = 0;
+        json root;
+        CHECK(parse_value(text, &root) != NULL);
+        const json *m0 = at(get(&root, "meshes"), 0), *m1 = at(get(&root, "meshes"), 1);
+        CHECK(m0 && !strcmp(get(m0, "name")->string, surfaces[0].name));
+        const json *p0 = at(get(m0, "primitives"), 0), *p1 = at(get(m1, "primitives"), 0);
+        const json *i0 = at(get(&root, "accessors"), (size_t)num(get(p0, "indices")));
+        const json *i1 = at(get(&root, "accessors"), (size_t)num(get(p1, "indices")));
+        CHECK(num(get(i0, "componentType")) == 5125 && num(get(i0, "count")) == 6.0 * nf);
+        CHECK(num(get(i1, "componentType")) == 5123 && num(get(i1, "count")) == 3);
+        /* The last triangle of the big surface: the far corner, 32-bit. */
+        const uint8_t *bin = file + 28 + json_length;
+        size_t n_index;
+        const uint8_t *index = accessor_data(&root, bin, get_u32(file + 20 + json_length),
+                                             (size_t)num(get(p0, "indices")), 4, &n_index);
+        if (index) {
+            uint32_t last[3] = {get_u32(index + 4 * (n_index - 3)), get_u32(index + 4 * (n_index - 2)),
+                                get_u32(index + 4 * (n_index - 1))};
+            CHECK(last[1] == nv - 1 && last[0] == nv - COLUMNS - 3 && last[2] == nv - 2);
+        }
+        /* The short indices are padded: the next bufferView starts on 4 bytes (checked by
+         * accessor_data); and the file is what the header says. */
+        CHECK(get_u32(file + 8) == size);
+        json_free(&root);
+        free(text);
+    }
+    free(file);
+
+    const char *obj = path_in("large.obj");
+    CHECK(rad_bake_write_obj(&b, obj) == RAD_OK);
+    char *text = (char *)read_all(obj, &size);
+    CHECK(text && strstr(text, "\ng wall_\"north\"\\_1\n") != NULL);
+    free(text);
+    free(b.position);
+    free(b.normal);
+    free(b.radiance);
+    free(b.shown);
+    free(b.display);
+    free(b.face);
+}
+
 /* ------------------------------------------------------------------------------------------- */
 /* Bad input: one clear error, nothing left behind                                              */
 
@@ -749,6 +845,7 @@ int main(void) {
     test_gltf_camera();
     test_ply();
     test_obj();
+    test_large_and_odd_names();
     test_errors();
     remove_all(directory);
     rad_context_destroy(ctx);
