@@ -206,10 +206,11 @@ typedef enum rad_solver_kind {
     RAD_SOLVER_DIRECT = 0,  /* Gaussian elimination with partial pivoting (LAPACK dgesv) */
     RAD_SOLVER_JACOBI,      /* gathering from the previous round */
     RAD_SOLVER_GAUSS_SEIDEL, /* gathering in place */
-    RAD_SOLVER_SHOOTING     /* progressive refinement, Cohen et al. 1988 */
+    RAD_SOLVER_SHOOTING,    /* progressive refinement, Cohen et al. 1988 */
+    RAD_SOLVER_IMPORTANCE   /* shooting ordered by what the camera sees, Smits et al. 1992 */
 } rad_solver_kind;
 
-/* Parses "direct", "jacobi", "gauss-seidel", "shooting"; returns -1 when unknown. */
+/* Parses "direct", "jacobi", "gauss-seidel", "shooting", "importance"; -1 when unknown. */
 int rad_solver_kind_parse(const char *name);
 const char *rad_solver_kind_name(rad_solver_kind kind);
 
@@ -227,6 +228,28 @@ typedef struct rad_trace_event {
 
 typedef void (*rad_trace_fn)(void *user, const rad_trace_event *event);
 
+/* What the solver has done so far, after every round or shot (docs/solvers.md, "Progressive
+ * refinement"): for logs, convergence plots, snapshots and progress lines. */
+typedef struct rad_iteration_event {
+    int iteration;          /* rounds or shots in this call, 1 for the first */
+    double seconds;         /* since rad_solve began, not counting time spent in the callback */
+    long shots;             /* shooting, importance: shots so far in this call; gathering: 0 */
+    long rounds;            /* gathering: rounds so far in this call; shooting: 0 */
+    double unshot_fraction; /* shooting, importance: unshot power / emitted power; else NaN */
+    double residual;        /* the solver's stopping measure after the step */
+    long shooter;           /* the patch that shot, or -1 for gathering */
+} rad_iteration_event;
+
+/* Return nonzero to stop: rad_solve then returns RAD_OK with report->stop RAD_STOP_CALLBACK
+ * and the solution as far as it got. */
+typedef int (*rad_iteration_fn)(void *user, const rad_iteration_event *event);
+
+/* A pinhole camera: eye, the point looked at, up, vertical field of view in degrees. */
+typedef struct rad_camera_desc {
+    double eye[3], look[3], up[3];
+    double fov_degrees;
+} rad_camera_desc;
+
 typedef struct rad_solve_options {
     rad_solver_kind solver;
     int max_iterations;   /* rounds or shots; zero: until converged (with a safety cap) */
@@ -236,17 +259,39 @@ typedef struct rad_solve_options {
     int ambient;          /* shooting: add the ambient term to displayed results */
     rad_trace_fn trace;   /* zero: no trace */
     void *trace_user;
+    /* Progressive refinement and importance (docs/solvers.md). */
+    int overshoot;        /* shooting, importance: overshooting (Feda & Purgathofer 1992) */
+    double time_budget;   /* seconds, zero: none; stops after the step that uses it up */
+    int resume;           /* nonzero: go on from the system's radiosity and unshot radiosity
+                             (rad_system_load_solution) instead of starting from B = E */
+    rad_iteration_fn on_iteration; /* zero: none; called after every round or shot, in place
+                                      of the context's progress reports for the steps */
+    void *iteration_user;
+    const rad_camera_desc *camera; /* importance: the camera whose image matters (required) */
+    int view_width, view_height;   /* importance: the image's size; zero: 256 x 256 */
 } rad_solve_options;
+
+typedef enum rad_solve_stop {
+    RAD_STOP_CONVERGED = 0, /* the stopping measure reached the tolerance */
+    RAD_STOP_ITERATIONS,    /* max_iterations, or the safety cap */
+    RAD_STOP_TIME_BUDGET,   /* time_budget used up: the best solution so far */
+    RAD_STOP_CALLBACK,      /* on_iteration asked to stop */
+    RAD_STOP_ERROR          /* an error or a cancel; the status says which */
+} rad_solve_stop;
 
 typedef struct rad_solve_report {
     int iterations;
     int converged;
     double residual;       /* the stopping measure at the end */
-    double seconds;
+    double seconds;        /* solver time, not counting time spent in on_iteration */
+    rad_solve_stop stop;   /* why it stopped */
+    double unshot_fraction; /* shooting, importance: unshot power / emitted power; else NaN */
+    int importance_shots;  /* importance: shots of the importance pass, before any light */
 } rad_solve_report;
 
-/* Solves the system from B = E, until converged or max_iterations. The solution stays on the
- * system. A stop by max_iterations is not an error (report->converged is 0). */
+/* Solves the system from B = E (or from where it is, with options->resume), until converged,
+ * max_iterations or time_budget. The solution stays on the system. A stop by max_iterations,
+ * time_budget or the iteration callback is not an error (report->converged is 0). */
 rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                      rad_solve_report *report);
 
@@ -426,6 +471,43 @@ rad_status rad_bake_check(rad_context *context, const char *path,
  * and tone curve). The file, and the .bin of a .gltf, appear whole or not at all. A patch
  * system (.ffm) has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
 rad_status rad_bake(const rad_system *system, const char *path, const rad_bake_options *options);
+
+/* ---------------------------------------------------------------------------------------------
+ * Progressive refinement and importance: solution files, what a camera sees (docs/solvers.md,
+ * docs/formats.md "Solution files")
+ * ------------------------------------------------------------------------------------------- */
+
+/* What a solution file says about how it was made. */
+typedef struct rad_solution_info {
+    rad_solver_kind solver; /* the solver that made it */
+    long steps;             /* rounds or shots done so far, over every resumed run */
+} rad_solution_info;
+
+/* Writes the system's solution (radiosity and unshot radiosity per element, the ambient term)
+ * with fingerprints of the scene, the mesh and the form factors. The file appears whole or not
+ * at all. `info` may be NULL. */
+rad_status rad_system_save_solution(rad_system *system, const char *path,
+                                    const rad_solution_info *info);
+
+/* Reads a solution saved for this same system (same scene, meshing and form-factor options) into
+ * it; rad_solve with options.resume then goes on from it, and renderers show it as it is. A file
+ * that is damaged (RAD_ERROR_PARSE) or was saved for another scene, mesh or form factors
+ * (RAD_ERROR_INVALID_ARGUMENT) is refused with a one-line message and the system is untouched.
+ * `info` may be NULL. */
+rad_status rad_system_load_solution(rad_system *system, const char *path,
+                                    rad_solution_info *info);
+
+/* Area of an element (scene units squared); 0 for an index out of range. */
+double rad_system_element_area(const rad_system *system, size_t element);
+
+/* The scene's camera, or one that frames the whole scene when it has none. */
+void rad_scene_get_camera(const rad_scene *scene, rad_camera_desc *out);
+
+/* The share of a width x height image (one ray per pixel centre; zero sizes: 256 x 256) that
+ * each element covers, seen from the camera (front sides only): element_count entries summing to
+ * the fraction of pixels that see a surface. Geometric systems only. */
+rad_status rad_system_screen_share(rad_system *system, const rad_camera_desc *camera, int width,
+                                   int height, double *share);
 
 #ifdef __cplusplus
 }

@@ -1,5 +1,7 @@
 /* solve.c - the solver driver: picks the solver, runs its steps until the stopping measure
- * falls under the tolerance or the iterations run out, and reports each step to the trace. */
+ * falls under the tolerance, the iterations or the time budget run out or the caller asks to
+ * stop, and reports each step to the trace and the iteration callback. One loop serves every
+ * solver; starting from B = E or resuming from the system's state is decided here. */
 #include "solve/solver.h"
 
 #include <math.h>
@@ -9,7 +11,8 @@
 #define RAD_GATHER_ROUND_CAP 100000
 
 static const rad_solver_impl *const solvers[] = {
-    &rad_solver_direct, &rad_solver_jacobi, &rad_solver_gauss_seidel, &rad_solver_shooting,
+    &rad_solver_direct,   &rad_solver_jacobi,     &rad_solver_gauss_seidel,
+    &rad_solver_shooting, &rad_solver_importance,
 };
 #define SOLVER_COUNT (sizeof solvers / sizeof solvers[0])
 
@@ -50,6 +53,27 @@ static rad_status emit_trace(rad_solver_run *run, int iteration, int shooting) {
     return RAD_OK;
 }
 
+/* The iteration callback's view of the step just done. Returns nonzero when it asks to stop;
+ * the time it takes is added to *callback_seconds so that reported times are the solver's. */
+static int emit_iteration(const rad_solver_run *run, const rad_solver_impl *impl, int iteration,
+                          double residual, double start, double *callback_seconds) {
+    const rad_solve_options *o = run->options;
+    double now = rad_seconds();
+    int shooting = impl->default_is_power;
+    rad_iteration_event event = {
+        .iteration = iteration,
+        .seconds = now - start - *callback_seconds,
+        .shots = shooting ? iteration : 0,
+        .rounds = shooting ? 0 : iteration,
+        .unshot_fraction = shooting ? run->unshot_fraction : NAN,
+        .residual = residual,
+        .shooter = shooting ? run->shooter_patch : -1,
+    };
+    int stop = o->on_iteration(o->iteration_user, &event);
+    *callback_seconds += rad_seconds() - now;
+    return stop;
+}
+
 rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                      rad_solve_report *report) {
     if (!system || !options) return RAD_ERROR_INVALID_ARGUMENT;
@@ -62,14 +86,26 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "iterations must not be negative");
     if (options->tolerance < 0 || !isfinite(options->tolerance))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "tolerance must be a finite number >= 0");
+    if (options->time_budget < 0 || !isfinite(options->time_budget))
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "time budget must be a positive number of seconds, not %g",
+                        options->time_budget);
     double omega = options->omega == 0 ? 1.0 : options->omega;
     if (!(omega > 0 && omega < 2))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "omega must be in (0, 2), not %g", omega);
 
-    double start = rad_seconds();
+    double start = rad_seconds(), callback_seconds = 0;
     rad_solve_report local = {0};
-    rad_solver_run run = {system, options, omega, options->trace != NULL, NULL, NULL, -1, NULL};
-    rad_system_reset(system);
+    local.stop = RAD_STOP_ERROR;
+    local.unshot_fraction = NAN;
+    rad_solver_run run = {0};
+    run.system = system;
+    run.options = options;
+    run.omega = omega;
+    run.tracing = options->trace != NULL;
+    run.shooter_surface = run.shooter_patch = -1;
+    run.unshot_fraction = NAN;
+    if (!options->resume) rad_system_reset(system);
     rad_status status = RAD_OK;
     if (run.tracing) {
         run.received = rad_alloc_zero(ctx, system->element_count, sizeof *run.received);
@@ -86,17 +122,33 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
         }
         if (!impl->iterative) cap = 1;
         double residual = INFINITY;
+        local.stop = RAD_STOP_ITERATIONS;
+        /* One loop for every solver: step, report, then decide whether to go on. */
         for (int iteration = 1; iteration <= cap; ++iteration) {
             status = impl->step(&run, iteration, &residual);
             if (status) break;
             local.iterations = iteration;
             if (run.tracing && (status = emit_trace(&run, iteration, impl->default_is_power)))
                 break;
+            int asked_to_stop = options->on_iteration &&
+                emit_iteration(&run, impl, iteration, residual, start, &callback_seconds);
             if (residual <= tolerance || !impl->iterative) {
                 local.converged = 1;
+                local.stop = RAD_STOP_CONVERGED;
                 break;
             }
-            if (rad_progress(ctx, impl->name, (double)iteration, (double)cap)) {
+            if (asked_to_stop) {
+                local.stop = RAD_STOP_CALLBACK;
+                break;
+            }
+            if (options->time_budget > 0 && rad_seconds() - start >= options->time_budget) {
+                local.stop = RAD_STOP_TIME_BUDGET;
+                break;
+            }
+            /* The iteration callback, when there is one, replaces the progress reports of
+             * the loop: it sees more and can stop the solve itself. */
+            if (!options->on_iteration &&
+                rad_progress(ctx, impl->name, (double)iteration, (double)cap)) {
                 status = rad_fail(ctx, RAD_ERROR_CANCELLED, "cancelled after %d iterations",
                                   iteration);
                 break;
@@ -105,9 +157,12 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
         local.residual = residual;
         impl->end(&run);
     }
+    if (status) local.stop = RAD_STOP_ERROR;
+    local.unshot_fraction = run.unshot_fraction;
+    local.importance_shots = run.importance_shots;
     rad_free(ctx, run.received);
     rad_free(ctx, run.reflected);
-    local.seconds = rad_seconds() - start;
+    local.seconds = rad_seconds() - start - callback_seconds;
     if (report) *report = local;
     return status;
 }

@@ -15,6 +15,9 @@ typedef struct rad_solver_run {
     rad_rgb *received;
     rad_rgb *reflected;
     long shooter_surface; /* set by shooting steps */
+    long shooter_patch;   /* set by shooting steps */
+    double unshot_fraction; /* set by shooting steps: unshot power / emitted power */
+    int importance_shots;   /* set by the importance solver's begin */
     void *state;          /* the solver's own */
 } rad_solver_run;
 
@@ -33,6 +36,7 @@ extern const rad_solver_impl rad_solver_direct;
 extern const rad_solver_impl rad_solver_jacobi;
 extern const rad_solver_impl rad_solver_gauss_seidel;
 extern const rad_solver_impl rad_solver_shooting;
+extern const rad_solver_impl rad_solver_importance;
 
 /* The gathering matrix, stored in float32 when it fits the memory budget:
  * G[e * patch_count + p] = A_p F_pe / A_e, so that element e gathers sum_p G_ep B_p. */

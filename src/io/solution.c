@@ -1,0 +1,311 @@
+/* solution.c - saving and loading solutions (docs/formats.md, "Solution files").
+ *
+ * Layout, little-endian throughout:
+ *   0   8  magic "RADSOLN\n"
+ *   8   4  version (1)
+ *   12  4  solver that wrote it (rad_solver_kind)
+ *   16  8  steps done (rounds or shots, summed over resumed runs)
+ *   24  8  element count      32  8  patch count      40  8  surface count
+ *   48  8  scene fingerprint  56  8  mesh fingerprint 64  8  form-factor fingerprint
+ *   72 24  ambient term, 3 x float64
+ *   96     per element: radiosity[3], unshot[3], float64 (48 bytes each)
+ *   end 8  FNV-1a 64 of every byte before it
+ * Files are written to a temporary and renamed into place (io/atomic_file.h): whole or not at
+ * all. A load checks everything before it touches the system, so a refused file loses nothing. */
+#include "io/solution.h"
+
+#include "io/atomic_file.h"
+#include "mesh/mesh.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+uint64_t rad_fnv1a(uint64_t hash, const void *bytes, size_t count) {
+    const unsigned char *p = bytes;
+    for (size_t i = 0; i < count; ++i) {
+        hash ^= p[i];
+        hash *= 0x100000001b3ull;
+    }
+    return hash;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Little-endian fields.                                                                         */
+
+static void put_u64(unsigned char *p, uint64_t v) {
+    for (int k = 0; k < 8; ++k) p[k] = (unsigned char)(v >> (8 * k));
+}
+static void put_u32(unsigned char *p, uint32_t v) {
+    for (int k = 0; k < 4; ++k) p[k] = (unsigned char)(v >> (8 * k));
+}
+static void put_f64(unsigned char *p, double v) {
+    uint64_t bits;
+    memcpy(&bits, &v, sizeof bits);
+    put_u64(p, bits);
+}
+static uint64_t get_u64(const unsigned char *p) {
+    uint64_t v = 0;
+    for (int k = 0; k < 8; ++k) v |= (uint64_t)p[k] << (8 * k);
+    return v;
+}
+static uint32_t get_u32(const unsigned char *p) {
+    uint32_t v = 0;
+    for (int k = 0; k < 4; ++k) v |= (uint32_t)p[k] << (8 * k);
+    return v;
+}
+static double get_f64(const unsigned char *p) {
+    uint64_t bits = get_u64(p);
+    double v;
+    memcpy(&v, &bits, sizeof v);
+    return v;
+}
+
+/* Hashing values in a fixed byte order, so fingerprints agree across machines. */
+static uint64_t hash_u64(uint64_t hash, uint64_t v) {
+    unsigned char b[8];
+    put_u64(b, v);
+    return rad_fnv1a(hash, b, 8);
+}
+static uint64_t hash_f64(uint64_t hash, double v) {
+    unsigned char b[8];
+    put_f64(b, v == 0 ? 0.0 : v); /* -0 and +0 alike */
+    return rad_fnv1a(hash, b, 8);
+}
+/* Values that are sums over elements differ in the last bits between meshings of the same
+ * scene: hash them at float precision. */
+static uint64_t hash_f32(uint64_t hash, double v) {
+    float f = (float)v;
+    uint32_t bits;
+    memcpy(&bits, &f, sizeof bits);
+    unsigned char b[4];
+    put_u32(b, f == 0 ? 0u : bits);
+    return rad_fnv1a(hash, b, 4);
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+rad_status rad_solution_fingerprint_compute(rad_system *s, rad_solution_fingerprint *out) {
+    /* Scene: surface names and materials, whatever the meshing (not areas: a non-planar quad's
+     * area depends on how finely it is cut). Geometry is in the mesh fingerprint. */
+    uint64_t h = hash_u64(RAD_FNV1A_START, s->surface_count);
+    rad_rgb *reflectance = rad_alloc(s->ctx, s->surface_count, sizeof *reflectance);
+    rad_rgb *emission = rad_alloc(s->ctx, s->surface_count, sizeof *emission);
+    if (!reflectance || !emission) {
+        rad_free(s->ctx, reflectance);
+        rad_free(s->ctx, emission);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    rad_system_surface_means(s, (const rad_rgb *)s->reflectance, reflectance);
+    rad_system_surface_means(s, (const rad_rgb *)s->emission, emission);
+    for (size_t i = 0; i < s->surface_count; ++i) {
+        const char *name = s->surface_name[i] ? s->surface_name[i] : "";
+        h = rad_fnv1a(h, name, strlen(name) + 1);
+        for (int c = 0; c < 3; ++c) h = hash_f32(hash_f32(h, reflectance[i][c]), emission[i][c]);
+    }
+    rad_free(s->ctx, reflectance);
+    rad_free(s->ctx, emission);
+    out->scene = h;
+
+    /* Mesh: the exact elements the solution lives on. */
+    h = hash_u64(hash_u64(RAD_FNV1A_START, s->element_count), s->patch_count);
+    for (size_t p = 0; p <= s->patch_count; ++p) h = hash_u64(h, s->patch_first[p]);
+    for (size_t e = 0; e < s->element_count; ++e) {
+        h = hash_u64(h, s->element_surface[e]);
+        h = hash_f64(h, s->area[e]);
+        for (int c = 0; c < 3; ++c) h = hash_f64(hash_f64(h, s->reflectance[e][c]), s->emission[e][c]);
+    }
+    if (s->mesh) {
+        const rad_mesh *m = s->mesh;
+        h = hash_u64(h, m->vertex_count);
+        for (size_t v = 0; v < m->vertex_count; ++v)
+            h = hash_f64(hash_f64(hash_f64(h, m->vertices[v].x), m->vertices[v].y), m->vertices[v].z);
+        for (size_t e = 0; e < m->element_count; ++e)
+            for (int k = 0; k < 4; ++k) h = hash_u64(h, m->element_vertices[e][k]);
+    }
+    out->mesh = h;
+
+    /* Form factors: the method and the first and last rows, bit for bit (providers are
+     * deterministic: the same options and seed give the same rows on any thread count). */
+    const char *method = s->ff && s->ff->method ? s->ff->method : "";
+    h = rad_fnv1a(RAD_FNV1A_START, method, strlen(method) + 1);
+    if (s->ff && s->patch_count > 0) {
+        float *row = rad_alloc(s->ctx, s->element_count, sizeof *row);
+        if (!row) return RAD_ERROR_NO_MEMORY;
+        size_t probes[2] = {0, s->patch_count - 1};
+        for (int k = 0; k < (s->patch_count > 1 ? 2 : 1); ++k) {
+            rad_status status = s->ff->row(s->ff, probes[k], row);
+            if (status) {
+                rad_free(s->ctx, row);
+                return status;
+            }
+            for (size_t e = 0; e < s->element_count; ++e) {
+                uint32_t bits;
+                float f = row[e] == 0 ? 0.0f : row[e];
+                memcpy(&bits, &f, sizeof bits);
+                unsigned char b[4];
+                put_u32(b, bits);
+                h = rad_fnv1a(h, b, 4);
+            }
+        }
+        rad_free(s->ctx, row);
+    }
+    out->form_factors = h;
+    return RAD_OK;
+}
+
+rad_status rad_system_save_solution(rad_system *s, const char *path, const rad_solution_info *info) {
+    if (!s || !path) return RAD_ERROR_INVALID_ARGUMENT;
+    rad_context *ctx = s->ctx;
+    rad_solution_fingerprint print;
+    rad_status status = rad_solution_fingerprint_compute(s, &print);
+    if (status) return status;
+    size_t payload, size;
+    if (rad_size_mul(s->element_count, RAD_SOLUTION_ELEMENT_SIZE, &payload) ||
+        payload > SIZE_MAX - RAD_SOLUTION_HEADER_SIZE - 8)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "%s: the solution is too large", path);
+    size = RAD_SOLUTION_HEADER_SIZE + payload + 8;
+    unsigned char *bytes = rad_alloc_zero(ctx, size, 1);
+    if (!bytes) return RAD_ERROR_NO_MEMORY;
+    memcpy(bytes, RAD_SOLUTION_MAGIC, 8);
+    put_u32(bytes + 8, RAD_SOLUTION_VERSION);
+    put_u32(bytes + 12, info ? (uint32_t)info->solver : 0u);
+    put_u64(bytes + 16, info && info->steps > 0 ? (uint64_t)info->steps : 0u);
+    put_u64(bytes + 24, s->element_count);
+    put_u64(bytes + 32, s->patch_count);
+    put_u64(bytes + 40, s->surface_count);
+    put_u64(bytes + 48, print.scene);
+    put_u64(bytes + 56, print.mesh);
+    put_u64(bytes + 64, print.form_factors);
+    for (int c = 0; c < 3; ++c) put_f64(bytes + 72 + 8 * c, s->ambient[c]);
+    unsigned char *p = bytes + RAD_SOLUTION_HEADER_SIZE;
+    for (size_t e = 0; e < s->element_count; ++e, p += RAD_SOLUTION_ELEMENT_SIZE)
+        for (int c = 0; c < 3; ++c) {
+            put_f64(p + 8 * c, s->radiosity[e][c]);
+            put_f64(p + 24 + 8 * c, s->unshot[e][c]);
+        }
+    put_u64(p, rad_fnv1a(RAD_FNV1A_START, bytes, size - 8));
+
+    rad_atomic_file file;
+    status = rad_atomic_open(ctx, path, &file);
+    if (!status) {
+        if (fwrite(bytes, 1, size, file.file) != size) {
+            status = rad_fail(ctx, RAD_ERROR_IO, "%s: write failed: %s", path, strerror(errno));
+            rad_atomic_abandon(&file);
+        } else {
+            status = rad_atomic_commit(&file);
+        }
+    }
+    rad_free(ctx, bytes);
+    return status;
+}
+
+/* Reads the whole file; *size is its length. */
+static rad_status read_all(rad_context *ctx, const char *path, unsigned char **out, size_t *size) {
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f) return rad_fail(ctx, RAD_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
+    size_t capacity = 1 << 16, length = 0;
+    unsigned char *bytes = rad_alloc(ctx, capacity, 1);
+    rad_status status = bytes ? RAD_OK : RAD_ERROR_NO_MEMORY;
+    while (!status) {
+        if (length == capacity) {
+            unsigned char *grown = capacity > SIZE_MAX / 2 ? NULL : rad_realloc(ctx, bytes, capacity * 2, 1);
+            if (!grown) {
+                status = RAD_ERROR_NO_MEMORY;
+                break;
+            }
+            bytes = grown;
+            capacity *= 2;
+        }
+        size_t got = fread(bytes + length, 1, capacity - length, f);
+        length += got;
+        if (got == 0) {
+            if (ferror(f)) status = rad_fail(ctx, RAD_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
+            break;
+        }
+    }
+    fclose(f);
+    if (status) {
+        rad_free(ctx, bytes);
+        return status;
+    }
+    *out = bytes;
+    *size = length;
+    return RAD_OK;
+}
+
+/* Checks a file's bytes against the system; nothing is changed. */
+static rad_status check_file(rad_system *s, const char *path, const unsigned char *bytes,
+                             size_t size) {
+    rad_context *ctx = s->ctx;
+    if (size < 8 || memcmp(bytes, RAD_SOLUTION_MAGIC, 8) != 0)
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: not a radiosity solution file", path);
+    if (size < RAD_SOLUTION_HEADER_SIZE + 8)
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: truncated solution file (%zu bytes)", path, size);
+    uint32_t version = get_u32(bytes + 8);
+    if (version != RAD_SOLUTION_VERSION)
+        return rad_fail(ctx, RAD_ERROR_UNSUPPORTED,
+                        "%s: solution file version %u; this build reads version %u", path, version,
+                        RAD_SOLUTION_VERSION);
+    if (get_u32(bytes + 12) > (uint32_t)RAD_SOLVER_IMPORTANCE)
+        return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "%s: made by an unknown solver (%u)", path,
+                        get_u32(bytes + 12));
+    uint64_t elements = get_u64(bytes + 24), patches = get_u64(bytes + 32);
+    if (elements > (SIZE_MAX - RAD_SOLUTION_HEADER_SIZE - 8) / RAD_SOLUTION_ELEMENT_SIZE)
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (element count %llu)",
+                        path, (unsigned long long)elements);
+    size_t expected = RAD_SOLUTION_HEADER_SIZE + (size_t)elements * RAD_SOLUTION_ELEMENT_SIZE + 8;
+    if (size < expected)
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: truncated solution file (%zu of %zu bytes)",
+                        path, size, expected);
+    if (size > expected || get_u64(bytes + expected - 8) != rad_fnv1a(RAD_FNV1A_START, bytes, expected - 8))
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (checksum mismatch)", path);
+
+    rad_solution_fingerprint print;
+    rad_status status = rad_solution_fingerprint_compute(s, &print);
+    if (status) return status;
+    if (get_u64(bytes + 48) != print.scene || get_u64(bytes + 40) != s->surface_count)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "%s: saved for a different scene (surfaces or materials differ)", path);
+    if (elements != s->element_count || patches != s->patch_count || get_u64(bytes + 56) != print.mesh)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "%s: saved for a different mesh or geometry (%llu elements in %llu "
+                        "patches; this one has %zu in %zu): use the same scene and meshing options",
+                        path, (unsigned long long)elements, (unsigned long long)patches,
+                        s->element_count, s->patch_count);
+    if (get_u64(bytes + 64) != print.form_factors)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "%s: saved with different form factors (method, samples or seed): use the "
+                        "same form-factor options", path);
+    for (size_t i = 72; i < expected - 8; i += 8)
+        if (!isfinite(get_f64(bytes + i)))
+            return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (a value is not finite)",
+                            path);
+    return RAD_OK;
+}
+
+rad_status rad_system_load_solution(rad_system *s, const char *path, rad_solution_info *info) {
+    if (!s || !path) return RAD_ERROR_INVALID_ARGUMENT;
+    unsigned char *bytes = NULL;
+    size_t size = 0;
+    rad_status status = read_all(s->ctx, path, &bytes, &size);
+    if (status) return status;
+    status = check_file(s, path, bytes, size);
+    if (!status) {
+        for (int c = 0; c < 3; ++c) s->ambient[c] = get_f64(bytes + 72 + 8 * c);
+        const unsigned char *p = bytes + RAD_SOLUTION_HEADER_SIZE;
+        for (size_t e = 0; e < s->element_count; ++e, p += RAD_SOLUTION_ELEMENT_SIZE)
+            for (int c = 0; c < 3; ++c) {
+                s->radiosity[e][c] = get_f64(p + 8 * c);
+                s->unshot[e][c] = get_f64(p + 24 + 8 * c);
+            }
+        if (info) {
+            info->solver = (rad_solver_kind)get_u32(bytes + 12);
+            info->steps = (long)get_u64(bytes + 16);
+        }
+    }
+    rad_free(s->ctx, bytes);
+    return status;
+}

@@ -1,0 +1,33 @@
+/* shooting.h - what plain shooting (shooting.c) and importance-driven shooting (importance.c)
+ * share: the bookkeeping of emitted power and reflectance, one shot from a chosen patch (with
+ * over-relaxation and overshooting), and the stopping measure with the ambient term after it.
+ * They differ only in which patch shoots next. */
+#ifndef RAD_SOLVE_SHOOTING_H
+#define RAD_SOLVE_SHOOTING_H
+
+#include "solve/solver.h"
+
+typedef struct rad_shooting {
+    float *row;                 /* F(shooter -> every element) */
+    double emitted_power;       /* sum over elements and channels of E A */
+    double mean_reflectance[3]; /* area-weighted */
+    double total_area;
+    double ambient[3];          /* Cohen et al. 1988, from the unshot radiosity after the last shot */
+} rad_shooting;
+
+rad_status rad_shooting_begin(rad_solver_run *run, rad_shooting *state);
+void rad_shooting_end(rad_solver_run *run, rad_shooting *state);
+
+/* Unshot power of a patch, sum over its elements and channels of dB A (signed). */
+double rad_shooting_unshot_power(const rad_system *system, size_t patch);
+
+/* Shoots from `patch`: its mean unshot radiosity times omega, plus the overshoot when asked,
+ * goes to every element through the provider's row (or `row` when not NULL). */
+rad_status rad_shooting_shoot(rad_solver_run *run, rad_shooting *state, size_t patch,
+                              const float *row);
+
+/* After a shot: the unshot power left as a fraction of the power emitted (the stopping
+ * measure, also stored in run->unshot_fraction), and the ambient term. */
+double rad_shooting_finish(rad_solver_run *run, rad_shooting *state);
+
+#endif

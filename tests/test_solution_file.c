@@ -1,0 +1,230 @@
+/* test_solution_file.c - saving and resuming solutions: the round trip is exact, N shots + save
+ * + load into a new system + M shots equals N + M shots bit for bit, and damaged files or files
+ * of another scene, mesh or form factors are refused with one line, leaving the system as it
+ * was. */
+#include "radiosity.h"
+#include "test.h"
+
+#include "io/solution.h"
+#include "solve/system.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static rad_context *ctx;
+static char dir[] = "/tmp/radiosity-solution-XXXXXX";
+
+static rad_system *build(const char *name, size_t elements, rad_ff_method method) {
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    rad_mesh_options mesh = {0};
+    mesh.elements = elements;
+    rad_ff_options ff = {0};
+    ff.method = method;
+    CHECK(rad_scene_builtin(ctx, name, &scene) == RAD_OK);
+    CHECK(rad_system_create(ctx, scene, &mesh, &ff, &system) == RAD_OK);
+    rad_scene_destroy(scene);
+    return system;
+}
+
+static char *path_of(const char *name) {
+    static char path[8][128];
+    static int next;
+    char *p = path[next++ % 8];
+    snprintf(p, sizeof path[0], "%s/%s", dir, name);
+    return p;
+}
+
+static int same(const rad_system *a, const rad_system *b) {
+    size_t bytes = 3 * a->element_count * sizeof(double);
+    return a->element_count == b->element_count && memcmp(a->radiosity, b->radiosity, bytes) == 0 &&
+           memcmp(a->unshot, b->unshot, bytes) == 0 &&
+           memcmp(a->ambient, b->ambient, sizeof a->ambient) == 0;
+}
+
+static unsigned char *read_file(const char *path, size_t *size) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    unsigned char *bytes = malloc(1 << 24);
+    *size = fread(bytes, 1, 1 << 24, f);
+    fclose(f);
+    return bytes;
+}
+
+static void write_file(const char *path, const unsigned char *bytes, size_t size) {
+    FILE *f = fopen(path, "wb");
+    fwrite(bytes, 1, size, f);
+    fclose(f);
+}
+
+static void test_round_trip_and_resume(void) {
+    /* Straight: 60 shots. */
+    rad_system *straight = build("cornell", 300, RAD_FF_DEFAULT);
+    rad_solve_options o = {.solver = RAD_SOLVER_SHOOTING, .overshoot = 1, .ambient = 1,
+                           .max_iterations = 60};
+    CHECK(rad_solve(straight, &o, NULL) == RAD_OK);
+
+    /* Stopped after 25, saved, loaded into a new system, 35 more. */
+    rad_system *first = build("cornell", 300, RAD_FF_DEFAULT);
+    o.max_iterations = 25;
+    CHECK(rad_solve(first, &o, NULL) == RAD_OK);
+    rad_solution_info info = {RAD_SOLVER_SHOOTING, 25};
+    const char *path = path_of("cornell.sol");
+    CHECK(rad_system_save_solution(first, path, &info) == RAD_OK);
+    struct stat st;
+    CHECK(stat(path, &st) == 0 &&
+          (size_t)st.st_size == RAD_SOLUTION_HEADER_SIZE + 48 * first->element_count + 8);
+
+    rad_system *second = build("cornell", 300, RAD_FF_DEFAULT);
+    rad_solution_info loaded = {0};
+    CHECK(rad_system_load_solution(second, path, &loaded) == RAD_OK);
+    CHECK(loaded.solver == RAD_SOLVER_SHOOTING && loaded.steps == 25);
+    CHECK(same(first, second)); /* the round trip is exact */
+    o.max_iterations = 35;
+    o.resume = 1;
+    CHECK(rad_solve(second, &o, NULL) == RAD_OK);
+    CHECK(same(straight, second)); /* as if it never stopped */
+
+    /* The same for the importance solver: importance is recomputed the same way. */
+    rad_camera_desc camera = {{186, 200, -100}, {186, 80, 170}, {0, 1, 0}, 30};
+    o = (rad_solve_options){.solver = RAD_SOLVER_IMPORTANCE, .camera = &camera, .view_width = 64,
+                            .view_height = 64, .max_iterations = 50};
+    CHECK(rad_solve(straight, &o, NULL) == RAD_OK);
+    o.max_iterations = 20;
+    CHECK(rad_solve(first, &o, NULL) == RAD_OK);
+    CHECK(rad_system_save_solution(first, path, NULL) == RAD_OK);
+    CHECK(rad_system_load_solution(second, path, &loaded) == RAD_OK);
+    CHECK(loaded.steps == 0);
+    o.max_iterations = 30;
+    o.resume = 1;
+    CHECK(rad_solve(second, &o, NULL) == RAD_OK);
+    CHECK(same(straight, second));
+    rad_system_destroy(straight);
+    rad_system_destroy(first);
+    rad_system_destroy(second);
+
+    /* A patch system too. */
+    rad_system *walls = build("four-walls", 0, RAD_FF_DEFAULT);
+    o = (rad_solve_options){.solver = RAD_SOLVER_SHOOTING, .max_iterations = 2};
+    CHECK(rad_solve(walls, &o, NULL) == RAD_OK);
+    CHECK(rad_system_save_solution(walls, path_of("walls.sol"), NULL) == RAD_OK);
+    rad_system *again = build("four-walls", 0, RAD_FF_DEFAULT);
+    CHECK(rad_system_load_solution(again, path_of("walls.sol"), NULL) == RAD_OK);
+    CHECK(same(walls, again));
+    rad_system_destroy(walls);
+    rad_system_destroy(again);
+}
+
+/* A refused load names the problem and leaves the system untouched. */
+static void check_refused(rad_system *system, const char *path, rad_status expected,
+                          const char *message) {
+    double *before = malloc(6 * system->element_count * sizeof *before);
+    memcpy(before, system->radiosity, 3 * system->element_count * sizeof *before);
+    memcpy(before + 3 * system->element_count, system->unshot,
+           3 * system->element_count * sizeof *before);
+    rad_status status = rad_system_load_solution(system, path, NULL);
+    CHECK(status == expected);
+    const char *error = rad_context_error(ctx);
+    CHECK(strstr(error, message) != NULL);
+    CHECK(strchr(error, '\n') == NULL);
+    if (status == RAD_OK || !strstr(error, message)) fprintf(stderr, "  got: %s\n", error);
+    CHECK(memcmp(before, system->radiosity, 3 * system->element_count * sizeof *before) == 0);
+    CHECK(memcmp(before + 3 * system->element_count, system->unshot,
+                 3 * system->element_count * sizeof *before) == 0);
+    free(before);
+}
+
+static void test_refusals(void) {
+    rad_system *system = build("cornell", 300, RAD_FF_DEFAULT);
+    rad_solve_options o = {.solver = RAD_SOLVER_SHOOTING, .max_iterations = 10};
+    CHECK(rad_solve(system, &o, NULL) == RAD_OK);
+    const char *good = path_of("good.sol");
+    CHECK(rad_system_save_solution(system, good, NULL) == RAD_OK);
+    size_t size = 0;
+    unsigned char *bytes = read_file(good, &size);
+    CHECK(bytes != NULL);
+
+    rad_system *target = build("cornell", 300, RAD_FF_DEFAULT);
+    o.max_iterations = 3;
+    CHECK(rad_solve(target, &o, NULL) == RAD_OK);
+
+    const char *bad = path_of("bad.sol");
+    write_file(bad, bytes, size - 100);
+    check_refused(target, bad, RAD_ERROR_PARSE, "truncated");
+    write_file(bad, bytes, 40);
+    check_refused(target, bad, RAD_ERROR_PARSE, "truncated");
+    bytes[size / 2] ^= 0x10;
+    write_file(bad, bytes, size);
+    check_refused(target, bad, RAD_ERROR_PARSE, "checksum");
+    bytes[size / 2] ^= 0x10;
+    write_file(bad, bytes, size + 1);
+    check_refused(target, bad, RAD_ERROR_PARSE, "checksum");
+    bytes[0] = 'X';
+    write_file(bad, bytes, size);
+    check_refused(target, bad, RAD_ERROR_PARSE, "not a radiosity solution file");
+    bytes[0] = 'R';
+    bytes[8] = 7; /* version 7 */
+    write_file(bad, bytes, size);
+    check_refused(target, bad, RAD_ERROR_UNSUPPORTED, "version 7");
+    bytes[8] = 1;
+    write_file(bad, bytes, size);
+    CHECK(rad_system_load_solution(target, bad, NULL) == RAD_OK); /* intact again */
+    check_refused(target, path_of("missing.sol"), RAD_ERROR_IO, "cannot read");
+    check_refused(target, "/", RAD_ERROR_IO, "/");
+
+    /* Another scene, another mesh, other form factors. */
+    rad_system *cube = build("unit-cube", 300, RAD_FF_DEFAULT);
+    check_refused(cube, good, RAD_ERROR_INVALID_ARGUMENT, "different scene");
+    rad_system *finer = build("cornell", 400, RAD_FF_DEFAULT);
+    check_refused(finer, good, RAD_ERROR_INVALID_ARGUMENT, "different mesh");
+    rad_system *other_ff = build("cornell", 300, RAD_FF_HEMICUBE);
+    check_refused(other_ff, good, RAD_ERROR_INVALID_ARGUMENT, "different form factors");
+
+    /* A path that cannot be written: an error, and nothing left behind. */
+    CHECK(rad_system_save_solution(system, "/nonexistent-dir/x.sol", NULL) == RAD_ERROR_IO);
+    CHECK(rad_system_save_solution(system, dir, NULL) == RAD_ERROR_IO); /* a directory */
+    /* Saving over a good file replaces it whole. */
+    CHECK(rad_system_save_solution(target, good, NULL) == RAD_OK);
+    CHECK(rad_system_load_solution(system, good, NULL) == RAD_OK);
+    CHECK(same(system, target));
+
+    free(bytes);
+    rad_system_destroy(system);
+    rad_system_destroy(target);
+    rad_system_destroy(cube);
+    rad_system_destroy(finer);
+    rad_system_destroy(other_ff);
+}
+
+/* The fingerprints: meshing-independent for the scene, exact for the mesh. */
+static void test_fingerprints(void) {
+    rad_system *a = build("cornell", 300, RAD_FF_DEFAULT), *b = build("cornell", 300, RAD_FF_DEFAULT),
+               *c = build("cornell", 500, RAD_FF_DEFAULT);
+    rad_solution_fingerprint fa, fb, fc;
+    CHECK(rad_solution_fingerprint_compute(a, &fa) == RAD_OK);
+    CHECK(rad_solution_fingerprint_compute(b, &fb) == RAD_OK);
+    CHECK(rad_solution_fingerprint_compute(c, &fc) == RAD_OK);
+    CHECK(fa.scene == fb.scene && fa.mesh == fb.mesh && fa.form_factors == fb.form_factors);
+    CHECK(fa.scene == fc.scene && fa.mesh != fc.mesh);
+    /* The known FNV-1a 64 value of "a". */
+    CHECK(rad_fnv1a(RAD_FNV1A_START, "a", 1) == 0xaf63dc4c8601ec8cull);
+    rad_system_destroy(a);
+    rad_system_destroy(b);
+    rad_system_destroy(c);
+}
+
+int main(void) {
+    CHECK(rad_context_create(&(rad_context_options){.threads = 2}, &ctx) == RAD_OK);
+    CHECK(mkdtemp(dir) != NULL);
+    test_round_trip_and_resume();
+    test_refusals();
+    test_fingerprints();
+    /* Clean up the scratch directory. */
+    const char *names[] = {"cornell.sol", "walls.sol", "good.sol", "bad.sol"};
+    for (int k = 0; k < 4; ++k) unlink(path_of(names[k]));
+    CHECK(rmdir(dir) == 0); /* empty: no temporary files were left behind */
+    rad_context_destroy(ctx);
+    return test_finish();
+}
