@@ -279,6 +279,8 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
     status = rad_tracer_create(ctx, scene, o.max_bounces, &t);
     if (status) return status;
     status = check_view(t, &view);
+    if (!status && t->light_count == 0)
+        rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
     rad_image *image = NULL;
     if (!status) status = rad_image_new(ctx, width, height, &image);
     if (status) {
