@@ -2,6 +2,7 @@
  * other tools open: glTF 2.0 (.glb, .gltf + .bin), PLY or OBJ (docs/bake.md). The solver,
  * form-factor and meshing options are the ones every solving command shares (pipeline.h). */
 #include "cli.h"
+#include "output_path.h"
 #include "pipeline.h"
 #include "progress.h"
 
@@ -35,6 +36,7 @@ int cmd_bake(int argc, char **argv) {
     if (count != 1) return cli_error(EXIT_USAGE, "bake: which scene? (usage: radiosity bake %s)", synopsis);
     if (!output) return cli_error(EXIT_USAGE, "bake: where to? -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj");
     if (scale < 0 || aspect < 0) return cli_error(EXIT_USAGE, "bake: --scale and --aspect must be positive");
+    if ((status = cli_check_output_path("bake", output, positional, 1))) return status;
     rad_solve_options solve;
     rad_mesh_options mesh;
     rad_ff_options ff;

@@ -2,6 +2,7 @@
  * (docs/images.md): RMSE, relative MSE (pbrt), PSNR, the ratio of the means; --diff writes a
  * false-colour map of the per-pixel relative error. */
 #include "cli.h"
+#include "output_path.h"
 #include "json.h"
 
 #include <math.h>
@@ -30,6 +31,7 @@ int cmd_compare(int argc, char **argv) {
         return cli_error(EXIT_USAGE, "compare: needs two images (usage: radiosity compare %s)",
                          synopsis);
     if (a.scale < 0) return cli_error(EXIT_USAGE, "compare: --scale must be positive");
+    if ((status = cli_check_output_path("compare", a.diff, positional, 2))) return status;
 
     rad_context *ctx = cli_context(1, 0, 0, 1);
     rad_status rs = RAD_OK;

@@ -1,6 +1,7 @@
 /* cmd_scenes.c - `radiosity scenes`: lists the built-in scenes; with --export, writes a
  * geometric scene (a built-in name or any file the importer reads) as OBJ + MTL. */
 #include "cli.h"
+#include "output_path.h"
 
 int cmd_scenes(int argc, char **argv) {
     static const char synopsis[] = "[--export SCENE FILE.obj]   (without options: list the "
@@ -28,6 +29,7 @@ int cmd_scenes(int argc, char **argv) {
     if (count != 1)
         return cli_error(EXIT_USAGE, "scenes: --export needs a scene and an output file "
                          "(usage: radiosity scenes --export SCENE FILE.obj)");
+    if ((status = cli_check_output_path("scenes", positional[0], &export_scene, 1))) return status;
 
     rad_context *ctx = cli_context(1, 0, 0, quiet);
     rad_scene *scene = NULL;
