@@ -11,6 +11,8 @@ packages=(
   liblapack-dev                      # LAPACK dgesv: the direct solver
   libomp-dev                         # OpenMP runtime for clang builds (gcc brings libgomp)
   clang                              # fuzzers and sanitizer builds
+  libclang-rt-dev                    # libFuzzer and the sanitizer runtimes for clang
+  valgrind                           # memcheck of a short solve and render (CI)
 )
 
 missing=()
