@@ -35,9 +35,9 @@ test-sanitize: deps
 fuzz: deps
 	@scripts/fuzz.sh build-fuzz
 
-# A short solve and render under valgrind memcheck: no errors, no leaks.
-valgrind: deps build
-	@scripts/valgrind-check.sh $(BUILD)/radiosity
+# A short solve, render and path trace under valgrind memcheck: no errors, no leaks.
+valgrind: deps
+	@scripts/valgrind-check.sh build-valgrind
 
 clean:
 	rm -rf $(BUILD)
