@@ -1,18 +1,18 @@
 /* cmd_solve.c - `radiosity solve`: solve a scene, print each surface's radiosity, optionally
- * every round or shot (--trace) and as JSON (--json). */
+ * every round or shot (--trace) and as JSON (--json). Watching it converge (--log, --plot,
+ * --snapshots, the progress line), stopping and going on (--time-budget, --save, --resume) and
+ * the solver comparison (--compare-solvers) are in solve_watch.c, solve_compare.c and
+ * solve_snapshots.c. */
 #include "cli.h"
+#include "interrupt.h"
 #include "json.h"
+#include "progress.h"
+#include "solve_cli.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-typedef struct solve_args {
-    const char *solver, *ff;
-    int iterations, trace, json, ambient, threads, quiet, ff_samples, hemicube_res;
-    double tolerance, omega, max_memory, patch_size, element_size;
-    size_t elements;
-    uint64_t seed;
-} solve_args;
+#include <unistd.h>
 
 /* The trace, kept for JSON or printed as it comes. */
 typedef struct trace_log {
@@ -93,11 +93,31 @@ static void on_trace(void *user, const rad_trace_event *event) {
     }
 }
 
+static int is_shooting(rad_solver_kind kind) {
+    return kind == RAD_SOLVER_SHOOTING || kind == RAD_SOLVER_IMPORTANCE;
+}
+
+static const char *stop_name(rad_solve_stop stop) {
+    switch (stop) {
+    case RAD_STOP_CONVERGED: return "converged";
+    case RAD_STOP_ITERATIONS: return "iterations";
+    case RAD_STOP_TIME_BUDGET: return "time-budget";
+    case RAD_STOP_CALLBACK: return "interrupted";
+    case RAD_STOP_ERROR: break;
+    }
+    return "error";
+}
+
 static void print_table(const rad_system *system, const rad_solve_options *options,
-                        const rad_solve_report *report) {
-    printf("%s: %d %s, %s (residual %.3g)\n", rad_solver_kind_name(options->solver),
-           report->iterations, options->solver == RAD_SOLVER_SHOOTING ? "shots" : "rounds",
-           report->converged ? "converged" : "not converged", report->residual);
+                        const rad_solve_report *report, long steps) {
+    printf("%s: %ld %s, %s", rad_solver_kind_name(options->solver), steps,
+           is_shooting(options->solver) ? "shots" : "rounds",
+           report->converged ? "converged" : "not converged");
+    if (report->stop == RAD_STOP_TIME_BUDGET)
+        printf(": time budget of %g s used up", options->time_budget);
+    else if (report->stop == RAD_STOP_CALLBACK)
+        printf(": interrupted");
+    printf(" (residual %.3g)\n", report->residual);
     printf("%-16s %12s  %-38s %s\n", "surface", "area", "radiosity (R G B)", "power (R G B)");
     for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
         rad_surface_info info;
@@ -109,11 +129,12 @@ static void print_table(const rad_system *system, const rad_solve_options *optio
 }
 
 static void print_json(const rad_system *system, const rad_solve_options *options,
-                       const rad_solve_report *report, const trace_log *trace) {
-    printf("{\"solver\": \"%s\", \"iterations\": %d, \"converged\": %s, \"residual\": ",
-           rad_solver_kind_name(options->solver), report->iterations,
-           report->converged ? "true" : "false");
+                       const rad_solve_report *report, long steps, const trace_log *trace) {
+    printf("{\"solver\": \"%s\", \"iterations\": %ld, \"converged\": %s, \"residual\": ",
+           rad_solver_kind_name(options->solver), steps, report->converged ? "true" : "false");
     json_number(stdout, report->residual);
+    printf(", \"stop\": \"%s\", \"seconds\": ", stop_name(report->stop));
+    json_number(stdout, report->seconds);
     printf(",\n \"patches\": [");
     for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
         rad_surface_info info;
@@ -138,80 +159,240 @@ static void print_json(const rad_system *system, const rad_solve_options *option
     printf("}\n");
 }
 
+void solve_camera(const rad_scene *scene, const solve_args *a, rad_camera_desc *out) {
+    rad_scene_get_camera(scene, out);
+    if (!isnan(a->eye[0])) memcpy(out->eye, a->eye, sizeof out->eye);
+    if (!isnan(a->look[0])) memcpy(out->look, a->look, sizeof out->look);
+    if (!isnan(a->up[0])) memcpy(out->up, a->up, sizeof out->up);
+    if (a->fov != 0) out->fov_degrees = a->fov;
+}
+
+/* Usage checks that need no scene. Returns 0 or the exit status after printing the message. */
+static int check_args(solve_args *a, int kind) {
+    if (!isnan(a->time_budget) && !(a->time_budget > 0))
+        return cli_error(EXIT_USAGE, "solve: --time-budget must be a positive number of seconds, "
+                                     "not %g", a->time_budget);
+    if (!(a->fov == 0 || (a->fov > 0 && a->fov < 180)))
+        return cli_error(EXIT_USAGE, "solve: --fov must be between 0 and 180 degrees, not %g", a->fov);
+    if ((a->width == 0) != (a->height == 0) && a->width + a->height > 0) {
+        if (a->width == 0) a->width = a->height;
+        else a->height = a->width;
+    }
+    if (a->snapshot_every && !a->snapshots)
+        return cli_error(EXIT_USAGE, "solve: --snapshot-every needs --snapshots DIR");
+    if (a->overshoot && kind >= 0 && !is_shooting((rad_solver_kind)kind))
+        return cli_error(EXIT_USAGE, "solve: --overshoot is for the shooting and importance solvers");
+    if (a->compare && (a->resume || a->save || a->snapshots || a->trace))
+        return cli_error(EXIT_USAGE, "solve: --compare-solvers takes no --resume, --save, "
+                                     "--snapshots or --trace");
+    if (a->resume && a->save && strcmp(a->resume, a->save) == 0) return 0; /* fine: replaced whole */
+    return 0;
+}
+
+/* Before any long work: every output can be written. */
+static int check_outputs(const solve_args *a) {
+    if (a->log && cli_check_writable(a->log)) return 1;
+    if (a->plot && cli_check_writable(a->plot)) return 1;
+    if (a->save && cli_check_writable(a->save)) return 1;
+    if (a->snapshots && cli_check_directory(a->snapshots)) return 1;
+    return 0;
+}
+
 int cmd_solve(int argc, char **argv) {
     static const char synopsis[] = "SCENE [options]   (SCENE: a file or a built-in name)";
     solve_args a = {0};
-    a.solver = "shooting";
-    a.ff = "default";
-    const cli_option options[] = {
-        {"--solver", CLI_STRING, &a.solver, "NAME  direct|jacobi|gauss-seidel|shooting (shooting)"},
-        {"--iterations", CLI_INT, &a.iterations, "N  stop after N rounds or shots"},
-        {"--tolerance", CLI_DOUBLE, &a.tolerance,
-         "T  gathering: largest relative change; shooting: unshot power fraction (1e-6)"},
-        {"--omega", CLI_DOUBLE, &a.omega, "W  over-relaxation in (0, 2) (1)"},
-        {"--ambient", CLI_FLAG, &a.ambient, "shooting: report the ambient term"},
-        {"--trace", CLI_FLAG, &a.trace, "show every round or shot"},
-        {"--json", CLI_FLAG, &a.json, "print one JSON object"},
-        {"--ff", CLI_STRING, &a.ff, "METHOD  analytic|hemicube|raycast|montecarlo"},
-        {"--ff-samples", CLI_INT, &a.ff_samples, "N  rays or point pairs per form factor"},
-        {"--hemicube-res", CLI_INT, &a.hemicube_res, "N  hemicube top-face resolution"},
-        {"--patch-size", CLI_DOUBLE, &a.patch_size, "S  longest patch edge (scene units)"},
-        {"--element-size", CLI_DOUBLE, &a.element_size, "S  longest element edge (scene units)"},
-        {"--elements", CLI_SIZE, &a.elements, "N  approximate element count"},
-        {"--max-memory", CLI_DOUBLE, &a.max_memory, "MIB  memory budget for matrices (2048)"},
-        {"--threads", CLI_INT, &a.threads, "N  worker threads (all cores)"},
-        {"--seed", CLI_SIZE, &a.seed, "S  random seed (0)"},
-        {"--quiet", CLI_FLAG, &a.quiet, "no notes on stderr"},
-        {0},
+    a.pipe.ff = "default";
+    a.time_budget = NAN;
+    a.eye[0] = a.look[0] = a.up[0] = NAN;
+    static const cli_option own[] = {
+        {"--time-budget", CLI_DOUBLE, NULL, "S  stop after S seconds with the solution so far"},
+        {"--overshoot", CLI_FLAG, NULL, "shooting, importance: overshooting (Feda & Purgathofer 1992)"},
+        {"--trace", CLI_FLAG, NULL, "show every round or shot"},
+        {"--json", CLI_FLAG, NULL, "print one JSON object"},
+        {"--log", CLI_STRING, NULL, "FILE.csv  one row per round or shot"},
+        {"--plot", CLI_STRING, NULL, "FILE.svg  residual (or error) against time"},
+        {"--save", CLI_STRING, NULL, "FILE  save the solution (to go on with --resume)"},
+        {"--resume", CLI_STRING, NULL, "FILE  go on from a saved solution"},
+        {"--snapshots", CLI_STRING, NULL, "DIR  write an image every --snapshot-every steps"},
+        {"--snapshot-every", CLI_INT, NULL, "K  shots or rounds between snapshots (100; 1)"},
+        {"--compare-solvers", CLI_FLAG, NULL,
+         "run every solver and compare their convergence (table; chart with --plot)"},
+        {"--eye", CLI_VEC3, NULL, "X,Y,Z  camera position (importance, snapshots)"},
+        {"--look", CLI_VEC3, NULL, "X,Y,Z  point the camera looks at"},
+        {"--up", CLI_VEC3, NULL, "X,Y,Z  camera up direction"},
+        {"--fov", CLI_DOUBLE, NULL, "DEG  vertical field of view"},
+        {"--width", CLI_INT, NULL, "W  image width for importance and snapshots (256)"},
+        {"--height", CLI_INT, NULL, "H  image height (256)"},
+        {"--exposure", CLI_DOUBLE, NULL, "EV  snapshot exposure in stops (0)"},
+        {"--tonemap", CLI_STRING, NULL, "CURVE  snapshots: none|clamp|reinhard|aces (clamp)"},
     };
+    void *own_targets[] = {&a.time_budget, &a.overshoot, &a.trace,  &a.json,      &a.log,
+                           &a.plot,        &a.save,      &a.resume, &a.snapshots, &a.snapshot_every,
+                           &a.compare,     a.eye,        a.look,    a.up,         &a.fov,
+                           &a.width,       &a.height,    &a.exposure, &a.tonemap};
+    enum { OWN = sizeof own / sizeof own[0] };
+    /* The shared solver, form-factor and meshing options (cli/pipeline.h), then our own. */
+    cli_option options[CLI_PIPELINE_OPTION_COUNT + OWN + 1];
+    cli_pipeline_options(&a.pipe, "shooting", options);
+    options[0].help = "NAME  direct|jacobi|gauss-seidel|shooting|importance (shooting)";
+    for (int i = 0; i < OWN; ++i) {
+        options[CLI_PIPELINE_OPTION_COUNT + i] = own[i];
+        options[CLI_PIPELINE_OPTION_COUNT + i].target = own_targets[i];
+    }
+    options[CLI_PIPELINE_OPTION_COUNT + OWN] = (cli_option){0};
     const char *positional[1];
     int count;
     int status = cli_parse("solve", synopsis, options, argc, argv, positional, 1, &count);
     if (status) return status < 0 ? 0 : status;
     if (count != 1) return cli_error(EXIT_USAGE, "solve: which scene? (usage: radiosity solve %s)", synopsis);
-    int kind = rad_solver_kind_parse(a.solver);
+    a.scene_name = positional[0];
+    int solver_given = a.pipe.solver != NULL;
+    int kind = rad_solver_kind_parse(solver_given ? a.pipe.solver : "shooting");
     if (kind < 0)
         return cli_error(EXIT_USAGE, "solve: unknown solver '%s' (direct, jacobi, gauss-seidel, "
-                                     "shooting)", a.solver);
-    int ff_method = cli_parse_ff_method(a.ff);
+                                     "shooting, importance)", a.pipe.solver);
+    int ff_method = cli_parse_ff_method(a.pipe.ff);
     if (ff_method < 0)
         return cli_error(EXIT_USAGE, "solve: unknown form-factor method '%s' (analytic, hemicube, "
-                                     "raycast, montecarlo)", a.ff);
-    if (a.max_memory < 0) return cli_error(EXIT_USAGE, "solve: --max-memory must be positive");
-    if (a.patch_size < 0 || a.element_size < 0)
+                                     "raycast, montecarlo)", a.pipe.ff);
+    if (a.pipe.max_memory < 0) return cli_error(EXIT_USAGE, "solve: --max-memory must be positive");
+    if (a.pipe.patch_size < 0 || a.pipe.element_size < 0)
         return cli_error(EXIT_USAGE, "solve: sizes must be positive");
+    /* --omega and --tolerance are checked by the library (exit status 1). */
+    rad_mesh_options mesh = {a.pipe.patch_size, a.pipe.element_size, a.pipe.elements};
+    rad_ff_options ff = {(rad_ff_method)ff_method, a.pipe.ff_samples, a.pipe.hemicube_res};
+    if ((status = check_args(&a, solver_given || !a.resume ? kind : -1))) return status;
+    if ((status = check_outputs(&a))) return status;
 
-    rad_context *ctx = cli_context(a.threads, a.seed, a.max_memory, a.quiet);
+    rad_context *ctx = cli_context_with_progress(a.pipe.threads, (uint64_t)a.pipe.seed,
+                                                 a.pipe.max_memory, a.pipe.quiet);
+    cli_interrupt_install();
     rad_scene *scene = NULL;
     rad_system *system = NULL;
+    solve_snapshots *snapshots = NULL;
+    plot_series series = {0};
     int exit_status = 0;
     rad_status rs = cli_load_scene(ctx, positional[0], &scene);
-    rad_mesh_options mesh = {a.patch_size, a.element_size, a.elements};
-    rad_ff_options ff = {(rad_ff_method)ff_method, a.ff_samples, a.hemicube_res};
+    rad_camera_desc camera;
+    if (!rs) solve_camera(scene, &a, &camera);
+    if (!rs && a.compare) {
+        exit_status = solve_compare(ctx, scene, &mesh, &ff, &a, &camera);
+        goto done;
+    }
     if (!rs) rs = rad_system_create(ctx, scene, &mesh, &ff, &system);
-    trace_log trace = {system, a.json, kind == RAD_SOLVER_SHOOTING, stdout, NULL, 0, 0};
+
+    /* Going on from a saved solution. */
+    rad_solution_info resumed = {(rad_solver_kind)kind, 0};
+    if (!rs && a.resume) {
+        rs = rad_system_load_solution(system, a.resume, &resumed);
+        if (!rs) {
+            if (!solver_given) kind = (int)resumed.solver;
+            if (!is_shooting(resumed.solver) && resumed.solver != RAD_SOLVER_DIRECT &&
+                is_shooting((rad_solver_kind)kind)) {
+                exit_status = cli_error(EXIT_USAGE,
+                                        "%s holds a %s solution, whose unshot light is unknown; go on "
+                                        "with --solver jacobi or gauss-seidel", a.resume,
+                                        rad_solver_kind_name(resumed.solver));
+                goto done;
+            }
+            if (a.overshoot && !is_shooting((rad_solver_kind)kind)) {
+                exit_status = cli_error(EXIT_USAGE, "solve: --overshoot is for the shooting and "
+                                                    "importance solvers");
+                goto done;
+            }
+            if (!a.pipe.quiet)
+                fprintf(stderr, "radiosity: going on from %s (%ld %s by %s)\n", a.resume,
+                        resumed.steps, is_shooting(resumed.solver) ? "shots" : "rounds",
+                        rad_solver_kind_name(resumed.solver));
+        }
+    }
+    if (!rs && a.snapshots)
+        exit_status = solve_snapshots_create(ctx, scene, system, &a, &camera, &snapshots);
+    if (exit_status) goto done;
+
+    trace_log trace = {system, a.json, is_shooting((rad_solver_kind)kind), stdout, NULL, 0, 0};
     if (!rs) {
         rad_solve_options solve = {0};
         solve.solver = (rad_solver_kind)kind;
-        solve.max_iterations = a.iterations;
-        solve.tolerance = a.tolerance;
-        solve.omega = a.omega;
-        solve.ambient = a.ambient;
+        solve.max_iterations = a.pipe.iterations;
+        solve.tolerance = a.pipe.tolerance;
+        solve.omega = a.pipe.omega;
+        solve.ambient = a.pipe.ambient || a.snapshots;
+        solve.overshoot = a.overshoot;
+        solve.time_budget = isnan(a.time_budget) ? 0 : a.time_budget;
+        solve.resume = a.resume != NULL;
+        solve.camera = &camera;
+        solve.view_width = a.width;
+        solve.view_height = a.height;
         if (a.trace) {
             solve.trace = on_trace;
             solve.trace_user = &trace;
             if (a.json) trace.out = open_memstream(&trace.buffer, &trace.size);
         }
+        solve_watch watch = {0};
+        watch.system = system;
+        watch.solver_name = rad_solver_kind_name(solve.solver);
+        watch.shooting = is_shooting(solve.solver);
+        watch.step_offset = a.resume ? resumed.steps : 0;
+        watch.tolerance = solve.tolerance > 0 ? solve.tolerance : 1e-6;
+        watch.time_budget = solve.time_budget;
+        watch.progress = !a.pipe.quiet && !a.trace && isatty(STDERR_FILENO);
+        watch.error_seconds = watch.view_error_seconds = -1;
+        if (a.log) {
+            watch.log = open_memstream(&watch.log_buffer, &watch.log_size);
+            if (watch.log) fputs("iteration,seconds,shots,sweeps,unshot_fraction,residual\n", watch.log);
+        }
+        if (a.plot) {
+            snprintf(series.name, sizeof series.name, "%s", watch.solver_name);
+            watch.series = &series;
+        }
+        if (snapshots) {
+            watch.snapshot_every = a.snapshot_every ? a.snapshot_every : watch.shooting ? 100 : 1;
+            watch.snapshot = solve_snapshot_take;
+            watch.snapshot_user = snapshots;
+        }
+        solve.on_iteration = solve_watch_iteration;
+        solve.iteration_user = &watch;
+
         rad_solve_report report;
         rs = rad_solve(system, &solve, &report);
+        solve_watch_finish(&watch);
         if (trace.out != stdout && trace.out) fclose(trace.out);
-        if (!rs) {
-            if (a.json) print_json(system, &solve, &report, a.trace ? &trace : NULL);
-            else print_table(system, &solve, &report);
+        if (watch.log) fclose(watch.log);
+        long steps = watch.step_offset + report.iterations;
+        if (watch.failed) exit_status = 1;
+        /* The final snapshot, unless the last step made one. */
+        if (!rs && !exit_status && snapshots && steps % watch.snapshot_every != 0 &&
+            solve_snapshot_take(snapshots, steps))
+            exit_status = 1;
+        /* Save first: the solution is what a long run must not lose. */
+        if (!rs && a.save) {
+            rad_solution_info info = {solve.solver, steps};
+            rs = rad_system_save_solution(system, a.save, &info);
+            if (!rs && !a.pipe.quiet)
+                fprintf(stderr, "radiosity: saved the solution to %s (%ld %s)\n", a.save, steps,
+                        watch.shooting ? "shots" : "rounds");
         }
+        if (!rs && !exit_status && a.log && cli_write_whole(a.log, watch.log_buffer, watch.log_size))
+            exit_status = 1;
+        if (!rs && !exit_status && a.plot) {
+            plot_chart chart = {"Convergence", "seconds",
+                                watch.shooting ? "unshot power / emitted power"
+                                               : "largest change / largest radiosity", 0};
+            exit_status = plot_write_svg(a.plot, &chart, &series, 1);
+        }
+        free(watch.log_buffer);
+        if (!rs && !exit_status) {
+            if (a.json) print_json(system, &solve, &report, steps, a.trace ? &trace : NULL);
+            else print_table(system, &solve, &report, steps);
+        }
+        if (!rs && !exit_status && cli_interrupted()) exit_status = cli_interrupt_exit_status();
     }
-    if (rs) exit_status = cli_fail(ctx, rs);
     free(trace.buffer);
+done:
+    if (rs) exit_status = cli_fail(ctx, rs);
+    plot_series_free(&series);
+    solve_snapshots_destroy(snapshots);
     rad_system_destroy(system);
     rad_scene_destroy(scene);
     rad_context_destroy(ctx);

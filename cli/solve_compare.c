@@ -1,0 +1,220 @@
+/* solve_compare.c - `radiosity solve SCENE --compare-solvers [--plot FILE.svg]`: every solver
+ * on the same system, one chart and one table.
+ *
+ * The solvers' own stopping measures differ (largest change for gathering, unshot power for
+ * shooting), so the comparison uses one error for all, measured against a converged reference
+ * solution B* computed first (Gauss-Seidel to 1e-10, or shooting to 1e-10 when the matrix does
+ * not fit the memory budget):
+ *
+ *     error = sum_e A_e |B_e - B*_e| / sum_e A_e |B*_e|     (summed over channels)
+ *
+ * the fraction of the scene's power that is still wrong, and, when a camera sees the scene,
+ * the view error, the same with each element weighted by its share of the image instead of its
+ * area: the mean error of the picture. Every solver runs on a fresh system (same scene, mesh
+ * and form-factor options), so each pays for the form factors it asks for, as it would alone:
+ * times are the solvers' own, form factors included, the error measurement excluded.
+ * docs/solvers.md, "Comparing the solvers". */
+#include "cli.h"
+#include "interrupt.h"
+#include "solve_cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define TARGET 0.01        /* the table's "time to 1%" */
+#define STOP_ERROR 1e-4    /* each run stops at this error */
+
+typedef struct compare_run {
+    char label[48];
+    rad_solver_kind kind;
+    double omega;
+    int overshoot;
+} compare_run;
+
+/* The reference solution, into reference[3 * element_count]. */
+static rad_status solve_reference(rad_system *system, double *reference, const char **how) {
+    rad_solve_options options = {0};
+    options.solver = RAD_SOLVER_GAUSS_SEIDEL;
+    options.tolerance = 1e-10;
+    *how = "gauss-seidel to 1e-10";
+    rad_status status = rad_solve(system, &options, NULL);
+    if (status == RAD_ERROR_MEMORY_BUDGET) {
+        options.solver = RAD_SOLVER_SHOOTING;
+        *how = "shooting to 1e-10";
+        status = rad_solve(system, &options, NULL);
+    }
+    if (status) return status;
+    for (size_t e = 0; e < rad_system_element_count(system); ++e)
+        rad_system_element_radiosity(system, e, reference + 3 * e);
+    return RAD_OK;
+}
+
+static void print_reached(double seconds, long steps, int shooting) {
+    if (seconds < 0) printf("  %-22s", "not reached");
+    else {
+        char text[48];
+        snprintf(text, sizeof text, "%ld %s, %.3g s", steps, shooting ? "shots" : "rounds", seconds);
+        printf("  %-22s", text);
+    }
+}
+
+int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_options *mesh,
+                  const rad_ff_options *ff, const solve_args *a, const rad_camera_desc *camera) {
+    rad_system *system = NULL;
+    rad_status status = rad_system_create(ctx, scene, mesh, ff, &system);
+    if (status) return cli_fail(ctx, status);
+    size_t n = rad_system_element_count(system);
+    double *reference = malloc(3 * n * sizeof *reference);
+    double *share = malloc(n * sizeof *share);
+    plot_series series[8];
+    memset(series, 0, sizeof series);
+    char *log_buffer = NULL;
+    size_t log_size = 0;
+    FILE *log = NULL;
+    int exit_status = 0;
+    if (!reference || !share) {
+        exit_status = cli_error(1, "out of memory");
+        goto done;
+    }
+    if (!a->pipe.quiet) fprintf(stderr, "radiosity: computing the reference solution\n");
+    const char *how;
+    status = solve_reference(system, reference, &how);
+    if (status) {
+        exit_status = cli_fail(ctx, status);
+        goto done;
+    }
+    double norm = 0, view_norm = 0;
+    for (size_t e = 0; e < n; ++e)
+        norm += rad_system_element_area(system, e) *
+                (fabs(reference[3 * e]) + fabs(reference[3 * e + 1]) + fabs(reference[3 * e + 2]));
+    /* What the camera sees; patch systems have no geometry and no view. */
+    int have_view = 1;
+    status = rad_system_screen_share(system, camera, a->width, a->height, share);
+    if (status) {
+        have_view = 0;
+        if (!a->pipe.quiet)
+            fprintf(stderr, "radiosity: no view error and no importance solver: %s\n",
+                    rad_context_error(ctx));
+    } else {
+        for (size_t e = 0; e < n; ++e)
+            view_norm += share[e] * (fabs(reference[3 * e]) + fabs(reference[3 * e + 1]) +
+                                     fabs(reference[3 * e + 2]));
+        if (!(view_norm > 0)) have_view = 0;
+    }
+
+    double omega = a->pipe.omega > 0 ? a->pipe.omega : 1.5;
+    compare_run runs[8];
+    int count = 0;
+    runs[count++] = (compare_run){"jacobi", RAD_SOLVER_JACOBI, 1, 0};
+    runs[count++] = (compare_run){"gauss-seidel", RAD_SOLVER_GAUSS_SEIDEL, 1, 0};
+    runs[count] = (compare_run){"", RAD_SOLVER_GAUSS_SEIDEL, omega, 0};
+    snprintf(runs[count++].label, sizeof runs[0].label, "SOR, omega %g", omega);
+    runs[count++] = (compare_run){"shooting", RAD_SOLVER_SHOOTING, 1, 0};
+    runs[count++] = (compare_run){"overshooting", RAD_SOLVER_SHOOTING, 1, 1};
+    if (have_view) runs[count++] = (compare_run){"importance", RAD_SOLVER_IMPORTANCE, 1, 0};
+
+    if (a->log) {
+        log = open_memstream(&log_buffer, &log_size);
+        if (!log) {
+            exit_status = cli_error(1, "out of memory");
+            goto done;
+        }
+        fputs("solver,iteration,seconds,shots,sweeps,unshot_fraction,residual,error,view_error\n", log);
+    }
+    size_t patches = rad_system_patch_count(system);
+    printf("solver comparison: %zu elements in %zu patches; error = sum A |B - B*| / sum A B* "
+           "against %s%s\n", n, patches, how,
+           have_view ? "; view error weights by share of the image" : "");
+    printf("%-18s  %-22s  %-22s  %10s  %10s\n", "solver", "to 1% error", "to 1% view error",
+           "end error", "seconds");
+    for (int k = 0; k < count; ++k) {
+        const compare_run *run = &runs[k];
+        /* A fresh system: no form factors computed yet. */
+        rad_system_destroy(system);
+        system = NULL;
+        status = rad_system_create(ctx, scene, mesh, ff, &system);
+        if (status) {
+            exit_status = cli_fail(ctx, status);
+            goto done;
+        }
+        int shooting = run->kind == RAD_SOLVER_SHOOTING || run->kind == RAD_SOLVER_IMPORTANCE;
+        snprintf(series[k].name, sizeof series[k].name, "%.40s", run->label);
+        solve_watch watch = {0};
+        watch.system = system;
+        watch.solver_name = run->label;
+        watch.shooting = shooting;
+        watch.tolerance = STOP_ERROR;
+        watch.time_budget = isnan(a->time_budget) ? 0 : a->time_budget;
+        watch.log = log;
+        watch.log_prefix = run->label;
+        watch.series = &series[k];
+        watch.reference = reference;
+        watch.reference_norm = norm;
+        watch.view_share = have_view ? share : NULL;
+        watch.view_norm = view_norm;
+        watch.stop_error = STOP_ERROR;
+        watch.target = TARGET;
+        watch.error_seconds = watch.view_error_seconds = -1;
+        watch.progress = !a->pipe.quiet && isatty(STDERR_FILENO);
+
+        rad_solve_options options = {0};
+        options.solver = run->kind;
+        options.omega = run->omega;
+        options.overshoot = run->overshoot;
+        options.tolerance = 1e-13; /* the error decides when to stop */
+        options.max_iterations = a->pipe.iterations;
+        options.time_budget = watch.time_budget;
+        options.camera = camera;
+        options.view_width = a->width;
+        options.view_height = a->height;
+        options.on_iteration = solve_watch_iteration;
+        options.iteration_user = &watch;
+        rad_solve_report report;
+        status = rad_solve(system, &options, &report);
+        solve_watch_finish(&watch);
+        if (status) {
+            exit_status = cli_fail(ctx, status);
+            goto done;
+        }
+        if (watch.failed) {
+            exit_status = 1;
+            goto done;
+        }
+        solve_watch_measure(&watch);
+        printf("%-18s", run->label);
+        print_reached(watch.error_seconds, watch.error_steps, shooting);
+        if (have_view) print_reached(watch.view_error_seconds, watch.view_error_steps, shooting);
+        else printf("  %-22s", "-");
+        printf("  %10.3g  %10.3g\n", watch.last_error, report.seconds);
+        fflush(stdout);
+        if (cli_interrupted()) {
+            exit_status = cli_interrupt_exit_status();
+            break;
+        }
+    }
+    if (log) {
+        fclose(log);
+        log = NULL;
+        if (cli_write_whole(a->log, log_buffer, log_size)) {
+            exit_status = 1;
+            goto done;
+        }
+    }
+    if (a->plot) {
+        char title[160];
+        snprintf(title, sizeof title, "%s: %zu elements, error against a converged solution",
+                 a->scene_name ? a->scene_name : "convergence", n);
+        plot_chart chart = {title, "seconds", "error (fraction of power)", TARGET};
+        exit_status = plot_write_svg(a->plot, &chart, series, (size_t)count);
+    }
+done:
+    if (log) fclose(log);
+    free(log_buffer);
+    for (int k = 0; k < 8; ++k) plot_series_free(&series[k]);
+    free(reference);
+    free(share);
+    rad_system_destroy(system);
+    return exit_status;
+}

@@ -1,0 +1,134 @@
+/* solve_watch.c - the iteration callback of `radiosity solve` (see solve_watch.h). */
+#include "solve_watch.h"
+
+#include "cli.h"
+#include "interrupt.h"
+#include "progress.h"
+
+#include <math.h>
+#include <string.h>
+#include <time.h>
+
+static double wall_seconds(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+void solve_watch_measure(solve_watch *w) {
+    const rad_system *s = w->system;
+    size_t n = rad_system_element_count(s);
+    double error = 0, view_error = 0;
+    for (size_t e = 0; e < n; ++e) {
+        double b[3];
+        rad_system_element_radiosity(s, e, b);
+        const double *r = w->reference + 3 * e;
+        double difference = fabs(b[0] - r[0]) + fabs(b[1] - r[1]) + fabs(b[2] - r[2]);
+        error += rad_system_element_area(s, e) * difference;
+        if (w->view_share) view_error += w->view_share[e] * difference;
+    }
+    w->last_error = w->reference_norm > 0 ? error / w->reference_norm : 0;
+    w->last_view_error = w->view_share && w->view_norm > 0 ? view_error / w->view_norm : NAN;
+}
+
+/* Time left from the residual's recent rate of decay: ln(r / tolerance) / rate, where the rate
+ * is measured over the last fifth of the run (at least the last second). */
+static double time_left(solve_watch *w, double seconds, double residual) {
+    if (!(residual > 0)) return 0;
+    double lr = log(residual);
+    if (w->history_count == 0 || seconds - w->history_t[(w->history_count - 1) % 64] >= 0.25) {
+        w->history_t[w->history_count % 64] = seconds;
+        w->history_r[w->history_count % 64] = lr;
+        w->history_count++;
+    }
+    double window = fmax(1.0, 0.2 * seconds);
+    int oldest = w->history_count > 64 ? w->history_count - 64 : 0;
+    for (int i = oldest; i < w->history_count; ++i) {
+        double dt = seconds - w->history_t[i % 64];
+        if (dt <= window && dt > 0.2) {
+            double rate = (w->history_r[i % 64] - lr) / dt;
+            if (rate > 0) return log(residual / w->tolerance) / rate;
+            return NAN;
+        }
+    }
+    return NAN;
+}
+
+static void draw_progress(solve_watch *w, const rad_iteration_event *event) {
+    double now = wall_seconds();
+    double left = time_left(w, event->seconds, event->residual);
+    if (now - w->last_draw < 0.1) return;
+    if (w->last_draw == 0) cli_progress_clear(); /* the bar of the phases before */
+    w->last_draw = now;
+    char eta[48] = "";
+    if (w->time_budget > 0) {
+        double budget_left = fmax(0, w->time_budget - event->seconds);
+        if (!isfinite(left) || left > budget_left) left = budget_left;
+    }
+    if (isfinite(left)) snprintf(eta, sizeof eta, ", about %.0f s left", ceil(fmax(0, left)));
+    if (w->shooting)
+        fprintf(stderr, "\r\033[K%s: %ld shots, unshot power %.3g%% of emitted%s", w->solver_name,
+                event->shots + w->step_offset, 100 * event->unshot_fraction, eta);
+    else
+        fprintf(stderr, "\r\033[K%s: round %ld, change %.3g%s", w->solver_name,
+                event->rounds + w->step_offset, event->residual, eta);
+    fflush(stderr);
+}
+
+void solve_watch_finish(solve_watch *w) {
+    if (w->progress && w->last_draw > 0) {
+        fputs("\r\033[K", stderr);
+        fflush(stderr);
+    }
+}
+
+static void log_number(FILE *out, double value) {
+    if (isfinite(value)) fprintf(out, "%.9g", value);
+}
+
+int solve_watch_iteration(void *user, const rad_iteration_event *event) {
+    solve_watch *w = user;
+    long step = (long)event->iteration + w->step_offset;
+    if (w->reference) {
+        solve_watch_measure(w);
+        if (w->error_seconds < 0 && w->last_error <= w->target) {
+            w->error_seconds = event->seconds;
+            w->error_steps = step;
+        }
+        if (w->view_error_seconds < 0 && w->last_view_error <= w->target) {
+            w->view_error_seconds = event->seconds;
+            w->view_error_steps = step;
+        }
+    }
+    if (w->log) {
+        if (w->log_prefix) fprintf(w->log, "%s,", w->log_prefix);
+        fprintf(w->log, "%ld,%.6f,%ld,%ld,", step, event->seconds,
+                w->shooting ? event->shots + w->step_offset : 0,
+                w->shooting ? 0 : event->rounds + w->step_offset);
+        log_number(w->log, event->unshot_fraction);
+        fputc(',', w->log);
+        log_number(w->log, event->residual);
+        if (w->reference) {
+            fputc(',', w->log);
+            log_number(w->log, w->last_error);
+            fputc(',', w->log);
+            log_number(w->log, w->last_view_error);
+        }
+        fputc('\n', w->log);
+    }
+    if (w->series) {
+        double value = w->reference ? w->last_error : event->residual;
+        if (plot_series_add(w->series, event->seconds, value)) {
+            w->failed = cli_error(1, "out of memory for the plot");
+            return 1;
+        }
+    }
+    if (w->progress) draw_progress(w, event);
+    if (w->snapshot && w->snapshot_every > 0 && step % w->snapshot_every == 0 &&
+        w->snapshot(w->snapshot_user, step)) {
+        w->failed = 1;
+        return 1;
+    }
+    if (w->reference && w->stop_error > 0 && w->last_error <= w->stop_error) return 1;
+    return cli_interrupted();
+}
