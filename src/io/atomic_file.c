@@ -4,7 +4,16 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+/* mkstemp makes the file 0600; an output gets what a plain fopen would give it: 0666 less the
+ * umask. (Reading the umask means setting it; it is set straight back.) */
+static void give_default_permissions(int fd) {
+    mode_t mask = umask(0077);
+    umask(mask);
+    fchmod(fd, 0666 & ~mask);
+}
 
 rad_status rad_atomic_open(rad_context *ctx, const char *path, rad_atomic_file *out) {
     memset(out, 0, sizeof *out);
@@ -26,6 +35,7 @@ rad_status rad_atomic_open(rad_context *ctx, const char *path, rad_atomic_file *
         rad_atomic_abandon(out);
         return status;
     }
+    give_default_permissions(fd);
     out->file = fdopen(fd, "wb");
     if (!out->file) {
         close(fd);
