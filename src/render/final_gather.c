@@ -11,9 +11,16 @@
  *              L_e(y) cos_x cos_y / |x - y|^2 / pdf_area(y).
  *   y_i        the hits of N rays leaving x with density cos / pi; what they see is taken from
  *              the radiosity solution, but only its reflected part (B - E) / pi, because the
- *              light coming straight from the emitters is already in E_direct. (Rays that pass
- *              through mirrors or glass first take the full B / pi where they land: the direct
- *              light does not reach x that way.)
+ *              light coming straight from the emitters is estimated by the emitter samples.
+ *              (Rays that pass through mirrors or glass first take the full B / pi where they
+ *              land: the emitter samples do not reach x that way.)
+ *
+ * The emitted light is estimated twice, by the emitter samples and by the gather rays that hit
+ * an emitter, and the two are combined with the power heuristic of multiple importance sampling
+ * (Veach & Guibas 1995): each sample's emitted contribution is weighted by
+ * (n_s p_s)^2 / sum_t (n_t p_t)^2 over both strategies. Emitter sampling alone has unbounded
+ * variance where a receiver nearly touches an emitter (1 / distance^2); the gather rays are
+ * good exactly there.
  *
  * The solution is thus only seen one bounce away, where its flaws (light leaking under walls,
  * blocky shadows of coarse elements, the smoothing of interpolation) are blurred by the
@@ -52,6 +59,9 @@ rad_status rad_emitters_build(rad_renderer *r) {
         if (s->emission[e][0] > 0 || s->emission[e][1] > 0 || s->emission[e][2] > 0)
             count += (size_t)rad_mesh_corner_count(mesh, e) - 2;
     r->emitter_count = 0;
+    r->element_emitter = rad_alloc(r->ctx, mesh->element_count + 1, sizeof *r->element_emitter);
+    if (!r->element_emitter) return RAD_ERROR_NO_MEMORY;
+    for (size_t e = 0; e < mesh->element_count; ++e) r->element_emitter[e][0] = r->element_emitter[e][1] = -1;
     if (count == 0) return RAD_OK;
     r->emitters = rad_alloc(r->ctx, count, sizeof *r->emitters);
     r->emitter_cdf = rad_alloc(r->ctx, count, sizeof *r->emitter_cdf);
@@ -75,6 +85,7 @@ rad_status rad_emitters_build(rad_renderer *r) {
             if (!(pieces[k].area > 0)) continue;
             double power = pieces[k].area * ((double)radiance[0] + radiance[1] + radiance[2]);
             total += power;
+            r->element_emitter[e][k] = (int32_t)r->emitter_count;
             r->emitters[r->emitter_count] = pieces[k];
             r->emitter_cdf[r->emitter_count++] = total;
         }
@@ -128,11 +139,20 @@ static double emitter_probability(const rad_renderer *r, size_t k) {
     return r->emitter_cdf[k] - (k ? r->emitter_cdf[k - 1] : 0);
 }
 
-/* Irradiance at x (normal n) straight from the emitters, by `count` stratified samples. */
-static void direct_irradiance(const rad_renderer *r, rad_rng *rng, rad_vec3 x, rad_vec3 n,
-                              int count, rad_ray_counts *counts, double out[3]) {
+/* The power heuristic for a sample of strategy a against strategy b (counts times densities). */
+static double power_heuristic(double a, double b) {
+    return a * a / (a * a + b * b);
+}
+
+/* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
+ * by `count` stratified emitter samples, each weighted against the gather rays that could have
+ * found the same point. */
+static void direct_light(const rad_renderer *r, rad_rng *rng, const rad_gather_origin *from,
+                         rad_vec3 x, const float rho[3], rad_ray_counts *counts, double out[3]) {
     out[0] = out[1] = out[2] = 0;
+    int count = from->light_samples;
     if (r->emitter_count == 0 || count <= 0) return;
+    rad_vec3 n = from->normal;
     double shift[2] = {rad_rng_uniform(rng), rad_rng_uniform(rng)};
     for (int i = 0; i < count; ++i) {
         double u[2];
@@ -151,10 +171,29 @@ static void direct_irradiance(const rad_renderer *r, rad_rng *rng, rad_vec3 x, r
         if (cos_x <= 0 || cos_y <= 0) continue;
         counts->shadow++;
         if (rad_element_rays_occluded(r->rays, x, y)) continue;
-        double g = cos_x * cos_y / distance2 * light->area / emitter_probability(r, k);
-        for (int c = 0; c < 3; ++c) out[c] += light->radiance[c] * g;
+        /* Densities over solid angle at x. */
+        double pdf_light = emitter_probability(r, k) / light->area * distance2 / cos_y;
+        double pdf_gather = cos_x / RAD_PI;
+        double weight = power_heuristic(count * pdf_light, from->gather_rays * pdf_gather);
+        double g = cos_x / pdf_light * weight;
+        for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * light->radiance[c] * g;
     }
     for (int c = 0; c < 3; ++c) out[c] /= count;
+}
+
+double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
+                                  rad_vec3 direction, const rad_element_hit *hit) {
+    if (!from || from->light_samples <= 0) return 1;
+    /* Embree's split of a quad: (v0, v1, v3) below the diagonal u + v = 1, (v2, v3, v1) above. */
+    int piece = rad_mesh_corner_count(r->mesh, hit->element) == 4 && hit->u + hit->v > 1;
+    int32_t k = r->element_emitter[hit->element][piece];
+    if (k < 0) return 1;
+    const rad_emitter *light = &r->emitters[k];
+    double cos_y = -v3_dot(light->normal, direction), cos_x = v3_dot(from->normal, direction);
+    if (cos_y <= 0 || cos_x <= 0) return 1;
+    double pdf_light = emitter_probability(r, (size_t)k) / light->area * hit->t * hit->t / cos_y;
+    double pdf_gather = cos_x / RAD_PI;
+    return power_heuristic(from->gather_rays * pdf_gather, from->light_samples * pdf_light);
 }
 
 /* ------------------------------------------------------------------------------------------- */
@@ -166,13 +205,16 @@ void rad_final_gather(const rad_renderer *r, rad_rng *rng, uint32_t element, rad
     for (int c = 0; c < 3; ++c) out[c] = emitted[c];
     if (!(rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return;
 
+    rad_gather_origin from = {n, r->settings.light_samples, r->settings.final_gather};
+
     /* Direct light. */
     double direct[3];
-    direct_irradiance(r, rng, x, n, r->settings.light_samples, counts, direct);
-    for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * direct[c];
+    direct_light(r, rng, &from, x, rho, counts, direct);
+    for (int c = 0; c < 3; ++c) out[c] += direct[c];
 
-    /* Indirect light: cosine-weighted rays into the solution. With density cos / pi the
-     * estimate of (rho / pi) * integral L cos dw is rho * mean L. */
+    /* Indirect light (and the emitted light they meet, weighted): cosine-weighted rays into the
+     * solution. With density cos / pi the estimate of (rho / pi) * integral L cos dw is
+     * rho * mean L. */
     int rays = r->settings.final_gather;
     rad_vec3 t, b;
     v3_basis(n, &t, &b);
@@ -186,7 +228,7 @@ void rad_final_gather(const rad_renderer *r, rad_rng *rng, uint32_t element, rad
         rad_vec3 direction = v3_normalize(v3_add(
             v3_add(v3_scale(t, radius * cos(phi)), v3_scale(b, radius * sin(phi))), v3_scale(n, z)));
         double radiance[3];
-        rad_trace_radiance(r, rng, x, direction, 1, counts, radiance);
+        rad_trace_radiance(r, rng, x, direction, &from, counts, radiance);
         for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
     }
     for (int c = 0; c < 3; ++c) out[c] += rho[c] * sum[c] / rays;

@@ -34,6 +34,7 @@ void rad_renderer_destroy(rad_renderer *r) {
     rad_free(ctx, r->surface_material);
     rad_free(ctx, r->emitters);
     rad_free(ctx, r->emitter_cdf);
+    rad_free(ctx, r->element_emitter);
     rad_free(ctx, r->vertex_radiance);
     rad_free(ctx, r->element_radiance);
     rad_free(ctx, r->element_emission);
@@ -194,7 +195,7 @@ static void render_pixel(const rad_renderer *r, int x, int y, rad_ray_counts *co
             jy = (s / side + jy) / side;
         }
         double radiance[3];
-        rad_trace_radiance(r, &rng, view->eye, rad_view_direction(view, x + jx, y + jy), 0,
+        rad_trace_radiance(r, &rng, view->eye, rad_view_direction(view, x + jx, y + jy), NULL,
                            counts, radiance);
         for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
     }

@@ -52,7 +52,8 @@ struct rad_renderer {
     /* Light sampling: emitter triangles and their cumulative distribution by power. */
     size_t emitter_count;
     rad_emitter *emitters;
-    double *emitter_cdf; /* emitter_count entries, the last is 1 */
+    double *emitter_cdf;           /* emitter_count entries, the last is 1 */
+    int32_t (*element_emitter)[2]; /* per element, its emitter triangles (-1: none) */
 
     /* The solution as radiance, refreshed by each render (the system may have been re-solved). */
     float (*vertex_radiance)[3];   /* B / pi averaged at mesh vertices (smooth) */
@@ -83,11 +84,24 @@ rad_status rad_emitters_build(rad_renderer *r);
 void rad_final_gather(const rad_renderer *r, rad_rng *rng, uint32_t element, rad_vec3 x,
                       rad_vec3 n, rad_ray_counts *counts, double out[3]);
 
+/* Where a gather ray starts: what multiple importance sampling between the emitter samples and
+ * the gather rays needs to weigh the emitted light a gather ray finds. */
+typedef struct rad_gather_origin {
+    rad_vec3 normal;
+    int light_samples, gather_rays;
+} rad_gather_origin;
+
+/* final_gather.c: the weight (power heuristic, Veach 1997) of the emitted radiance a gather ray
+ * from `from` meets straight away at distance t on the front of emitting `element`. */
+double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
+                                  rad_vec3 direction, const rad_element_hit *hit);
+
 /* second_pass.c: the radiance arriving at `origin` from `direction`, following mirrors and glass
- * up to max_depth bounces. `gather` is nonzero for gather rays of the final gather: their first
- * diffuse hit contributes only its reflected radiance (B - E) / pi, because the direct light
- * is sampled separately; camera rays take full B / pi, or a final gather when it is on. */
+ * up to max_depth bounces. Camera rays (`gather` NULL) take B / pi where they land, or a final
+ * gather when it is on. Gather rays take the reflected part (B - E) / pi at their first hit plus
+ * the emitted part weighted against the emitter samples (rad_gather_emission_weight); after a
+ * mirror or glass the direct light is not sampled, and they take B / pi. */
 void rad_trace_radiance(const rad_renderer *r, rad_rng *rng, rad_vec3 origin, rad_vec3 direction,
-                        int gather, rad_ray_counts *counts, double out[3]);
+                        const rad_gather_origin *gather, rad_ray_counts *counts, double out[3]);
 
 #endif

@@ -26,17 +26,20 @@
 
 static double largest3(const double c[3]) { return fmax(c[0], fmax(c[1], c[2])); }
 
-/* The solution's radiance at a hit, without the emitted part when `reflected_only`. */
+/* The solution's radiance at a hit. For a gather ray's first hit, the emitted part is weighted
+ * against the emitter samples of the final gather. */
 static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
-                              int reflected_only, double out[3]) {
+                              const rad_gather_origin *gather, rad_vec3 direction, double out[3]) {
     rad_reconstruct_radiance(r, hit->element, hit->u, hit->v, out);
-    if (!reflected_only) return;
+    if (!gather) return;
     const float *emitted = r->element_emission[hit->element];
-    for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - emitted[c]);
+    if (!(emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) return;
+    double weight = rad_gather_emission_weight(r, gather, direction, hit);
+    for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - emitted[c]) + weight * emitted[c];
 }
 
 void rad_trace_radiance(const rad_renderer *r, rad_rng *rng, rad_vec3 origin, rad_vec3 direction,
-                        int gather, rad_ray_counts *counts, double out[3]) {
+                        const rad_gather_origin *gather, rad_ray_counts *counts, double out[3]) {
     out[0] = out[1] = out[2] = 0;
     double throughput[3] = {1, 1, 1};
     double tnear = gather ? r->rays->epsilon : 0;
@@ -49,15 +52,15 @@ void rad_trace_radiance(const rad_renderer *r, rad_rng *rng, rad_vec3 origin, ra
         const rad_material *material = rad_renderer_material(r, hit.element);
         rad_vec3 x = v3_add(origin, v3_scale(direction, hit.t));
         rad_vec3 normal = r->mesh->element_normal[hit.element];
-        /* Emitted light seen straight from a gather ray is in the direct term already. */
-        int reflected_only = gather && depth == 0;
+        /* Emitted light seen straight from a gather ray is shared with the emitter samples. */
+        const rad_gather_origin *first = depth == 0 ? gather : NULL;
 
         if (material->kind == RAD_MATERIAL_DIFFUSE) {
             if (!hit.front) return;
             double radiance[3];
             if (!gather && r->settings.final_gather > 0)
                 rad_final_gather(r, rng, hit.element, x, normal, counts, radiance);
-            else solution_radiance(r, &hit, reflected_only, radiance);
+            else solution_radiance(r, &hit, first, direction, radiance);
             for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
             return;
         }
@@ -68,7 +71,7 @@ void rad_trace_radiance(const rad_renderer *r, rad_rng *rng, rad_vec3 origin, ra
             /* The diffuse part from the solution, the mirror part traced. */
             if (largest3(material->reflectance) > 0) {
                 double radiance[3];
-                solution_radiance(r, &hit, reflected_only, radiance);
+                solution_radiance(r, &hit, first, direction, radiance);
                 for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
             }
             for (int c = 0; c < 3; ++c) throughput[c] *= fmax(0.0, material->specular[c]);

@@ -1,0 +1,413 @@
+/* test_render.c - pictures of the solution: the furnace (every pixel L / (1 - rho), exactly),
+ * flat shading shows element values, image orientation, agreement with the path tracer (mean
+ * and relative MSE, with and without the final gather), the emitted light counted once, the
+ * second pass through the mirror and the glass sphere, the same image for any thread count, and
+ * refusals (sizes, cameras that see nothing or only back faces, patch systems). */
+#include "radiosity.h"
+#include "render/element_rays.h"
+#include "render/render.h"
+#include "scene/scene.h"
+#include "solve/system.h"
+#include "test.h"
+
+#define RELMSE_SMOOTH 0.002 /* measured 0.00117 (64 x 64, 64 samples per pixel) */
+#define RELMSE_GATHER 0.001 /* measured 0.00054 with 16 gather rays */
+
+#include <stdlib.h>
+#include <string.h>
+
+static rad_context *make_context(int threads, uint64_t seed) {
+    rad_context_options options = {0};
+    options.threads = threads;
+    options.seed = seed;
+    rad_context *ctx = NULL;
+    if (rad_context_create(&options, &ctx)) return NULL;
+    return ctx;
+}
+
+static rad_system *solved(rad_context *ctx, const rad_scene *scene, size_t elements,
+                          rad_solver_kind solver) {
+    rad_mesh_options mesh = {0, 0, elements};
+    rad_system *system = NULL;
+    if (rad_system_create(ctx, scene, &mesh, NULL, &system)) return NULL;
+    rad_solve_options solve = {0};
+    solve.solver = solver;
+    solve.tolerance = 1e-9;
+    if (rad_solve(system, &solve, NULL)) {
+        rad_system_destroy(system);
+        return NULL;
+    }
+    return system;
+}
+
+static double image_mean(const rad_image *image) {
+    size_t n = (size_t)rad_image_width(image) * rad_image_height(image) * 3;
+    const float *p = rad_image_pixels(image);
+    double sum = 0;
+    for (size_t i = 0; i < n; ++i) sum += p[i];
+    return sum / (double)n;
+}
+
+static rad_camera_desc camera(double ex, double ey, double ez, double lx, double ly, double lz,
+                              double fov) {
+    rad_camera_desc c = {{ex, ey, ez}, {lx, ly, lz}, {0, 1, 0}, fov};
+    return c;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+/* A closed unit cube seen from inside, every face emitting radiance L with reflectance rho:
+ * B = E + rho B everywhere, so every pixel is L / (1 - rho). */
+static rad_scene *furnace(rad_context *ctx, double radiance, double rho) {
+    static const double faces[6][4][3] = {
+        {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}},
+        {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}, {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}},
+        {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}}, {{1, 0, 0}, {1, 0, 1}, {1, 1, 1}, {1, 1, 0}},
+    };
+    rad_scene *scene = NULL;
+    if (rad_scene_new(ctx, 1, "furnace", &scene)) return NULL;
+    rad_material m = {0};
+    m.name = "glowing grey";
+    for (int c = 0; c < 3; ++c) {
+        m.reflectance[c] = rho;
+        m.emission[c] = radiance;
+    }
+    uint32_t material, surface;
+    rad_status status = rad_scene_add_material(scene, &m, &material);
+    if (!status) status = rad_scene_add_surface(scene, "walls", material, &surface);
+    for (int f = 0; f < 6 && !status; ++f) {
+        rad_vec3 p[4];
+        for (int k = 0; k < 4; ++k) p[k] = v3(faces[f][k][0], faces[f][k][1], faces[f][k][2]);
+        status = rad_scene_add_polygon_points(scene, surface, p, 4);
+    }
+    if (status) {
+        rad_scene_destroy(scene);
+        return NULL;
+    }
+    return scene;
+}
+
+static void test_furnace(void) {
+    rad_context *ctx = make_context(0, 1);
+    const double radiance = 0.7, rho = 0.5, expected = radiance / (1 - rho);
+    rad_scene *scene = furnace(ctx, radiance, rho);
+    rad_system *system = scene ? solved(ctx, scene, 600, RAD_SOLVER_GAUSS_SEIDEL) : NULL;
+    CHECK(system != NULL);
+    if (!system) return;
+    rad_camera_desc view = camera(0.3, 0.4, 0.2, 0.9, 0.8, 0.95, 100);
+    for (int shading = 0; shading < 2; ++shading) {
+        rad_render_options options = {0};
+        options.width = 40;
+        options.height = 30;
+        options.camera = &view;
+        options.samples_per_pixel = 2;
+        options.shading = shading ? RAD_SHADING_FLAT : RAD_SHADING_SMOOTH;
+        rad_image *image = NULL;
+        CHECK(rad_render(scene, system, &options, &image) == RAD_OK);
+        if (!image) continue;
+        const float *p = rad_image_pixels(image);
+        double worst = 0;
+        for (int i = 0; i < 40 * 30 * 3; ++i) worst = fmax(worst, fabs(p[i] / expected - 1));
+        /* Form factors of a closed cube sum to one within the analytic method's accuracy. */
+        CHECK(worst < 1e-3);
+        if (worst >= 1e-3) fprintf(stderr, "furnace, %s: worst relative error %g\n",
+                                   shading ? "flat" : "smooth", worst);
+        rad_image_destroy(image);
+    }
+    /* The final gather: direct light sampled from every face, indirect (B - E) / pi gathered:
+     * L_e + rho L_e + rho (B / pi - L_e) = B / pi = 1.4 too. Counting the emission of the
+     * gathered hits again would give L_e + rho L_e + rho B / pi = 1.75, 25% too much. */
+    rad_render_options options = {0};
+    options.width = options.height = 24;
+    options.camera = &view;
+    options.samples_per_pixel = 1;
+    options.final_gather = 8;
+    rad_image *image = NULL;
+    CHECK(rad_render(scene, system, &options, &image) == RAD_OK);
+    if (image) {
+        CHECK_NEAR(image_mean(image) / expected, 1, 0.01);
+        rad_image_destroy(image);
+    }
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+/* Flat shading shows each pixel's element as it is: every pixel of a one-sample image is the
+ * B / pi of some element. */
+static void test_flat_is_element_values(rad_context *ctx, const rad_scene *scene,
+                                        const rad_system *system) {
+    rad_render_options options = {0};
+    options.width = options.height = 24;
+    options.samples_per_pixel = 1;
+    options.shading = RAD_SHADING_FLAT;
+    rad_image *image = NULL;
+    CHECK(rad_render(scene, system, &options, &image) == RAD_OK);
+    if (!image) return;
+    const float *p = rad_image_pixels(image);
+    int unmatched = 0;
+    for (int i = 0; i < 24 * 24; ++i) {
+        int found = p[3 * i] == 0 && p[3 * i + 1] == 0 && p[3 * i + 2] == 0;
+        for (size_t e = 0; e < system->element_count && !found; ++e) {
+            int same = 1;
+            for (int c = 0; c < 3; ++c)
+                same &= fabs(p[3 * i + c] - system->radiosity[e][c] / RAD_PI) <=
+                        1e-6 * (1 + system->radiosity[e][c]);
+            found = same;
+        }
+        unmatched += !found;
+    }
+    CHECK(unmatched == 0);
+    rad_image_destroy(image);
+    (void)ctx;
+}
+
+/* The red wall is on the left, the green on the right, the light at the top. */
+static void test_orientation(const rad_scene *scene, const rad_system *system) {
+    rad_render_options options = {0};
+    options.width = options.height = 32;
+    rad_image *image = NULL;
+    CHECK(rad_render(scene, system, &options, &image) == RAD_OK);
+    if (!image) return;
+    const float *p = rad_image_pixels(image);
+    double left[3] = {0}, right[3] = {0};
+    int brightest = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const float *q = p + 3 * (y * 32 + x);
+            for (int c = 0; c < 3; ++c) {
+                if (x < 6) left[c] += q[c];
+                if (x >= 26) right[c] += q[c];
+            }
+            if (q[0] > p[3 * brightest]) brightest = y * 32 + x;
+        }
+    CHECK(left[0] > 3 * left[1]);     /* red wall, left */
+    CHECK(right[1] > 1.5 * right[0]); /* green wall, right (green 0.45 under a yellow light) */
+    CHECK(brightest / 32 < 8);      /* the light, in the top quarter */
+    CHECK(abs(brightest % 32 - 16) < 6);
+    rad_image_destroy(image);
+}
+
+/* Against the path tracer on the diffuse Cornell box: the mean within 2%, and the relative MSE
+ * (pbrt's) against a 1024-path reference below stated bounds, smaller with the final gather. */
+static void test_against_path_tracer(rad_context *ctx, const rad_scene *scene,
+                                     const rad_system *system) {
+    const int size = 64;
+    rad_pathtrace_options trace = {0};
+    trace.width = trace.height = size;
+    trace.samples_per_pixel = 1024;
+    rad_image *reference = NULL;
+    CHECK(rad_pathtrace(ctx, scene, &trace, &reference, NULL) == RAD_OK);
+    if (!reference) return;
+
+    rad_render_options options = {0};
+    options.width = options.height = size;
+    /* Many samples: at 64 x 64 the error is mostly the coverage of the light's edges. */
+    options.samples_per_pixel = 64;
+    rad_image *smooth = NULL, *gathered = NULL;
+    CHECK(rad_render(scene, system, &options, &smooth) == RAD_OK);
+    options.final_gather = 16;
+    CHECK(rad_render(scene, system, &options, &gathered) == RAD_OK);
+    rad_image_comparison a = {0}, b = {0};
+    if (smooth && gathered) {
+        CHECK(rad_image_compare(ctx, smooth, reference, &a) == RAD_OK);
+        CHECK(rad_image_compare(ctx, gathered, reference, &b) == RAD_OK);
+        printf("64x64, 64 samples, vs path tracer (1024 paths/pixel): smooth: mean ratio %.4f, "
+               "relative MSE %.5f; final gather 16: mean ratio %.4f, relative MSE %.5f\n",
+               a.mean_ratio, a.relative_mse, b.mean_ratio, b.relative_mse);
+        CHECK_NEAR(a.mean_ratio, 1, 0.02);
+        CHECK_NEAR(b.mean_ratio, 1, 0.02);
+        CHECK(a.relative_mse < RELMSE_SMOOTH);
+        CHECK(b.relative_mse < RELMSE_GATHER);
+        CHECK(b.relative_mse < a.relative_mse);
+    }
+    rad_image_destroy(smooth);
+    rad_image_destroy(gathered);
+    rad_image_destroy(reference);
+}
+
+/* The same seed gives the same image whatever the thread count. */
+static void test_threads(const rad_scene *scene) {
+    rad_context *contexts[2];
+    rad_image *images[2] = {NULL, NULL};
+    for (int k = 0; k < 2; ++k) {
+        contexts[k] = make_context(k + 1, 42);
+        rad_system *system = solved(contexts[k], scene, 300, RAD_SOLVER_GAUSS_SEIDEL);
+        rad_render_options options = {0};
+        options.width = 20;
+        options.height = 16;
+        options.final_gather = 4;
+        if (system) CHECK(rad_render(scene, system, &options, &images[k]) == RAD_OK);
+        rad_system_destroy(system);
+    }
+    CHECK(images[0] && images[1]);
+    if (images[0] && images[1])
+        CHECK(memcmp(rad_image_pixels(images[0]), rad_image_pixels(images[1]),
+                     20 * 16 * 3 * sizeof(float)) == 0);
+    for (int k = 0; k < 2; ++k) {
+        rad_image_destroy(images[k]);
+        rad_context_destroy(contexts[k]);
+    }
+}
+
+/* One pixel seen through a camera with a tiny field of view: the radiance along one ray. */
+static double radiance_along(const rad_scene *scene, const rad_system *system, rad_vec3 eye,
+                             rad_vec3 direction, int samples) {
+    rad_vec3 look = v3_add(eye, direction);
+    rad_camera_desc view = {{eye.x, eye.y, eye.z}, {look.x, look.y, look.z}, {0, 1, 0}, 0.001};
+    if (fabs(direction.y) > 0.99) view.up[0] = 1;
+    rad_render_options options = {0};
+    options.width = options.height = 1;
+    options.camera = &view;
+    options.samples_per_pixel = samples;
+    rad_image *image = NULL;
+    double sum = -1;
+    if (rad_render(scene, system, &options, &image) == RAD_OK) {
+        const float *p = rad_image_pixels(image);
+        sum = (double)p[0] + p[1] + p[2];
+    } else fprintf(stderr, "radiance_along: %s\n", rad_context_error(system->ctx));
+    rad_image_destroy(image);
+    return sum;
+}
+
+/* cornell-mirror: the tall block is a mirror (tint 0.9), the sphere glass (index 1.5); radiosity
+ * alone sees both as black (reflectance 0). The second pass must show through them what the
+ * renderer shows along the continued ray. */
+static void test_second_pass(void) {
+    rad_context *ctx = make_context(0, 3);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_builtin(ctx, "cornell-mirror", &scene) == RAD_OK);
+    rad_system *system = scene ? solved(ctx, scene, 1500, RAD_SOLVER_GAUSS_SEIDEL) : NULL;
+    CHECK(system != NULL);
+    if (system) {
+        /* The mirror: a face of the (turned) tall block that the scene's camera sees; aim at
+         * it from the camera, above the sphere, and follow the reflected ray. */
+        rad_camera_desc own;
+        rad_scene_get_camera(scene, &own);
+        rad_vec3 eye = v3(own.eye[0], own.eye[1], own.eye[2]);
+        int faces = 0;
+        for (size_t i = 0; i < scene->polygon_count; ++i) {
+            const rad_polygon *polygon = &scene->polygons[i];
+            if (strcmp(scene->surfaces[polygon->surface].name, "tall-block") != 0) continue;
+            rad_vec3 normal = rad_polygon_normal(scene, polygon);
+            rad_vec3 target = v3(0, 0, 0);
+            for (uint32_t k = 0; k < polygon->count; ++k)
+                target = v3_add(target, rad_polygon_vertex(scene, polygon, k));
+            target = v3_scale(target, 1.0 / polygon->count);
+            target.y = 250;
+            rad_vec3 in = v3_normalize(v3_sub(target, eye));
+            if (fabs(normal.y) > 0.1 || v3_dot(in, normal) >= 0) continue;
+            rad_vec3 out = v3_sub(in, v3_scale(normal, 2 * v3_dot(in, normal)));
+            double seen = radiance_along(scene, system, eye, in, 4);
+            double behind = radiance_along(scene, system, v3_add(target, v3_scale(out, 0.5)), out, 4);
+            printf("mirror face %zu: %.5f, 0.9 x the reflected ray: %.5f\n", i, seen, 0.9 * behind);
+            CHECK(behind > 0.01);
+            CHECK_NEAR(seen / (0.9 * behind), 1, 1e-3);
+            ++faces;
+        }
+        CHECK(faces == 2);
+
+        /* The glass sphere (centre (400, 80.5, 140), radius 80, 48 x 24 flat facets): a ray along
+         * the normal of a facet's centre goes straight through the centre and leaves through the
+         * opposite facet, also at normal incidence. It keeps (1 - F)^2 of the radiance behind,
+         * F = ((1.5 - 1) / (1.5 + 1))^2 = 0.04 at each surface, and the paths that reflect at
+         * either surface go back towards the open side of the box, where nothing is: 0. */
+        double theta = (11 + 0.5) * RAD_PI / 24, phi = (36 + 0.5) * 2 * RAD_PI / 48;
+        rad_vec3 centre = v3(400, 80.5, 140);
+        rad_vec3 facet = v3(sin(theta) * cos(phi), cos(theta), sin(theta) * sin(phi));
+        /* The facet's centre lies on the flat facet, a little inside the sphere. */
+        double inset = cos(RAD_PI / 48) * cos(RAD_PI / 48);
+        rad_vec3 front = v3_add(centre, v3_scale(facet, 80 * inset));
+        rad_vec3 through = v3_scale(facet, -1);
+        rad_vec3 exit = v3_add(centre, v3_scale(facet, -80 * inset));
+        double glass = radiance_along(scene, system, v3_sub(front, v3_scale(through, 300)), through,
+                                      4096);
+        double beyond = radiance_along(scene, system, v3_add(exit, v3_scale(through, 0.5)), through, 4);
+        printf("glass: %.5f, 0.96^2 x the straight ray: %.5f\n", glass, 0.9216 * beyond);
+        CHECK(beyond > 0.01);
+        /* Sampling noise of the Fresnel choices: about 0.45% for 4096 samples. */
+        CHECK_NEAR(glass / (0.9216 * beyond), 1, 0.02);
+    }
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+static int fails_with(const rad_scene *scene, const rad_system *system,
+                      const rad_render_options *options, rad_status status, const char *words) {
+    rad_renderer *renderer = NULL;
+    rad_status got = rad_renderer_create(scene, system, options, &renderer);
+    rad_renderer_destroy(renderer);
+    const char *message = rad_context_error(system->ctx);
+    int ok = got == status && renderer == NULL && (!words || strstr(message, words));
+    if (!ok) fprintf(stderr, "expected %s (%s), got %s: %s\n", rad_status_name(status),
+                     words ? words : "", rad_status_name(got), message);
+    return ok;
+}
+
+static void test_refusals(rad_context *ctx, const rad_scene *scene, const rad_system *system) {
+    rad_render_options options = {0};
+    options.width = -1;
+    CHECK(fails_with(scene, system, &options, RAD_ERROR_INVALID_ARGUMENT, "image size"));
+    options.width = 20000;
+    CHECK(fails_with(scene, system, &options, RAD_ERROR_INVALID_ARGUMENT, "image size"));
+    options.width = options.height = 16384; /* 3 GiB of floats: over the 2 GiB budget */
+    CHECK(fails_with(scene, system, &options, RAD_ERROR_MEMORY_BUDGET, "image"));
+    options.width = options.height = 0;
+    options.samples_per_pixel = -2;
+    CHECK(fails_with(scene, system, &options, RAD_ERROR_INVALID_ARGUMENT, "samples"));
+    options.samples_per_pixel = 0;
+    options.final_gather = -1;
+    CHECK(fails_with(scene, system, &options, RAD_ERROR_INVALID_ARGUMENT, "final gather"));
+    options.final_gather = 0;
+    /* Looking out of the open side of the box. */
+    rad_camera_desc away = camera(278, 273, -800, 278, 273, -1600, 40);
+    options.camera = &away;
+    CHECK(fails_with(scene, system, &options, RAD_ERROR_INVALID_ARGUMENT, "sees nothing"));
+    /* Inside the tall block: only the backs of its faces. */
+    rad_camera_desc inside = camera(368, 165, 351, 368, 165, 600, 60);
+    options.camera = &inside;
+    CHECK(fails_with(scene, system, &options, RAD_ERROR_INVALID_ARGUMENT, "backs"));
+    rad_camera_desc bad_fov = camera(278, 273, -800, 278, 273, 0, 180);
+    options.camera = &bad_fov;
+    CHECK(fails_with(scene, system, &options, RAD_ERROR_INVALID_ARGUMENT, "field of view"));
+    rad_camera_desc same = camera(1, 2, 3, 1, 2, 3, 40);
+    options.camera = &same;
+    CHECK(fails_with(scene, system, &options, RAD_ERROR_INVALID_ARGUMENT, "same point"));
+
+    /* A patch system has no geometry to look at. */
+    static const char text[] = "patch a area 1 reflectance 0.5 emission 1\n"
+                               "patch b area 1 reflectance 0.5\nff a b 0.5\nff b a 0.5\n";
+    rad_scene *patches = NULL;
+    rad_system *patch_system = NULL;
+    CHECK(rad_scene_parse_ffm(ctx, text, strlen(text), "two.ffm", &patches) == RAD_OK);
+    if (patches) CHECK(rad_system_create(ctx, patches, NULL, NULL, &patch_system) == RAD_OK);
+    if (patch_system) {
+        rad_render_options defaults = {0};
+        CHECK(fails_with(patches, patch_system, &defaults, RAD_ERROR_INVALID_ARGUMENT,
+                         "patch system"));
+    }
+    rad_system_destroy(patch_system);
+    rad_scene_destroy(patches);
+}
+
+int main(void) {
+    test_furnace();
+    rad_context *ctx = make_context(0, 7);
+    rad_scene *cornell = NULL;
+    CHECK(rad_scene_builtin(ctx, "cornell", &cornell) == RAD_OK);
+    rad_system *system = cornell ? solved(ctx, cornell, 0, RAD_SOLVER_GAUSS_SEIDEL) : NULL;
+    CHECK(system != NULL);
+    if (system) {
+        test_flat_is_element_values(ctx, cornell, system);
+        test_orientation(cornell, system);
+        test_against_path_tracer(ctx, cornell, system);
+        test_refusals(ctx, cornell, system);
+        test_threads(cornell);
+    }
+    test_second_pass();
+    rad_system_destroy(system);
+    rad_scene_destroy(cornell);
+    rad_context_destroy(ctx);
+    return test_finish();
+}
