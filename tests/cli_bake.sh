@@ -46,6 +46,7 @@ check "ply comment" grep -aq 'exposure 1 stops and tone curve aces' "$out/cube.P
 "$radiosity" bake unit-cube -o "$out/cube.obj" "${small[@]}"; check "obj exit" test $? -eq 0
 check "obj colours" grep -Eq '^v [-0-9.e]+ [-0-9.e]+ [-0-9.e]+ [0-9.e]+ [0-9.e]+ [0-9.e]+$' "$out/cube.obj"
 check "obj groups" test "$(grep -c '^g ' "$out/cube.obj")" -eq 6
+check "obj objects" test "$(grep -c '^o ' "$out/cube.obj")" -eq 6
 check "only the outputs" test "$(ls "$out" | sort | tr '\n' ' ')" = "box.bin box.gltf cube.PLY cube.glb cube.obj "
 # The summary line.
 "$radiosity" bake unit-cube -o "$out/cube.glb" --elements 60 >"$work/stdout"

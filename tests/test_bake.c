@@ -675,7 +675,7 @@ static void test_obj(void) {
     /* The text: the vertex-colour extension and a group per surface. */
     size_t size;
     char *text = (char *)read_all(path, &size);
-    CHECK(text && strstr(text, "\ng top\n") && strstr(text, "\ng bottom\n"));
+    CHECK(text && strstr(text, "\no top\ng top\n") && strstr(text, "\no bottom\ng bottom\n"));
     int six = 0;
     for (char *line = text ? strstr(text, "\nv ") : NULL; line && six == 0; line = NULL) {
         double x[6];

@@ -1,9 +1,9 @@
 /* bake_obj.c - the baked mesh as Wavefront OBJ through assimp's exporter ("objnomtl").
  *
- * OBJ has no standard vertex colour; the common extension, read by Blender, MeshLab, assimp and
- * others, puts three more numbers on the position line: `v x y z r g b`. assimp 5.2.5 writes
- * exactly that when the mesh has colours, one `g NAME` group per mesh, the normals as `vn`, and
- * the elements as faces (quads stay quads). The colours are display values in [0, 1]: the 8-bit
+ * OBJ has no standard vertex colour; the common extension, read by MeshLab, assimp, newer
+ * Blender and others, puts three more numbers on the position line: `v x y z r g b`. assimp 5.2.5
+ * writes exactly that when the mesh has colours, one `g NAME` group per mesh, the normals as
+ * `vn`, and the elements as faces (quads stay quads); an `o NAME` is added before each group. The colours are display values in [0, 1]: the 8-bit
  * sRGB bytes of the PLY divided by 255 (after exposure and tone curve), since viewers show them
  * as they are. The linear radiance is not in an OBJ; use glTF or PLY for it.
  *
@@ -18,6 +18,7 @@
 #include <assimp/material.h>
 #include <assimp/scene.h>
 
+#include <stdio.h>
 #include <string.h>
 
 static void set_name(struct aiString *out, const char *name) {
@@ -151,6 +152,22 @@ static rad_status obj_scene_build(const rad_baked_mesh *b, obj_scene *o) {
     return RAD_OK;
 }
 
+/* assimp's text, with `o NAME` before each `g NAME`: importers that split by object (Blender's
+ * default) then make one object per surface too. */
+static void write_with_objects(FILE *file, const void *data, size_t size) {
+    const char *text = data, *end = text + size;
+    while (text < end) {
+        const char *newline = memchr(text, '\n', (size_t)(end - text));
+        const char *next = newline ? newline + 1 : end;
+        if (next - text > 2 && text[0] == 'g' && text[1] == ' ') {
+            fputc('o', file);
+            fwrite(text + 1, 1, (size_t)(next - text - 1), file);
+        }
+        fwrite(text, 1, (size_t)(next - text), file);
+        text = next;
+    }
+}
+
 rad_status rad_bake_write_obj(const rad_baked_mesh *b, const char *path) {
     rad_context *ctx = b->ctx;
     obj_scene o;
@@ -169,7 +186,7 @@ rad_status rad_bake_write_obj(const rad_baked_mesh *b, const char *path) {
     rad_atomic_file file;
     status = rad_atomic_open(ctx, path, &file);
     if (!status) {
-        fwrite(blob->data, 1, blob->size, file.file);
+        write_with_objects(file.file, blob->data, blob->size);
         status = rad_atomic_commit(&file);
     }
     aiReleaseExportBlob(blob);
