@@ -42,6 +42,8 @@ int cmd_bake(int argc, char **argv) {
     rad_ff_options ff;
     status = cli_pipeline_check("bake", &p, &solve, &mesh, &ff);
     if (status) return status;
+    status = cli_check_output_path("bake", output, positional, 1);
+    if (status) return status;
 
     rad_context *ctx = cli_context_with_progress(p.threads, p.seed, p.max_memory, p.quiet);
     rad_bake_options bake = {0};

@@ -63,6 +63,11 @@ expect_exit 2 'which scene' -- "$radiosity" bake -o "$empty/cube.glb"
 expect_exit 2 'unknown solver' -- "$radiosity" bake unit-cube -o "$empty/cube.glb" --solver magic
 expect_exit 2 'positive' -- "$radiosity" bake unit-cube -o "$empty/cube.glb" --scale -1
 check "usage errors leave nothing" nothing_in "$empty"
+# Writing over the scene it reads: refused, the scene untouched.
+"$radiosity" bake unit-cube -o "$work/scene.obj" "${small[@]}"
+cp "$work/scene.obj" "$work/scene-before.obj"
+expect_exit 2 'is the input' -- "$radiosity" bake "$work/scene.obj" -o "$work/scene.obj"
+check "input untouched" cmp -s "$work/scene.obj" "$work/scene-before.obj"
 
 # Unwritable places (exit 1): a missing directory, a file where a directory should be.
 expect_exit 1 'cannot write' -- "$radiosity" bake unit-cube -o "$empty/missing/cube.glb"
