@@ -104,7 +104,7 @@ int cmd_render(int argc, char **argv) {
                          a.width, a.height, MAX_SIDE);
     if (a.spp < 1) return cli_error(EXIT_USAGE, "render: --spp must be at least 1");
     if (!isnan(a.fov) && !(a.fov > 0 && a.fov < 180))
-        return cli_error(EXIT_USAGE, "render: --fov must be between 0 and 180 degrees, not %g", a.fov);
+        return cli_error(EXIT_USAGE, "render: the field of view (--fov) must be between 0 and 180 degrees, not %g", a.fov);
     int shading = rad_shading_parse(a.shading);
     if (shading < 0)
         return cli_error(EXIT_USAGE, "render: unknown shading '%s' (smooth, flat)", a.shading);

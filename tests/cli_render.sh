@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# cli_render.sh - `radiosity render`: the default image, output formats by extension, the
+# camera flags, --stats, and bad input (unknown extension, unwritable place, sizes, cameras that
+# see nothing or only back faces): one line, exit 1 or 2, and no file left behind.
+# Usage: cli_render.sh RADIOSITY SOURCE_DIR
+set -u
+radiosity=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+passed=0 failed=0
+work=$(mktemp -d)
+trap 'chmod -R u+w "$work"; rm -rf "$work"' EXIT
+
+check() { # check NAME CONDITION...
+    local name=$1; shift
+    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
+}
+# expect_exit STATUS MESSAGE-PATTERN -- command...
+expect_exit() {
+    local want=$1 pattern=$2; shift 3
+    "$@" >"$work/out" 2>"$work/err"
+    local got=$?
+    check "exit $want from $*" test "$got" -eq "$want"
+    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
+    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -eq 1
+}
+# Nothing but the expected files in a directory.
+only_files() { # only_files DIR FILE...
+    local dir=$1; shift
+    test "$(ls -A "$dir" | sort | tr '\n' ' ')" = "$(for f in "$@"; do echo "$f"; done | sort | tr '\n' ' ')"
+}
+
+small=(--width 48 --height 36 --spp 1 --elements 300 --quiet)
+
+# The default: the built-in Cornell box to cornell.png in the working directory.
+mkdir "$work/default"
+(cd "$work/default" && "$radiosity" render --width 32 --height 32 --elements 200 --quiet)
+check "render without arguments exits 0" test $? -eq 0
+check "render without arguments writes cornell.png" only_files "$work/default" cornell.png
+check "cornell.png is a PNG" test "$(head -c 8 "$work/default/cornell.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a
+
+# Output by extension; PFM is linear: a 48 x 36 float image, header "PF 48 36 -1".
+"$radiosity" render cornell "${small[@]}" -o "$work/c.pfm"
+check "pfm written" test -s "$work/c.pfm"
+check "pfm header" test "$(head -c 14 "$work/c.pfm" | tr '\n' ' ')" = "PF 48 36 -1.0 "
+check "pfm size" test "$(stat -c %s "$work/c.pfm")" -eq $((14 + 48 * 36 * 12))
+"$radiosity" render cornell "${small[@]}" -o "$work/c.hdr"
+check "hdr written" grep -aq '#?RADIANCE' "$work/c.hdr"
+"$radiosity" render cornell "${small[@]}" --shading flat --final-gather 2 --tonemap aces \
+    --exposure 1 -o "$work/flat.png"
+check "flat + final gather + aces" test -s "$work/flat.png"
+"$radiosity" render cornell-mirror "${small[@]}" -o "$work/mirror.png"
+check "cornell-mirror renders" test -s "$work/mirror.png"
+# A scene without a camera gets one that frames it.
+"$radiosity" render unit-cube "${small[@]}" --eye 0.5,0.5,0.5 --look 0.5,0.5,2 --fov 120 \
+    -o "$work/cube.pfm"
+check "camera flags inside the unit cube" test -s "$work/cube.pfm"
+
+# --stats: one line per step.
+"$radiosity" render cornell "${small[@]}" --stats -o "$work/s.png" >"$work/stats"
+check "stats: solve" grep -q '^solve ' "$work/stats"
+check "stats: render with rays" grep -Eq '^render .*Mrays/s' "$work/stats"
+
+# Usage errors: exit 2, no file.
+mkdir "$work/bad"
+expect_exit 2 'unknown image format' -- "$radiosity" render cornell -o "$work/bad/x.bmp"
+expect_exit 2 'image size' -- "$radiosity" render cornell --width 0 -o "$work/bad/x.png"
+expect_exit 2 'image size' -- "$radiosity" render cornell --height 100000 -o "$work/bad/x.png"
+expect_exit 2 'spp' -- "$radiosity" render cornell --spp 0 -o "$work/bad/x.png"
+expect_exit 2 'field of view' -- "$radiosity" render cornell --fov 200 -o "$work/bad/x.png"
+expect_exit 2 'unknown shading' -- "$radiosity" render cornell --shading phong -o "$work/bad/x.png"
+expect_exit 2 'tone curve' -- "$radiosity" render cornell --tonemap film -o "$work/bad/x.png"
+expect_exit 2 'X,Y,Z' -- "$radiosity" render cornell --eye 1,2 -o "$work/bad/x.png"
+expect_exit 2 'unexpected argument' -- "$radiosity" render cornell cornell -o "$work/bad/x.png"
+
+# Errors: exit 1, no file.
+expect_exit 1 'x.png' -- "$radiosity" render cornell -o "$work/missing-dir/x.png"
+mkdir "$work/locked" && chmod a-w "$work/locked"
+if [ ! -w "$work/locked" ]; then # root can write anywhere
+    expect_exit 1 'locked' -- "$radiosity" render cornell "${small[@]}" -o "$work/locked/x.png"
+fi
+expect_exit 1 'sees nothing' -- "$radiosity" render cornell "${small[@]}" --look 278,273,-1600 \
+    -o "$work/bad/x.png"
+expect_exit 1 'backs' -- "$radiosity" render cornell "${small[@]}" --eye 368,165,351 \
+    --look 368,165,600 -o "$work/bad/x.png"
+expect_exit 1 'missing.obj' -- "$radiosity" render "$work/missing.obj" -o "$work/bad/x.png"
+expect_exit 1 'patch system' -- "$radiosity" render four-walls -o "$work/bad/x.png"
+check "no file left behind" only_files "$work/bad"
+
+# A failed render never replaces an existing image.
+cp "$work/c.pfm" "$work/keep.pfm"
+"$radiosity" render cornell "${small[@]}" --look 278,273,-1600 -o "$work/keep.pfm" 2>/dev/null
+check "existing image kept" cmp -s "$work/c.pfm" "$work/keep.pfm"
+
+echo "$passed passed, $failed failed"
+test "$failed" -eq 0
