@@ -225,6 +225,8 @@ static rad_status build(const rad_system *s, const rad_bake_options *o, int tone
     uint32_t *new_index = rad_alloc(ctx, nv ? nv : 1, sizeof *new_index);
     size_t *surface_first = rad_alloc_zero(ctx, ns + 1, sizeof *surface_first);
     size_t *surface_faces = rad_alloc_zero(ctx, ns + 1, sizeof *surface_faces);
+    size_t *vertex_fill = rad_alloc(ctx, ns + 1, sizeof *vertex_fill);
+    size_t *face_fill = rad_alloc(ctx, ns + 1, sizeof *face_fill);
     b->surfaces = rad_alloc_zero(ctx, ns ? ns : 1, sizeof *b->surfaces);
     b->position = rad_alloc(ctx, nv ? nv : 1, sizeof *b->position);
     b->normal = rad_alloc(ctx, nv ? nv : 1, sizeof *b->normal);
@@ -234,7 +236,8 @@ static rad_status build(const rad_system *s, const rad_bake_options *o, int tone
     b->face = rad_alloc(ctx, ne ? ne : 1, sizeof *b->face);
     rad_status status = RAD_OK;
     if (!vertex_radiosity || !normal_sum || !new_index || !surface_first || !surface_faces ||
-        !b->surfaces || !b->position || !b->normal || !b->radiance || !b->shown || !b->display || !b->face) {
+        !vertex_fill || !face_fill || !b->surfaces || !b->position || !b->normal ||
+        !b->radiance || !b->shown || !b->display || !b->face) {
         status = RAD_ERROR_NO_MEMORY;
         goto done;
     }
@@ -256,7 +259,8 @@ static rad_status build(const rad_system *s, const rad_bake_options *o, int tone
                                   "bake: element %zu uses a vertex of another surface", e);
                 goto done;
             }
-            normal_sum[v] = v3_add(normal_sum[v], v3_scale(mesh->element_normal[e], mesh->element_area[e]));
+            rad_vec3 weighted = v3_scale(mesh->element_normal[e], mesh->element_area[e]);
+            normal_sum[v] = v3_add(normal_sum[v], weighted);
         }
     }
     for (size_t i = 0; i < ns; ++i) {
@@ -264,14 +268,6 @@ static rad_status build(const rad_system *s, const rad_bake_options *o, int tone
         surface_faces[i + 1] += surface_faces[i];
     }
     /* Fill in surface order, remembering each vertex's index within its surface. */
-    size_t *vertex_fill = rad_alloc(ctx, ns + 1, sizeof *vertex_fill);
-    size_t *face_fill = rad_alloc(ctx, ns + 1, sizeof *face_fill);
-    if (!vertex_fill || !face_fill) {
-        rad_free(ctx, vertex_fill);
-        rad_free(ctx, face_fill);
-        status = RAD_ERROR_NO_MEMORY;
-        goto done;
-    }
     memcpy(vertex_fill, surface_first, (ns + 1) * sizeof *vertex_fill);
     memcpy(face_fill, surface_faces, (ns + 1) * sizeof *face_fill);
     for (size_t v = 0; v < nv; ++v) {
@@ -283,6 +279,7 @@ static rad_status build(const rad_system *s, const rad_bake_options *o, int tone
         b->position[at][1] = (float)(p.y * scale);
         b->position[at][2] = (float)(p.z * scale);
         rad_vec3 n = v3_normalize(normal_sum[v]);
+        if (!(v3_length(n) > 0.5)) n = v3(0, 0, 1); /* a vertex no element uses */
         b->normal[at][0] = (float)n.x;
         b->normal[at][1] = (float)n.y;
         b->normal[at][2] = (float)n.z;
@@ -296,10 +293,9 @@ static rad_status build(const rad_system *s, const rad_bake_options *o, int tone
         size_t at = face_fill[surface]++;
         int corners = rad_mesh_corner_count(mesh, e);
         for (int k = 0; k < 4; ++k)
-            b->face[at][k] = k < corners ? new_index[mesh->element_vertices[e][k]] : RAD_BAKED_NO_VERTEX;
+            b->face[at][k] =
+                k < corners ? new_index[mesh->element_vertices[e][k]] : RAD_BAKED_NO_VERTEX;
     }
-    rad_free(ctx, vertex_fill);
-    rad_free(ctx, face_fill);
 
     /* Surfaces with faces; an empty one (all its polygons degenerate) has nothing to show. */
     b->vertex_count = nv;
@@ -325,6 +321,8 @@ static rad_status build(const rad_system *s, const rad_bake_options *o, int tone
     }
 
 done:
+    rad_free(ctx, vertex_fill);
+    rad_free(ctx, face_fill);
     rad_free(ctx, vertex_radiosity);
     rad_free(ctx, normal_sum);
     rad_free(ctx, new_index);

@@ -2,8 +2,8 @@
  *
  * bake.c turns a solved geometric system into a rad_baked_mesh: the mesh vertices grouped by
  * surface, each with its position, normal, linear radiance (B / pi) and display colour (radiance
- * after exposure and tone curve, linear in [0, 1] and as 8-bit sRGB), the elements as faces with surface-local indices, and the
- * scene camera. One writer per format reads it:
+ * after exposure and tone curve, linear in [0, 1] and as 8-bit sRGB), the elements as faces
+ * with surface-local indices, and the scene camera. One writer per format reads it:
  *   bake_gltf.c  glTF 2.0, .glb and .gltf + .bin (written by the project: see docs/bake.md)
  *   bake_ply.c   binary little-endian PLY (written by the project)
  *   bake_obj.c   Wavefront OBJ with "v x y z r g b" colours (assimp's exporter)

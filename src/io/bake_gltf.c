@@ -171,16 +171,16 @@ static void write_json(const rad_baked_mesh *b, const surface_layout *layout, si
                 if (b->position[v][c] < lo[c]) lo[c] = b->position[v][c];
                 if (b->position[v][c] > hi[c]) hi[c] = b->position[v][c];
             }
-        rad_bake_text_printf(t, "%s\n  {\"bufferView\": %zu, \"componentType\": %d, \"count\": %zu, "
-                                "\"type\": \"VEC3\", \"min\": ",
+        rad_bake_text_printf(t, "%s\n  {\"bufferView\": %zu, \"componentType\": %d, "
+                                "\"count\": %zu, \"type\": \"VEC3\", \"min\": ",
                              i ? "," : "", 5 * i, GLTF_FLOAT, s->vertex_count);
         json_float3(t, lo);
         rad_bake_text_printf(t, ", \"max\": ");
         json_float3(t, hi);
         rad_bake_text_printf(t, "},");
         for (size_t a = 1; a <= 3; ++a)
-            rad_bake_text_printf(t, "\n  {\"bufferView\": %zu, \"componentType\": %d, \"count\": %zu, "
-                                    "\"type\": \"VEC3\"},",
+            rad_bake_text_printf(t, "\n  {\"bufferView\": %zu, \"componentType\": %d, "
+                                    "\"count\": %zu, \"type\": \"VEC3\"},",
                                  5 * i + a, GLTF_FLOAT, s->vertex_count);
         rad_bake_text_printf(t, "\n  {\"bufferView\": %zu, \"componentType\": %d, \"count\": %zu, "
                                 "\"type\": \"SCALAR\"}",
@@ -193,9 +193,10 @@ static void write_json(const rad_baked_mesh *b, const surface_layout *layout, si
         const surface_layout *l = &layout[i];
         size_t offsets[4] = {l->positions, l->normals, l->colours, l->radiances};
         for (int a = 0; a < 4; ++a)
-            rad_bake_text_printf(t, "%s\n  {\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": %zu, "
-                                    "\"target\": %d}",
-                                 i || a ? "," : "", offsets[a], l->attribute_bytes, GLTF_ARRAY_BUFFER);
+            rad_bake_text_printf(t, "%s\n  {\"buffer\": 0, \"byteOffset\": %zu, "
+                                    "\"byteLength\": %zu, \"target\": %d}",
+                                 i || a ? "," : "", offsets[a], l->attribute_bytes,
+                                 GLTF_ARRAY_BUFFER);
         rad_bake_text_printf(t, ",\n  {\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": %zu, "
                                 "\"target\": %d}",
                              l->indices, l->index_bytes, GLTF_ELEMENT_ARRAY_BUFFER);
@@ -240,8 +241,8 @@ static char *bin_path_of(rad_context *ctx, const char *path) {
     memcpy(bin, path, stem);
     for (size_t k = name; k < stem; ++k) {
         char c = bin[k];
-        int unreserved = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                         c == '-' || c == '.' || c == '_' || c == '~';
+        int unreserved = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                         (c >= '0' && c <= '9') || c == '-' || c == '.' || c == '_' || c == '~';
         if (!unreserved) bin[k] = '_';
     }
     memcpy(bin + stem, ".bin", 5);

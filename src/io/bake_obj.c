@@ -3,9 +3,10 @@
  * OBJ has no standard vertex colour; the common extension, read by MeshLab, assimp, newer
  * Blender and others, puts three more numbers on the position line: `v x y z r g b`. assimp 5.2.5
  * writes exactly that when the mesh has colours, one `g NAME` group per mesh, the normals as
- * `vn`, and the elements as faces (quads stay quads); an `o NAME` is added before each group. The colours are display values in [0, 1]: the 8-bit
- * sRGB bytes of the PLY divided by 255 (after exposure and tone curve), since viewers show them
- * as they are. The linear radiance is not in an OBJ; use glTF or PLY for it.
+ * `vn`, and the elements as faces (quads stay quads); an `o NAME` is added before each group.
+ * The colours are display values in [0, 1]: the 8-bit sRGB bytes of the PLY divided by 255
+ * (after exposure and tone curve), since viewers show them as they are. The linear radiance is
+ * not in an OBJ; use glTF or PLY for it.
  *
  * assimp exports to a memory blob, which goes to the file through rad_atomic_file, so a failed
  * export leaves nothing behind. OBJ names end at whitespace: a surface name's spaces become '_'. */
@@ -91,7 +92,8 @@ static rad_status obj_scene_build(const rad_baked_mesh *b, obj_scene *o) {
         return RAD_ERROR_NO_MEMORY;
 
     for (size_t v = 0; v < nv; ++v) {
-        o->positions[v] = (struct aiVector3D){b->position[v][0], b->position[v][1], b->position[v][2]};
+        const float *p = b->position[v];
+        o->positions[v] = (struct aiVector3D){p[0], p[1], p[2]};
         o->normals[v] = (struct aiVector3D){b->normal[v][0], b->normal[v][1], b->normal[v][2]};
         o->colours[v] = (struct aiColor4D){b->display[v][0] / 255.0f, b->display[v][1] / 255.0f,
                                            b->display[v][2] / 255.0f, 1.0f};
