@@ -11,7 +11,8 @@
 
 int cmd_bake(int argc, char **argv) {
     static const char synopsis[] =
-        "SCENE -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj [options]   (SCENE: a file or a built-in name)";
+        "SCENE -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj [options]   "
+        "(SCENE: a file or a built-in name)";
     cli_pipeline_args p = {0};
     p.solver = "shooting";
     p.ff = "default";
@@ -33,9 +34,12 @@ int cmd_bake(int argc, char **argv) {
     int count;
     int status = cli_parse("bake", synopsis, options, argc, argv, positional, 1, &count);
     if (status) return status < 0 ? 0 : status;
-    if (count != 1) return cli_error(EXIT_USAGE, "bake: which scene? (usage: radiosity bake %s)", synopsis);
-    if (!output) return cli_error(EXIT_USAGE, "bake: where to? -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj");
-    if (scale < 0 || aspect < 0) return cli_error(EXIT_USAGE, "bake: --scale and --aspect must be positive");
+    if (count != 1)
+        return cli_error(EXIT_USAGE, "bake: which scene? (usage: radiosity bake %s)", synopsis);
+    if (!output)
+        return cli_error(EXIT_USAGE, "bake: where to? -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj");
+    if (scale < 0 || aspect < 0)
+        return cli_error(EXIT_USAGE, "bake: --scale and --aspect must be positive");
     if ((status = cli_check_output_path("bake", output, positional, 1))) return status;
     rad_solve_options solve;
     rad_mesh_options mesh;
@@ -81,7 +85,8 @@ int cmd_bake(int argc, char **argv) {
         goto done;
     }
     if (!p.quiet) {
-        int gathering = solve.solver == RAD_SOLVER_JACOBI || solve.solver == RAD_SOLVER_GAUSS_SEIDEL;
+        int gathering =
+            solve.solver == RAD_SOLVER_JACOBI || solve.solver == RAD_SOLVER_GAUSS_SEIDEL;
         printf("baked %zu elements of %zu surfaces into %s (%s", rad_system_element_count(system),
                rad_system_surface_count(system), output, rad_solver_kind_name(solve.solver));
         if (solve.solver != RAD_SOLVER_DIRECT)
