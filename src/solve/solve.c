@@ -112,7 +112,11 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
         run.reflected = rad_alloc_zero(ctx, system->element_count, sizeof *run.reflected);
         if (!run.received || !run.reflected) status = RAD_ERROR_NO_MEMORY;
     }
-    if (!status) status = impl->begin(&run);
+    int begun = 0;
+    if (!status) {
+        begun = 1;
+        status = impl->begin(&run);
+    }
     if (!status) {
         double tolerance = options->tolerance > 0 ? options->tolerance : RAD_DEFAULT_TOLERANCE;
         int cap = options->max_iterations;
@@ -155,8 +159,9 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
             }
         }
         local.residual = residual;
-        impl->end(&run);
     }
+    /* End also after a failed begin: it frees whatever begin got as far as allocating. */
+    if (begun) impl->end(&run);
     if (status) local.stop = RAD_STOP_ERROR;
     local.unshot_fraction = run.unshot_fraction;
     local.importance_shots = run.importance_shots;
