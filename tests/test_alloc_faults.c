@@ -1,0 +1,253 @@
+/* test_alloc_faults.c - every allocation failure comes back as an error, never a crash or a
+ * leak. Each scenario runs once to count its allocations, then once for every N with the Nth
+ * allocation failing (through rad_context_options.allocator, as SQLite tests its malloc
+ * failures). Each run must return RAD_ERROR_NO_MEMORY with a message, or, where the library
+ * can do without the memory (a cache that stops growing), succeed with exactly the result of
+ * the clean run; and after destroying everything no block may be left (counted here; ASan
+ * checks the rest in test-sanitize).
+ *
+ * RAD_TEST_QUICK=1 (test-sanitize) fails every Nth allocation for N in a stride over the
+ * larger scenarios instead of every one. */
+#include "radiosity.h"
+#include "test.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- a counting allocator that can fail the Nth request ---------------------------------- */
+
+typedef struct fault_allocator {
+    long requests;  /* allocate and reallocate calls so far */
+    long fail_at;   /* the request that fails (1-based); 0: none */
+    long live;      /* blocks allocated and not released */
+    int failed;     /* the failing request happened */
+} fault_allocator;
+
+static void *fault_allocate(void *user, size_t size) {
+    fault_allocator *a = user;
+    long n = __atomic_add_fetch(&a->requests, 1, __ATOMIC_SEQ_CST);
+    if (n == a->fail_at) {
+        a->failed = 1;
+        return NULL;
+    }
+    void *pointer = malloc(size);
+    if (pointer) __atomic_add_fetch(&a->live, 1, __ATOMIC_SEQ_CST);
+    return pointer;
+}
+
+static void *fault_reallocate(void *user, void *pointer, size_t size) {
+    fault_allocator *a = user;
+    long n = __atomic_add_fetch(&a->requests, 1, __ATOMIC_SEQ_CST);
+    if (n == a->fail_at) {
+        a->failed = 1;
+        return NULL;
+    }
+    void *grown = realloc(pointer, size);
+    if (grown && !pointer) __atomic_add_fetch(&a->live, 1, __ATOMIC_SEQ_CST);
+    return grown;
+}
+
+static void fault_release(void *user, void *pointer) {
+    fault_allocator *a = user;
+    if (pointer) __atomic_sub_fetch(&a->live, 1, __ATOMIC_SEQ_CST);
+    free(pointer);
+}
+
+/* ---- scenarios: each does its work on a fresh context and cleans up ------------------------ */
+
+/* A scenario does its work on a fresh context, cleans up, and leaves a fingerprint of its
+ * results (a sum of radiosities) in *result. */
+typedef rad_status (*scenario_fn)(rad_context *ctx, const void *arg, double *result);
+
+static rad_status solve_all(rad_system *system, int trace, double *result);
+
+static void ignore_trace(void *user, const rad_trace_event *event) {
+    (void)user;
+    (void)event;
+}
+
+/* A scene (built-in name or file) through its system and every solver. */
+typedef struct scene_job {
+    const char *name; /* built-in name, or a path when `file` */
+    int file;
+    rad_mesh_options mesh;
+    rad_ff_method method;
+    int solve;        /* 0: stop after the system is built */
+} scene_job;
+
+static rad_status run_scene(rad_context *ctx, const void *arg, double *result) {
+    const scene_job *job = arg;
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    rad_status status = job->file ? rad_scene_load(ctx, job->name, &scene)
+                                  : rad_scene_builtin(ctx, job->name, &scene);
+    rad_ff_options ff = {job->method, 0, 0};
+    if (!status) status = rad_system_create(ctx, scene, &job->mesh, &ff, &system);
+    rad_scene_destroy(scene); /* the system keeps what it needs */
+    if (!status && job->solve) status = solve_all(system, 1, result);
+    if (!status) {
+        size_t n = rad_system_surface_count(system);
+        double *matrix = calloc(n * n, sizeof *matrix);
+        if (matrix) status = rad_system_surface_form_factors(system, matrix);
+        for (size_t i = 0; matrix && !status && i < n * n; ++i) *result += matrix[i];
+        free(matrix);
+    }
+    rad_system_destroy(system);
+    return status;
+}
+
+static rad_status solve_all(rad_system *system, int trace, double *result) {
+    static const rad_solver_kind kinds[] = {RAD_SOLVER_DIRECT, RAD_SOLVER_JACOBI,
+                                            RAD_SOLVER_GAUSS_SEIDEL, RAD_SOLVER_SHOOTING};
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; ++k) {
+        for (int traced = 0; traced <= trace; ++traced) {
+            rad_solve_options options = {0};
+            options.solver = kinds[k];
+            options.max_iterations = 3;
+            if (traced) options.trace = ignore_trace;
+            rad_status status = rad_solve(system, &options, NULL);
+            if (status) return status;
+            for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
+                rad_surface_info info;
+                rad_system_surface(system, i, &info);
+                *result += info.radiosity[0] + info.radiosity[1] + info.radiosity[2];
+            }
+        }
+    }
+    return RAD_OK;
+}
+
+static rad_status run_parse(rad_context *ctx, const void *arg, double *result) {
+    const char *text = arg;
+    rad_scene *scene = NULL;
+    rad_status status = rad_scene_parse_ffm(ctx, text, strlen(text), "test.ffm", &scene);
+    *result = scene ? rad_scene_is_geometric(scene) : -1;
+    rad_scene_destroy(scene);
+    return status;
+}
+
+static rad_status run_dense(rad_context *ctx, const void *arg, double *result) {
+    (void)arg;
+    const rad_patch_desc patches[3] = {
+        {"light", 1, {0.2, 0.2, 0.2}, {1, 1, 1}},
+        {"floor", 2, {0.5, 0.6, 0.7}, {0, 0, 0}},
+        {"wall", 1.5, {0.8, 0.1, 0.3}, {0, 0, 0}},
+    };
+    const float form_factors[9] = {0, 0.5f, 0.3f, 0.25f, 0, 0.4f, 0.2f, 0.5f, 0};
+    rad_system *system = NULL;
+    rad_status status = rad_system_create_dense(ctx, patches, 3, form_factors, &system);
+    if (!status) status = solve_all(system, 1, result);
+    rad_system_destroy(system);
+    return status;
+}
+
+/* ---- the driver ----------------------------------------------------------------------------- */
+
+/* Runs the scenario on a context using `a`; returns the status (context creation included). */
+static rad_status run_once(fault_allocator *a, scenario_fn scenario, const void *arg,
+                           double *result, char *message, size_t message_size) {
+    rad_context_options options = {0};
+    options.allocator.allocate = fault_allocate;
+    options.allocator.reallocate = fault_reallocate;
+    options.allocator.release = fault_release;
+    options.allocator.user = a;
+    options.threads = 1; /* the Nth allocation is the same one every run */
+    rad_context *ctx = NULL;
+    rad_status status = rad_context_create(&options, &ctx);
+    message[0] = '\0';
+    *result = 0;
+    if (!status) {
+        status = scenario(ctx, arg, result);
+        snprintf(message, message_size, "%s", rad_context_error(ctx));
+        rad_context_destroy(ctx);
+    }
+    return status;
+}
+
+static int quick(void) {
+    const char *value = getenv("RAD_TEST_QUICK");
+    return value && *value && strcmp(value, "0") != 0;
+}
+
+/* Fails each allocation of the scenario in turn (every `stride`-th in quick mode, always the
+ * first and the last). Returns the number of allocations of a clean run. */
+static long check_scenario(const char *label, scenario_fn scenario, const void *arg,
+                           long quick_stride) {
+    char message[1024];
+    fault_allocator clean = {0};
+    double clean_result, result;
+    rad_status status = run_once(&clean, scenario, arg, &clean_result, message, sizeof message);
+    if (status) {
+        fprintf(stderr, "%s: the clean run failed: %s (%s)\n", label, rad_status_name(status),
+                message);
+        CHECK(status == RAD_OK);
+        return 0;
+    }
+    CHECK(clean.live == 0);
+    long total = clean.requests;
+    long stride = quick() && quick_stride > 1 ? quick_stride : 1;
+    int bad_status = 0, leaks = 0, silent = 0, tried = 0;
+    for (long step = 1; step <= total + stride - 1; step += stride) {
+        long n = step <= total ? step : total; /* the last allocation always */
+        if (step > total && (total - 1) % stride == 0) break;
+        fault_allocator a = {0};
+        a.fail_at = n;
+        status = run_once(&a, scenario, arg, &result, message, sizeof message);
+        ++tried;
+        /* The failure must be reported as what it is, with a message, or make no difference;
+         * and nothing may be kept. */
+        int harmless = status == RAD_OK && result == clean_result;
+        if (a.failed && status != RAD_ERROR_NO_MEMORY && !harmless) {
+            if (bad_status++ < 5)
+                fprintf(stderr, "%s: allocation %ld of %ld failed, but the call returned '%s' "
+                                "(%s)\n", label, n, total, rad_status_name(status), message);
+        }
+        if (a.failed && n > 1 && status == RAD_ERROR_NO_MEMORY && !message[0]) {
+            if (silent++ < 5)
+                fprintf(stderr, "%s: allocation %ld of %ld failed without a message\n", label,
+                        n, total);
+        }
+        if (a.live != 0) {
+            if (leaks++ < 5)
+                fprintf(stderr, "%s: allocation %ld of %ld failed and %ld blocks leaked\n",
+                        label, n, total, a.live);
+        }
+    }
+    CHECK(bad_status == 0);
+    CHECK(leaks == 0);
+    CHECK(silent == 0);
+    fprintf(stderr, "%s: %ld allocations, %d failure points tried\n", label, total, tried);
+    return total;
+}
+
+int main(void) {
+    static const char ffm[] =
+        "patch light area 1 reflectance 0.2 emission 1\n"
+        "patch floor area 2 reflectance 0.5 0.6 0.7\n"
+        "patch wall area 1.5 reflectance 0.8 0.1 0.3\n"
+        "ff light floor 0.5\nff light wall 0.3\nff floor light 0.25\nff floor wall 0.4\n"
+        "ff wall light 0.2\nff wall floor 0.5\n";
+    /* Many patches: the parser's tables grow several times. */
+    static char many[64 * 80];
+    size_t used = 0;
+    for (int i = 0; i < 40; ++i)
+        used += (size_t)snprintf(many + used, sizeof many - used,
+                                 "patch p%d area 1 reflectance 0.5 emission %d\n", i, i % 2);
+    for (int i = 0; i < 20; ++i)
+        used += (size_t)snprintf(many + used, sizeof many - used, "ff p%d p%d 0.25\n", i, 39 - i);
+
+    check_scenario("parse .ffm", run_parse, ffm, 1);
+    check_scenario("parse a larger .ffm", run_parse, many, 1);
+    check_scenario("dense system, every solver", run_dense, NULL, 1);
+
+    scene_job four_walls = {"four-walls", 0, {0, 0, 0}, RAD_FF_DEFAULT, 1};
+    check_scenario("four-walls, every solver", run_scene, &four_walls, 1);
+    scene_job file = {RAD_SOURCE_DIR "/scenes/four-walls.ffm", 1, {0, 0, 0}, RAD_FF_DEFAULT, 0};
+    check_scenario("four-walls.ffm from its file", run_scene, &file, 1);
+
+    /* A small geometric scene: meshing, Embree, form factors, every solver. */
+    scene_job cube = {"unit-cube", 0, {0, 0, 24}, RAD_FF_ANALYTIC, 1};
+    check_scenario("unit-cube, 24 elements, every solver", run_scene, &cube, 7);
+    return test_finish();
+}
