@@ -140,11 +140,11 @@ static void test_obj_room(void) {
     for (int i = 0; i < 8; ++i) CHECK(find_surface(scene, names[i]) == i);
 
     long floor = find_surface(scene, "floor");
-    CHECK_NEAR(surface_area(scene, floor), 3.0, 1e-6); /* the non-convex L, cut into triangles */
+    CHECK_NEAR(surface_area(scene, floor), 3.0, 1e-6); /* the non-convex L, cut in two */
     CHECK_VEC(surface_normal(scene, floor), 0, 1, 0, 1e-9);
     size_t corners, polygons = surface_polygons(scene, floor, &corners);
-    CHECK(polygons == 4 && corners == 12);
-    CHECK(strstr(log_text, "cut 1 non-convex faces into triangles") != NULL);
+    CHECK(polygons == 2 && corners == 8); /* two convex quads */
+    CHECK(strstr(log_text, "cut 1 non-convex faces into convex pieces") != NULL);
 
     long lamp = find_surface(scene, "lamp");
     CHECK_NEAR(surface_area(scene, lamp), 0.25, 1e-6);
@@ -263,6 +263,60 @@ static void test_ply(void) {
               scene->polygons[1].count == 3);
         CHECK_RGB(surface_material(scene, 0)->reflectance, 0.5, 0.5, 0.5, 0);
         CHECK_RGB(surface_material(scene, 0)->emission, 0, 0, 0, 0);
+    }
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+/* Faces the mesher cannot take as they are: non-convex ones and ones of more than 64 corners are
+ * cut into convex pieces that cover the same area and face the same way. */
+static int polygon_convex(const rad_scene *scene, const rad_polygon *p) {
+    rad_vec3 n = rad_polygon_normal(scene, p);
+    for (uint32_t k = 0; k < p->count; ++k) {
+        rad_vec3 a = rad_polygon_vertex(scene, p, k), b = rad_polygon_vertex(scene, p, (k + 1) % p->count),
+                 c = rad_polygon_vertex(scene, p, (k + 2) % p->count);
+        if (v3_dot(v3_cross(v3_sub(b, a), v3_sub(c, b)), n) < -1e-12) return 0;
+    }
+    return 1;
+}
+
+static void test_faces(void) {
+    rad_context *ctx = make_context();
+    /* A U (3 x 2 less a 1 x 1 notch), a comb (4 x 1 less two 1 x 0.5 notches) and a 100-gon. */
+    char text[8192];
+    size_t used = 0;
+    used += (size_t)snprintf(text + used, sizeof text - used,
+                             "o u\nv 0 0 0\nv 3 0 0\nv 3 2 0\nv 2 2 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\n"
+                             "v 0 2 0\nf 1 2 3 4 5 6 7 8\n"
+                             "o comb\nv 0 0 1\nv 4 0 1\nv 4 1 1\nv 3.5 1 1\nv 3.5 0.5 1\nv 2.5 0.5 1\n"
+                             "v 2.5 1 1\nv 1.5 1 1\nv 1.5 0.5 1\nv 0.5 0.5 1\nv 0.5 1 1\nv 0 1 1\n"
+                             "f 9 10 11 12 13 14 15 16 17 18 19 20\no circle\n");
+    for (int k = 0; k < 100; ++k)
+        used += (size_t)snprintf(text + used, sizeof text - used, "v %.17g %.17g 2\n",
+                                 cos(2 * RAD_PI * k / 100), sin(2 * RAD_PI * k / 100));
+    used += (size_t)snprintf(text + used, sizeof text - used, "f");
+    for (int k = 0; k < 100; ++k) used += (size_t)snprintf(text + used, sizeof text - used, " %d", 21 + k);
+    snprintf(text + used, sizeof text - used, "\n");
+    write_text(temp_path("faces.obj"), text);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_load(ctx, temp_path("faces.obj"), &scene) == RAD_OK);
+    if (scene) {
+        CHECK(scene->surface_count == 3);
+        CHECK_NEAR(surface_area(scene, find_surface(scene, "u")), 6 - 1, 1e-6);
+        CHECK_NEAR(surface_area(scene, find_surface(scene, "comb")), 4 - 2 * 0.5, 1e-6);
+        CHECK_NEAR(surface_area(scene, find_surface(scene, "circle")),
+                   0.5 * 100 * sin(2 * RAD_PI / 100), 1e-5);
+        for (size_t i = 0; i < scene->polygon_count; ++i) {
+            const rad_polygon *p = &scene->polygons[i];
+            CHECK(p->count <= 64);
+            CHECK(polygon_convex(scene, p));
+            CHECK(rad_polygon_normal(scene, p).z > 1 - 1e-9);
+        }
+        size_t corners;
+        printf("non-convex faces: the U in %zu pieces, the comb in %zu, the 100-gon in %zu\n",
+               surface_polygons(scene, find_surface(scene, "u"), &corners),
+               surface_polygons(scene, find_surface(scene, "comb"), &corners),
+               surface_polygons(scene, find_surface(scene, "circle"), &corners));
     }
     rad_scene_destroy(scene);
     rad_context_destroy(ctx);
@@ -530,6 +584,7 @@ int main(void) {
     test_gltf_lamp_room(RAD_SOURCE_DIR "/scenes/lamp-room.gltf");
     test_gltf_lamp_room(RAD_SOURCE_DIR "/scenes/lamp-room.glb");
     test_ply();
+    test_faces();
     test_bad_input();
     test_round_trip("cornell", 1);
     test_round_trip("two-squares", 1);

@@ -9,13 +9,15 @@
  *    three distinct corners or (near) zero area are dropped and counted in a warning; a corner
  *    with a NaN or infinite coordinate is an error. Faces under a mirroring transform are
  *    turned so that the front stays the front (counter-clockwise). Non-convex faces are cut
- *    into triangles (ear clipping); two consecutive coplanar triangles that form a convex quad
- *    are joined again, since the mesher cuts quads into better elements than triangles.
+ *    into convex quads and triangles (ear clipping, then pairs joined); two consecutive
+ *    coplanar triangles that form a convex quad are joined again, since the mesher cuts quads
+ *    into better elements than triangles.
  * 4. Materials: diffuse reflectance and emitted radiance, plus mirror/glass hints for the
  *    ray-traced pass. Values are kept as the file gives them (a reflectance above 1 is refused
  *    later, when the system is built).
  * 5. The first camera, if the file has one. */
 #include "scene/gltf_extras.h"
+#include "scene/import_check.h"
 #include "scene/scene.h"
 
 #include <assimp/cimport.h>
@@ -217,6 +219,8 @@ typedef struct importer {
     int pending;
     rad_vec3 pending_points[3];
     uint32_t pending_corners[3];
+
+    char label[256]; /* object_label's storage */
 
     /* What was done, for the notes at the end. */
     size_t degenerate, points_and_lines, turned, cut, joined;
@@ -435,9 +439,46 @@ static int join_triangles(importer *im, const rad_vec3 *t, const uint32_t *tc, r
     return 0;
 }
 
-/* Cuts a non-convex (or very large) face into triangles by ear clipping in its plane. */
+/* Joins triangles s = (x, y, z) and t sharing the edge x -> y / y -> x into the quad
+ * (y, z, x, w), w being t's third corner. Indices are into the face; returns 0 when they do not
+ * share an edge or the quad would not be convex. */
+static int join_pieces(const face *f, const uint32_t *s, const uint32_t *t, uint32_t *quad) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            if (s[i] != t[(j + 1) % 3] || s[(i + 1) % 3] != t[j]) continue;
+            quad[0] = s[(i + 1) % 3];
+            quad[1] = s[(i + 2) % 3];
+            quad[2] = s[i];
+            quad[3] = t[(j + 2) % 3];
+            rad_vec3 p[4];
+            for (int k = 0; k < 4; ++k) p[k] = f->points[quad[k]];
+            return convex(p, 4) && !degenerate(p, 4);
+        }
+    return 0;
+}
+
+static rad_status emit_piece(importer *im, const face *f, const uint32_t *piece, size_t n) {
+    rad_vec3 points[4];
+    uint32_t corners[4];
+    for (size_t k = 0; k < n; ++k) {
+        points[k] = f->points[piece[k]];
+        corners[k] = f->corners[piece[k]];
+    }
+    return degenerate(points, n) ? RAD_OK : emit(im, points, corners, n);
+}
+
+/* Cuts a non-convex (or very large) face into convex pieces: triangles by ear clipping in its
+ * plane, then pairs of triangles joined into convex quads where they can be (after Hertel and
+ * Mehlhorn 1983, stopping at quads since the mesher cuts quads best). */
 static rad_status cut_face(importer *im, const face *f) {
     size_t n = f->count;
+    uint32_t (*pieces)[3] = rad_alloc(im->ctx, n, sizeof *pieces);
+    unsigned char *used = rad_alloc_zero(im->ctx, n, 1);
+    if (!pieces || !used) {
+        rad_free(im->ctx, pieces);
+        rad_free(im->ctx, used);
+        return RAD_ERROR_NO_MEMORY;
+    }
     rad_vec3 normal = v3_normalize(newell_normal(f->points, n)), u, v;
     v3_basis(normal, &u, &v);
     for (size_t k = 0; k < n; ++k) {
@@ -445,16 +486,17 @@ static rad_status cut_face(importer *im, const face *f) {
         im->plane[k][1] = v3_dot(f->points[k], v);
         im->order[k] = (uint32_t)k;
     }
-    size_t left = n;
-    rad_status status = RAD_OK;
-    while (left > 3 && !status) {
+    /* Ear clipping: a corner that turns left (strictly) with no other corner inside. */
+    size_t left = n, count = 0;
+    while (left > 3) {
         size_t ear = left;
         for (size_t k = 0; k < left && ear == left; ++k) {
             const double *a = im->plane[im->order[(k + left - 1) % left]];
             const double *b = im->plane[im->order[k]];
             const double *c = im->plane[im->order[(k + 1) % left]];
             double turn = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
-            if (turn <= 0) continue;
+            double scale = hypot(b[0] - a[0], b[1] - a[1]) * hypot(c[0] - b[0], c[1] - b[1]);
+            if (turn <= 1e-12 * scale) continue;
             int empty = 1;
             for (size_t q = 0; q < left && empty; ++q) {
                 if (q == k || q == (k + 1) % left || q == (k + left - 1) % left) continue;
@@ -463,18 +505,30 @@ static rad_status cut_face(importer *im, const face *f) {
             if (empty) ear = k;
         }
         if (ear == left) ear = 0; /* self-intersecting: cut anyway, as a fan would */
-        uint32_t ia = im->order[(ear + left - 1) % left], ib = im->order[ear],
-                 ic = im->order[(ear + 1) % left];
-        rad_vec3 tri[3] = {f->points[ia], f->points[ib], f->points[ic]};
-        uint32_t tri_corners[3] = {f->corners[ia], f->corners[ib], f->corners[ic]};
-        if (!degenerate(tri, 3)) status = emit(im, tri, tri_corners, 3);
+        pieces[count][0] = im->order[(ear + left - 1) % left];
+        pieces[count][1] = im->order[ear];
+        pieces[count][2] = im->order[(ear + 1) % left];
+        count++;
         memmove(im->order + ear, im->order + ear + 1, (left - ear - 1) * sizeof *im->order);
         --left;
     }
-    rad_vec3 tri[3] = {f->points[im->order[0]], f->points[im->order[1]], f->points[im->order[2]]};
-    uint32_t tri_corners[3] = {f->corners[im->order[0]], f->corners[im->order[1]],
-                               f->corners[im->order[2]]};
-    if (!status && !degenerate(tri, 3)) status = emit(im, tri, tri_corners, 3);
+    memcpy(pieces[count++], im->order, 3 * sizeof(uint32_t));
+    /* Pairs into quads, then what is left as triangles. */
+    rad_status status = RAD_OK;
+    for (size_t i = 0; i < count && !status; ++i) {
+        if (used[i]) continue;
+        for (size_t j = i + 1; j < count; ++j) {
+            uint32_t quad[4];
+            if (used[j] || !join_pieces(f, pieces[i], pieces[j], quad)) continue;
+            used[i] = used[j] = 1;
+            status = emit_piece(im, f, quad, 4);
+            break;
+        }
+    }
+    for (size_t i = 0; i < count && !status; ++i)
+        if (!used[i]) status = emit_piece(im, f, pieces[i], 3);
+    rad_free(im->ctx, pieces);
+    rad_free(im->ctx, used);
     return status;
 }
 
@@ -531,6 +585,15 @@ static rad_status grow_scratch(importer *im, size_t corners, size_t vertices) {
     return RAD_OK;
 }
 
+/* A name for messages: the node's, the mesh's, or the file's. */
+static const char *object_label(importer *im, const struct aiNode *node,
+                                const struct aiMesh *mesh) {
+    if (node->mName.length) return node->mName.data;
+    if (mesh->mName.length) return mesh->mName.data;
+    path_stem(im->path, im->label, sizeof im->label);
+    return im->label;
+}
+
 static rad_status read_mesh(importer *im, const struct aiNode *node, const struct aiMesh *mesh,
                             const transform *world) {
     size_t largest = 3;
@@ -557,15 +620,15 @@ static rad_status read_mesh(importer *im, const struct aiNode *node, const struc
             unsigned index = ai_face->mIndices[mirrored ? ai_face->mNumIndices - 1 - k : k];
             if (index >= mesh->mNumVertices)
                 return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: object '%s': face %u uses vertex "
-                                "%u of %u", im->path, node->mName.data, i, index,
-                                mesh->mNumVertices);
+                                "%u, but the object has %u vertices", im->path,
+                                object_label(im, node, mesh), i, index, mesh->mNumVertices);
             const struct aiVector3D *a = &mesh->mVertices[index];
             rad_vec3 p = transform_point(world, v3(a->x, a->y, a->z));
             if (!finite3(p))
                 return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: object '%s': vertex %u has a "
                                 "coordinate that is not a finite number (%g %g %g)", im->path,
-                                node->mName.data, index, (double)a->x, (double)a->y,
-                                (double)a->z);
+                                object_label(im, node, mesh), index, (double)a->x,
+                                (double)a->y, (double)a->z);
             /* Repeated corners (consecutive, or the last one again) add nothing. */
             if (f.count > 0 && same_point(p, f.points[f.count - 1])) continue;
             f.points[f.count] = p;
@@ -682,6 +745,8 @@ rad_status rad_scene_import(rad_context *ctx, const char *path, rad_scene **out)
     FILE *probe = fopen(path, "rb");
     if (!probe) return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(errno));
     fclose(probe);
+    rad_status status = rad_import_check(ctx, path);
+    if (status) return status;
 
     importer im = {0};
     im.ctx = ctx;
@@ -701,7 +766,6 @@ rad_status rad_scene_import(rad_context *ctx, const char *path, rad_scene **out)
         importer_free(&im);
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s: the scene has no faces", path);
     }
-    rad_status status = RAD_OK;
     if (im.is_gltf && rad_gltf_extras_read(ctx, path, &im.gltf) != RAD_OK) {
         /* assimp read it, so this is unlikely; the defaults are safe. */
         rad_warn(ctx, "%s: emissive strength and camera field of view not read (%s)", path,
@@ -737,7 +801,7 @@ rad_status rad_scene_import(rad_context *ctx, const char *path, rad_scene **out)
     if (im.turned)
         rad_info(ctx, "%s: turned %zu faces under mirroring transforms so their fronts stay "
                  "counter-clockwise", path, im.turned);
-    if (im.cut) rad_info(ctx, "%s: cut %zu non-convex faces into triangles", path, im.cut);
+    if (im.cut) rad_info(ctx, "%s: cut %zu non-convex faces into convex pieces", path, im.cut);
     if (im.ai->mNumLights > 0)
         rad_info(ctx, "%s: ignored %u point/spot/directional lights: only emitting surfaces "
                  "give light in radiosity", path, im.ai->mNumLights);

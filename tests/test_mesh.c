@@ -1,0 +1,550 @@
+/* test_mesh.c - meshing (src/mesh/mesh.h) checked against what it promises, on built-in,
+ * imported and hand-made scenes:
+ *   - element areas add up to the polygon areas;
+ *   - patches are contiguous runs of elements of one polygon, every element in one patch;
+ *   - --elements N gives about N elements; element edges stay within the element size and
+ *     patches within the patch size;
+ *   - within a surface and a flat region the elements are conforming: every element edge is
+ *     shared by exactly two elements (in opposite directions) or lies on the boundary of its
+ *     polygon, no vertex lies inside another element's edge (no T-junctions), and no two
+ *     vertices of a region sit at the same place;
+ *   - elements keep the orientation of their polygon (normals agree);
+ *   - vertices are never shared across a crease or between surfaces. */
+#include "mesh/mesh.h"
+#include "scene/scene.h"
+#include "test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static char log_text[8192];
+
+static void on_log(void *user, rad_log_level level, const char *message) {
+    (void)user;
+    size_t used = strlen(log_text);
+    snprintf(log_text + used, sizeof log_text - used, "%s%s\n",
+             level == RAD_LOG_WARNING ? "warning: " : "", message);
+}
+
+static rad_context *ctx;
+
+/* ------------------------------------------------------------------------------------------- */
+/* Scenes made by hand.                                                                        */
+
+static rad_scene *new_scene(const char *name) {
+    rad_scene *scene = NULL;
+    rad_material grey = {0};
+    grey.name = "grey";
+    grey.reflectance[0] = grey.reflectance[1] = grey.reflectance[2] = 0.5;
+    if (rad_scene_new(ctx, 1, name, &scene) || rad_scene_add_material(scene, &grey, NULL)) {
+        fprintf(stderr, "cannot make a scene\n");
+        exit(1);
+    }
+    return scene;
+}
+
+static uint32_t add_surface(rad_scene *scene, const char *name) {
+    uint32_t index = 0;
+    CHECK(rad_scene_add_surface(scene, name, 0, &index) == RAD_OK);
+    return index;
+}
+
+static void add_polygon(rad_scene *scene, uint32_t surface, int count, const double (*p)[3]) {
+    rad_vec3 points[16];
+    for (int k = 0; k < count; ++k) points[k] = v3(p[k][0], p[k][1], p[k][2]);
+    CHECK(rad_scene_add_polygon_points(scene, surface, points, (uint32_t)count) == RAD_OK);
+}
+
+/* A unit square in z = 0 facing +z. */
+static rad_scene *make_square(void) {
+    rad_scene *scene = new_scene("square");
+    static const double q[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    add_polygon(scene, add_surface(scene, "square"), 4, q);
+    return scene;
+}
+
+/* One flat surface of pieces with different edge lengths that meet edge to edge: a 1 x 1
+ * square, two 1.5 x 1 rectangles beside it, a triangle on top of the square, a convex pentagon
+ * and hexagon beyond, and a band of triangles below. Every shared edge must get one cut count,
+ * which union-find carries across quads (opposite edges) and triangles (all three edges). */
+static rad_scene *make_patchwork(void) {
+    rad_scene *scene = new_scene("patchwork");
+    uint32_t s = add_surface(scene, "patchwork");
+    static const double square[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    static const double wide_a[4][3] = {{1, 0, 0}, {2.5, 0, 0}, {2.5, 1, 0}, {1, 1, 0}};
+    static const double wide_b[4][3] = {{2.5, 0, 0}, {4, 0, 0}, {4, 1, 0}, {2.5, 1, 0}};
+    static const double roof[3][3] = {{0, 1, 0}, {1, 1, 0}, {0.5, 1.7, 0}};
+    static const double pentagon[5][3] = {{1, 1, 0}, {2.5, 1, 0}, {2.8, 1.9, 0}, {1.8, 2.6, 0},
+                                          {0.5, 1.7, 0}};
+    static const double hexagon[6][3] = {{2.5, 1, 0}, {4, 1, 0}, {4.4, 1.6, 0}, {4, 2.3, 0},
+                                         {3.2, 2.5, 0}, {2.8, 1.9, 0}};
+    static const double band[4][3][3] = {{{0, -1.3, 0}, {4, -1.3, 0}, {4, 0, 0}},
+                                         {{0, -1.3, 0}, {4, 0, 0}, {2.5, 0, 0}},
+                                         {{0, -1.3, 0}, {2.5, 0, 0}, {1, 0, 0}},
+                                         {{0, -1.3, 0}, {1, 0, 0}, {0, 0, 0}}};
+    add_polygon(scene, s, 4, square);
+    add_polygon(scene, s, 4, wide_a);
+    add_polygon(scene, s, 4, wide_b);
+    add_polygon(scene, s, 3, roof);
+    add_polygon(scene, s, 5, pentagon);
+    add_polygon(scene, s, 6, hexagon);
+    for (int i = 0; i < 4; ++i) add_polygon(scene, s, 3, band[i]);
+    return scene;
+}
+
+/* A box 2 x 1 x 0.5 as one surface facing out (creases at every edge), and a 16-sided open
+ * cylinder facing out (22.5 degrees between facets: smooth, vertices shared across facets). */
+static rad_scene *make_box_and_cylinder(void) {
+    rad_scene *scene = new_scene("box-and-cylinder");
+    uint32_t box = add_surface(scene, "box");
+    static const double faces[6][4][3] = {
+        {{0, 0, 0}, {0, 1, 0}, {2, 1, 0}, {2, 0, 0}},             /* bottom, -z */
+        {{0, 0, 0.5}, {2, 0, 0.5}, {2, 1, 0.5}, {0, 1, 0.5}},     /* top, +z */
+        {{0, 0, 0}, {2, 0, 0}, {2, 0, 0.5}, {0, 0, 0.5}},         /* front, -y */
+        {{0, 1, 0}, {0, 1, 0.5}, {2, 1, 0.5}, {2, 1, 0}},         /* back, +y */
+        {{0, 0, 0}, {0, 0, 0.5}, {0, 1, 0.5}, {0, 1, 0}},         /* left, -x */
+        {{2, 0, 0}, {2, 1, 0}, {2, 1, 0.5}, {2, 0, 0.5}},         /* right, +x */
+    };
+    for (int f = 0; f < 6; ++f) add_polygon(scene, box, 4, faces[f]);
+    uint32_t cylinder = add_surface(scene, "cylinder");
+    for (int k = 0; k < 16; ++k) {
+        double a = 2 * RAD_PI * k / 16, b = 2 * RAD_PI * (k + 1) / 16;
+        double q[4][3] = {{5 + cos(a), sin(a), 0}, {5 + cos(b), sin(b), 0},
+                          {5 + cos(b), sin(b), 1.5}, {5 + cos(a), sin(a), 1.5}};
+        add_polygon(scene, cylinder, 4, (const double(*)[3])q);
+    }
+    return scene;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* The checks.                                                                                  */
+
+typedef struct mesh_report {
+    double area_error;      /* largest relative difference, polygon area vs its elements */
+    double longest_edge;    /* over all element edges, relative to the element size */
+    double widest_patch;    /* patch diameter relative to the patch size */
+    size_t boundary_edges;  /* element edges used once */
+    size_t shared_edges;    /* element edges used twice */
+} mesh_report;
+
+static rad_vec3 vertex(const rad_mesh *mesh, size_t element, int k) {
+    return mesh->vertices[mesh->element_vertices[element][k]];
+}
+
+/* Distance from p to the segment ab, and where along it (0..1) the nearest point lies. */
+static double segment_distance(rad_vec3 p, rad_vec3 a, rad_vec3 b, double *t) {
+    rad_vec3 ab = v3_sub(b, a);
+    double length2 = v3_dot(ab, ab);
+    *t = length2 > 0 ? v3_dot(v3_sub(p, a), ab) / length2 : 0;
+    double clamped = fmin(1, fmax(0, *t));
+    return v3_length(v3_sub(p, v3_add(a, v3_scale(ab, clamped))));
+}
+
+/* Same flat region: same surface, normals equal and in the same plane. */
+static int same_plane(const rad_mesh *mesh, size_t e, size_t f, double scale) {
+    if (mesh->element_surface[e] != mesh->element_surface[f]) return 0;
+    if (v3_dot(mesh->element_normal[e], mesh->element_normal[f]) < 1 - 1e-9) return 0;
+    double offset = v3_dot(mesh->element_normal[e],
+                           v3_sub(mesh->element_centroid[f], mesh->element_centroid[e]));
+    return fabs(offset) < 1e-9 * scale;
+}
+
+typedef struct bounds {
+    rad_vec3 lo, hi;
+} bounds;
+
+static bounds element_bounds(const rad_mesh *mesh, size_t e) {
+    bounds b = {v3(INFINITY, INFINITY, INFINITY), v3(-INFINITY, -INFINITY, -INFINITY)};
+    for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) {
+        rad_vec3 p = vertex(mesh, e, k);
+        b.lo = v3(fmin(b.lo.x, p.x), fmin(b.lo.y, p.y), fmin(b.lo.z, p.z));
+        b.hi = v3(fmax(b.hi.x, p.x), fmax(b.hi.y, p.y), fmax(b.hi.z, p.z));
+    }
+    return b;
+}
+
+static int overlap(const bounds *a, const bounds *b, double slack) {
+    return a->lo.x <= b->hi.x + slack && b->lo.x <= a->hi.x + slack &&
+           a->lo.y <= b->hi.y + slack && b->lo.y <= a->hi.y + slack &&
+           a->lo.z <= b->hi.z + slack && b->lo.z <= a->hi.z + slack;
+}
+
+/* Counts of each undirected element edge (a, b), and how often it runs a -> b (a < b). */
+typedef struct edge_count {
+    uint32_t a, b;
+    int uses, forward;
+} edge_count;
+
+static int compare_edges(const void *x, const void *y) {
+    const edge_count *p = x, *q = y;
+    if (p->a != q->a) return p->a < q->a ? -1 : 1;
+    if (p->b != q->b) return p->b < q->b ? -1 : 1;
+    return 0;
+}
+
+/* Is the segment ab on the boundary of polygon `polygon` (both ends on one of its edges)? */
+static int on_polygon_boundary(const rad_scene *scene, uint32_t polygon, rad_vec3 a, rad_vec3 b,
+                               double scale) {
+    const rad_polygon *p = &scene->polygons[polygon];
+    for (uint32_t k = 0; k < p->count; ++k) {
+        rad_vec3 c = rad_polygon_vertex(scene, p, k), d = rad_polygon_vertex(scene, p, (k + 1) % p->count);
+        double t;
+        if (segment_distance(a, c, d, &t) < 1e-9 * scale && segment_distance(b, c, d, &t) < 1e-9 * scale)
+            return 1;
+    }
+    return 0;
+}
+
+/* Every check of the header on one mesh; `planar` when every input polygon is flat (then areas
+ * and normals must agree to rounding). */
+static mesh_report check_mesh(const char *label, const rad_scene *scene, const rad_mesh *mesh,
+                              int planar) {
+    mesh_report report = {0};
+    int failed_before = test_failed;
+    rad_vec3 lo, hi;
+    rad_scene_bounds(scene, &lo, &hi);
+    double scale = v3_length(v3_sub(hi, lo));
+
+    /* Element data agrees with the element's own vertices; vertices belong to its surface. */
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        int n = rad_mesh_corner_count(mesh, e);
+        rad_vec3 normal = v3(0, 0, 0);
+        for (int k = 0; k < n; ++k) {
+            uint32_t v = mesh->element_vertices[e][k];
+            CHECK(v < mesh->vertex_count);
+            if (v >= mesh->vertex_count) return report;
+            CHECK(mesh->vertex_surface[v] == mesh->element_surface[e]);
+            normal = v3_add(normal, v3_cross(vertex(mesh, e, k), vertex(mesh, e, (k + 1) % n)));
+        }
+        CHECK_NEAR(mesh->element_area[e], 0.5 * v3_length(normal), 1e-9 * mesh->element_area[e]);
+        CHECK(mesh->element_area[e] > 0);
+        CHECK(mesh->element_polygon[e] < scene->polygon_count);
+        CHECK(mesh->element_surface[e] == scene->polygons[mesh->element_polygon[e]].surface);
+        /* Orientation: the element faces the way its polygon does. */
+        rad_vec3 polygon_normal = rad_polygon_normal(scene, &scene->polygons[mesh->element_polygon[e]]);
+        CHECK(v3_dot(v3_normalize(normal), polygon_normal) > (planar ? 1 - 1e-9 : 0.99));
+        CHECK(v3_dot(mesh->element_normal[e], v3_normalize(normal)) > 1 - 1e-9);
+    }
+
+    /* Areas: each polygon's elements add up to the polygon. */
+    double *area = calloc(scene->polygon_count + 1, sizeof *area);
+    for (size_t e = 0; e < mesh->element_count; ++e) area[mesh->element_polygon[e]] += mesh->element_area[e];
+    double total_polygons = 0, total_elements = 0;
+    for (size_t i = 0; i < scene->polygon_count; ++i) {
+        double expected = rad_polygon_area(scene, &scene->polygons[i]);
+        if (!(expected > 0) || !isfinite(expected)) continue;
+        report.area_error = fmax(report.area_error, fabs(area[i] - expected) / expected);
+        total_polygons += expected;
+        total_elements += area[i];
+    }
+    free(area);
+    CHECK(report.area_error < (planar ? 1e-9 : 1e-3));
+    CHECK_NEAR(total_elements, total_polygons, (planar ? 1e-9 : 1e-3) * total_polygons);
+
+    /* Patches: contiguous, non-empty, one polygon each; every element in exactly one. */
+    CHECK(mesh->patch_count > 0 && mesh->patch_first[0] == 0);
+    CHECK(mesh->patch_first[mesh->patch_count] == mesh->element_count);
+    uint32_t k = (uint32_t)fmax(1.0, floor(mesh->patch_size / mesh->element_size + 0.5));
+    for (size_t p = 0; p < mesh->patch_count; ++p) {
+        size_t first = mesh->patch_first[p], end = mesh->patch_first[p + 1];
+        CHECK(end > first);
+        size_t quads = 0, triangles = 0;
+        double diameter = 0;
+        for (size_t e = first; e < end; ++e) {
+            CHECK(mesh->element_patch[e] == p);
+            CHECK(mesh->element_polygon[e] == mesh->element_polygon[first]);
+            if (rad_mesh_corner_count(mesh, e) == 4) quads++;
+            else triangles++;
+            for (size_t f = first; f < end; ++f)
+                for (int a = 0; a < rad_mesh_corner_count(mesh, e); ++a)
+                    for (int b = 0; b < rad_mesh_corner_count(mesh, f); ++b)
+                        diameter = fmax(diameter, v3_length(v3_sub(vertex(mesh, e, a), vertex(mesh, f, b))));
+        }
+        /* A patch is a block of at most k x k cells of its polygon's grid. */
+        CHECK(quads <= (size_t)k * k && triangles <= 2 * (size_t)k * k);
+        report.widest_patch = fmax(report.widest_patch, diameter / mesh->patch_size);
+    }
+    /* Sides at most k element sizes, so the diameter is at most two sides. */
+    CHECK(report.widest_patch <= 2 * k * mesh->element_size / mesh->patch_size * (1 + 1e-9));
+
+    /* Element sizes: no element edge longer than the element size. */
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        int n = rad_mesh_corner_count(mesh, e);
+        for (int c = 0; c < n; ++c) {
+            double length = v3_length(v3_sub(vertex(mesh, e, (c + 1) % n), vertex(mesh, e, c)));
+            report.longest_edge = fmax(report.longest_edge, length / mesh->element_size);
+        }
+    }
+    CHECK(report.longest_edge <= 1 + 1e-9);
+
+    /* Shared edges: used at most twice, and then in opposite directions by elements that bend
+     * less than the crease angle; edges used once lie on their polygon's boundary. */
+    edge_count *edges = malloc((4 * mesh->element_count + 1) * sizeof *edges);
+    size_t edge_total = 0;
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        int n = rad_mesh_corner_count(mesh, e);
+        for (int c = 0; c < n; ++c) {
+            uint32_t a = mesh->element_vertices[e][c], b = mesh->element_vertices[e][(c + 1) % n];
+            edges[edge_total++] = (edge_count){a < b ? a : b, a < b ? b : a, 1, a < b};
+        }
+    }
+    qsort(edges, edge_total, sizeof *edges, compare_edges);
+    size_t unique = 0;
+    for (size_t i = 0; i < edge_total; ++i) {
+        if (unique && compare_edges(&edges[unique - 1], &edges[i]) == 0) {
+            edges[unique - 1].uses++;
+            edges[unique - 1].forward += edges[i].forward;
+        } else {
+            edges[unique++] = edges[i];
+        }
+    }
+    for (size_t i = 0; i < unique; ++i) {
+        CHECK(edges[i].uses <= 2);
+        if (edges[i].uses == 2) {
+            CHECK(edges[i].forward == 1); /* once each way: consistent orientation */
+            report.shared_edges++;
+        } else if (edges[i].uses == 1) {
+            report.boundary_edges++;
+        }
+    }
+    /* Used once: must be on the boundary of the polygon of the element that uses it. */
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        int n = rad_mesh_corner_count(mesh, e);
+        for (int c = 0; c < n; ++c) {
+            uint32_t a = mesh->element_vertices[e][c], b = mesh->element_vertices[e][(c + 1) % n];
+            edge_count key = {a < b ? a : b, a < b ? b : a, 0, 0};
+            edge_count *found = bsearch(&key, edges, unique, sizeof *edges, compare_edges);
+            CHECK(found != NULL);
+            if (found && found->uses == 1)
+                CHECK(on_polygon_boundary(scene, mesh->element_polygon[e], mesh->vertices[a],
+                                          mesh->vertices[b], scale));
+        }
+    }
+    free(edges);
+
+    /* Conformity in each flat region of a surface: no vertex of one element lies inside the
+     * edge of another (a T-junction), and no two different vertices coincide (a crack). */
+    bounds *box = malloc((mesh->element_count + 1) * sizeof *box);
+    for (size_t e = 0; e < mesh->element_count; ++e) box[e] = element_bounds(mesh, e);
+    size_t t_junctions = 0, cracks = 0;
+    double slack = 1e-9 * scale;
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        int n = rad_mesh_corner_count(mesh, e);
+        for (size_t f = 0; f < mesh->element_count; ++f) {
+            if (f == e || !overlap(&box[e], &box[f], slack) || !same_plane(mesh, e, f, scale))
+                continue;
+            for (int j = 0; j < rad_mesh_corner_count(mesh, f); ++j) {
+                uint32_t v = mesh->element_vertices[f][j];
+                rad_vec3 p = mesh->vertices[v];
+                for (int c = 0; c < n; ++c) {
+                    uint32_t a = mesh->element_vertices[e][c], b = mesh->element_vertices[e][(c + 1) % n];
+                    if (v == a || v == b) continue;
+                    double t, d = segment_distance(p, mesh->vertices[a], mesh->vertices[b], &t);
+                    if (d > slack) continue;
+                    if (v3_length(v3_sub(p, mesh->vertices[a])) <= slack ||
+                        v3_length(v3_sub(p, mesh->vertices[b])) <= slack)
+                        cracks++;
+                    else if (t > 0 && t < 1)
+                        t_junctions++;
+                }
+            }
+        }
+    }
+    free(box);
+    CHECK(t_junctions == 0);
+    CHECK(cracks == 0);
+
+    if (test_failed != failed_before)
+        fprintf(stderr, "  in mesh '%s' (%zu elements, %zu patches): %zu T-junctions, %zu cracks\n",
+                label, mesh->element_count, mesh->patch_count, t_junctions, cracks);
+    return report;
+}
+
+static rad_mesh *mesh_of(const rad_scene *scene, double patch, double element, size_t elements) {
+    rad_mesh_options options = {patch, element, elements};
+    rad_mesh *mesh = NULL;
+    rad_status status = rad_mesh_create(ctx, scene, &options, &mesh);
+    CHECK(status == RAD_OK);
+    if (status) fprintf(stderr, "  mesh %s: %s\n", scene->source, rad_context_error(ctx));
+    return mesh;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+/* A unit square, elements 0.1, patches 0.2: exactly 10 x 10 elements in 5 x 5 patches. */
+static void test_square_exact(void) {
+    rad_scene *scene = make_square();
+    rad_mesh *mesh = mesh_of(scene, 0.2, 0.1, 0);
+    if (mesh) {
+        CHECK(mesh->element_count == 100);
+        CHECK(mesh->patch_count == 25);
+        CHECK(mesh->vertex_count == 121);
+        for (size_t e = 0; e < mesh->element_count; ++e) {
+            CHECK_NEAR(mesh->element_area[e], 0.01, 1e-12);
+            CHECK(rad_mesh_corner_count(mesh, e) == 4);
+        }
+        for (size_t p = 0; p < mesh->patch_count; ++p) {
+            double area = 0;
+            for (size_t e = mesh->patch_first[p]; e < mesh->patch_first[p + 1]; ++e)
+                area += mesh->element_area[e];
+            CHECK_NEAR(area, 0.04, 1e-12);
+        }
+        mesh_report r = check_mesh("square", scene, mesh, 1);
+        CHECK(r.shared_edges == 180 && r.boundary_edges == 40);
+    }
+    rad_mesh_destroy(mesh);
+    /* Patches larger than the polygon: one patch. Element larger than the patch: as large as
+     * the patch. An element size not dividing the side: cut into ceil(1 / 0.3) = 4. */
+    mesh = mesh_of(scene, 5, 0.25, 0);
+    if (mesh) CHECK(mesh->element_count == 16 && mesh->patch_count == 1);
+    rad_mesh_destroy(mesh);
+    mesh = mesh_of(scene, 0.5, 2, 0);
+    if (mesh) CHECK(mesh->element_count == 4 && mesh->patch_count == 4);
+    rad_mesh_destroy(mesh);
+    mesh = mesh_of(scene, 0, 0.3, 0);
+    if (mesh) {
+        CHECK(mesh->element_count == 16);
+        check_mesh("square 0.3", scene, mesh, 1);
+    }
+    rad_mesh_destroy(mesh);
+    rad_scene_destroy(scene);
+}
+
+static void test_patchwork(void) {
+    rad_scene *scene = make_patchwork();
+    static const double sizes[] = {0.9, 0.37, 0.11};
+    for (int i = 0; i < 3; ++i) {
+        rad_mesh *mesh = mesh_of(scene, 0, sizes[i], 0);
+        if (!mesh) continue;
+        char label[64];
+        snprintf(label, sizeof label, "patchwork, element size %g", sizes[i]);
+        mesh_report r = check_mesh(label, scene, mesh, 1);
+        printf("%-32s %6zu elements %5zu patches; longest edge %.3f of the size, widest patch "
+               "%.3f of the patch size\n", label, mesh->element_count, mesh->patch_count,
+               r.longest_edge, r.widest_patch);
+        rad_mesh_destroy(mesh);
+    }
+    rad_scene_destroy(scene);
+}
+
+/* Creases split vertices: no vertex is used by two faces of the box that bend by 90 degrees;
+ * the cylinder's facets (22.5 degrees) share theirs. */
+static void test_creases(void) {
+    rad_scene *scene = make_box_and_cylinder();
+    rad_mesh *mesh = mesh_of(scene, 0, 0.2, 0);
+    if (mesh) {
+        check_mesh("box and cylinder", scene, mesh, 1);
+        rad_vec3 *first_normal = calloc(mesh->vertex_count, sizeof *first_normal);
+        size_t bent = 0, smooth = 0;
+        for (size_t e = 0; e < mesh->element_count; ++e)
+            for (int c = 0; c < rad_mesh_corner_count(mesh, e); ++c) {
+                uint32_t v = mesh->element_vertices[e][c];
+                if (v3_length(first_normal[v]) == 0) first_normal[v] = mesh->element_normal[e];
+                else if (v3_dot(first_normal[v], mesh->element_normal[e]) < 0.866) bent++;
+                else if (v3_dot(first_normal[v], mesh->element_normal[e]) < 0.99 &&
+                         mesh->element_surface[e] == 1)
+                    smooth++;
+            }
+        free(first_normal);
+        CHECK(bent == 0);
+        CHECK(smooth > 0); /* the cylinder's facets do share vertices */
+    }
+    rad_mesh_destroy(mesh);
+    rad_scene_destroy(scene);
+}
+
+/* --elements N: about N elements on the Cornell box (measured; the bounds are what the cuts can
+ * do: each edge is rounded up to whole elements). */
+static void test_element_counts(void) {
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_builtin(ctx, "cornell", &scene) == RAD_OK);
+    if (!scene) return;
+    static const size_t wanted[] = {100, 1000, RAD_MESH_DEFAULT_ELEMENTS, 10000};
+    for (int i = 0; i < 4; ++i) {
+        rad_mesh *mesh = mesh_of(scene, 0, 0, i == 2 ? 0 : wanted[i]);
+        if (!mesh) continue;
+        double ratio = (double)mesh->element_count / (double)wanted[i];
+        printf("cornell --elements %-6zu %6zu elements (%.2f x), %5zu patches\n", wanted[i],
+               mesh->element_count, ratio, mesh->patch_count);
+        CHECK(ratio >= 0.8 && ratio <= 2.0);
+        if (wanted[i] <= RAD_MESH_DEFAULT_ELEMENTS) {
+            mesh_report r = check_mesh("cornell", scene, mesh, 0);
+            printf("  polygon area vs elements: largest relative difference %.2g\n", r.area_error);
+        }
+        rad_mesh_destroy(mesh);
+    }
+    rad_scene_destroy(scene);
+}
+
+static void test_builtin_and_imported(void) {
+    static const char *const builtins[] = {"two-squares", "unit-cube", "cornell-mirror"};
+    for (int i = 0; i < 3; ++i) {
+        rad_scene *scene = NULL;
+        CHECK(rad_scene_builtin(ctx, builtins[i], &scene) == RAD_OK);
+        if (!scene) continue;
+        rad_mesh *mesh = mesh_of(scene, 0, 0, 600);
+        if (mesh) check_mesh(builtins[i], scene, mesh, i < 2);
+        rad_mesh_destroy(mesh);
+        rad_scene_destroy(scene);
+    }
+    static const char *const files[] = {RAD_SOURCE_DIR "/scenes/room.obj",
+                                        RAD_SOURCE_DIR "/scenes/lamp-room.gltf",
+                                        RAD_SOURCE_DIR "/scenes/square.ply"};
+    for (int i = 0; i < 3; ++i) {
+        rad_scene *scene = NULL;
+        CHECK(rad_scene_load(ctx, files[i], &scene) == RAD_OK);
+        if (!scene) continue;
+        rad_mesh *mesh = mesh_of(scene, 0, 0, 800);
+        if (mesh) check_mesh(files[i], scene, mesh, 1);
+        rad_mesh_destroy(mesh);
+        rad_scene_destroy(scene);
+    }
+}
+
+/* Degenerate polygons are skipped and counted; bad options and meshes too large refused. */
+static void test_bad_input(void) {
+    rad_scene *scene = make_square();
+    uint32_t s = add_surface(scene, "junk");
+    static const double flat[3][3] = {{0, 0, 1}, {1, 0, 1}, {2, 0, 1}};
+    static const double point[4][3] = {{3, 3, 3}, {3, 3, 3}, {3, 3, 3}, {3, 3, 3}};
+    double broken[3][3] = {{0, 0, 2}, {1, 0, 2}, {0, 1, 2}};
+    broken[1][0] = NAN;
+    add_polygon(scene, s, 3, flat);
+    add_polygon(scene, s, 4, point);
+    add_polygon(scene, s, 3, (const double(*)[3])broken);
+    log_text[0] = '\0';
+    rad_mesh *mesh = mesh_of(scene, 0, 0.5, 0);
+    if (mesh) {
+        CHECK(mesh->element_count == 4);
+        check_mesh("square with junk", scene, mesh, 1);
+    }
+    CHECK(strstr(log_text, "warning: ") && strstr(log_text, "skipped 3 degenerate faces"));
+    rad_mesh_destroy(mesh);
+
+    rad_mesh_options negative = {0, -1, 0};
+    mesh = NULL;
+    CHECK(rad_mesh_create(ctx, scene, &negative, &mesh) == RAD_ERROR_INVALID_ARGUMENT && !mesh);
+    rad_mesh_options huge = {0, 1e-6, 0}; /* 10^12 elements */
+    CHECK(rad_mesh_create(ctx, scene, &huge, &mesh) == RAD_ERROR_MEMORY_BUDGET && !mesh);
+    rad_scene_destroy(scene);
+
+    scene = new_scene("only junk");
+    s = add_surface(scene, "junk");
+    add_polygon(scene, s, 3, flat);
+    CHECK(rad_mesh_create(ctx, scene, NULL, &mesh) != RAD_OK && !mesh);
+    rad_scene_destroy(scene);
+}
+
+int main(void) {
+    rad_context_options options = {0};
+    options.log = on_log;
+    if (rad_context_create(&options, &ctx)) return 1;
+    test_square_exact();
+    test_patchwork();
+    test_creases();
+    test_element_counts();
+    test_builtin_and_imported();
+    test_bad_input();
+    rad_context_destroy(ctx);
+    return test_finish();
+}
