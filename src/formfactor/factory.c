@@ -1,16 +1,30 @@
-/* factory.c - the list of form-factor methods and the choice of the default. */
+/* factory.c - the list of form-factor methods, the choice of the default, and what every method
+ * is built on (the rays of the input geometry, patch outlines, shaft culling, the row cache). */
 #include "formfactor/geometric.h"
 
 #include "scene/scene.h"
 
-rad_status rad_ff_analytic_create(const rad_ff_context *context, rad_ff_provider **out);
+#include <string.h>
 
-/* Defaults chosen by measurement: docs/formfactors.md. */
+rad_status rad_ff_analytic_create(const rad_ff_context *context, rad_ff_provider **out);
+rad_status rad_ff_hemicube_create(const rad_ff_context *context, rad_ff_provider **out);
+rad_status rad_ff_raycast_create(const rad_ff_context *context, rad_ff_provider **out);
+rad_status rad_ff_montecarlo_create(const rad_ff_context *context, rad_ff_provider **out);
+const rad_ff_provider *rad_ff_cache_inner(const rad_ff_provider *provider);
+
+/* Defaults (samples, hemicube resolution, the default method) chosen by measurement:
+ * docs/formfactors.md, "Choosing the default". */
 static const rad_ff_method_entry methods[] = {
-    {RAD_FF_ANALYTIC, "analytic", 4, rad_ff_analytic_create},
+    {RAD_FF_ANALYTIC, "analytic", 4, 0, rad_ff_analytic_create},
+    {RAD_FF_HEMICUBE, "hemicube", 0, 256, rad_ff_hemicube_create},
+    {RAD_FF_RAYCAST, "raycast", 16, 0, rad_ff_raycast_create},
+    {RAD_FF_MONTECARLO, "montecarlo", 64, 0, rad_ff_montecarlo_create},
 };
 #define METHOD_COUNT (sizeof methods / sizeof methods[0])
 #define DEFAULT_METHOD RAD_FF_ANALYTIC
+
+/* The row cache may take this share of the memory budget (rad_context_options.max_memory). */
+#define CACHE_SHARE 0.25
 
 const rad_ff_method_entry *rad_ff_method_find(rad_ff_method method) {
     if (method == RAD_FF_DEFAULT) method = DEFAULT_METHOD;
@@ -19,36 +33,108 @@ const rad_ff_method_entry *rad_ff_method_find(rad_ff_method method) {
     return NULL;
 }
 
-rad_vec3 rad_element_sample(const rad_mesh *mesh, size_t element, double u1, double u2) {
-    rad_vec3 a = rad_element_corner(mesh, element, 0), b = rad_element_corner(mesh, element, 1),
-             c = rad_element_corner(mesh, element, 2);
-    if (rad_mesh_corner_count(mesh, element) == 4) {
-        /* Bilinear: exactly uniform for parallelograms, the elements a grid makes. */
-        rad_vec3 d = rad_element_corner(mesh, element, 3);
-        return v3_add(v3_add(v3_scale(a, (1 - u1) * (1 - u2)), v3_scale(b, u1 * (1 - u2))),
-                      v3_add(v3_scale(c, u1 * u2), v3_scale(d, (1 - u1) * u2)));
-    }
-    double s = sqrt(u1);
-    return v3_add(v3_scale(a, 1 - s), v3_add(v3_scale(b, s * (1 - u2)), v3_scale(c, s * u2)));
+const rad_ff_method_entry *rad_ff_method_by_name(const char *name) {
+    if (!name) return NULL;
+    if (strcmp(name, "default") == 0) return rad_ff_method_find(RAD_FF_DEFAULT);
+    for (size_t i = 0; i < METHOD_COUNT; ++i)
+        if (strcmp(methods[i].name, name) == 0) return &methods[i];
+    return NULL;
 }
 
-rad_status rad_ff_create(rad_context *ctx, const rad_scene *scene, const rad_mesh *mesh,
-                         const rad_ff_options *options, rad_ff_provider **out) {
-    *out = NULL;
+void rad_ff_context_release(rad_ff_context *context) {
+    if (!context) return;
+    rad_rays_destroy(context->rays);
+    rad_free(context->ctx, context->patches);
+    rad_ff_shaft_destroy(context->shaft);
+    context->rays = NULL;
+    context->patches = NULL;
+    context->shaft = NULL;
+}
+
+rad_status rad_ff_context_build(rad_context *ctx, const rad_scene *scene, const rad_mesh *mesh,
+                                const rad_ff_options *options, int cull, rad_ff_context *out) {
+    memset(out, 0, sizeof *out);
     const rad_ff_method_entry *entry = rad_ff_method_find(options->method);
     if (!entry)
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "form-factor method %d is not available",
                         (int)options->method);
     if (options->samples < 0 || options->hemicube_resolution < 0)
-        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "samples and resolution must be positive");
-    rad_ff_context context = {ctx, mesh, NULL, *options};
-    context.options.method = entry->method;
-    if (context.options.samples == 0) context.options.samples = entry->default_samples;
-    rad_rays *rays = NULL;
-    rad_status status = rad_rays_create(ctx, scene, &rays);
-    if (status) return status;
-    context.rays = rays;
-    status = entry->create(&context, out); /* the provider takes the rays */
-    if (status) rad_rays_destroy(rays);
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "form-factor samples and hemicube resolution must be positive");
+    if (options->hemicube_resolution > 4096)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "hemicube resolution %d is too large (at most 4096)",
+                        options->hemicube_resolution);
+    out->ctx = ctx;
+    out->mesh = mesh;
+    out->options = *options;
+    out->options.method = entry->method;
+    if (out->options.samples == 0) out->options.samples = entry->default_samples;
+    if (out->options.samples == 0) out->options.samples = 1;
+    if (out->options.hemicube_resolution == 0) {
+        const rad_ff_method_entry *hemicube = rad_ff_method_find(RAD_FF_HEMICUBE);
+        out->options.hemicube_resolution = hemicube->default_resolution;
+    }
+    rad_status status = rad_rays_create(ctx, scene, &out->rays);
+    if (!status) status = rad_ff_patches_create(ctx, mesh, &out->patches, &out->max_members);
+    if (!status && cull) status = rad_ff_shaft_create(ctx, scene, mesh, &out->shaft);
+    if (status) rad_ff_context_release(out);
     return status;
+}
+
+rad_status rad_ff_create(rad_context *ctx, const rad_scene *scene, const rad_mesh *mesh,
+                         const rad_ff_options *options, rad_ff_provider **out) {
+    *out = NULL;
+    rad_ff_context context;
+    rad_status status = rad_ff_context_build(ctx, scene, mesh, options, 1, &context);
+    if (status) return status;
+    rad_ff_provider *provider = NULL;
+    status = rad_ff_method_find(context.options.method)->create(&context, &provider);
+    if (status) {
+        rad_ff_context_release(&context);
+        return status;
+    }
+    /* Rows are deterministic: keep the ones asked for again (progressive refinement shoots the
+     * brightest patches many times) within a share of the memory budget. */
+    uint64_t budget = ctx->max_memory ? ctx->max_memory : RAD_DEFAULT_MAX_MEMORY;
+    return rad_ff_cache_create(ctx, provider, mesh->patch_count, mesh->element_count,
+                               CACHE_SHARE * (double)budget, out);
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+rad_status rad_ff_common_create(const rad_ff_context *context, size_t size, const char *method,
+                                rad_status (*row)(rad_ff_provider *, size_t, float *),
+                                void (*destroy)(rad_ff_provider *), rad_ff_common **out) {
+    *out = NULL;
+    rad_context *ctx = context->ctx;
+    rad_ff_common *common = rad_alloc_zero(ctx, 1, size);
+    if (!common) return RAD_ERROR_NO_MEMORY;
+    common->maps = rad_alloc(ctx, (size_t)context->max_members, sizeof *common->maps);
+    if (!common->maps) {
+        rad_free(ctx, common);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    common->c = *context;
+    common->base.method = method;
+    common->base.row = row;
+    common->base.destroy = destroy;
+    *out = common;
+    return RAD_OK;
+}
+
+void rad_ff_common_destroy(rad_ff_common *common) {
+    if (!common) return;
+    rad_context *ctx = common->c.ctx;
+    rad_ff_context_release(&common->c);
+    rad_free(ctx, common->maps);
+    rad_free(ctx, common);
+}
+
+rad_ff_stats rad_ff_provider_stats(const rad_ff_provider *provider) {
+    rad_ff_stats none = {0, 0, 0};
+    if (!provider) return none;
+    provider = rad_ff_cache_inner(provider);
+    if (!rad_ff_method_by_name(provider->method)) return none;
+    return ((const rad_ff_common *)provider)->stats;
 }

@@ -1,41 +1,271 @@
 /* geometric.h - what every geometric form-factor method shares: the mesh, the input geometry's
- * ray queries, the options, and small helpers for points on elements. One file per method:
- * analytic.c, hemicube.c, raycast.c, montecarlo.c; the table in factory.c lists them. */
+ * ray queries, the shooting patches' outlines, stratified points on patches and elements, shaft
+ * culling, and the options. One file per method: analytic.c, hemicube.c, raycast.c,
+ * montecarlo.c; the table in factory.c lists them; patch.c, shaft.c and cache.c are the shared
+ * pieces. docs/formfactors.md explains each method with its paper. */
 #ifndef RAD_FORMFACTOR_GEOMETRIC_H
 #define RAD_FORMFACTOR_GEOMETRIC_H
 
+#include "core/rng.h"
 #include "formfactor/provider.h"
 #include "mesh/mesh.h"
 #include "scene/rays.h"
 
+#define RAD_FF_MAX_OUTLINE 12
+
+/* A shooting patch: the convex outline of its elements (counter-clockwise seen from the front),
+ * its area-weighted centre, its unit normal and area. */
+typedef struct rad_ff_patch {
+    rad_vec3 centre, normal;
+    double area;
+    double radius; /* largest distance from the centre to a corner */
+    rad_vec3 lo, hi; /* bounds of the outline */
+    int corner_count;
+    rad_vec3 corners[RAD_FF_MAX_OUTLINE];
+} rad_ff_patch;
+
+typedef struct rad_ff_shaft rad_ff_shaft;
+
+/* Everything a method needs; built by rad_ff_create and released with rad_ff_context_release
+ * by the provider that holds it. */
 typedef struct rad_ff_context {
     rad_context *ctx;
     const rad_mesh *mesh;   /* owned by the system */
-    const rad_rays *rays;   /* owned by the provider that holds this */
+    rad_rays *rays;         /* owned here */
+    rad_ff_patch *patches;  /* owned here, mesh->patch_count entries */
+    rad_ff_shaft *shaft;    /* owned here; NULL when the scene is too large to cull this way */
+    int max_members;        /* most elements in one patch */
     rad_ff_options options; /* samples and resolution already defaulted */
 } rad_ff_context;
+
+void rad_ff_context_release(rad_ff_context *context);
+
+/* Builds a context: rays of the input geometry, patch outlines and (when `cull` is nonzero and
+ * the scene is small enough) the shaft-culling tables. Release with rad_ff_context_release. */
+rad_status rad_ff_context_build(rad_context *ctx, const struct rad_scene *scene,
+                                const rad_mesh *mesh, const rad_ff_options *options, int cull,
+                                rad_ff_context *out);
+
+/* What a provider did, for benchmarks: rows computed, form factors (receivers) evaluated,
+ * visibility rays cast. */
+typedef struct rad_ff_stats {
+    uint64_t rows, receivers, rays;
+} rad_ff_stats;
+
+/* The first members of every geometric provider. */
+typedef struct rad_ff_common {
+    rad_ff_provider base;
+    rad_ff_context c;
+    struct rad_ff_element_map *maps; /* max_members entries, for rad_ff_source_begin */
+    rad_ff_stats stats;
+} rad_ff_common;
+
+/* Allocates a provider of `size` bytes starting with rad_ff_common, taking over the context
+ * (its rays, outlines and shaft) on success. */
+rad_status rad_ff_common_create(const rad_ff_context *context, size_t size, const char *method,
+                                rad_status (*row)(rad_ff_provider *, size_t, float *),
+                                void (*destroy)(rad_ff_provider *), rad_ff_common **out);
+/* Frees what rad_ff_common_create made (call from the method's destroy, last). */
+void rad_ff_common_destroy(rad_ff_common *common);
+
+/* The statistics of a provider made by rad_ff_create (looking through the row cache); zeros
+ * for providers that keep none. */
+rad_ff_stats rad_ff_provider_stats(const rad_ff_provider *provider);
 
 typedef struct rad_ff_method_entry {
     rad_ff_method method;
     const char *name;
     int default_samples;
+    int default_resolution;
     rad_status (*create)(const rad_ff_context *context, rad_ff_provider **out);
 } rad_ff_method_entry;
 
-/* Creates the provider for options->method over a mesh (RAD_FF_DEFAULT picks the default). */
+/* Creates the provider for options->method over a mesh (RAD_FF_DEFAULT picks the default).
+ * Rows are cached within a share of the memory budget (cache.c). */
 rad_status rad_ff_create(rad_context *ctx, const struct rad_scene *scene, const rad_mesh *mesh,
                          const rad_ff_options *options, rad_ff_provider **out);
 
 /* The method table (factory.c). */
 const rad_ff_method_entry *rad_ff_method_find(rad_ff_method method);
+const rad_ff_method_entry *rad_ff_method_by_name(const char *name);
 
-/* A point on element e from two uniform numbers (uniform by area). */
+/* A row cache in front of a provider (cache.c): rows are deterministic, so progressive
+ * refinement, which shoots the same bright patches again and again, computes each once.
+ * Holds at most `bytes`; evicts the least recently used row. Takes ownership of `inner`. */
+rad_status rad_ff_cache_create(rad_context *ctx, rad_ff_provider *inner, size_t patch_count,
+                               size_t element_count, double bytes, rad_ff_provider **out);
+
+/* ------------------------------------------------------------------------------------------- */
+/* Points on elements and patches (patch.c)                                                     */
+
+/* An element ready for sampling: p(u, v) = origin + u e1 + v e2 + u v e3 for quads (bilinear,
+ * uniform by area for parallelograms), and with u -> sqrt(u) (1 - v), v -> sqrt(u) v for
+ * triangles. */
+typedef struct rad_ff_element_map {
+    rad_vec3 origin, e1, e2, e3;
+    double area;
+    int triangle;
+} rad_ff_element_map;
+
+rad_ff_element_map rad_ff_element_map_make(const rad_mesh *mesh, size_t element);
+
+static inline rad_vec3 rad_ff_element_map_point(const rad_ff_element_map *m, double u, double v) {
+    if (m->triangle) {
+        double s = sqrt(u);
+        double a = s * (1 - v), b = s * v;
+        return v3(m->origin.x + a * m->e1.x + b * m->e2.x, m->origin.y + a * m->e1.y + b * m->e2.y,
+                  m->origin.z + a * m->e1.z + b * m->e2.z);
+    }
+    double w = u * v;
+    return v3(m->origin.x + u * m->e1.x + v * m->e2.x + w * m->e3.x,
+              m->origin.y + u * m->e1.y + v * m->e2.y + w * m->e3.y,
+              m->origin.z + u * m->e1.z + v * m->e2.z + w * m->e3.z);
+}
+
+/* A point on element e from two uniform numbers (uniform by area for parallelograms). */
 rad_vec3 rad_element_sample(const rad_mesh *mesh, size_t element, double u1, double u2);
 
 /* Corner k of element e. */
 static inline rad_vec3 rad_element_corner(const rad_mesh *mesh, size_t element, int k) {
     return mesh->vertices[mesh->element_vertices[element][k]];
 }
+
+/* The R2 sequence (Roberts 2018): the 2-D low-discrepancy lattice i * (1/g, 1/g^2) mod 1 with
+ * g the plastic number, rotated by a random offset (Cranley & Patterson 1976). */
+#define RAD_R2_A1 0.75487766624669276
+#define RAD_R2_A2 0.56984029099805327
+static inline void rad_r2_point(int i, double r1, double r2, double *u, double *v) {
+    double a = r1 + i * RAD_R2_A1, b = r2 + i * RAD_R2_A2;
+    *u = a - floor(a);
+    *v = b - floor(b);
+}
+
+/* The shooting patch of a row, ready for stratified sampling: `count` points spread over its
+ * elements (each element gets count / members of them, or, with fewer points than elements, a
+ * stratified choice of elements), weights summing to the patch area in expectation. */
+typedef struct rad_ff_source {
+    const rad_ff_patch *patch;
+    int members, count;
+    rad_ff_element_map *maps; /* members entries, scratch owned by the provider */
+} rad_ff_source;
+
+void rad_ff_source_begin(rad_ff_source *source, const rad_ff_context *context, size_t patch,
+                         int count, rad_ff_element_map *scratch);
+
+/* The random offsets of one receiver's set of source points. */
+typedef struct rad_ff_jitter {
+    double choice, r1, r2;
+} rad_ff_jitter;
+
+static inline rad_ff_jitter rad_ff_jitter_make(rad_rng *rng) {
+    rad_ff_jitter j;
+    j.choice = rad_rng_uniform(rng);
+    j.r1 = rad_rng_uniform(rng);
+    j.r2 = rad_rng_uniform(rng);
+    return j;
+}
+
+/* Source point s of a set of n (0 <= s < n; n is usually source->count) and its area
+ * weight. */
+static inline rad_vec3 rad_ff_source_point(const rad_ff_source *source, const rad_ff_jitter *j,
+                                           int s, int n, double *weight) {
+    int m = source->members, q, index;
+    if (n >= m) {
+        q = s % m;
+        index = s / m;
+        int per = n / m + (q < n % m);
+        *weight = source->maps[q].area / per;
+    } else {
+        q = (int)(((double)s + j->choice) * m / n);
+        if (q >= m) q = m - 1;
+        index = s;
+        *weight = source->maps[q].area * m / n;
+    }
+    double u, v;
+    rad_r2_point(index, j->r1 + q * RAD_R2_A2, j->r2 + q * RAD_R2_A1, &u, &v);
+    return rad_ff_element_map_point(&source->maps[q], u, v);
+}
+
+/* Seed of the random numbers of one row: rows never depend on the thread count or the order in
+ * which they are asked for. Receiver e then draws from stream e. */
+static inline uint64_t rad_ff_row_seed(const rad_ff_context *context, size_t patch) {
+    uint64_t x = context->ctx->seed ^ (0x9e3779b97f4a7c15ull * (uint64_t)(patch + 1));
+    x ^= x >> 31;
+    x *= 0xbf58476d1ce4e5b9ull;
+    return x ^ (x >> 29);
+}
+
+/* Builds the outlines of every patch (patch.c). */
+rad_status rad_ff_patches_create(rad_context *ctx, const rad_mesh *mesh, rad_ff_patch **out,
+                                 int *max_members);
+
+/* Nonzero when nothing can pass energy from the patch to element e: e lies on or behind the
+ * patch's plane, or the whole patch lies on or behind e's plane. */
+int rad_ff_facing_away(const rad_mesh *mesh, const rad_ff_patch *patch, size_t element);
+
+/* ------------------------------------------------------------------------------------------- */
+/* Visibility rays in full packets                                                              */
+
+/* Receivers are handled in blocks of this many (one parallel task); their rays share packets,
+ * so a packet of 16 is full even when each receiver casts only a few. */
+#define RAD_FF_BLOCK 64
+
+/* Segments waiting for a packet; each carries the contribution it makes to receiver `slot` of
+ * the block when nothing blocks it. */
+typedef struct rad_ff_ray_queue {
+    rad_ray_packet packet;
+    double contribution[16];
+    int slot[16];
+} rad_ff_ray_queue;
+
+/* Traces what is queued and adds the contributions of the unblocked segments to sums[slot]. */
+static inline void rad_ff_queue_flush(rad_ff_ray_queue *queue, const rad_rays *rays,
+                                      double *sums) {
+    if (!queue->packet.count) return;
+    rad_rays_trace_packet(rays, &queue->packet);
+    for (int i = 0; i < queue->packet.count; ++i)
+        if (!rad_ray_packet_occluded(&queue->packet, i)) sums[queue->slot[i]] += queue->contribution[i];
+    queue->packet.count = 0;
+}
+
+/* Queues the segment from -> to (both already offset from their surfaces), flushing when the
+ * packet is full. The ends are excluded by the rays' epsilon. Returns the rays cast (0 or 1). */
+static inline int rad_ff_queue_segment(rad_ff_ray_queue *queue, const rad_rays *rays,
+                                       double *sums, rad_vec3 from, rad_vec3 to,
+                                       double contribution, int slot) {
+    rad_vec3 d = v3_sub(to, from);
+    double length = sqrt(v3_dot(d, d));
+    if (length <= 2 * rays->epsilon) {
+        sums[slot] += contribution;
+        return 0;
+    }
+    double margin = rays->epsilon / length;
+    int lane = rad_ray_packet_add(&queue->packet, from, d, margin, 1 - margin);
+    queue->contribution[lane] = contribution;
+    queue->slot[lane] = slot;
+    if (queue->packet.count == 16) rad_ff_queue_flush(queue, rays, sums);
+    return 1;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Shaft culling (Haines & Wallace 1991), shaft.c                                               */
+
+/* Built once per provider; NULL (and RAD_OK) when the scene has too many polygons for the
+ * pairwise tables. */
+rad_status rad_ff_shaft_create(rad_context *ctx, const struct rad_scene *scene,
+                               const rad_mesh *mesh, rad_ff_shaft **out);
+void rad_ff_shaft_destroy(rad_ff_shaft *shaft);
+
+/* Prepares the occluder candidates of one shooting patch. Not thread safe; call before the
+ * parallel loop over receivers. */
+void rad_ff_shaft_begin(rad_ff_shaft *shaft, const rad_ff_patch *patch);
+
+/* Nonzero when no input polygon can block any segment between the patch of the last
+ * rad_ff_shaft_begin and element e, so no ray is needed. Thread safe. A NULL shaft clears
+ * nothing. */
+int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element);
+
+/* ------------------------------------------------------------------------------------------- */
 
 /* Point-to-polygon form factor (Lambert's contour integral, Baum et al. 1989): the fraction of
  * the energy leaving a differential area at x with unit normal n that arrives at the polygon,

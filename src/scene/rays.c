@@ -146,3 +146,136 @@ int rad_rays_intersect(const rad_rays *rays, rad_vec3 origin, rad_vec3 direction
     hit->normal = n;
     return 1;
 }
+
+/* ------------------------------------------------------------------------------------------- */
+/* Batches: packets of N rays (Embree's SIMD traversal) or the stream interface. Packets of 16
+ * measured fastest for the coherent rays of form factors (bench/bench_formfactors.c).           */
+
+static int batch_mode = 16;
+
+void rad_rays_set_batch_mode(int mode) { batch_mode = mode; }
+
+/* One segment as a ray: unit direction, t in (epsilon, length - epsilon). Returns 0 when the
+ * segment is too short to be blocked. */
+static int segment_ray(const rad_rays *rays, rad_vec3 a, rad_vec3 b, float org[3], float dir[3],
+                       float *tnear, float *tfar) {
+    rad_vec3 d = v3_sub(b, a);
+    double length = v3_length(d);
+    if (length <= 2 * rays->epsilon) return 0;
+    double inverse = 1.0 / length;
+    org[0] = (float)a.x;
+    org[1] = (float)a.y;
+    org[2] = (float)a.z;
+    dir[0] = (float)(d.x * inverse);
+    dir[1] = (float)(d.y * inverse);
+    dir[2] = (float)(d.z * inverse);
+    *tnear = (float)rays->epsilon;
+    *tfar = (float)(length - rays->epsilon);
+    return 1;
+}
+
+#define DEFINE_PACKET(N)                                                                          \
+    static void occluded_packets##N(const rad_rays *rays, const rad_vec3 *a, const rad_vec3 *b,  \
+                                    size_t count, uint8_t *occluded) {                           \
+        struct RTCIntersectContext context;                                                      \
+        rtcInitIntersectContext(&context);                                                       \
+        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;                                     \
+        for (size_t start = 0; start < count; start += N) {                                      \
+            RTC_ALIGN(64) struct RTCRay##N ray;                                                  \
+            RTC_ALIGN(64) int valid[N];                                                          \
+            size_t lanes = count - start < N ? count - start : N;                                \
+            for (size_t i = 0; i < N; ++i) {                                                     \
+                float org[3] = {0, 0, 0}, dir[3] = {0, 0, 1}, tnear = 0, tfar = 0;              \
+                int live = i < lanes &&                                                          \
+                           segment_ray(rays, a[start + i], b[start + i], org, dir, &tnear, &tfar); \
+                valid[i] = live ? -1 : 0;                                                        \
+                ray.org_x[i] = org[0];                                                           \
+                ray.org_y[i] = org[1];                                                           \
+                ray.org_z[i] = org[2];                                                           \
+                ray.dir_x[i] = dir[0];                                                           \
+                ray.dir_y[i] = dir[1];                                                           \
+                ray.dir_z[i] = dir[2];                                                           \
+                ray.tnear[i] = tnear;                                                            \
+                ray.tfar[i] = tfar;                                                              \
+                ray.time[i] = 0;                                                                 \
+                ray.mask[i] = UINT32_MAX;                                                        \
+                ray.id[i] = (unsigned)i;                                                         \
+                ray.flags[i] = 0;                                                                \
+            }                                                                                    \
+            rtcOccluded##N(valid, rays->scene, &context, &ray);                                  \
+            for (size_t i = 0; i < lanes; ++i) occluded[start + i] = valid[i] && ray.tfar[i] < 0; \
+        }                                                                                        \
+    }
+
+DEFINE_PACKET(4)
+DEFINE_PACKET(8)
+DEFINE_PACKET(16)
+
+static void occluded_stream(const rad_rays *rays, const rad_vec3 *a, const rad_vec3 *b,
+                            size_t count, uint8_t *occluded) {
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    enum { CHUNK = 64 };
+    struct RTCRay ray[CHUNK];
+    unsigned slot[CHUNK];
+    for (size_t start = 0; start < count; start += CHUNK) {
+        size_t lanes = count - start < CHUNK ? count - start : CHUNK;
+        unsigned live = 0;
+        for (size_t i = 0; i < lanes; ++i) {
+            struct RTCRay *r = &ray[live];
+            float org[3], dir[3];
+            occluded[start + i] = 0;
+            if (!segment_ray(rays, a[start + i], b[start + i], org, dir, &r->tnear, &r->tfar))
+                continue;
+            r->org_x = org[0];
+            r->org_y = org[1];
+            r->org_z = org[2];
+            r->dir_x = dir[0];
+            r->dir_y = dir[1];
+            r->dir_z = dir[2];
+            r->time = 0;
+            r->mask = UINT32_MAX;
+            r->id = (unsigned)i;
+            r->flags = 0;
+            slot[live++] = (unsigned)i;
+        }
+        if (live) rtcOccluded1M(rays->scene, &context, ray, live, sizeof ray[0]);
+        for (unsigned k = 0; k < live; ++k) occluded[start + slot[k]] = ray[k].tfar < 0;
+    }
+}
+
+void rad_rays_occluded_batch(const rad_rays *rays, const rad_vec3 *a, const rad_vec3 *b,
+                             size_t count, uint8_t *occluded) {
+    switch (batch_mode) {
+    case 0: occluded_stream(rays, a, b, count, occluded); break;
+    case 4: occluded_packets4(rays, a, b, count, occluded); break;
+    case 8: occluded_packets8(rays, a, b, count, occluded); break;
+    case 16: occluded_packets16(rays, a, b, count, occluded); break;
+    default:
+        for (size_t i = 0; i < count; ++i) occluded[i] = (uint8_t)rad_rays_occluded(rays, a[i], b[i]);
+    }
+}
+
+void rad_rays_trace_packet(const rad_rays *rays, rad_ray_packet *packet) {
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    for (int i = 0; i < 16; ++i) {
+        int live = i < packet->count && packet->ray.tnear[i] < packet->ray.tfar[i];
+        packet->valid[i] = live ? -1 : 0;
+        if (i >= packet->count) {
+            packet->ray.org_x[i] = packet->ray.org_y[i] = packet->ray.org_z[i] = 0;
+            packet->ray.dir_x[i] = packet->ray.dir_y[i] = 0;
+            packet->ray.dir_z[i] = 1;
+            packet->ray.tnear[i] = packet->ray.tfar[i] = 0;
+        }
+        packet->ray.time[i] = 0;
+        packet->ray.mask[i] = UINT32_MAX;
+        packet->ray.id[i] = (unsigned)i;
+        packet->ray.flags[i] = 0;
+    }
+    rtcOccluded16(packet->valid, rays->scene, &context, &packet->ray);
+    for (int i = 0; i < packet->count; ++i)
+        if (!packet->valid[i]) packet->ray.tfar[i] = 1; /* a segment too short to be blocked */
+}

@@ -24,6 +24,49 @@ void rad_rays_destroy(rad_rays *rays);
  * Thread safe. */
 int rad_rays_occluded(const rad_rays *rays, rad_vec3 a, rad_vec3 b);
 
+/* The same for many segments a[i] -> b[i]: occluded[i] is set nonzero when something blocks
+ * segment i. Segments go to Embree in packets of 16 (coherent batches, such as the rays from one
+ * receiver to points on one patch, trace fastest). Thread safe. */
+void rad_rays_occluded_batch(const rad_rays *rays, const rad_vec3 *a, const rad_vec3 *b,
+                             size_t count, uint8_t *occluded);
+
+/* How rad_rays_occluded_batch calls Embree (for benchmarks): 1 single rays, 4, 8 or 16
+ * packets, 0 the stream interface rtcOccluded1M. Not thread safe; the default is 16. */
+void rad_rays_set_batch_mode(int mode);
+
+/* A packet of up to 16 segments for rad_rays_trace_packet, filled by the caller (form factors
+ * fill it straight from the vectors they already have, so no segment is normalised twice). */
+typedef struct rad_ray_packet {
+    struct RTCRay16 ray;
+    RTC_ALIGN(64) int valid[16];
+    int count;
+} rad_ray_packet;
+
+static inline void rad_ray_packet_clear(rad_ray_packet *packet) { packet->count = 0; }
+
+/* Adds the segment origin -> origin + direction, blocked only for t in (tnear, tfar) (in units
+ * of the direction's length). Returns the lane. The packet must not be full. */
+static inline int rad_ray_packet_add(rad_ray_packet *packet, rad_vec3 origin, rad_vec3 direction,
+                                     double tnear, double tfar) {
+    int i = packet->count++;
+    packet->ray.org_x[i] = (float)origin.x;
+    packet->ray.org_y[i] = (float)origin.y;
+    packet->ray.org_z[i] = (float)origin.z;
+    packet->ray.dir_x[i] = (float)direction.x;
+    packet->ray.dir_y[i] = (float)direction.y;
+    packet->ray.dir_z[i] = (float)direction.z;
+    packet->ray.tnear[i] = (float)tnear;
+    packet->ray.tfar[i] = (float)tfar;
+    return i;
+}
+
+/* Traces the packet's segments; afterwards rad_ray_packet_occluded tells lane by lane. */
+void rad_rays_trace_packet(const rad_rays *rays, rad_ray_packet *packet);
+
+static inline int rad_ray_packet_occluded(const rad_ray_packet *packet, int lane) {
+    return packet->ray.tfar[lane] < 0;
+}
+
 typedef struct rad_hit {
     double t;
     uint32_t polygon;

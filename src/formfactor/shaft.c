@@ -1,0 +1,260 @@
+/* shaft.c - shaft culling (Haines & Wallace 1991, "Shaft culling for efficient ray-traced
+ * radiosity"): before casting rays between a shooting patch and a receiving element, find the
+ * input polygons that could possibly block any segment between them. When there are none the
+ * pair is fully visible and no ray is cast.
+ *
+ * A convex polygon Q cannot block a segment when
+ *   - both ends lie on the same side of Q's plane (or on it), or
+ *   - Q lies outside the shaft: the convex hull of the bounding boxes of patch and element,
+ *     bounded by the faces of the box around both and by the planes through the edges where
+ *     one box reaches further along one axis and the other further along another.
+ * Applied to all corners of the patch and the element, both tests hold for every segment
+ * between them (the set of segments lies in the convex hull of the corners).
+ *
+ * Per shooting patch (rad_ff_shaft_begin) the plane test is made against every receiving input
+ * polygon R as a whole, giving for each R a short list of candidate occluders; per element
+ * (rad_ff_shaft_clear) the candidates of its polygon are tested against the element itself. The
+ * pairwise side table costs polygons^2 bytes, so large scenes (many polygons) skip culling and
+ * every pair is ray tested. */
+#include "formfactor/geometric.h"
+
+#include "scene/scene.h"
+
+#include <string.h>
+
+#define SHAFT_MAX_POLYGONS 512
+
+enum { SIDE_FRONT = 1, SIDE_BACK = 2 };
+
+static inline double min2(double a, double b) { return a < b ? a : b; }
+static inline double max2(double a, double b) { return a > b ? a : b; }
+
+struct rad_ff_shaft {
+    rad_context *ctx;
+    const rad_mesh *mesh;
+    size_t polygon_count;
+    rad_vec3 *normal;    /* unit plane normal of polygon Q */
+    double *offset;      /* plane: normal . x = offset */
+    double *tolerance;   /* distances within this count as "on the plane" */
+    rad_vec3 *lo, *hi;   /* bounds, widened by the tolerance */
+    uint32_t *corner_first; /* count + 1: polygon Q's corners are corners[first[Q] .. first[Q+1]) */
+    rad_vec3 *corners;
+    uint8_t *side;       /* side[R * count + Q]: where polygon R's corners lie against Q's plane */
+    /* Per shooting patch. */
+    uint8_t *patch_side; /* where the patch's corners lie against Q's plane */
+    rad_vec3 patch_lo, patch_hi;
+    uint32_t *candidate_first; /* count + 1 */
+    uint32_t *candidates;
+};
+
+static uint8_t classify(const rad_ff_shaft *shaft, size_t q, const rad_vec3 *points, int count) {
+    uint8_t bits = 0;
+    for (int k = 0; k < count; ++k) {
+        double d = v3_dot(shaft->normal[q], points[k]) - shaft->offset[q];
+        if (d > shaft->tolerance[q]) bits |= SIDE_FRONT;
+        else if (d < -shaft->tolerance[q]) bits |= SIDE_BACK;
+    }
+    return bits;
+}
+
+void rad_ff_shaft_destroy(rad_ff_shaft *shaft) {
+    if (!shaft) return;
+    rad_context *ctx = shaft->ctx;
+    rad_free(ctx, shaft->normal);
+    rad_free(ctx, shaft->offset);
+    rad_free(ctx, shaft->tolerance);
+    rad_free(ctx, shaft->lo);
+    rad_free(ctx, shaft->hi);
+    rad_free(ctx, shaft->corner_first);
+    rad_free(ctx, shaft->corners);
+    rad_free(ctx, shaft->side);
+    rad_free(ctx, shaft->patch_side);
+    rad_free(ctx, shaft->candidate_first);
+    rad_free(ctx, shaft->candidates);
+    rad_free(ctx, shaft);
+}
+
+rad_status rad_ff_shaft_create(rad_context *ctx, const rad_scene *scene, const rad_mesh *mesh,
+                               rad_ff_shaft **out) {
+    *out = NULL;
+    size_t n = scene->polygon_count;
+    if (n == 0 || n > SHAFT_MAX_POLYGONS) return RAD_OK;
+    rad_ff_shaft *shaft = rad_alloc_zero(ctx, 1, sizeof *shaft);
+    if (!shaft) return RAD_ERROR_NO_MEMORY;
+    shaft->ctx = ctx;
+    shaft->mesh = mesh;
+    shaft->polygon_count = n;
+    shaft->normal = rad_alloc(ctx, n, sizeof *shaft->normal);
+    shaft->offset = rad_alloc(ctx, n, sizeof *shaft->offset);
+    shaft->tolerance = rad_alloc(ctx, n, sizeof *shaft->tolerance);
+    shaft->lo = rad_alloc(ctx, n, sizeof *shaft->lo);
+    shaft->hi = rad_alloc(ctx, n, sizeof *shaft->hi);
+    shaft->side = rad_alloc(ctx, n * n, sizeof *shaft->side);
+    shaft->patch_side = rad_alloc(ctx, n, sizeof *shaft->patch_side);
+    shaft->candidate_first = rad_alloc(ctx, n + 1, sizeof *shaft->candidate_first);
+    shaft->candidates = rad_alloc(ctx, n * n, sizeof *shaft->candidates);
+    shaft->corner_first = rad_alloc(ctx, n + 1, sizeof *shaft->corner_first);
+    shaft->corners = rad_alloc(ctx, scene->polygon_vertex_count + 1, sizeof *shaft->corners);
+    if (!shaft->normal || !shaft->offset || !shaft->tolerance || !shaft->lo || !shaft->hi ||
+        !shaft->corner_first || !shaft->corners ||
+        !shaft->side || !shaft->patch_side || !shaft->candidate_first || !shaft->candidates) {
+        rad_ff_shaft_destroy(shaft);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    rad_vec3 scene_lo, scene_hi;
+    rad_scene_bounds(scene, &scene_lo, &scene_hi);
+    double base = 1e-6 * v3_length(v3_sub(scene_hi, scene_lo));
+    rad_vec3 points[64];
+    uint32_t stored = 0;
+    for (size_t q = 0; q < n; ++q) {
+        const rad_polygon *polygon = &scene->polygons[q];
+        shaft->corner_first[q] = stored;
+        for (uint32_t k = 0; k < polygon->count; ++k)
+            shaft->corners[stored++] = rad_polygon_vertex(scene, polygon, k);
+    }
+    shaft->corner_first[n] = stored;
+    for (size_t q = 0; q < n; ++q) {
+        const rad_polygon *polygon = &scene->polygons[q];
+        rad_vec3 normal = rad_polygon_normal(scene, polygon);
+        int count = polygon->count < 64 ? (int)polygon->count : 64;
+        rad_vec3 centre = v3(0, 0, 0), lo = rad_polygon_vertex(scene, polygon, 0), hi = lo;
+        for (int k = 0; k < count; ++k) {
+            points[k] = rad_polygon_vertex(scene, polygon, (uint32_t)k);
+            centre = v3_add(centre, points[k]);
+            lo = v3(fmin(lo.x, points[k].x), fmin(lo.y, points[k].y), fmin(lo.z, points[k].z));
+            hi = v3(fmax(hi.x, points[k].x), fmax(hi.y, points[k].y), fmax(hi.z, points[k].z));
+        }
+        centre = v3_scale(centre, 1.0 / count);
+        /* A polygon that is not quite planar (Embree sees its fan of triangles) widens the band
+         * that counts as its plane, so the test stays conservative. */
+        double warp = 0;
+        for (int k = 0; k < count; ++k) warp = fmax(warp, fabs(v3_dot(normal, v3_sub(points[k], centre))));
+        double tolerance = base + 2 * warp;
+        if (!isfinite(normal.x) || v3_length(normal) < 0.5) {
+            /* Degenerate polygons never block (the mesher skips them; Embree hardly hits them). */
+            normal = v3(0, 0, 1);
+            tolerance = INFINITY;
+        }
+        shaft->normal[q] = normal;
+        shaft->offset[q] = v3_dot(normal, centre);
+        shaft->tolerance[q] = tolerance;
+        rad_vec3 widen = v3(tolerance, tolerance, tolerance);
+        if (!isfinite(tolerance)) widen = v3(0, 0, 0);
+        shaft->lo[q] = v3_sub(lo, widen);
+        shaft->hi[q] = v3_add(hi, widen);
+    }
+    for (size_t r = 0; r < n; ++r) {
+        const rad_polygon *polygon = &scene->polygons[r];
+        int count = polygon->count < 64 ? (int)polygon->count : 64;
+        for (int k = 0; k < count; ++k) points[k] = rad_polygon_vertex(scene, polygon, (uint32_t)k);
+        for (size_t q = 0; q < n; ++q) {
+            /* Polygons beyond 64 corners are treated as straddling: conservative. */
+            shaft->side[r * n + q] = polygon->count > 64 ? (SIDE_FRONT | SIDE_BACK)
+                                                         : classify(shaft, q, points, count);
+        }
+    }
+    *out = shaft;
+    return RAD_OK;
+}
+
+static int boxes_overlap(rad_vec3 alo, rad_vec3 ahi, rad_vec3 blo, rad_vec3 bhi) {
+    return alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y &&
+           alo.z <= bhi.z && blo.z <= ahi.z;
+}
+
+/* Nonzero when all of Q's corners lie beyond one of the shaft's edge planes (boxes a and b). In
+ * the projection on axes (i, j), where box a reaches further along i (direction si) and box b
+ * further along j (direction sj), the line through their corner edges bounds the hull. */
+static int outside_shaft(const rad_ff_shaft *shaft, size_t q, const double a_lo[3],
+                         const double a_hi[3], const double b_lo[3], const double b_hi[3]) {
+    static const int axes[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+    const rad_vec3 *corners = shaft->corners + shaft->corner_first[q];
+    const int count = (int)(shaft->corner_first[q + 1] - shaft->corner_first[q]);
+    const double slack = shaft->tolerance[q];
+    for (int pair = 0; pair < 3; ++pair) {
+        const int i = axes[pair][0], j = axes[pair][1];
+        for (int signs = 0; signs < 4; ++signs) {
+            const double si = signs & 1 ? 1 : -1, sj = signs & 2 ? 1 : -1;
+            double ai = si > 0 ? a_hi[i] : a_lo[i], aj = sj > 0 ? a_hi[j] : a_lo[j];
+            double bi = si > 0 ? b_hi[i] : b_lo[i], bj = sj > 0 ? b_hi[j] : b_lo[j];
+            double reach_i = si * (ai - bi), reach_j = sj * (aj - bj);
+            if (!((reach_i > 0 && reach_j < 0) || (reach_i < 0 && reach_j > 0))) continue;
+            /* The line through (ai, aj) and (bi, bj), normal pointing away from the boxes. */
+            double ni = bj - aj, nj = -(bi - ai);
+            if (ni * si + nj * sj < 0) {
+                ni = -ni;
+                nj = -nj;
+            }
+            double length = sqrt(ni * ni + nj * nj), limit = slack * length;
+            int all_outside = 1;
+            for (int k = 0; k < count && all_outside; ++k) {
+                double qi = v3_get(corners[k], i), qj = v3_get(corners[k], j);
+                all_outside = ni * (qi - ai) + nj * (qj - aj) > limit;
+            }
+            if (all_outside) return 1;
+        }
+    }
+    return 0;
+}
+
+void rad_ff_shaft_begin(rad_ff_shaft *shaft, const rad_ff_patch *patch) {
+    if (!shaft) return;
+    size_t n = shaft->polygon_count;
+    for (size_t q = 0; q < n; ++q)
+        shaft->patch_side[q] = classify(shaft, q, patch->corners, patch->corner_count);
+    shaft->patch_lo = patch->lo;
+    shaft->patch_hi = patch->hi;
+    /* Candidates for each receiving polygon R: the same tests with all of R in place of one
+     * element (the shaft from the patch to R holds the shafts to each of its elements). */
+    double a_lo[3] = {patch->lo.x, patch->lo.y, patch->lo.z};
+    double a_hi[3] = {patch->hi.x, patch->hi.y, patch->hi.z};
+    uint32_t used = 0;
+    for (size_t r = 0; r < n; ++r) {
+        shaft->candidate_first[r] = used;
+        rad_vec3 lo = shaft->lo[r], hi = shaft->hi[r];
+        double b_lo[3] = {lo.x, lo.y, lo.z}, b_hi[3] = {hi.x, hi.y, hi.z};
+        lo = v3(min2(lo.x, patch->lo.x), min2(lo.y, patch->lo.y), min2(lo.z, patch->lo.z));
+        hi = v3(max2(hi.x, patch->hi.x), max2(hi.y, patch->hi.y), max2(hi.z, patch->hi.z));
+        for (size_t q = 0; q < n; ++q) {
+            if ((shaft->patch_side[q] | shaft->side[r * n + q]) != (SIDE_FRONT | SIDE_BACK)) continue;
+            if (!boxes_overlap(lo, hi, shaft->lo[q], shaft->hi[q])) continue;
+            if (outside_shaft(shaft, q, a_lo, a_hi, b_lo, b_hi)) continue;
+            shaft->candidates[used++] = (uint32_t)q;
+        }
+    }
+    shaft->candidate_first[n] = used;
+}
+
+int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element) {
+    if (!shaft) return 0;
+    const rad_mesh *mesh = shaft->mesh;
+    uint32_t r = mesh->element_polygon[element];
+    uint32_t first = shaft->candidate_first[r], last = shaft->candidate_first[r + 1];
+    if (first == last) return 1;
+    rad_vec3 corners[4];
+    int count = rad_mesh_corner_count(mesh, element);
+    rad_vec3 lo = shaft->patch_lo, hi = shaft->patch_hi;
+    for (int k = 0; k < count; ++k) {
+        rad_vec3 c = corners[k] = rad_element_corner(mesh, element, k);
+        lo = v3(min2(lo.x, c.x), min2(lo.y, c.y), min2(lo.z, c.z));
+        hi = v3(max2(hi.x, c.x), max2(hi.y, c.y), max2(hi.z, c.z));
+    }
+    double a_lo[3] = {shaft->patch_lo.x, shaft->patch_lo.y, shaft->patch_lo.z};
+    double a_hi[3] = {shaft->patch_hi.x, shaft->patch_hi.y, shaft->patch_hi.z};
+    double b_lo[3] = {INFINITY, INFINITY, INFINITY}, b_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int k = 0; k < count; ++k)
+        for (int axis = 0; axis < 3; ++axis) {
+            double value = v3_get(corners[k], axis);
+            b_lo[axis] = value < b_lo[axis] ? value : b_lo[axis];
+            b_hi[axis] = value > b_hi[axis] ? value : b_hi[axis];
+        }
+    for (uint32_t i = first; i < last; ++i) {
+        uint32_t q = shaft->candidates[i];
+        if (!boxes_overlap(lo, hi, shaft->lo[q], shaft->hi[q])) continue;
+        if ((shaft->patch_side[q] | classify(shaft, q, corners, count)) != (SIDE_FRONT | SIDE_BACK))
+            continue;
+        if (outside_shaft(shaft, q, a_lo, a_hi, b_lo, b_hi)) continue;
+        return 0;
+    }
+    return 1;
+}

@@ -1,0 +1,474 @@
+/* test_formfactors.c - form factors against closed forms: the point-to-polygon contour integral,
+ * area-to-area factors of every method (opposed and perpendicular unit squares, the closed
+ * cube), convergence as samples or resolution grow, occluders, and every solver on the
+ * unit cube and two squares against the exact small systems. */
+#include "test.h"
+
+#include "formfactor/geometric.h"
+#include "scene/scene.h"
+#include "solve/system.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* Closed forms (Howell's catalogue; the reference values). */
+#define F_OPPOSED 0.199824895698       /* unit squares, parallel, one apart */
+#define F_PERPENDICULAR 0.200043776075 /* unit squares sharing an edge at 90 degrees */
+#define F_CORNER 0.138531605995        /* differential area one below a unit square's corner */
+
+static const char *const method_names[] = {"analytic", "hemicube", "raycast", "montecarlo"};
+static const rad_ff_method methods[] = {RAD_FF_ANALYTIC, RAD_FF_HEMICUBE, RAD_FF_RAYCAST,
+                                        RAD_FF_MONTECARLO};
+
+/* Parallel aligned rectangles a x b, distance c apart (Howell C-11). */
+static double parallel_rectangles(double a, double b, double c) {
+    double x = a / c, y = b / c, x2 = x * x, y2 = y * y;
+    return 2 / (RAD_PI * x * y) *
+           (log(sqrt((1 + x2) * (1 + y2) / (1 + x2 + y2))) + x * sqrt(1 + y2) * atan(x / sqrt(1 + y2)) +
+            y * sqrt(1 + x2) * atan(y / sqrt(1 + x2)) - x * atan(x) - y * atan(y));
+}
+
+static rad_context *make_context(int threads) {
+    rad_context_options options = {0};
+    options.threads = threads;
+    options.seed = 7;
+    rad_context *ctx = NULL;
+    if (rad_context_create(&options, &ctx)) {
+        fprintf(stderr, "cannot create a context\n");
+        exit(1);
+    }
+    return ctx;
+}
+
+/* A scene of named quads; material 0 grey 0.5, material 1 grey 0.5 emitting radiosity 1. */
+typedef struct quad {
+    const char *name;
+    rad_vec3 p[4];
+    int emits;
+} quad;
+
+static rad_scene *quad_scene(rad_context *ctx, const quad *quads, int count) {
+    rad_scene *scene = NULL;
+    rad_status status = rad_scene_new(ctx, 1, "test", &scene);
+    rad_material grey = {0};
+    grey.name = "grey";
+    for (int c = 0; c < 3; ++c) grey.reflectance[c] = 0.5;
+    rad_material glowing = grey;
+    glowing.name = "glowing";
+    for (int c = 0; c < 3; ++c) glowing.emission[c] = 1 / RAD_PI;
+    if (!status) status = rad_scene_add_material(scene, &grey, NULL);
+    if (!status) status = rad_scene_add_material(scene, &glowing, NULL);
+    for (int i = 0; i < count && !status; ++i) {
+        uint32_t surface;
+        status = rad_scene_add_surface(scene, quads[i].name, quads[i].emits ? 1 : 0, &surface);
+        if (!status) status = rad_scene_add_polygon_points(scene, surface, quads[i].p, 4);
+    }
+    if (status) {
+        fprintf(stderr, "cannot build a scene: %s\n", rad_context_error(ctx));
+        exit(1);
+    }
+    return scene;
+}
+
+/* The surface-to-surface matrix of a scene (count x count), or NULL on failure. */
+static double *surface_matrix(rad_context *ctx, const rad_scene *scene, rad_ff_method method,
+                              int samples, int resolution, double element_size, size_t *count) {
+    rad_mesh_options mesh = {0};
+    mesh.element_size = element_size;
+    rad_ff_options ff = {method, samples, resolution};
+    rad_system *system = NULL;
+    if (rad_system_create(ctx, scene, &mesh, &ff, &system)) {
+        fprintf(stderr, "system: %s\n", rad_context_error(ctx));
+        return NULL;
+    }
+    size_t n = rad_system_surface_count(system);
+    double *matrix = calloc(n * n, sizeof *matrix);
+    if (rad_system_surface_form_factors(system, matrix)) {
+        free(matrix);
+        matrix = NULL;
+    }
+    *count = n;
+    rad_system_destroy(system);
+    return matrix;
+}
+
+static double factor(rad_context *ctx, const rad_scene *scene, rad_ff_method method, int samples,
+                     int resolution, double element_size, int from, int to) {
+    size_t n;
+    double *m = surface_matrix(ctx, scene, method, samples, resolution, element_size, &n);
+    double f = m ? m[from * n + to] : NAN;
+    free(m);
+    return f;
+}
+
+static const quad opposed[] = {
+    {"lower", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, 1},
+    {"upper", {{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}}, 0},
+};
+static const quad perpendicular[] = {
+    {"floor", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, 1},
+    {"wall", {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}, 0},
+};
+
+/* ------------------------------------------------------------------------------------------- */
+
+static void test_point_polygon(void) {
+    /* One unit below the corner of a unit square, facing it. */
+    rad_vec3 square[4] = {v3(0, 0, 1), v3(0, 1, 1), v3(1, 1, 1), v3(1, 0, 1)};
+    double f = rad_ff_point_polygon(v3(0, 0, 0), v3(0, 0, 1), square, 4);
+    CHECK_NEAR(f, F_CORNER, 1e-9 * F_CORNER);
+    /* Under the centre: four corner rectangles of 0.5 x 0.5 at distance 1. */
+    double a = 0.5, corner = 1 / (2 * RAD_PI) *
+                             (a / sqrt(1 + a * a) * atan(a / sqrt(1 + a * a)) * 2);
+    f = rad_ff_point_polygon(v3(0.5, 0.5, 0), v3(0, 0, 1), square, 4);
+    CHECK_NEAR(f, 4 * corner, 1e-9 * 4 * corner);
+    /* Seen from behind: nothing. */
+    CHECK(rad_ff_point_polygon(v3(0, 0, 2), v3(0, 0, -1), square, 4) == 0);
+    /* A half plane through the point at right angles covers half the hemisphere's cosine-
+     * weighted measure: a huge wall standing on the point's tangent plane gives 1/2. */
+    double big = 1e7;
+    rad_vec3 wall[4] = {v3(-big, 0, 0), v3(big, 0, 0), v3(big, 0, big), v3(-big, 0, big)};
+    f = rad_ff_point_polygon(v3(0, -1e-9, 0), v3(0, 0, 1), wall, 4);
+    CHECK_NEAR(f, 0.5, 1e-6);
+    /* Tilted so half of it is below the horizon: clipping keeps the upper half only. */
+    rad_vec3 low[4] = {v3(-big, 0, -big), v3(big, 0, -big), v3(big, 0, big), v3(-big, 0, big)};
+    f = rad_ff_point_polygon(v3(0, -1e-9, 0), v3(0, 0, 1), low, 4);
+    CHECK_NEAR(f, 0.5, 1e-6);
+}
+
+/* Each method's face-to-face factors of the unit cube at its defaults (test_solvers uses them). */
+static double cube_factors[4][36];
+static int cube_factors_known[4];
+
+/* Every method, at its defaults, on the three closed forms. */
+static void test_methods_at_defaults(rad_context *ctx) {
+    rad_scene *two = NULL, *cube = NULL;
+    rad_scene_builtin(ctx, "two-squares", &two);
+    rad_scene_builtin(ctx, "unit-cube", &cube);
+    rad_scene *right = quad_scene(ctx, perpendicular, 2);
+    CHECK(two && cube);
+    if (!two || !cube) return;
+    for (int m = 0; m < 4; ++m) {
+        double f = factor(ctx, two, methods[m], 0, 0, 0, 0, 1);
+        double g = factor(ctx, right, methods[m], 0, 0, 0, 0, 1);
+        printf("  %-10s opposed %.6f (%+.3f%%)  perpendicular %.6f (%+.3f%%)\n", method_names[m],
+               f, 100 * (f / F_OPPOSED - 1), g, 100 * (g / F_PERPENDICULAR - 1));
+        CHECK_NEAR(f, F_OPPOSED, 0.01 * F_OPPOSED);
+        CHECK_NEAR(g, F_PERPENDICULAR, 0.01 * F_PERPENDICULAR);
+
+        /* The closed cube: rows sum to one, reciprocity, and the two closed forms. */
+        size_t n;
+        double *F = surface_matrix(ctx, cube, methods[m], 0, 0, 0, &n);
+        CHECK(F && n == 6);
+        if (!F || n != 6) continue;
+        double worst_sum = 0, worst_reciprocity = 0, worst_factor = 0;
+        for (size_t i = 0; i < 6; ++i) {
+            double sum = 0;
+            for (size_t j = 0; j < 6; ++j) {
+                sum += F[i * 6 + j];
+                /* Faces 0/1, 2/3, 4/5 are opposite (bottom/top, front/back, left/right). */
+                double exact = i == j ? 0 : (i / 2 == j / 2 ? F_OPPOSED : F_PERPENDICULAR);
+                worst_factor = fmax(worst_factor, fabs(F[i * 6 + j] - exact) / F_OPPOSED);
+                /* Equal areas: A_i F_ij = A_j F_ji means a symmetric matrix. */
+                worst_reciprocity = fmax(worst_reciprocity, fabs(F[i * 6 + j] - F[j * 6 + i]));
+            }
+            worst_sum = fmax(worst_sum, fabs(sum - 1));
+        }
+        memcpy(cube_factors[m], F, sizeof cube_factors[m]);
+        cube_factors_known[m] = 1;
+        printf("  %-10s cube: |row sum - 1| <= %.2e, |F_ij - F_ji| <= %.2e, relative error <= "
+               "%.3f%%\n", method_names[m], worst_sum, worst_reciprocity, 100 * worst_factor);
+        CHECK(worst_sum < 0.01);
+        CHECK(worst_reciprocity < 0.01 * F_OPPOSED);
+        CHECK(worst_factor < 0.01);
+        free(F);
+    }
+    rad_scene_destroy(two);
+    rad_scene_destroy(cube);
+    rad_scene_destroy(right);
+}
+
+/* The error falls as samples or resolution grow: two squares on a coarse mesh (big patches, so
+ * the methods' own errors dominate), mean absolute error over three seeds. */
+static void test_convergence(void) {
+    rad_context *contexts[3];
+    for (int k = 0; k < 3; ++k) {
+        rad_context_options options = {0};
+        options.threads = 1;
+        options.seed = 11 + (uint64_t)k;
+        rad_context_create(&options, &contexts[k]);
+    }
+    rad_scene *right = quad_scene(contexts[0], perpendicular, 2);
+    static const int samples[] = {1, 4, 16, 64};
+    for (int m = 0; m < 4; ++m) {
+        /* Analytic is exact without occluders (see test_occluders); the hemicube's own error
+         * shows at the element level (test_hemicube_convergence). */
+        if (methods[m] == RAD_FF_ANALYTIC || methods[m] == RAD_FF_HEMICUBE) continue;
+        double error[4];
+        printf("  %-10s", method_names[m]);
+        for (int level = 0; level < 4; ++level) {
+            error[level] = 0;
+            for (int k = 0; k < 3; ++k) {
+                double f = factor(contexts[k], right, methods[m], samples[level], 0, 0.25, 0, 1);
+                error[level] += fabs(f / F_PERPENDICULAR - 1) / 3;
+            }
+            printf("  n %2d: %.4f%%", samples[level], 100 * error[level]);
+        }
+        printf("\n");
+        CHECK(error[1] < error[0]);
+        CHECK(error[2] < error[1]);
+        CHECK(error[3] < 0.25 * error[0]);
+        CHECK(error[3] < 0.005);
+    }
+    rad_scene_destroy(right);
+    for (int k = 0; k < 3; ++k) rad_context_destroy(contexts[k]);
+}
+
+/* The hemicube estimates F(dA at the patch centre -> element): against the contour integral
+ * of each element seen from the centre, the error of whole rows (sum over elements of
+ * |error|, mean over patches) falls as the resolution grows. */
+static void test_hemicube_convergence(rad_context *ctx) {
+    rad_scene *right = quad_scene(ctx, perpendicular, 2);
+    static const int resolutions[] = {8, 32, 128, 512};
+    double error[4];
+    printf("  hemicube  ");
+    for (int level = 0; level < 4; ++level) {
+        rad_mesh_options mesh = {0};
+        mesh.element_size = 0.1;
+        rad_ff_options ff = {RAD_FF_HEMICUBE, 0, resolutions[level]};
+        rad_system *system = NULL;
+        CHECK(rad_system_create(ctx, right, &mesh, &ff, &system) == RAD_OK);
+        if (!system) return;
+        const rad_mesh *m = system->mesh;
+        float *row = malloc(m->element_count * sizeof *row);
+        error[level] = 0;
+        int rows = 0;
+        for (size_t p = 0; p < m->patch_count; p += 3, ++rows) {
+            system->ff->row(system->ff, p, row);
+            rad_vec3 centre = v3(0, 0, 0), normal = m->element_normal[m->patch_first[p]];
+            double area = 0;
+            for (size_t e = m->patch_first[p]; e < m->patch_first[p + 1]; ++e) {
+                centre = v3_add(centre, v3_scale(m->element_centroid[e], m->element_area[e]));
+                area += m->element_area[e];
+            }
+            centre = v3_scale(centre, 1 / area);
+            for (size_t e = 0; e < m->element_count; ++e) {
+                rad_vec3 corners[4];
+                for (int k = 0; k < 4; ++k) corners[k] = rad_element_corner(m, e, k);
+                double exact = m->element_patch[e] == p ? 0 : rad_ff_point_polygon(centre, normal, corners, 4);
+                error[level] += fabs(row[e] - exact);
+            }
+        }
+        error[level] /= rows;
+        printf("  res %3d: %.5f", resolutions[level], error[level]);
+        free(row);
+        rad_system_destroy(system);
+    }
+    printf("  (row L1 error)\n");
+    CHECK(error[1] < error[0]);
+    CHECK(error[2] < error[1]);
+    CHECK(error[3] < error[2]);
+    CHECK(error[3] < 0.1 * error[0]);
+    rad_scene_destroy(right);
+}
+
+/* Occluders: a large square halfway between the opposed squares hides them from each other
+ * completely; a wall standing on the middle line (x = 1/2) between them leaves each half of
+ * the lower square only the half above it: F = F(0.5 x 1 rectangles one apart). */
+static void test_occluders(rad_context *ctx) {
+    quad covered[3] = {opposed[0], opposed[1],
+                       {"screen", {{-0.25, -0.25, 0.5}, {1.25, -0.25, 0.5}, {1.25, 1.25, 0.5},
+                                   {-0.25, 1.25, 0.5}}, 0}};
+    quad walled[3] = {opposed[0], opposed[1],
+                      {"wall", {{0.5, -0.5, 0}, {0.5, 1.5, 0}, {0.5, 1.5, 1}, {0.5, -0.5, 1}}, 0}};
+    rad_scene *screen = quad_scene(ctx, covered, 3), *wall = quad_scene(ctx, walled, 3);
+    double expected = parallel_rectangles(0.5, 1, 1);
+    for (int m = 0; m < 4; ++m) {
+        double hidden = factor(ctx, screen, methods[m], 0, 0, 0.125, 0, 1);
+        double half = factor(ctx, wall, methods[m], 0, 0, 0.0625, 0, 1);
+        printf("  %-10s full cover %.3g, wall %.6f (exact %.6f, %+.3f%%)\n", method_names[m],
+               hidden, half, expected, 100 * (half / expected - 1));
+        CHECK(hidden == 0);
+        CHECK_NEAR(half, expected, 0.01 * expected);
+    }
+    /* Analytic visibility converges as its rays grow in number: patches of 1/3 straddle the
+     * wall, so their middle row is partly hidden from every receiver. Against 1024 rays (the
+     * mesh's own error is the same for all) and against the closed form. */
+    double reference = factor(ctx, wall, RAD_FF_ANALYTIC, 1024, 0, 1.0 / 6, 0, 1), error[4];
+    printf("  analytic, patches across the wall, against 1024 rays:");
+    for (int level = 0, samples = 1; level < 4; ++level, samples *= 4) {
+        error[level] = fabs(factor(ctx, wall, RAD_FF_ANALYTIC, samples, 0, 1.0 / 6, 0, 1) / reference - 1);
+        printf("  n %d: %.4f%%", samples, 100 * error[level]);
+    }
+    printf("; 1024 against exact %+.3f%%\n", 100 * (reference / expected - 1));
+    CHECK(error[1] < error[0]);
+    CHECK(error[2] < error[1]);
+    CHECK(error[3] < error[2]);
+    CHECK_NEAR(reference, expected, 0.01 * expected);
+    rad_scene_destroy(screen);
+    rad_scene_destroy(wall);
+}
+
+/* Rows do not depend on the thread count. */
+static void test_threads(void) {
+    rad_context *one = make_context(1), *two = make_context(2);
+    rad_scene *cornell = NULL;
+    rad_scene_builtin(one, "cornell", &cornell);
+    CHECK(cornell != NULL);
+    if (!cornell) return;
+    rad_mesh_options mesh = {0};
+    mesh.elements = 800;
+    for (int m = 0; m < 4; ++m) {
+        rad_ff_options ff = {methods[m], 0, 64};
+        rad_system *a = NULL, *b = NULL;
+        CHECK(rad_system_create(one, cornell, &mesh, &ff, &a) == RAD_OK);
+        CHECK(rad_system_create(two, cornell, &mesh, &ff, &b) == RAD_OK);
+        if (!a || !b) continue;
+        size_t n = a->element_count;
+        float *ra = malloc(n * sizeof *ra), *rb = malloc(n * sizeof *rb);
+        int same = 1;
+        for (size_t p = 0; p < a->patch_count; p += 17) {
+            a->ff->row(a->ff, p, ra);
+            b->ff->row(b->ff, p, rb);
+            same &= memcmp(ra, rb, n * sizeof *ra) == 0;
+        }
+        printf("  %-10s rows with 1 and 2 threads %s\n", method_names[m], same ? "identical" : "DIFFER");
+        CHECK(same);
+        free(ra);
+        free(rb);
+        rad_system_destroy(a);
+        rad_system_destroy(b);
+    }
+    rad_scene_destroy(cornell);
+    rad_context_destroy(one);
+    rad_context_destroy(two);
+}
+
+static const rad_solver_kind solvers[] = {RAD_SOLVER_DIRECT, RAD_SOLVER_JACOBI,
+                                          RAD_SOLVER_GAUSS_SEIDEL, RAD_SOLVER_SHOOTING};
+
+/* Solves and returns the mean radiosity (red) of each surface; 0 on failure. */
+static int solve_system(rad_system *system, rad_solver_kind solver, double *radiosity) {
+    rad_solve_options options = {0};
+    options.solver = solver;
+    options.tolerance = 1e-10;
+    rad_solve_report report;
+    if (rad_solve(system, &options, &report) || !report.converged) return 0;
+    for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
+        rad_surface_info info;
+        rad_system_surface(system, i, &info);
+        radiosity[i] = info.radiosity[0];
+    }
+    return 1;
+}
+
+/* Every solver against the exact small systems that follow from the closed-form factors
+ * (reflectance 1/2, emitters of radiosity 1).
+ *
+ * The 6 x 6 cube system assumes each face has one radiosity. Its form factors here are each
+ * method's face-to-face factors (from the meshed cube), so the solvers must land within the
+ * form factors' accuracy of the exact 6 x 6 solution. The meshed cube itself is a finer model:
+ * its sides are brighter near the light, which sends more back up and less down (bottom about
+ * 6% darker than the 6-patch answer), so there the test is what must hold for any mesh: every
+ * solver agrees, and the closed cube returns all power, sum B A = E A / (1 - rho) = 2. */
+static void test_solvers(rad_context *ctx) {
+    /* top t, bottom b, four sides s:
+     *   t = 1 + (Fo b + 4 Fa s) / 2,  b = (Fo t + 4 Fa s) / 2,  s = (Fa t + Fa b + (Fo + 2 Fa) s) / 2 */
+    double fo = F_OPPOSED, fa = F_PERPENDICULAR, A[3][4] = {
+        {1, -fo / 2, -2 * fa, 1}, {-fo / 2, 1, -2 * fa, 0}, {-fa / 2, -fa / 2, 1 - (fo + 2 * fa) / 2, 0}};
+    for (int i = 0; i < 3; ++i) /* Gauss-Jordan on the 3 x 3 */
+        for (int k = 0; k < 3; ++k) {
+            if (k == i) continue;
+            double r = A[k][i] / A[i][i];
+            for (int j = 0; j < 4; ++j) A[k][j] -= r * A[i][j];
+        }
+    double top = A[0][3] / A[0][0], bottom = A[1][3] / A[1][1], side = A[2][3] / A[2][2];
+    double exact[6] = {bottom, top, side, side, side, side};
+    printf("  exact 6 x 6: top %.9f bottom %.9f sides %.9f\n", top, bottom, side);
+    rad_scene *cube = NULL, *two = NULL;
+    rad_scene_builtin(ctx, "unit-cube", &cube);
+    rad_scene_builtin(ctx, "two-squares", &two);
+    CHECK(cube && two);
+    if (!cube || !two) return;
+
+    for (int m = 0; m < 4; ++m) {
+        const double *F = cube_factors[m];
+        if (!cube_factors_known[m]) continue;
+        rad_patch_desc patches[6];
+        float matrix[36];
+        for (int i = 0; i < 6; ++i) {
+            patches[i] = (rad_patch_desc){NULL, 1.0, {0.5, 0.5, 0.5}, {0, 0, 0}};
+            if (i == 1) patches[i].emission[0] = patches[i].emission[1] = patches[i].emission[2] = 1;
+            for (int j = 0; j < 6; ++j) matrix[i * 6 + j] = (float)F[i * 6 + j];
+        }
+        rad_system *system = NULL;
+        CHECK(rad_system_create_dense(ctx, patches, 6, matrix, &system) == RAD_OK);
+        printf("  %-10s face-to-face factors:", method_names[m]);
+        for (int k = 0; k < 4 && system; ++k) {
+            double b[6] = {0}, worst = 0;
+            CHECK(solve_system(system, solvers[k], b));
+            for (int i = 0; i < 6; ++i) worst = fmax(worst, fabs(b[i] / exact[i] - 1));
+            printf(" %s %.3f%%", rad_solver_kind_name(solvers[k]), 100 * worst);
+            CHECK(worst < 0.005);
+        }
+        printf("\n");
+        rad_system_destroy(system);
+    }
+
+    /* The meshed cube (600 elements) and two squares (the default mesh), default form
+     * factors. */
+    rad_system *meshed = NULL, *squares = NULL;
+    rad_mesh_options coarse = {0};
+    coarse.elements = 600;
+    CHECK(rad_system_create(ctx, cube, &coarse, NULL, &meshed) == RAD_OK);
+    CHECK(rad_system_create(ctx, two, NULL, NULL, &squares) == RAD_OK);
+    if (!meshed || !squares) return;
+    double first[6] = {0}, two_exact[2] = {1.01008315227, 0.100919880275};
+    for (int k = 0; k < 4; ++k) {
+        double b[6] = {0}, power = 0, spread = 0, worst_two = 0;
+        CHECK(solve_system(meshed, solvers[k], b));
+        for (int i = 0; i < 6; ++i) {
+            power += b[i]; /* unit areas */
+            if (k == 0) first[i] = b[i];
+            spread = fmax(spread, fabs(b[i] / first[i] - 1));
+        }
+        double bt[2] = {0};
+        CHECK(solve_system(squares, solvers[k], bt));
+        for (int i = 0; i < 2; ++i) worst_two = fmax(worst_two, fabs(bt[i] / two_exact[i] - 1));
+        printf("  %-12s meshed cube: bottom %.6f top %.6f, sum B A = %.6f, off direct by %.1e;"
+               " two squares within %.4f%%\n", rad_solver_kind_name(solvers[k]), b[0], b[1], power,
+               spread, 100 * worst_two);
+        CHECK_NEAR(power, 2.0, 0.002);
+        CHECK(spread < 1e-6);
+        CHECK(worst_two < 0.002);
+    }
+    rad_system_destroy(meshed);
+    rad_system_destroy(squares);
+    rad_scene_destroy(cube);
+    rad_scene_destroy(two);
+}
+
+int main(void) {
+    double start = rad_seconds();
+    rad_context *ctx = make_context(1);
+    printf("point to polygon\n");
+    test_point_polygon();
+    printf("every method at its defaults\n");
+    test_methods_at_defaults(ctx);
+    printf("(%.1f s)\n", rad_seconds() - start);
+    printf("convergence (perpendicular squares, coarse mesh, mean |error| of 3 seeds)\n");
+    test_convergence();
+    test_hemicube_convergence(ctx);
+    printf("(%.1f s)\n", rad_seconds() - start);
+    printf("occluders\n");
+    test_occluders(ctx);
+    printf("(%.1f s)\n", rad_seconds() - start);
+    printf("thread count\n");
+    test_threads();
+    printf("(%.1f s)\n", rad_seconds() - start);
+    printf("solvers against the exact systems\n");
+    test_solvers(ctx);
+    rad_context_destroy(ctx);
+    printf("(%.1f s)\n", rad_seconds() - start);
+    return test_finish();
+}
