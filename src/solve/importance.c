@@ -16,7 +16,8 @@
  *    importance. What arrives, G_j = sum_q F_jq Z_q, is the importance of the light j sends
  *    out: shooting the unshot radiosity dB_p changes the image by dB_p A_p G_p. The pass
  *    stops when 5% of the emitted importance is left unshot: the order of light shots needs
- *    importance roughly, not exactly.
+ *    importance roughly, not exactly. Its rows are kept for the light shots from the same
+ *    patches (within an eighth of the memory budget).
  * 3. Shoot light from the patch with the most unshot power times importance,
  *    sum_c |dB_pc| A_p (G_pc + Gmean_c), where Gmean is the area-weighted mean importance.
  *    Why the added mean: ordering by G alone halves the view error early on but then falls
@@ -40,10 +41,16 @@
 #define IMPORTANCE_TOLERANCE 0.05 /* unshot importance left after the importance pass */
 #define IMPORTANCE_BLEND 1.0      /* times the mean importance, added to every patch's */
 #define IMPORTANCE_MAX_SIDE 256   /* pixels along the longer side of the importance image */
+#define KEPT_ROWS_SHARE 0.125     /* of the memory budget, for rows of the importance pass */
 
 typedef struct importance_state {
     rad_shooting shooting;
     rad_rgb *weight; /* per patch: G_p + mean G, the importance of the light it sends */
+    /* Rows the importance pass computed, kept (within KEPT_ROWS_SHARE of the memory budget)
+     * for the light shots from the same patches: those are the patches the camera sees, which
+     * light shoots early. Rows are deterministic, so a kept row is the row. */
+    float **kept_row; /* per patch, or NULL */
+    size_t kept_bytes;
 } importance_state;
 
 /* The image size for importance: the caller's aspect, at most IMPORTANCE_MAX_SIDE per side. */
@@ -60,7 +67,8 @@ static void importance_size(const rad_solve_options *o, int *width, int *height)
 }
 
 /* Steps 1 and 2: received importance G per element, from a shooting pass of importance. */
-static rad_status spread_importance(rad_solver_run *run, const double *share, rad_rgb *received) {
+static rad_status spread_importance(rad_solver_run *run, importance_state *state,
+                                    const double *share, rad_rgb *received) {
     rad_system *s = run->system;
     rad_context *ctx = s->ctx;
     size_t n = s->element_count;
@@ -71,6 +79,8 @@ static rad_status spread_importance(rad_solver_run *run, const double *share, ra
         rad_free(ctx, row);
         return RAD_ERROR_NO_MEMORY;
     }
+    double keep_budget =
+        KEPT_ROWS_SHARE * (double)(ctx->max_memory ? ctx->max_memory : RAD_DEFAULT_MAX_MEMORY);
     double emitted = 0;
     for (size_t e = 0; e < n; ++e)
         for (int c = 0; c < 3; ++c) {
@@ -101,6 +111,15 @@ static rad_status spread_importance(rad_solver_run *run, const double *share, ra
             unshot[e][0] = unshot[e][1] = unshot[e][2] = 0;
         if ((status = s->ff->row(s->ff, shooter, row))) break;
         ++shots;
+        size_t bytes = n * sizeof *row;
+        if (!state->kept_row[shooter] && (double)(state->kept_bytes + bytes) <= keep_budget) {
+            float *kept = rad_alloc(ctx, n, sizeof *kept);
+            if (kept) { /* out of memory here only means the row is asked for again later */
+                memcpy(kept, row, bytes);
+                state->kept_row[shooter] = kept;
+                state->kept_bytes += bytes;
+            }
+        }
         double area = s->patch_area[shooter];
         for (size_t j = 0; j < n; ++j) {
             double f = area * (double)row[j] / s->area[j];
@@ -141,11 +160,12 @@ static rad_status importance_begin(rad_solver_run *run) {
     double *share = rad_alloc(ctx, n, sizeof *share);
     rad_rgb *received = rad_alloc(ctx, n, sizeof *received);
     state->weight = rad_alloc(ctx, s->patch_count, sizeof *state->weight);
-    if (!share || !received || !state->weight) status = RAD_ERROR_NO_MEMORY;
+    state->kept_row = rad_alloc_zero(ctx, s->patch_count, sizeof *state->kept_row);
+    if (!share || !received || !state->weight || !state->kept_row) status = RAD_ERROR_NO_MEMORY;
     if (!status) status = rad_system_screen_share(s, o->camera, width, height, share);
 
     /* 2. Spread it. */
-    if (!status) status = spread_importance(run, share, received);
+    if (!status) status = spread_importance(run, state, share, received);
 
     /* 3. Per patch: G_p, plus the mean. */
     if (!status) {
@@ -190,7 +210,8 @@ static rad_status importance_step(rad_solver_run *run, int iteration, double *re
             shooter = p;
         }
     }
-    rad_status status = rad_shooting_shoot(run, &state->shooting, shooter, NULL);
+    rad_status status =
+        rad_shooting_shoot(run, &state->shooting, shooter, state->kept_row[shooter]);
     if (status) return status;
     *residual = rad_shooting_finish(run, &state->shooting);
     return RAD_OK;
@@ -200,6 +221,10 @@ static void importance_end(rad_solver_run *run) {
     importance_state *state = run->state;
     if (!state) return;
     rad_shooting_end(run, &state->shooting);
+    if (state->kept_row)
+        for (size_t p = 0; p < run->system->patch_count; ++p)
+            rad_free(run->system->ctx, state->kept_row[p]);
+    rad_free(run->system->ctx, state->kept_row);
     rad_free(run->system->ctx, state->weight);
     rad_free(run->system->ctx, state);
     run->state = NULL;
