@@ -4,8 +4,8 @@
 # A row passes when all of its checks pass; the closing line counts rows.
 # Usage: cli_errors.sh RADIOSITY SOURCE_DIR
 set -u
-radiosity=$1
-source_dir=$2
+radiosity=$(realpath "$1")
+source_dir=$(realpath "$2")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work" || exit 1
