@@ -48,6 +48,11 @@ static int open_ended(const char *phase) {
     return 0;
 }
 
+static void format_rate(char *out, size_t size, double rate) {
+    if (rate >= 100) snprintf(out, size, "%.0f/s", rate);
+    else snprintf(out, size, "%.3g/s", rate);
+}
+
 static void format_duration(char *out, size_t size, double seconds) {
     if (seconds < 60) snprintf(out, size, "%.1f s", seconds);
     else if (seconds < 3600) snprintf(out, size, "%d min %02d s", (int)(seconds / 60), (int)seconds % 60);
@@ -74,7 +79,9 @@ int cli_progress_report(void *user, const char *phase, double done, double total
     int n;
     if (open_ended(phase) || !(total > 0)) {
         n = snprintf(line, sizeof line, "%-13s %.0f", phase, done);
-        if (rate > 0) n += snprintf(line + n, sizeof line - (size_t)n, "  %.3g/s", rate);
+        char speed[32];
+        format_rate(speed, sizeof speed, rate);
+        if (rate > 0) n += snprintf(line + n, sizeof line - (size_t)n, "  %s", speed);
     } else {
         double fraction = done / total < 1 ? done / total : 1;
         char cells[BAR_WIDTH + 1];
@@ -84,9 +91,10 @@ int cli_progress_report(void *user, const char *phase, double done, double total
         n = snprintf(line, sizeof line, "%-13s [%s] %3.0f%%  %.0f/%.0f", phase, cells,
                      100 * fraction, done, total);
         if (rate > 0) {
-            char left[32];
+            char left[32], speed[32];
             format_duration(left, sizeof left, (total - done) / rate);
-            n += snprintf(line + n, sizeof line - (size_t)n, "  %.3g/s  %s left", rate, left);
+            format_rate(speed, sizeof speed, rate);
+            n += snprintf(line + n, sizeof line - (size_t)n, "  %s  %s left", speed, left);
         }
     }
     (void)n;

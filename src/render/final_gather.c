@@ -30,9 +30,12 @@
  * discontinuity meshing"), who render the solution this way; photon mapping reuses the idea
  * (Jensen 1996, "Global illumination using photon maps").
  *
- * Both point sets are stratified: sample i of n takes the 2D point (i / n, radical_inverse(i))
- * (a Hammersley set) shifted by one random offset per pixel sample (Cranley & Patterson 1976),
- * so a few rays cover the hemisphere and the light evenly. */
+ * Both point sets are stratified over the whole pixel: with S camera samples in the pixel and n
+ * rays per sample, the pixel has one Hammersley set of S n points, (i / (S n), radical_inverse(i))
+ * shifted by one random offset per pixel (Cranley & Patterson 1976), and sample s takes the
+ * points i = s, s + S, s + 2S, ...: evenly spread in the first coordinate for each sample and
+ * for the pixel as a whole. A few rays per sample then cover the hemisphere and the light
+ * evenly across the pixel. */
 #include "render/render.h"
 
 /* ------------------------------------------------------------------------------------------- */
@@ -147,16 +150,16 @@ static double power_heuristic(double a, double b) {
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
  * by `count` stratified emitter samples, each weighted against the gather rays that could have
  * found the same point. */
-static void direct_light(const rad_renderer *r, rad_rng *rng, const rad_gather_origin *from,
-                         rad_vec3 x, const float rho[3], rad_ray_counts *counts, double out[3]) {
+static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
+                         rad_vec3 x, const float rho[3], double out[3]) {
     out[0] = out[1] = out[2] = 0;
     int count = from->light_samples;
     if (r->emitter_count == 0 || count <= 0) return;
     rad_vec3 n = from->normal;
-    double shift[2] = {rad_rng_uniform(rng), rad_rng_uniform(rng)};
+    uint32_t total = (uint32_t)count * sample->count;
     for (int i = 0; i < count; ++i) {
         double u[2];
-        stratified((uint32_t)i, (uint32_t)count, shift, u);
+        stratified(sample->index + (uint32_t)i * sample->count, total, sample->light_shift, u);
         size_t k = pick_emitter(r, &u[0]);
         const rad_emitter *light = &r->emitters[k];
         /* Uniform point on the triangle (Turk 1990). */
@@ -169,7 +172,7 @@ static void direct_light(const rad_renderer *r, rad_rng *rng, const rad_gather_o
         rad_vec3 wi = v3_scale(to_light, 1 / sqrt(distance2));
         double cos_x = v3_dot(n, wi), cos_y = -v3_dot(light->normal, wi);
         if (cos_x <= 0 || cos_y <= 0) continue;
-        counts->shadow++;
+        sample->counts->shadow++;
         if (rad_element_rays_occluded(r->rays, x, y)) continue;
         /* Densities over solid angle at x. */
         double pdf_light = emitter_probability(r, k) / light->area * distance2 / cos_y;
@@ -198,8 +201,9 @@ double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin
 
 /* ------------------------------------------------------------------------------------------- */
 
-void rad_final_gather(const rad_renderer *r, rad_rng *rng, uint32_t element, rad_vec3 x,
-                      rad_vec3 n, rad_ray_counts *counts, double out[3]) {
+void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_element_hit *hit,
+                      rad_vec3 x, rad_vec3 n, double out[3]) {
+    uint32_t element = hit->element;
     const float *rho = r->element_reflectance[element];
     const float *emitted = r->element_emission[element];
     for (int c = 0; c < 3; ++c) out[c] = emitted[c];
@@ -209,7 +213,7 @@ void rad_final_gather(const rad_renderer *r, rad_rng *rng, uint32_t element, rad
 
     /* Direct light. */
     double direct[3];
-    direct_light(r, rng, &from, x, rho, counts, direct);
+    direct_light(r, sample, &from, x, rho, direct);
     for (int c = 0; c < 3; ++c) out[c] += direct[c];
 
     /* Indirect light (and the emitted light they meet, weighted): cosine-weighted rays into the
@@ -218,17 +222,17 @@ void rad_final_gather(const rad_renderer *r, rad_rng *rng, uint32_t element, rad
     int rays = r->settings.final_gather;
     rad_vec3 t, b;
     v3_basis(n, &t, &b);
-    double shift[2] = {rad_rng_uniform(rng), rad_rng_uniform(rng)};
+    uint32_t total = (uint32_t)rays * sample->count;
     double sum[3] = {0, 0, 0};
     for (int i = 0; i < rays; ++i) {
         double u[2];
-        stratified((uint32_t)i, (uint32_t)rays, shift, u);
+        stratified(sample->index + (uint32_t)i * sample->count, total, sample->gather_shift, u);
         double radius = sqrt(u[0]), phi = 2 * RAD_PI * u[1];
         double z = sqrt(fmax(0.0, 1 - u[0]));
         rad_vec3 direction = v3_normalize(v3_add(
             v3_add(v3_scale(t, radius * cos(phi)), v3_scale(b, radius * sin(phi))), v3_scale(n, z)));
         double radiance[3];
-        rad_trace_radiance(r, rng, x, direction, &from, counts, radiance);
+        rad_trace_radiance(r, sample, x, direction, &from, radiance);
         for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
     }
     for (int c = 0; c < 3; ++c) out[c] += rho[c] * sum[c] / rays;

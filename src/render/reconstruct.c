@@ -7,11 +7,188 @@
  * Vertices are split at creases and never shared between surfaces (mesh/mesh.h), so a corner
  * between a wall and the floor keeps one value per side instead of blending the two.
  *
+ * Averaging is right inside a surface, where a vertex sits in the middle of its elements, but on
+ * the boundary of a surface (a wall meeting the ceiling, the edge of a block) the average of the
+ * one row of elements there stands for the value half an element inside, and radiosity often
+ * changes fastest right there (the light grazes the top of the walls, corners are darker). So a
+ * boundary vertex takes instead the value at the vertex of a plane fitted by least squares to
+ * the elements around it and their neighbours (two rows deep), which extrapolates the gradient to
+ * the edge, as Cohen & Wallace 1993 (ch. 9, "Rendering") suggest for nodes on the boundary.
+ *
  * Radiance = B / pi for a Lambertian surface; on an emitter B = E + reflected, so B / pi is the
  * emitted radiance plus the reflected one. */
 #include "render/render.h"
 
 #include "solve/vertex_radiosity.h"
+
+#include <string.h>
+
+/* At most this many elements take part in the fit at one vertex. */
+#define FIT_MAX 64
+
+/* Elements around each vertex, as compressed rows. */
+typedef struct vertex_elements {
+    uint32_t *first; /* vertex_count + 1 */
+    uint32_t *element;
+} vertex_elements;
+
+static rad_status vertex_elements_build(rad_context *ctx, const rad_mesh *mesh, vertex_elements *out) {
+    out->first = rad_alloc_zero(ctx, mesh->vertex_count + 1, sizeof *out->first);
+    size_t uses = 0;
+    for (size_t e = 0; e < mesh->element_count; ++e) uses += (size_t)rad_mesh_corner_count(mesh, e);
+    out->element = rad_alloc(ctx, uses + 1, sizeof *out->element);
+    uint32_t *fill = rad_alloc(ctx, mesh->vertex_count + 1, sizeof *fill);
+    if (!out->first || !out->element || !fill) {
+        rad_free(ctx, fill);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    for (size_t e = 0; e < mesh->element_count; ++e)
+        for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) out->first[mesh->element_vertices[e][k] + 1]++;
+    for (size_t v = 0; v < mesh->vertex_count; ++v) out->first[v + 1] += out->first[v];
+    memcpy(fill, out->first, mesh->vertex_count * sizeof *fill);
+    for (size_t e = 0; e < mesh->element_count; ++e)
+        for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k)
+            out->element[fill[mesh->element_vertices[e][k]]++] = (uint32_t)e;
+    rad_free(ctx, fill);
+    return RAD_OK;
+}
+
+static int has_vertex(const rad_mesh *mesh, uint32_t element, uint32_t vertex) {
+    for (int k = 0; k < rad_mesh_corner_count(mesh, element); ++k)
+        if (mesh->element_vertices[element][k] == vertex) return 1;
+    return 0;
+}
+
+/* Nonzero when an edge at v belongs to one element only: v is on the boundary of its surface. */
+static int on_boundary(const rad_mesh *mesh, const vertex_elements *around, uint32_t v) {
+    for (uint32_t i = around->first[v]; i < around->first[v + 1]; ++i) {
+        uint32_t e = around->element[i];
+        int n = rad_mesh_corner_count(mesh, e);
+        for (int k = 0; k < n; ++k) {
+            if (mesh->element_vertices[e][k] != v) continue;
+            uint32_t neighbours[2] = {mesh->element_vertices[e][(k + 1) % n],
+                                      mesh->element_vertices[e][(k + n - 1) % n]};
+            for (int side = 0; side < 2; ++side) {
+                int shared = 0;
+                for (uint32_t j = around->first[v]; j < around->first[v + 1] && !shared; ++j)
+                    shared = around->element[j] != e && has_vertex(mesh, around->element[j], neighbours[side]);
+                if (!shared) return 1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* The least-squares plane B(d) = a + g . d through the element values at their centroids
+ * (offsets d in the tangent plane at the vertex, weights = areas) gives a = sum_i w_i B_i.
+ * Returns the number of weights, or 0 when the centroids do not span the plane. */
+static int fit_weights(const rad_mesh *mesh, uint32_t v, const uint32_t *elements, int count,
+                       double *weight) {
+    rad_vec3 normal = v3(0, 0, 0);
+    double area = 0;
+    for (int i = 0; i < count; ++i) {
+        normal = v3_add(normal, v3_scale(mesh->element_normal[elements[i]], mesh->element_area[elements[i]]));
+        area += mesh->element_area[elements[i]];
+    }
+    if (!(area > 0) || !(v3_length(normal) > 0)) return 0;
+    rad_vec3 t, b;
+    v3_basis(v3_normalize(normal), &t, &b);
+    double scale = 1 / sqrt(area / count); /* offsets in element sizes */
+    double m[3][3] = {{0}}, d[FIT_MAX][2];
+    for (int i = 0; i < count; ++i) {
+        rad_vec3 offset = v3_sub(mesh->element_centroid[elements[i]], mesh->vertices[v]);
+        double row[3] = {1, v3_dot(offset, t) * scale, v3_dot(offset, b) * scale};
+        double alpha = mesh->element_area[elements[i]] / area;
+        d[i][0] = row[1];
+        d[i][1] = row[2];
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) m[j][k] += alpha * row[j] * row[k];
+    }
+    /* First row of the inverse, by cofactors. */
+    double c0 = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+    double c1 = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+    double c2 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+    double det = m[0][0] * c0 + m[0][1] * c1 + m[0][2] * c2;
+    if (!(det > 1e-6)) return 0;
+    for (int i = 0; i < count; ++i) {
+        double alpha = mesh->element_area[elements[i]] / area;
+        weight[i] = alpha * (c0 + c1 * d[i][0] + c2 * d[i][1]) / det;
+    }
+    return count;
+}
+
+rad_status rad_reconstruct_build(rad_renderer *r) {
+    rad_context *ctx = r->ctx;
+    const rad_mesh *mesh = r->mesh;
+    vertex_elements around = {NULL, NULL};
+    rad_status status = vertex_elements_build(ctx, mesh, &around);
+    size_t capacity = 0, used = 0;
+    uint8_t *boundary = rad_alloc_zero(ctx, mesh->vertex_count + 1, 1);
+    if (!status && !boundary) status = RAD_ERROR_NO_MEMORY;
+    for (size_t v = 0; v < mesh->vertex_count && !status; ++v)
+        if (on_boundary(mesh, &around, (uint32_t)v)) {
+            boundary[v] = 1;
+            r->fit_count++;
+        }
+    if (!status) {
+        r->fit_vertex = rad_alloc(ctx, r->fit_count + 1, sizeof *r->fit_vertex);
+        r->fit_first = rad_alloc(ctx, r->fit_count + 1, sizeof *r->fit_first);
+        r->fit_size = rad_alloc(ctx, r->fit_count + 1, sizeof *r->fit_size);
+        capacity = 8 * r->fit_count + 1;
+        r->fit_element = rad_alloc(ctx, capacity, sizeof *r->fit_element);
+        r->fit_weight = rad_alloc(ctx, capacity, sizeof *r->fit_weight);
+        if (!r->fit_vertex || !r->fit_first || !r->fit_size || !r->fit_element || !r->fit_weight)
+            status = RAD_ERROR_NO_MEMORY;
+    }
+    size_t fit = 0;
+    for (size_t v = 0; v < mesh->vertex_count && !status; ++v) {
+        if (!boundary[v]) continue;
+        /* The elements at v and their neighbours through any shared vertex. */
+        uint32_t elements[FIT_MAX];
+        int count = 0;
+        for (uint32_t i = around.first[v]; i < around.first[v + 1]; ++i) {
+            uint32_t e = around.element[i];
+            for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) {
+                uint32_t w = mesh->element_vertices[e][k];
+                for (uint32_t j = around.first[w]; j < around.first[w + 1]; ++j) {
+                    uint32_t candidate = around.element[j];
+                    int seen = 0;
+                    for (int x = 0; x < count && !seen; ++x) seen = elements[x] == candidate;
+                    if (!seen && count < FIT_MAX) elements[count++] = candidate;
+                }
+            }
+        }
+        double weight[FIT_MAX];
+        int n = fit_weights(mesh, (uint32_t)v, elements, count, weight);
+        if (n == 0) continue; /* a strip one element wide: keep the average */
+        if (used + (size_t)n > capacity) {
+            size_t grown = 2 * capacity + (size_t)n;
+            uint32_t *e = rad_realloc(ctx, r->fit_element, grown, sizeof *e);
+            if (e) r->fit_element = e;
+            double *w = e ? rad_realloc(ctx, r->fit_weight, grown, sizeof *w) : NULL;
+            if (w) r->fit_weight = w;
+            if (!e || !w) {
+                status = RAD_ERROR_NO_MEMORY;
+                break;
+            }
+            capacity = grown;
+        }
+        r->fit_vertex[fit] = (uint32_t)v;
+        r->fit_first[fit] = (uint32_t)used;
+        r->fit_size[fit] = (uint32_t)n;
+        for (int i = 0; i < n; ++i) {
+            r->fit_element[used + (size_t)i] = elements[i];
+            r->fit_weight[used + (size_t)i] = weight[i];
+        }
+        used += (size_t)n;
+        ++fit;
+    }
+    r->fit_count = fit;
+    rad_free(ctx, boundary);
+    rad_free(ctx, around.first);
+    rad_free(ctx, around.element);
+    return status;
+}
 
 rad_status rad_reconstruct_prepare(rad_renderer *r) {
     const rad_system *s = r->system;
@@ -35,6 +212,22 @@ rad_status rad_reconstruct_prepare(rad_renderer *r) {
             r->element_radiance[e][c] = (float)b[c] * to_radiance;
             r->element_emission[e][c] = (float)s->emission[e][c] * to_radiance;
             r->element_reflectance[e][c] = (float)s->reflectance[e][c];
+        }
+    }
+    /* Boundary vertices: the fitted plane's value, kept between half the smallest and one and a
+     * half times the largest value it was fitted to, so a shadow edge cannot throw it far. */
+    for (size_t i = 0; i < r->fit_count; ++i) {
+        const uint32_t *elements = r->fit_element + r->fit_first[i];
+        const double *weight = r->fit_weight + r->fit_first[i];
+        for (int c = 0; c < 3; ++c) {
+            double value = 0, lo = INFINITY, hi = 0;
+            for (uint32_t k = 0; k < r->fit_size[i]; ++k) {
+                double b = r->element_radiance[elements[k]][c];
+                value += weight[k] * b;
+                lo = fmin(lo, b);
+                hi = fmax(hi, b);
+            }
+            r->vertex_radiance[r->fit_vertex[i]][c] = (float)fmin(fmax(value, 0.5 * lo), 1.5 * hi);
         }
     }
     return RAD_OK;

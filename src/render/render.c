@@ -35,6 +35,11 @@ void rad_renderer_destroy(rad_renderer *r) {
     rad_free(ctx, r->emitters);
     rad_free(ctx, r->emitter_cdf);
     rad_free(ctx, r->element_emitter);
+    rad_free(ctx, r->fit_vertex);
+    rad_free(ctx, r->fit_first);
+    rad_free(ctx, r->fit_size);
+    rad_free(ctx, r->fit_element);
+    rad_free(ctx, r->fit_weight);
     rad_free(ctx, r->vertex_radiance);
     rad_free(ctx, r->element_radiance);
     rad_free(ctx, r->element_emission);
@@ -166,6 +171,7 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
     }
     status = rad_element_rays_create(ctx, mesh, &r->rays);
     if (!status) status = rad_emitters_build(r);
+    if (!status) status = rad_reconstruct_build(r);
     if (!status) status = probe_camera(r);
     if (status) {
         rad_renderer_destroy(r);
@@ -182,21 +188,29 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
 static void render_pixel(const rad_renderer *r, int x, int y, rad_ray_counts *counts,
                          float out[3]) {
     const rad_view *view = &r->view;
-    rad_rng rng = rad_rng_make(r->seed, (uint64_t)y * (uint64_t)view->width + (uint64_t)x);
+    rad_sample sample;
+    sample.rng = rad_rng_make(r->seed, (uint64_t)y * (uint64_t)view->width + (uint64_t)x);
+    sample.count = (uint32_t)r->settings.samples_per_pixel;
+    sample.counts = counts;
+    for (int k = 0; k < 2; ++k) {
+        sample.gather_shift[k] = rad_rng_uniform(&sample.rng);
+        sample.light_shift[k] = rad_rng_uniform(&sample.rng);
+    }
     int samples = r->settings.samples_per_pixel;
     int side = (int)sqrt((double)samples);
     while ((side + 1) * (side + 1) <= samples) ++side;
     while (side * side > samples) --side;
     double sum[3] = {0, 0, 0};
     for (int s = 0; s < samples; ++s) {
-        double jx = rad_rng_uniform(&rng), jy = rad_rng_uniform(&rng);
+        double jx = rad_rng_uniform(&sample.rng), jy = rad_rng_uniform(&sample.rng);
         if (s < side * side) {
             jx = (s % side + jx) / side;
             jy = (s / side + jy) / side;
         }
+        sample.index = (uint32_t)s;
         double radiance[3];
-        rad_trace_radiance(r, &rng, view->eye, rad_view_direction(view, x + jx, y + jy), NULL,
-                           counts, radiance);
+        rad_trace_radiance(r, &sample, view->eye, rad_view_direction(view, x + jx, y + jy), NULL,
+                           radiance);
         for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
     }
     for (int c = 0; c < 3; ++c) out[c] = (float)(sum[c] / samples);

@@ -55,6 +55,14 @@ struct rad_renderer {
     double *emitter_cdf;           /* emitter_count entries, the last is 1 */
     int32_t (*element_emitter)[2]; /* per element, its emitter triangles (-1: none) */
 
+    /* Boundary vertices of the smooth reconstruction (reconstruct.c): their radiance is the
+     * value at the vertex of a plane fitted to nearby element values, sum_k weight_k B_k over
+     * the elements fit_element[first .. first + count). */
+    size_t fit_count;
+    uint32_t *fit_vertex, *fit_first, *fit_size;
+    uint32_t *fit_element;
+    double *fit_weight;
+
     /* The solution as radiance, refreshed by each render (the system may have been re-solved). */
     float (*vertex_radiance)[3];   /* B / pi averaged at mesh vertices (smooth) */
     float (*element_radiance)[3];  /* B / pi per element (flat) */
@@ -67,6 +75,17 @@ typedef struct rad_ray_counts {
     uint64_t camera, gather, shadow, specular;
 } rad_ray_counts;
 
+/* One camera sample: its random numbers, and its place among the samples of its pixel. The final
+ * gather spreads its rays and emitter samples over the whole pixel: sample `index` of `count`
+ * takes every count-th point of one stratified set per pixel (shifted by the pixel's offsets),
+ * so the pixel's estimate is stratified, not only each sample's. */
+typedef struct rad_sample {
+    rad_rng rng;
+    uint32_t index, count;
+    double gather_shift[2], light_shift[2];
+    rad_ray_counts *counts;
+} rad_sample;
+
 /* The material of an element. */
 static inline const rad_material *rad_renderer_material(const rad_renderer *r, uint32_t element) {
     return &r->surface_material[r->mesh->element_surface[element]];
@@ -75,14 +94,16 @@ static inline const rad_material *rad_renderer_material(const rad_renderer *r, u
 /* reconstruct.c: the solution's radiance B / pi at (u, v) on an element (smooth or flat). */
 void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u, double v,
                               double out[3]);
+/* Finds the boundary vertices and their fitting weights (geometry only, once). */
+rad_status rad_reconstruct_build(rad_renderer *r);
 /* Fills the radiance arrays from the system's current solution. */
 rad_status rad_reconstruct_prepare(rad_renderer *r);
 
 /* final_gather.c: the emitter table, and the radiance leaving the diffuse point x (on element,
  * front normal n) by direct light plus gathered indirect light. */
 rad_status rad_emitters_build(rad_renderer *r);
-void rad_final_gather(const rad_renderer *r, rad_rng *rng, uint32_t element, rad_vec3 x,
-                      rad_vec3 n, rad_ray_counts *counts, double out[3]);
+void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_element_hit *hit,
+                      rad_vec3 x, rad_vec3 n, double out[3]);
 
 /* Where a gather ray starts: what multiple importance sampling between the emitter samples and
  * the gather rays needs to weigh the emitted light a gather ray finds. */
@@ -101,7 +122,7 @@ double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin
  * gather when it is on. Gather rays take the reflected part (B - E) / pi at their first hit plus
  * the emitted part weighted against the emitter samples (rad_gather_emission_weight); after a
  * mirror or glass the direct light is not sampled, and they take B / pi. */
-void rad_trace_radiance(const rad_renderer *r, rad_rng *rng, rad_vec3 origin, rad_vec3 direction,
-                        const rad_gather_origin *gather, rad_ray_counts *counts, double out[3]);
+void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
+                        rad_vec3 direction, const rad_gather_origin *gather, double out[3]);
 
 #endif

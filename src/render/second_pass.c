@@ -38,8 +38,9 @@ static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
     for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - emitted[c]) + weight * emitted[c];
 }
 
-void rad_trace_radiance(const rad_renderer *r, rad_rng *rng, rad_vec3 origin, rad_vec3 direction,
-                        const rad_gather_origin *gather, rad_ray_counts *counts, double out[3]) {
+void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
+                        rad_vec3 direction, const rad_gather_origin *gather, double out[3]) {
+    rad_ray_counts *counts = sample->counts;
     out[0] = out[1] = out[2] = 0;
     double throughput[3] = {1, 1, 1};
     double tnear = gather ? r->rays->epsilon : 0;
@@ -59,7 +60,7 @@ void rad_trace_radiance(const rad_renderer *r, rad_rng *rng, rad_vec3 origin, ra
             if (!hit.front) return;
             double radiance[3];
             if (!gather && r->settings.final_gather > 0)
-                rad_final_gather(r, rng, hit.element, x, normal, counts, radiance);
+                rad_final_gather(r, sample, &hit, x, normal, radiance);
             else solution_radiance(r, &hit, first, direction, radiance);
             for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
             return;
@@ -78,7 +79,8 @@ void rad_trace_radiance(const rad_renderer *r, rad_rng *rng, rad_vec3 origin, ra
             direction = rad_reflect(wo, normal);
         } else {
             /* Glass, rough mirrors: one sample of the whole BSDF. */
-            double u[3] = {rad_rng_uniform(rng), rad_rng_uniform(rng), rad_rng_uniform(rng)};
+            double u[3] = {rad_rng_uniform(&sample->rng), rad_rng_uniform(&sample->rng),
+                         rad_rng_uniform(&sample->rng)};
             rad_bsdf_sample sample;
             if (rad_bsdf_sample_direction(material, normal, wo, u, &sample) == RAD_LOBE_NONE) return;
             for (int c = 0; c < 3; ++c) throughput[c] *= sample.weight[c];
