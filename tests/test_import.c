@@ -381,15 +381,32 @@ static void test_bad_input(void) {
 
     /* A truncated binary glTF. */
     FILE *in = fopen(RAD_SOURCE_DIR "/scenes/lamp-room.glb", "rb");
-    char bytes[400];
+    char bytes[4096];
     size_t got = in ? fread(bytes, 1, sizeof bytes, in) : 0;
     if (in) fclose(in);
     FILE *out = fopen(temp_path("cut.glb"), "wb");
     if (out) {
-        fwrite(bytes, 1, got, out);
+        fwrite(bytes, 1, got < 400 ? got : 400, out);
         fclose(out);
     }
     expect_failure(ctx, temp_path("cut.glb"), RAD_ERROR_PARSE, "cut.glb");
+
+    /* Headers assimp would hang on or believe: checked first (src/scene/import_check.c). */
+    write_text(temp_path("open.ply"), "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+    expect_failure(ctx, temp_path("open.ply"), RAD_ERROR_PARSE, "no end_header");
+    write_text(temp_path("greedy.ply"), "ply\nformat binary_little_endian 1.0\nelement vertex "
+                                        "400000000\nproperty float x\nproperty float y\nproperty "
+                                        "float z\nend_header\n0123456789ab");
+    expect_failure(ctx, temp_path("greedy.ply"), RAD_ERROR_PARSE, "promises at least 4800000000");
+    if (got >= 20) {
+        bytes[15] = (char)0xe1; /* the JSON chunk now claims 3.7 GB */
+        out = fopen(temp_path("greedy.glb"), "wb");
+        if (out) {
+            fwrite(bytes, 1, got, out);
+            fclose(out);
+        }
+        expect_failure(ctx, temp_path("greedy.glb"), RAD_ERROR_PARSE, "chunk 0 claims 3774");
+    }
 
     /* Some faces degenerate: dropped and counted, the rest imported. */
     log_text[0] = '\0';
