@@ -1,0 +1,70 @@
+/* fuzz_solution.c - libFuzzer target for saved solution files (src/io/solution.c,
+ * rad_system_load_solution) into the four-walls system, then a resumed shooting step.
+ *
+ * The file ends with a checksum, which random mutations almost never keep. So when the first
+ * input byte is odd the target rewrites the checksum of the rest before loading, and mutations
+ * reach the fields behind it; when it is even the bytes are loaded as they are. Either way the
+ * rest of the input is written to a temporary file, since the loader takes a path. */
+#include "io/solution.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+static char directory[64], path[96];
+static void remove_directory(void) {
+    unlink(path);
+    rmdir(directory);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    if (!directory[0]) {
+        const char *base = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
+        snprintf(directory, sizeof directory, "%s/rad-fuzz-solution-XXXXXX", base);
+        if (!mkdtemp(directory)) abort();
+        snprintf(path, sizeof path, "%s/input.sol", directory);
+        atexit(remove_directory);
+    }
+    if (size < 1) return 0;
+    size_t length = size - 1;
+    uint8_t *bytes = malloc(length ? length : 1);
+    if (!bytes) return 0;
+    memcpy(bytes, data + 1, length);
+    if ((data[0] & 1) && length >= 8) {
+        uint64_t checksum = rad_fnv1a(RAD_FNV1A_START, bytes, length - 8);
+        for (int k = 0; k < 8; ++k) bytes[length - 8 + k] = (uint8_t)(checksum >> (8 * k));
+    }
+    FILE *file = fopen(path, "wb");
+    if (!file) abort();
+    if (length && fwrite(bytes, 1, length, file) != length) abort();
+    if (fclose(file)) abort();
+    free(bytes);
+
+    rad_context_options options = {0};
+    options.threads = 1;
+    options.max_memory = 64u << 20;
+    rad_context *ctx = NULL;
+    if (rad_context_create(&options, &ctx)) return 0;
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    if (rad_scene_builtin(ctx, "four-walls", &scene) == RAD_OK &&
+        rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK) {
+        rad_solution_info info;
+        if (rad_system_load_solution(system, path, &info) == RAD_OK) {
+            /* What was loaded must be usable: go on from it for a few shots. */
+            rad_solve_options solve = {0};
+            solve.solver = RAD_SOLVER_SHOOTING;
+            solve.max_iterations = 3;
+            solve.resume = 1;
+            rad_solve(system, &solve, NULL);
+        }
+    }
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+    return 0;
+}
