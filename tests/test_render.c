@@ -10,8 +10,8 @@
 #include "solve/system.h"
 #include "test.h"
 
-#define RELMSE_SMOOTH 0.002 /* measured 0.00117 (64 x 64, 64 samples per pixel) */
-#define RELMSE_GATHER 0.001 /* measured 0.00054 with 16 gather rays */
+#define RELMSE_SMOOTH 0.0015 /* measured 0.00098 (64 x 64, 64 samples per pixel) */
+#define RELMSE_GATHER 0.0012 /* measured 0.00083 with 16 gather rays per sample */
 
 #include <stdlib.h>
 #include <string.h>
@@ -188,8 +188,9 @@ static void test_orientation(const rad_scene *scene, const rad_system *system) {
     rad_image_destroy(image);
 }
 
-/* Against the path tracer on the diffuse Cornell box: the mean within 2%, and the relative MSE
- * (pbrt's) against a 1024-path reference below stated bounds, smaller with the final gather. */
+/* Against the path tracer on the diffuse Cornell box: the mean within 2%, the relative MSE
+ * (pbrt's) against a 1024-path reference below stated bounds, and the light leak in front of the
+ * short block gone with the final gather. */
 static void test_against_path_tracer(rad_context *ctx, const rad_scene *scene,
                                      const rad_system *system) {
     const int size = 64;
@@ -219,7 +220,20 @@ static void test_against_path_tracer(rad_context *ctx, const rad_scene *scene,
         CHECK_NEAR(b.mean_ratio, 1, 0.02);
         CHECK(a.relative_mse < RELMSE_SMOOTH);
         CHECK(b.relative_mse < RELMSE_GATHER);
-        CHECK(b.relative_mse < a.relative_mse);
+        /* The floor just in front of the short block, where its shadow begins: interpolated
+         * radiosity leaks light under the block (elements straddle the shadow's edge), the
+         * final gather samples the light and the block's occlusion at each pixel. */
+        double sum[3] = {0, 0, 0};
+        const rad_image *images[3] = {smooth, gathered, reference};
+        for (int k = 0; k < 3; ++k)
+            for (int y = 58; y <= 59; ++y)
+                for (int x = 31; x <= 35; ++x)
+                    for (int c = 0; c < 3; ++c)
+                        sum[k] += rad_image_pixels(images[k])[3 * (y * size + x) + c];
+        printf("contact shadow: smooth %.4f, final gather %.4f, path tracer %.4f\n", sum[0],
+               sum[1], sum[2]);
+        CHECK(sum[0] > 1.3 * sum[2]);
+        CHECK(fabs(sum[1] - sum[2]) < 0.5 * fabs(sum[0] - sum[2]));
     }
     rad_image_destroy(smooth);
     rad_image_destroy(gathered);
