@@ -522,7 +522,8 @@ static void test_round_trip(const char *name, int solve) {
     CHECK(worst_material < 1e-6);
     if (solve) {
         /* assimp reads coordinates in single precision (ai_real is float), so the file carries
-         * each coordinate rounded to float: the same solution as the scene rounded so. */
+         * each coordinate rounded to float: the same solution as the scene rounded so, and,
+         * as long as the form factors are stable under such 1e-8 changes, as the scene. */
         rad_scene *rounded = NULL;
         CHECK(rad_scene_builtin(ctx, name, &rounded) == RAD_OK);
         for (size_t i = 0; rounded && i < rounded->vertex_count; ++i) {
@@ -548,7 +549,7 @@ static void test_round_trip(const char *name, int solve) {
                "radiosity %.2g (%.2g against the scene before rounding to float)\n", name,
                worst_area, worst_material, worst, worst_unrounded);
         CHECK(worst < 1e-6);
-        CHECK(worst_unrounded < 1e-2);
+        CHECK(worst_unrounded < 1e-6);
         rad_system_destroy(x);
         rad_system_destroy(y);
         rad_system_destroy(z);
