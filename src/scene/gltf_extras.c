@@ -185,7 +185,9 @@ typedef struct walker {
 /* Reads an array of objects, one double per item, each starting at `initial`. */
 static void read_array(json *j, walker *w, member_fn visit, double initial, double **values,
                        size_t *count) {
-    if (!enter(j, '[')) {
+    /* A key given twice: the first one counts (as in assimp's reader); growing the first
+     * array again would write past its end. */
+    if (*values || !enter(j, '[')) {
         skip_value(j);
         return;
     }
