@@ -1,5 +1,6 @@
-/* cmd_render.c - `radiosity render`: solve a scene and render the solution as an image, with
- * the final gather and the ray-traced second pass for mirrors and glass (docs/rendering.md).
+/* cmd_render.c - `radiosity render`: solve a scene and render the solution as an image, by
+ * default with the final gather (16 rays per sample), and with the ray-traced second pass for
+ * mirrors and glass (docs/rendering.md).
  *
  * Order of work: everything that can be refused cheaply is refused before the solve (flags, the
  * output path, the camera), so a bad command fails in milliseconds and never leaves a file. */
@@ -65,6 +66,7 @@ int cmd_render(int argc, char **argv) {
     a.shading = "smooth";
     a.width = a.height = 512;
     a.spp = 4;
+    a.final_gather = 16; /* the production path; 0 shows the interpolated solution alone */
     a.eye[0] = a.look[0] = a.up[0] = a.fov = NAN;
     cli_option options[32] = {
         {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm (SCENE.png)"},
@@ -80,9 +82,10 @@ int cmd_render(int argc, char **argv) {
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
         {"--shading", CLI_STRING, &a.shading, "MODE  smooth|flat (smooth)"},
         {"--final-gather", CLI_INT, &a.final_gather,
-         "N  direct light sampled + N gather rays per sample into the solution (0: off)"},
+         "N  direct light sampled + N gather rays per sample into the solution (16; 0: the "
+         "interpolated solution alone)"},
         {"--light-samples", CLI_INT, &a.light_samples,
-         "N  final gather: emitter samples per sample (N/4 of --final-gather)"},
+         "N  final gather: emitter samples per sample (a quarter of --final-gather)"},
         {"--max-depth", CLI_INT, &a.max_depth, "N  mirror and glass bounces per path (16)"},
         {"--stats", CLI_FLAG, &a.stats, "print the time of each step and ray counts"},
     };
