@@ -340,8 +340,11 @@ typedef struct rad_render_options {
     const rad_camera_desc *camera; /* NULL: the scene's own, or one framing it */
     int samples_per_pixel;         /* jittered samples, box filter; zero: 4 */
     rad_shading shading;
-    int final_gather;   /* gather rays per sample at the first diffuse hit; zero: off */
-    int light_samples;  /* final gather: emitter samples per sample; zero: from final_gather */
+    int final_gather;   /* direct light sampled and this many rays per sample gathered into
+                           the solution at the first diffuse hit; zero: off (the solution,
+                           interpolated, alone) */
+    int light_samples;  /* final gather: emitter samples per sample; zero: final_gather / 4,
+                           at least 1 */
     int max_depth;      /* specular bounces (mirrors, glass) per path; zero: 16 */
     int ambient;        /* add the ambient term of progressive refinement */
 } rad_render_options;
