@@ -49,8 +49,8 @@ static rad_status cache_row(rad_ff_provider *self, size_t patch, float *row) {
     if (cache->used < cache->capacity && !(copy = rad_alloc(cache->ctx, n, sizeof *copy))) {
         cache->capacity = cache->used; /* out of memory: stop growing, keep going */
         rad_fail(cache->ctx, RAD_OK, "%s", "");
-        if (cache->used == 0) return RAD_OK;
     }
+    if (!copy && cache->used == 0) return RAD_OK; /* no room and nothing to evict */
     if (copy) {
         s = cache->used++;
         cache->slot_row[s] = copy;
