@@ -44,7 +44,16 @@ run_one() { # run_one NAME: fuzz one target; output to BUILD/logs/NAME.log
     local name=$1
     local corpus=$build/corpus/$name crashes=$build/crashes/$name
     mkdir -p "$corpus" "$crashes" "$build/logs"
-    "$build/fuzz_$name" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 \
+    # fuzz/fuzz_NAME.options: extra libFuzzer flags for one target ('#' starts a comment).
+    local extra=()
+    if [[ -f fuzz/fuzz_$name.options ]]; then
+        read -ra extra <<<"$(grep -v '^#' "fuzz/fuzz_$name.options" | tr '\n' ' ')"
+    fi
+    # Leaks off for a target turns off the check at exit too.
+    local asan=$ASAN_OPTIONS
+    [[ " ${extra[*]} " == *" -detect_leaks=0 "* ]] && asan=${asan/detect_leaks=1/detect_leaks=0}
+    ASAN_OPTIONS=$asan "$build/fuzz_$name" "${extra[@]}" -max_total_time="$seconds" \
+        -max_len="$max_len" -timeout=10 \
         -rss_limit_mb=2048 -close_fd_mask=3 -print_final_stats=1 -artifact_prefix="$crashes/" \
         "$corpus" "fuzz/corpus/$name" >"$build/logs/$name.log" 2>&1
 }

@@ -1,0 +1,53 @@
+/* fuzz_import.c - libFuzzer target for scene files through the importer (src/scene/import.c,
+ * the header checks of src/scene/import_check.c, and assimp behind them): whatever a file
+ * holds, loading it gives a scene or an error, in bounded time and memory. The first byte picks
+ * the extension (.ply, .glb, .obj, .gltf); the rest is written to a temporary file. A scene
+ * that loads is meshed coarsely, as `solve` would. */
+#include "radiosity.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+static const char *const extensions[] = {"ply", "glb", "obj", "gltf"};
+static char directory[64], paths[4][96];
+static void remove_directory(void) {
+    for (int i = 0; i < 4; ++i) unlink(paths[i]);
+    rmdir(directory);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    if (!directory[0]) {
+        const char *base = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
+        snprintf(directory, sizeof directory, "%s/rad-fuzz-import-XXXXXX", base);
+        if (!mkdtemp(directory)) abort();
+        for (int i = 0; i < 4; ++i)
+            snprintf(paths[i], sizeof paths[i], "%s/input.%s", directory, extensions[i]);
+        atexit(remove_directory);
+    }
+    if (size < 1) return 0;
+    const char *path = paths[data[0] & 3];
+    FILE *file = fopen(path, "wb");
+    if (!file) abort();
+    if (size > 1 && fwrite(data + 1, 1, size - 1, file) != size - 1) abort();
+    if (fclose(file)) abort();
+
+    rad_context_options options = {0};
+    options.threads = 1;
+    options.max_memory = 64u << 20;
+    rad_context *ctx = NULL;
+    if (rad_context_create(&options, &ctx)) return 0;
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    if (rad_scene_load(ctx, path, &scene) == RAD_OK) {
+        rad_mesh_options mesh = {0, 0, 64};
+        rad_system_create(ctx, scene, &mesh, NULL, &system);
+    }
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+    return 0;
+}
