@@ -802,6 +802,8 @@ rad_status rad_scene_import(rad_context *ctx, const char *path, rad_scene **out)
         rad_info(ctx, "%s: turned %zu faces under mirroring transforms so their fronts stay "
                  "counter-clockwise", path, im.turned);
     if (im.cut) rad_info(ctx, "%s: cut %zu non-convex faces into convex pieces", path, im.cut);
+    if (im.joined)
+        rad_info(ctx, "%s: joined %zu pairs of triangles into quads", path, im.joined);
     if (im.ai->mNumLights > 0)
         rad_info(ctx, "%s: ignored %u point/spot/directional lights: only emitting surfaces "
                  "give light in radiosity", path, im.ai->mNumLights);
