@@ -1,9 +1,144 @@
-/* cmd_formfactors.c - `radiosity formfactors`. PLACEHOLDER: being written in this session; not a finished
- * command until this comment is gone. */
+/* cmd_formfactors.c - `radiosity formfactors`: the form factors between the named input
+ * surfaces of a scene (each surface's elements combined by area), as a table or JSON. Row i is
+ * the fraction of the energy leaving surface i that arrives at surface j. */
 #include "cli.h"
+#include "json.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+typedef struct formfactors_args {
+    const char *ff;
+    int ff_samples, hemicube_res, json, threads, quiet;
+    double patch_size, element_size, max_memory;
+    size_t elements;
+    uint64_t seed;
+} formfactors_args;
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static void print_json(const rad_system *system, const double *matrix) {
+    size_t n = rad_system_surface_count(system);
+    printf("{\"surfaces\": [");
+    for (size_t i = 0; i < n; ++i) {
+        rad_surface_info info;
+        rad_system_surface(system, i, &info);
+        printf(i ? ",\n  " : "\n  ");
+        printf("{\"name\": ");
+        json_string(stdout, info.name);
+        printf(", \"area\": ");
+        json_number(stdout, info.area);
+        printf("}");
+    }
+    printf("],\n \"form_factors\": [");
+    for (size_t i = 0; i < n; ++i) {
+        printf(i ? ",\n  [" : "\n  [");
+        for (size_t j = 0; j < n; ++j) {
+            if (j) printf(", ");
+            json_number(stdout, matrix[i * n + j]);
+        }
+        printf("]");
+    }
+    printf("]}\n");
+}
+
+static void print_table(const rad_system *system, const double *matrix, const char *method,
+                        double seconds) {
+    size_t n = rad_system_surface_count(system);
+    int width = 8;
+    for (size_t i = 0; i < n; ++i) {
+        rad_surface_info info;
+        rad_system_surface(system, i, &info);
+        int length = (int)strlen(info.name);
+        if (length > width) width = length;
+    }
+    if (width > 16) width = 16;
+    printf("form factors (%s): %zu surfaces, %zu patches, %zu elements, %.3g s\n", method, n,
+           rad_system_patch_count(system), rad_system_element_count(system), seconds);
+    printf("row i: the fraction of the energy leaving surface i that arrives at surface j\n\n");
+    printf("%-*s %12s ", width, "from \\ to", "area");
+    for (size_t j = 0; j < n; ++j) {
+        rad_surface_info info;
+        rad_system_surface(system, j, &info);
+        printf(" %*.*s", width > 9 ? width : 9, width, info.name);
+    }
+    printf("  %9s\n", "sum");
+    for (size_t i = 0; i < n; ++i) {
+        rad_surface_info info;
+        rad_system_surface(system, i, &info);
+        printf("%-*.*s %12.6g ", width, width, info.name, info.area);
+        double sum = 0;
+        for (size_t j = 0; j < n; ++j) {
+            printf(" %*.6f", width > 9 ? width : 9, matrix[i * n + j]);
+            sum += matrix[i * n + j];
+        }
+        printf("  %9.6f\n", sum);
+    }
+}
 
 int cmd_formfactors(int argc, char **argv) {
-    (void)argc;
-    (void)argv;
-    return cli_error(1, "formfactors: not available in this build yet");
+    static const char synopsis[] = "SCENE [options]   (SCENE: a file or a built-in name)";
+    formfactors_args a = {0};
+    a.ff = "default";
+    const cli_option options[] = {
+        {"--ff", CLI_STRING, &a.ff, "METHOD  analytic|hemicube|raycast|montecarlo (default: "
+                                    "docs/formfactors.md)"},
+        {"--ff-samples", CLI_INT, &a.ff_samples, "N  rays or point pairs per form factor"},
+        {"--hemicube-res", CLI_INT, &a.hemicube_res, "N  hemicube top-face resolution"},
+        {"--patch-size", CLI_DOUBLE, &a.patch_size, "S  longest patch edge (scene units)"},
+        {"--element-size", CLI_DOUBLE, &a.element_size, "S  longest element edge (scene units)"},
+        {"--elements", CLI_SIZE, &a.elements, "N  approximate element count"},
+        {"--json", CLI_FLAG, &a.json, "print one JSON object"},
+        {"--max-memory", CLI_DOUBLE, &a.max_memory, "MIB  memory budget (2048)"},
+        {"--threads", CLI_INT, &a.threads, "N  worker threads (all cores)"},
+        {"--seed", CLI_SIZE, &a.seed, "S  random seed (0)"},
+        {"--quiet", CLI_FLAG, &a.quiet, "no notes on stderr"},
+        {0},
+    };
+    const char *positional[1];
+    int count;
+    int status = cli_parse("formfactors", synopsis, options, argc, argv, positional, 1, &count);
+    if (status) return status < 0 ? 0 : status;
+    if (count != 1)
+        return cli_error(EXIT_USAGE, "formfactors: which scene? (usage: radiosity formfactors %s)",
+                         synopsis);
+    int method = cli_parse_ff_method(a.ff);
+    if (method < 0)
+        return cli_error(EXIT_USAGE, "formfactors: unknown form-factor method '%s' (analytic, "
+                         "hemicube, raycast, montecarlo)", a.ff);
+    if (a.max_memory < 0) return cli_error(EXIT_USAGE, "formfactors: --max-memory must be positive");
+    if (a.patch_size < 0 || a.element_size < 0)
+        return cli_error(EXIT_USAGE, "formfactors: sizes must be positive");
+
+    rad_context *ctx = cli_context(a.threads, a.seed, a.max_memory, a.quiet);
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    double *matrix = NULL;
+    rad_mesh_options mesh = {a.patch_size, a.element_size, a.elements};
+    rad_ff_options ff = {(rad_ff_method)method, a.ff_samples, a.hemicube_res};
+    double start = now();
+    rad_status rs = cli_load_scene(ctx, positional[0], &scene);
+    if (!rs) rs = rad_system_create(ctx, scene, &mesh, &ff, &system);
+    if (!rs) {
+        size_t n = rad_system_surface_count(system);
+        matrix = calloc(n > 0 ? n * n : 1, sizeof *matrix);
+        rs = matrix ? rad_system_surface_form_factors(system, matrix) : RAD_ERROR_NO_MEMORY;
+    }
+    int exit_status = 0;
+    if (rs) exit_status = cli_fail(ctx, rs);
+    else if (a.json) print_json(system, matrix);
+    else {
+        const char *name = rad_scene_is_geometric(scene) ? rad_ff_method_name(ff.method) : "given";
+        print_table(system, matrix, name ? name : a.ff, now() - start);
+    }
+    free(matrix);
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+    return exit_status;
 }

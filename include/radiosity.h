@@ -296,6 +296,55 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                      rad_solve_report *report);
 
 /* ---------------------------------------------------------------------------------------------
+ * Baking: the solution as vertex colours that other tools open (docs/bake.md)
+ * ------------------------------------------------------------------------------------------- */
+
+typedef enum rad_bake_format {
+    RAD_BAKE_AUTO = 0, /* from the extension of the path */
+    RAD_BAKE_GLB,      /* binary glTF 2.0 */
+    RAD_BAKE_GLTF,     /* glTF 2.0 JSON and its buffer beside it: FILE.gltf + FILE.bin */
+    RAD_BAKE_PLY,      /* binary little-endian PLY */
+    RAD_BAKE_OBJ       /* Wavefront OBJ with the "v x y z r g b" vertex-colour extension */
+} rad_bake_format;
+
+typedef struct rad_bake_options {
+    rad_bake_format format;  /* zero: from the path's extension */
+    const rad_scene *scene;  /* the scene the system was built from, for its camera; may be NULL */
+    double scale;            /* positions are multiplied by this (0.001: mm to m); zero: 1 */
+    double exposure;         /* stops, for the display colours (glTF COLOR_0, PLY, OBJ) */
+    const char *tonemap;     /* "clamp" (NULL), "none", "reinhard", "aces": display colours */
+    double aspect;           /* glTF camera aspect ratio, width / height; zero: 1 */
+    int ambient;             /* add the ambient term of progressive refinement */
+} rad_bake_options;
+
+/* The format a path's extension names (.glb, .gltf, .ply, .obj in any case), or RAD_BAKE_AUTO
+ * when it names none. */
+rad_bake_format rad_bake_format_of(const char *path);
+
+/* Checks before any work is done: a known format and tone curve (RAD_ERROR_INVALID_ARGUMENT),
+ * and a directory that takes a new file (RAD_ERROR_IO; a temporary file is made and removed). */
+rad_status rad_bake_check(rad_context *context, const char *path,
+                          const rad_bake_options *options);
+
+/* Writes the solution of a geometric system as a mesh with vertex colours: one mesh per surface,
+ * each vertex carrying the linear radiance B / pi averaged over the elements around it on its
+ * own surface and side of a crease (never across a corner), and its display colour (exposure
+ * and tone curve). The file, and the .bin of a .gltf, appear whole or not at all. A patch
+ * system (.ffm) has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
+rad_status rad_bake(const rad_system *system, const char *path, const rad_bake_options *options);
+
+/* ---------------------------------------------------------------------------------------------
+ * Scene files: export (import is rad_scene_load; both in docs/formats.md, "Scene files")
+ * ------------------------------------------------------------------------------------------- */
+
+/* Writes a geometric scene as Wavefront OBJ (`path`) with its material library next to it (the
+ * same name ending in .mtl): one object (`o`) per surface, named as the surface (white space
+ * becomes '_'); materials keep reflectance (Kd), emitted radiance (Ke) and the mirror/glass
+ * hints (illum, Ks, Ns, Ni, Tf). Both files appear whole or not at all. A patch system (.ffm)
+ * has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
+rad_status rad_scene_export_obj(rad_context *context, const rad_scene *scene, const char *path);
+
+/* ---------------------------------------------------------------------------------------------
  * Rendering: pictures of the solution and the ray-traced second pass (docs/rendering.md)
  *
  * Images here are shared with the path tracer; cameras are rad_camera_desc (pixels square, the
@@ -374,6 +423,43 @@ rad_status rad_render(const rad_scene *scene, const rad_system *system,
                       const rad_render_options *options, rad_image **out);
 
 /* ---------------------------------------------------------------------------------------------
+ * Progressive refinement and importance: solution files, what a camera sees (docs/solvers.md,
+ * docs/formats.md "Solution files")
+ * ------------------------------------------------------------------------------------------- */
+
+/* What a solution file says about how it was made. */
+typedef struct rad_solution_info {
+    rad_solver_kind solver; /* the solver that made it */
+    long steps;             /* rounds or shots done so far, over every resumed run */
+} rad_solution_info;
+
+/* Writes the system's solution (radiosity and unshot radiosity per element, the ambient term)
+ * with fingerprints of the scene, the mesh and the form factors. The file appears whole or not
+ * at all. `info` may be NULL. */
+rad_status rad_system_save_solution(rad_system *system, const char *path,
+                                    const rad_solution_info *info);
+
+/* Reads a solution saved for this same system (same scene, meshing and form-factor options) into
+ * it; rad_solve with options.resume then goes on from it, and renderers show it as it is. A file
+ * that is damaged (RAD_ERROR_PARSE) or was saved for another scene, mesh or form factors
+ * (RAD_ERROR_INVALID_ARGUMENT) is refused with a one-line message and the system is untouched.
+ * `info` may be NULL. */
+rad_status rad_system_load_solution(rad_system *system, const char *path,
+                                    rad_solution_info *info);
+
+/* Area of an element (scene units squared); 0 for an index out of range. */
+double rad_system_element_area(const rad_system *system, size_t element);
+
+/* The scene's camera, or one that frames the whole scene when it has none. */
+void rad_scene_get_camera(const rad_scene *scene, rad_camera_desc *out);
+
+/* The share of a width x height image (one ray per pixel centre; zero sizes: 256 x 256) that
+ * each element covers, seen from the camera (front sides only): element_count entries summing to
+ * the fraction of pixels that see a surface. Geometric systems only. */
+rad_status rad_system_screen_share(rad_system *system, const rad_camera_desc *camera, int width,
+                                   int height, double *share);
+
+/* ---------------------------------------------------------------------------------------------
  * Images and path tracing: reference images and their comparison (docs/pathtracing.md,
  * docs/images.md). Cameras and image files are those of "Rendering" above.
  * ------------------------------------------------------------------------------------------- */
@@ -427,90 +513,12 @@ rad_status rad_image_error_map(rad_context *context, const rad_image *test,
                                const rad_image *reference, double *scale, rad_image **out);
 
 /* ---------------------------------------------------------------------------------------------
- * Scene files: export (import is rad_scene_load; both in docs/formats.md, "Scene files")
+ * Form-factor methods (docs/formfactors.md)
  * ------------------------------------------------------------------------------------------- */
 
-/* Writes a geometric scene as Wavefront OBJ (`path`) with its material library next to it (the
- * same name ending in .mtl): one object (`o`) per surface, named as the surface (white space
- * becomes '_'); materials keep reflectance (Kd), emitted radiance (Ke) and the mirror/glass
- * hints (illum, Ks, Ns, Ni, Tf). Both files appear whole or not at all. A patch system (.ffm)
- * has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
-rad_status rad_scene_export_obj(rad_context *context, const rad_scene *scene, const char *path);
-
-/* ---------------------------------------------------------------------------------------------
- * Baking: the solution as vertex colours that other tools open (docs/bake.md)
- * ------------------------------------------------------------------------------------------- */
-
-typedef enum rad_bake_format {
-    RAD_BAKE_AUTO = 0, /* from the extension of the path */
-    RAD_BAKE_GLB,      /* binary glTF 2.0 */
-    RAD_BAKE_GLTF,     /* glTF 2.0 JSON and its buffer beside it: FILE.gltf + FILE.bin */
-    RAD_BAKE_PLY,      /* binary little-endian PLY */
-    RAD_BAKE_OBJ       /* Wavefront OBJ with the "v x y z r g b" vertex-colour extension */
-} rad_bake_format;
-
-typedef struct rad_bake_options {
-    rad_bake_format format;  /* zero: from the path's extension */
-    const rad_scene *scene;  /* the scene the system was built from, for its camera; may be NULL */
-    double scale;            /* positions are multiplied by this (0.001: mm to m); zero: 1 */
-    double exposure;         /* stops, for the display colours (glTF COLOR_0, PLY, OBJ) */
-    const char *tonemap;     /* "clamp" (NULL), "none", "reinhard", "aces": display colours */
-    double aspect;           /* glTF camera aspect ratio, width / height; zero: 1 */
-    int ambient;             /* add the ambient term of progressive refinement */
-} rad_bake_options;
-
-/* The format a path's extension names (.glb, .gltf, .ply, .obj in any case), or RAD_BAKE_AUTO
- * when it names none. */
-rad_bake_format rad_bake_format_of(const char *path);
-
-/* Checks before any work is done: a known format and tone curve (RAD_ERROR_INVALID_ARGUMENT),
- * and a directory that takes a new file (RAD_ERROR_IO; a temporary file is made and removed). */
-rad_status rad_bake_check(rad_context *context, const char *path,
-                          const rad_bake_options *options);
-
-/* Writes the solution of a geometric system as a mesh with vertex colours: one mesh per surface,
- * each vertex carrying the linear radiance B / pi averaged over the elements around it on its
- * own surface and side of a crease (never across a corner), and its display colour (exposure
- * and tone curve). The file, and the .bin of a .gltf, appear whole or not at all. A patch
- * system (.ffm) has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
-rad_status rad_bake(const rad_system *system, const char *path, const rad_bake_options *options);
-
-/* ---------------------------------------------------------------------------------------------
- * Progressive refinement and importance: solution files, what a camera sees (docs/solvers.md,
- * docs/formats.md "Solution files")
- * ------------------------------------------------------------------------------------------- */
-
-/* What a solution file says about how it was made. */
-typedef struct rad_solution_info {
-    rad_solver_kind solver; /* the solver that made it */
-    long steps;             /* rounds or shots done so far, over every resumed run */
-} rad_solution_info;
-
-/* Writes the system's solution (radiosity and unshot radiosity per element, the ambient term)
- * with fingerprints of the scene, the mesh and the form factors. The file appears whole or not
- * at all. `info` may be NULL. */
-rad_status rad_system_save_solution(rad_system *system, const char *path,
-                                    const rad_solution_info *info);
-
-/* Reads a solution saved for this same system (same scene, meshing and form-factor options) into
- * it; rad_solve with options.resume then goes on from it, and renderers show it as it is. A file
- * that is damaged (RAD_ERROR_PARSE) or was saved for another scene, mesh or form factors
- * (RAD_ERROR_INVALID_ARGUMENT) is refused with a one-line message and the system is untouched.
- * `info` may be NULL. */
-rad_status rad_system_load_solution(rad_system *system, const char *path,
-                                    rad_solution_info *info);
-
-/* Area of an element (scene units squared); 0 for an index out of range. */
-double rad_system_element_area(const rad_system *system, size_t element);
-
-/* The scene's camera, or one that frames the whole scene when it has none. */
-void rad_scene_get_camera(const rad_scene *scene, rad_camera_desc *out);
-
-/* The share of a width x height image (one ray per pixel centre; zero sizes: 256 x 256) that
- * each element covers, seen from the camera (front sides only): element_count entries summing to
- * the fraction of pixels that see a surface. Geometric systems only. */
-rad_status rad_system_screen_share(rad_system *system, const rad_camera_desc *camera, int width,
-                                   int height, double *share);
+/* The name of a method ("analytic", "hemicube", "raycast", "montecarlo"); RAD_FF_DEFAULT gives
+ * the name of the method it stands for. NULL for an unknown value. Static storage. */
+const char *rad_ff_method_name(rad_ff_method method);
 
 #ifdef __cplusplus
 }

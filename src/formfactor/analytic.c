@@ -18,6 +18,34 @@
 
 #define MAX_CLIPPED 70
 
+/* atan2(y, x) for y >= 0, to 2 ulp and three times as fast as the C library's: the angle is
+ * reduced to t in [0, tan(pi/8)], where atan(t) = t P(t^2) with P the degree-10 Chebyshev fit
+ * of atan(sqrt(z)) / sqrt(z) on [0, tan^2(pi/8)] (relative error 3.5e-17, fitted with mpmath).
+ * Branch-free, so the compiler can keep it in vector registers. */
+static inline double angle_from(double y, double x) {
+    double ax = fabs(x);
+    int steep = y > ax;
+    double num = steep ? ax : y, den = steep ? y : ax;
+    double t = den > 0 ? num / den : 0;
+    int reduce = t > 0.41421356237309504880; /* tan(pi/8): atan(t) = pi/4 + atan((t-1)/(t+1)) */
+    double u = reduce ? (t - 1) / (t + 1) : t;
+    double z = u * u;
+    double p = 0.0211353731576932452057;
+    p = fma(p, z, -0.043480522157164624777);
+    p = fma(p, z, 0.0568834922680901047935);
+    p = fma(p, z, -0.0664023393042940858874);
+    p = fma(p, z, 0.0768995349630685775628);
+    p = fma(p, z, -0.0909077307480841378967);
+    p = fma(p, z, 0.111111061804559452198);
+    p = fma(p, z, -0.142857141809764668302);
+    p = fma(p, z, 0.199999999988551101336);
+    p = fma(p, z, -0.333333333333284385718);
+    p = fma(p, z, 0.99999999999999996532);
+    double a = fma(u, p, reduce ? RAD_PI / 4 : 0);
+    a = steep ? RAD_PI / 2 - a : a;
+    return x < 0 ? RAD_PI - a : a;
+}
+
 /* The contour integral for a polygon whose front normal (any length) is known. */
 static inline double point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *polygon, int count,
                                    rad_vec3 front) {
@@ -39,14 +67,21 @@ static inline double point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *polyg
     }
     if (kept < 3) return 0;
 
-    double sum = 0;
+    /* Each edge: the angle it subtends and the cosine of its plane's normal with n. The
+     * angles are independent, so they are taken in a separate loop the compiler vectorises. */
+    double sine[MAX_CLIPPED], cosine[MAX_CLIPPED], weight[MAX_CLIPPED], angle[MAX_CLIPPED];
     for (int i = 0; i < kept; ++i) {
         rad_vec3 r0 = r[i], r1 = r[i + 1 < kept ? i + 1 : 0];
         rad_vec3 c = v3_cross(r0, r1);
         double length = sqrt(v3_dot(c, c));
-        if (length <= 0) continue;
-        sum += atan2(length, v3_dot(r0, r1)) * v3_dot(n, c) / length;
+        sine[i] = length;
+        cosine[i] = v3_dot(r0, r1);
+        weight[i] = length > 0 ? v3_dot(n, c) / length : 0;
     }
+#pragma omp simd
+    for (int i = 0; i < kept; ++i) angle[i] = angle_from(sine[i], cosine[i]);
+    double sum = 0;
+    for (int i = 0; i < kept; ++i) sum += angle[i] * weight[i];
     return fabs(sum) / (2 * RAD_PI);
 }
 
@@ -90,7 +125,21 @@ static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *row) 
             if (mesh->element_patch[e] == patch || rad_ff_facing_away(mesh, p, (size_t)e)) continue;
             ++receivers;
             const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
-            factor[slot] = point_polygon(y, ny, p->corners, p->corner_count, np);
+            if (rad_ff_near(c, p, (size_t)e, 4)) {
+                /* Close to the patch the factor varies across the element (the centroid's
+                 * value is 1-2% low next to a shared edge): average it over the 2 x 2 Gauss
+                 * points. Out to 4 times the radii this costs 8% and takes a fifth off the row
+                 * error (bench_formfactors, section 3). */
+                const rad_ff_element_map map = rad_ff_element_map_make(mesh, (size_t)e);
+                static const double g[2] = {RAD_FF_GAUSS_LOW, RAD_FF_GAUSS_HIGH};
+                double f = 0;
+                for (int k = 0; k < 4; ++k)
+                    f += point_polygon(rad_ff_element_map_point(&map, g[k & 1], g[k >> 1]), ny,
+                                       p->corners, p->corner_count, np);
+                factor[slot] = 0.25 * f;
+            } else {
+                factor[slot] = point_polygon(y, ny, p->corners, p->corner_count, np);
+            }
             if (factor[slot] <= 0 || rad_ff_shaft_clear(c->shaft, (size_t)e)) continue;
             /* Visibility: the kernel-weighted fraction of rays that reach the patch. */
             const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));

@@ -18,7 +18,7 @@ static const rad_ff_method_entry methods[] = {
     {RAD_FF_ANALYTIC, "analytic", 4, 0, rad_ff_analytic_create},
     {RAD_FF_HEMICUBE, "hemicube", 0, 256, rad_ff_hemicube_create},
     {RAD_FF_RAYCAST, "raycast", 16, 0, rad_ff_raycast_create},
-    {RAD_FF_MONTECARLO, "montecarlo", 64, 0, rad_ff_montecarlo_create},
+    {RAD_FF_MONTECARLO, "montecarlo", 16, 0, rad_ff_montecarlo_create},
 };
 #define METHOD_COUNT (sizeof methods / sizeof methods[0])
 #define DEFAULT_METHOD RAD_FF_ANALYTIC
@@ -46,6 +46,8 @@ void rad_ff_context_release(rad_ff_context *context) {
     rad_rays_destroy(context->rays);
     rad_free(context->ctx, context->patches);
     rad_ff_shaft_destroy(context->shaft);
+    rad_free(context->ctx, context->element_radius);
+    context->element_radius = NULL;
     context->rays = NULL;
     context->patches = NULL;
     context->shaft = NULL;
@@ -78,6 +80,18 @@ rad_status rad_ff_context_build(rad_context *ctx, const rad_scene *scene, const 
     rad_status status = rad_rays_create(ctx, scene, &out->rays);
     if (!status) status = rad_ff_patches_create(ctx, mesh, &out->patches, &out->max_members);
     if (!status && cull) status = rad_ff_shaft_create(ctx, scene, mesh, &out->shaft);
+    if (!status) {
+        out->element_radius = rad_alloc(ctx, mesh->element_count ? mesh->element_count : 1,
+                                        sizeof *out->element_radius);
+        if (!out->element_radius) status = RAD_ERROR_NO_MEMORY;
+        for (size_t e = 0; e < mesh->element_count && !status; ++e) {
+            double radius = 0;
+            for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k)
+                radius = fmax(radius, v3_length(v3_sub(rad_element_corner(mesh, e, k),
+                                                       mesh->element_centroid[e])));
+            out->element_radius[e] = radius;
+        }
+    }
     if (status) rad_ff_context_release(out);
     return status;
 }
@@ -137,4 +151,9 @@ rad_ff_stats rad_ff_provider_stats(const rad_ff_provider *provider) {
     provider = rad_ff_cache_inner(provider);
     if (!rad_ff_method_by_name(provider->method)) return none;
     return ((const rad_ff_common *)provider)->stats;
+}
+
+const char *rad_ff_method_name(rad_ff_method method) {
+    const rad_ff_method_entry *entry = rad_ff_method_find(method);
+    return entry ? entry->name : NULL;
 }

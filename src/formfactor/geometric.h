@@ -34,6 +34,8 @@ typedef struct rad_ff_context {
     rad_rays *rays;         /* owned here */
     rad_ff_patch *patches;  /* owned here, mesh->patch_count entries */
     rad_ff_shaft *shaft;    /* owned here; NULL when the scene is too large to cull this way */
+    double *element_radius; /* owned here: largest distance from an element's centroid to a
+                               corner */
     int max_members;        /* most elements in one patch */
     rad_ff_options options; /* samples and resolution already defaulted */
 } rad_ff_context;
@@ -198,6 +200,21 @@ static inline uint64_t rad_ff_row_seed(const rad_ff_context *context, size_t pat
 /* Builds the outlines of every patch (patch.c). */
 rad_status rad_ff_patches_create(rad_context *ctx, const rad_mesh *mesh, rad_ff_patch **out,
                                  int *max_members);
+
+/* Nonzero when element e is so close to the patch that the form factor varies much across
+ * either: their centres are less than `factor` times the sum of their radii apart. Methods that
+ * work from a point of the element (or of the patch) spread their points over it there. */
+static inline int rad_ff_near(const rad_ff_context *context, const rad_ff_patch *patch,
+                              size_t element, double factor) {
+    rad_vec3 d = v3_sub(context->mesh->element_centroid[element], patch->centre);
+    double reach = factor * (patch->radius + context->element_radius[element]);
+    return v3_dot(d, d) < reach * reach;
+}
+
+/* The 2 x 2 Gauss-Legendre points of the unit square: receivers near the source are sampled
+ * there instead of at their centroid. */
+#define RAD_FF_GAUSS_LOW 0.21132486540518713
+#define RAD_FF_GAUSS_HIGH 0.78867513459481287
 
 /* Nonzero when nothing can pass energy from the patch to element e: e lies on or behind the
  * patch's plane, or the whole patch lies on or behind e's plane. */

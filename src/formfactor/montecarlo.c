@@ -50,12 +50,7 @@ static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *row
             /* Near pairs: the kernel's 1 / r^2 gives the point-pair estimate unbounded variance
              * where elements touch; there the source integral is taken in closed form at each
              * receiver point, F(dA_y -> p), and only y (and visibility) are sampled. */
-            double reach = 0;
-            for (int k = 0; k < rad_mesh_corner_count(mesh, (size_t)e); ++k)
-                reach = fmax(reach, v3_length(v3_sub(rad_element_corner(mesh, (size_t)e, k),
-                                                     mesh->element_centroid[e])));
-            const int near = v3_length(v3_sub(mesh->element_centroid[e], p->centre)) <
-                             2 * (p->radius + reach);
+            const int near = rad_ff_near(c, p, (size_t)e, 2);
             for (int s = 0; s < samples; ++s) {
                 double weight, u, v, f;
                 rad_vec3 x = rad_ff_source_point(&source, &jitter, s, samples, &weight);

@@ -162,15 +162,20 @@ static int boxes_overlap(rad_vec3 alo, rad_vec3 ahi, rad_vec3 blo, rad_vec3 bhi)
            alo.z <= bhi.z && blo.z <= ahi.z;
 }
 
-/* Nonzero when all of Q's corners lie beyond one of the shaft's edge planes (boxes a and b). In
- * the projection on axes (i, j), where box a reaches further along i (direction si) and box b
- * further along j (direction sj), the line through their corner edges bounds the hull. */
-static int outside_shaft(const rad_ff_shaft *shaft, size_t q, const double a_lo[3],
-                         const double a_hi[3], const double b_lo[3], const double b_hi[3]) {
+/* The edge planes of the shaft between boxes a and b. In the projection on axes (i, j), where
+ * one box reaches further along i (direction si) and the other further along j (direction sj),
+ * the line through their corner edges bounds the hull: points with ni qi + nj qj > offset lie
+ * outside it. */
+typedef struct shaft_lines {
+    int count;
+    int i[12], j[12];
+    double ni[12], nj[12], offset[12], length[12];
+} shaft_lines;
+
+static void shaft_lines_make(shaft_lines *lines, const double a_lo[3], const double a_hi[3],
+                             const double b_lo[3], const double b_hi[3]) {
     static const int axes[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-    const rad_vec3 *corners = shaft->corners + shaft->corner_first[q];
-    const int count = (int)(shaft->corner_first[q + 1] - shaft->corner_first[q]);
-    const double slack = shaft->tolerance[q];
+    lines->count = 0;
     for (int pair = 0; pair < 3; ++pair) {
         const int i = axes[pair][0], j = axes[pair][1];
         for (int signs = 0; signs < 4; ++signs) {
@@ -179,20 +184,33 @@ static int outside_shaft(const rad_ff_shaft *shaft, size_t q, const double a_lo[
             double bi = si > 0 ? b_hi[i] : b_lo[i], bj = sj > 0 ? b_hi[j] : b_lo[j];
             double reach_i = si * (ai - bi), reach_j = sj * (aj - bj);
             if (!((reach_i > 0 && reach_j < 0) || (reach_i < 0 && reach_j > 0))) continue;
-            /* The line through (ai, aj) and (bi, bj), normal pointing away from the boxes. */
             double ni = bj - aj, nj = -(bi - ai);
             if (ni * si + nj * sj < 0) {
                 ni = -ni;
                 nj = -nj;
             }
-            double length = sqrt(ni * ni + nj * nj), limit = slack * length;
-            int all_outside = 1;
-            for (int k = 0; k < count && all_outside; ++k) {
-                double qi = v3_get(corners[k], i), qj = v3_get(corners[k], j);
-                all_outside = ni * (qi - ai) + nj * (qj - aj) > limit;
-            }
-            if (all_outside) return 1;
+            int k = lines->count++;
+            lines->i[k] = i;
+            lines->j[k] = j;
+            lines->ni[k] = ni;
+            lines->nj[k] = nj;
+            lines->offset[k] = ni * ai + nj * aj;
+            lines->length[k] = fabs(ni) + fabs(nj); /* >= the Euclidean length: conservative */
         }
+    }
+}
+
+/* Nonzero when all of polygon Q's corners lie beyond one of the lines (with Q's tolerance). */
+static int outside_shaft(const rad_ff_shaft *shaft, size_t q, const shaft_lines *lines) {
+    const rad_vec3 *corners = shaft->corners + shaft->corner_first[q];
+    const int count = (int)(shaft->corner_first[q + 1] - shaft->corner_first[q]);
+    for (int k = 0; k < lines->count; ++k) {
+        const double limit = lines->offset[k] + shaft->tolerance[q] * lines->length[k];
+        const int i = lines->i[k], j = lines->j[k];
+        int all_outside = 1;
+        for (int c = 0; c < count && all_outside; ++c)
+            all_outside = lines->ni[k] * v3_get(corners[c], i) + lines->nj[k] * v3_get(corners[c], j) > limit;
+        if (all_outside) return 1;
     }
     return 0;
 }
@@ -215,10 +233,12 @@ void rad_ff_shaft_begin(rad_ff_shaft *shaft, const rad_ff_patch *patch) {
         double b_lo[3] = {lo.x, lo.y, lo.z}, b_hi[3] = {hi.x, hi.y, hi.z};
         lo = v3(min2(lo.x, patch->lo.x), min2(lo.y, patch->lo.y), min2(lo.z, patch->lo.z));
         hi = v3(max2(hi.x, patch->hi.x), max2(hi.y, patch->hi.y), max2(hi.z, patch->hi.z));
+        shaft_lines lines;
+        shaft_lines_make(&lines, a_lo, a_hi, b_lo, b_hi);
         for (size_t q = 0; q < n; ++q) {
             if ((shaft->patch_side[q] | shaft->side[r * n + q]) != (SIDE_FRONT | SIDE_BACK)) continue;
             if (!boxes_overlap(lo, hi, shaft->lo[q], shaft->hi[q])) continue;
-            if (outside_shaft(shaft, q, a_lo, a_hi, b_lo, b_hi)) continue;
+            if (outside_shaft(shaft, q, &lines)) continue;
             shaft->candidates[used++] = (uint32_t)q;
         }
     }
@@ -239,21 +259,27 @@ int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element) {
         lo = v3(min2(lo.x, c.x), min2(lo.y, c.y), min2(lo.z, c.z));
         hi = v3(max2(hi.x, c.x), max2(hi.y, c.y), max2(hi.z, c.z));
     }
-    double a_lo[3] = {shaft->patch_lo.x, shaft->patch_lo.y, shaft->patch_lo.z};
-    double a_hi[3] = {shaft->patch_hi.x, shaft->patch_hi.y, shaft->patch_hi.z};
-    double b_lo[3] = {INFINITY, INFINITY, INFINITY}, b_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int k = 0; k < count; ++k)
-        for (int axis = 0; axis < 3; ++axis) {
-            double value = v3_get(corners[k], axis);
-            b_lo[axis] = value < b_lo[axis] ? value : b_lo[axis];
-            b_hi[axis] = value > b_hi[axis] ? value : b_hi[axis];
-        }
+    shaft_lines lines;
+    lines.count = -1; /* made when first needed */
     for (uint32_t i = first; i < last; ++i) {
         uint32_t q = shaft->candidates[i];
         if (!boxes_overlap(lo, hi, shaft->lo[q], shaft->hi[q])) continue;
         if ((shaft->patch_side[q] | classify(shaft, q, corners, count)) != (SIDE_FRONT | SIDE_BACK))
             continue;
-        if (outside_shaft(shaft, q, a_lo, a_hi, b_lo, b_hi)) continue;
+        if (lines.count < 0) {
+            double a_lo[3] = {shaft->patch_lo.x, shaft->patch_lo.y, shaft->patch_lo.z};
+            double a_hi[3] = {shaft->patch_hi.x, shaft->patch_hi.y, shaft->patch_hi.z};
+            double b_lo[3] = {INFINITY, INFINITY, INFINITY};
+            double b_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            for (int k = 0; k < count; ++k)
+                for (int axis = 0; axis < 3; ++axis) {
+                    double value = v3_get(corners[k], axis);
+                    b_lo[axis] = value < b_lo[axis] ? value : b_lo[axis];
+                    b_hi[axis] = value > b_hi[axis] ? value : b_hi[axis];
+                }
+            shaft_lines_make(&lines, a_lo, a_hi, b_lo, b_hi);
+        }
+        if (outside_shaft(shaft, q, &lines)) continue;
         return 0;
     }
     return 1;
