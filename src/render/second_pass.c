@@ -22,7 +22,6 @@
 
 #include "render/bsdf.h"
 
-#include <float.h>
 
 static double largest3(const double c[3]) { return fmax(c[0], fmax(c[1], c[2])); }
 
