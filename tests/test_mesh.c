@@ -453,6 +453,31 @@ static void test_creases(void) {
     rad_scene_destroy(scene);
 }
 
+/* A cone of 16 facets, neighbours 16 degrees apart: one smooth surface. Grouping faces around a
+ * vertex must follow shared edges (connected components), so no two mesh vertices of the cone
+ * may sit at the same place (a duplicate would be a shading seam). */
+static void test_smooth_cone(void) {
+    rad_scene *scene = new_scene("cone");
+    uint32_t surface = add_surface(scene, "cone");
+    enum { FACETS = 16 };
+    for (int i = 0; i < FACETS; ++i) {
+        double a0 = 2 * RAD_PI * i / FACETS, a1 = 2 * RAD_PI * (i + 1) / FACETS;
+        const double triangle[3][3] = {{cos(a0), sin(a0), 0}, {cos(a1), sin(a1), 0}, {0, 0, 1}};
+        add_polygon(scene, surface, 3, triangle);
+    }
+    rad_mesh *mesh = mesh_of(scene, 0, 0.4, 0);
+    if (mesh) {
+        size_t duplicates = 0;
+        for (size_t a = 0; a < mesh->vertex_count; ++a)
+            for (size_t b = a + 1; b < mesh->vertex_count; ++b)
+                if (v3_length(v3_sub(mesh->vertices[a], mesh->vertices[b])) < 1e-9) duplicates++;
+        CHECK(duplicates == 0);
+        if (duplicates) fprintf(stderr, "  cone: %zu duplicated vertices\n", duplicates);
+    }
+    rad_mesh_destroy(mesh);
+    rad_scene_destroy(scene);
+}
+
 /* --elements N: about N elements on the Cornell box (measured; the bounds are what the cuts can
  * do: each edge is rounded up to whole elements). */
 static void test_element_counts(void) {
@@ -542,6 +567,7 @@ int main(void) {
     test_square_exact();
     test_patchwork();
     test_creases();
+    test_smooth_cone();
     test_element_counts();
     test_builtin_and_imported();
     test_bad_input();

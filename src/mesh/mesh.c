@@ -206,9 +206,9 @@ static rad_status split_creases(mesher *m) {
     size_t *fill = rad_alloc(ctx, corners + 1, sizeof *fill);
     rad_vec3 *position = rad_alloc(ctx, uses + 1, sizeof *position);
     uint32_t *surface = rad_alloc(ctx, uses + 1, sizeof *surface);
-    rad_vec3 *representative = rad_alloc(ctx, uses + 1, sizeof *representative);
+    uint32_t *label = rad_alloc(ctx, uses + 1, sizeof *label);
     rad_status status = RAD_OK;
-    if (!use_cell || !use_slot || !fill || !position || !surface || !representative) {
+    if (!use_cell || !use_slot || !fill || !position || !surface || !label) {
         status = RAD_ERROR_NO_MEMORY;
         goto done;
     }
@@ -219,24 +219,48 @@ static rad_status split_creases(mesher *m) {
             use_cell[at] = (uint32_t)i;
             use_slot[at] = (uint8_t)k;
         }
+    /* Around each corner, faces that share an edge through it and bend by less than the crease
+     * angle join one group (connected components, so a finely faceted cone stays one smooth
+     * vertex however many facets go round it). */
     size_t fresh = 0;
     for (size_t c = 0; c < corners; ++c) {
-        size_t groups_begin = fresh;
-        for (size_t at = start[c]; at < start[c + 1]; ++at) {
-            cell *owner = &m->cells[use_cell[at]];
-            size_t group = fresh;
-            for (size_t g = groups_begin; g < fresh; ++g)
-                if (v3_dot(representative[g], owner->normal) >= CREASE_COSINE) {
-                    group = g;
-                    break;
-                }
-            if (group == fresh) {
-                representative[fresh] = owner->normal;
+        size_t first = start[c], count = start[c + 1] - start[c];
+        uint32_t *group = label;
+        for (size_t i = 0; i < count; ++i) group[first + i] = (uint32_t)i;
+        for (size_t i = 0; i < count; ++i) {
+            const cell *a = &m->cells[use_cell[first + i]];
+            int na = cell_corners(a), ka = use_slot[first + i];
+            uint32_t a_prev = a->corner[(ka + na - 1) % na], a_next = a->corner[(ka + 1) % na];
+            for (size_t j = i + 1; j < count; ++j) {
+                const cell *b = &m->cells[use_cell[first + j]];
+                int nb = cell_corners(b), kb = use_slot[first + j];
+                uint32_t b_prev = b->corner[(kb + nb - 1) % nb], b_next = b->corner[(kb + 1) % nb];
+                int share = a_prev == b_next || a_next == b_prev || a_prev == b_prev ||
+                            a_next == b_next;
+                if (!share || v3_dot(a->normal, b->normal) < CREASE_COSINE) continue;
+                /* Union by relabelling to the smaller label (corners have few faces), so a
+                 * group's label is always the index of its first use. */
+                uint32_t x = group[first + i], y = group[first + j];
+                if (x == y) continue;
+                uint32_t from = x > y ? x : y, to = x > y ? y : x;
+                for (size_t k = 0; k < count; ++k)
+                    if (group[first + k] == from) group[first + k] = to;
+            }
+        }
+        for (size_t i = 0; i < count; ++i) {
+            uint32_t label = group[first + i];
+            if (label == (uint32_t)i) { /* the first use of its group names a new corner */
                 position[fresh] = m->corner_position[c];
                 surface[fresh] = m->corner_surface[c];
-                fresh++;
+                group[first + i] = (uint32_t)(fresh++) | 0x80000000u;
+            } else {
+                /* label < i: that use was already given its corner id */
+                group[first + i] = group[first + label];
             }
-            owner->corner[use_slot[at]] = (uint32_t)group;
+        }
+        for (size_t i = 0; i < count; ++i) {
+            cell *owner = &m->cells[use_cell[first + i]];
+            owner->corner[use_slot[first + i]] = group[first + i] & 0x7fffffffu;
         }
     }
     rad_free(ctx, m->corner_position);
@@ -253,7 +277,7 @@ done:
     rad_free(ctx, fill);
     rad_free(ctx, position);
     rad_free(ctx, surface);
-    rad_free(ctx, representative);
+    rad_free(ctx, label);
     return status;
 }
 
