@@ -17,7 +17,9 @@
  *
  * What this cannot show (docs/rendering.md): light that reaches a diffuse surface by way of a
  * mirror or through glass (caustics, and the brightening next to the mirror), because the first
- * pass treats mirrors and glass as what their diffuse part says: absorbers that cast shadows. */
+ * pass treats mirrors and glass as what their diffuse part says: absorbers that cast shadows.
+ * The final gather leaves them out too: its gather rays could find an emitter through a mirror
+ * or the glass, but a few rays per pixel would only scatter bright specks over the image. */
 #include "render/render.h"
 
 #include "render/bsdf.h"
@@ -25,15 +27,18 @@
 
 static double largest3(const double c[3]) { return fmax(c[0], fmax(c[1], c[2])); }
 
-/* The solution's radiance at a hit. For a gather ray's first hit, the emitted part is weighted
- * against the emitter samples of the final gather. */
+/* The solution's radiance at a hit. Camera paths take it whole. Gather rays take the reflected
+ * part (B - E) / pi, and the emitted part only at their first hit, weighted against the emitter
+ * samples of the final gather; emitted light a gather ray finds behind a mirror or through glass
+ * is a caustic, which the first pass does not carry either (see above), and is left out. */
 static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
-                              const rad_gather_origin *gather, rad_vec3 direction, double out[3]) {
+                              const rad_gather_origin *gather, int depth, rad_vec3 direction,
+                              double out[3]) {
     rad_reconstruct_radiance(r, hit->element, hit->u, hit->v, out);
     if (!gather) return;
     const float *emitted = r->element_emission[hit->element];
     if (!(emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) return;
-    double weight = rad_gather_emission_weight(r, gather, direction, hit);
+    double weight = depth == 0 ? rad_gather_emission_weight(r, gather, direction, hit) : 0;
     for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - emitted[c]) + weight * emitted[c];
 }
 
@@ -52,15 +57,13 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
         const rad_material *material = rad_renderer_material(r, hit.element);
         rad_vec3 x = v3_add(origin, v3_scale(direction, hit.t));
         rad_vec3 normal = r->mesh->element_normal[hit.element];
-        /* Emitted light seen straight from a gather ray is shared with the emitter samples. */
-        const rad_gather_origin *first = depth == 0 ? gather : NULL;
 
         if (material->kind == RAD_MATERIAL_DIFFUSE) {
             if (!hit.front) return;
             double radiance[3];
             if (!gather && r->settings.final_gather > 0)
                 rad_final_gather(r, sample, &hit, x, normal, radiance);
-            else solution_radiance(r, &hit, first, direction, radiance);
+            else solution_radiance(r, &hit, gather, depth, direction, radiance);
             for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
             return;
         }
@@ -71,7 +74,7 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
             /* The diffuse part from the solution, the mirror part traced. */
             if (largest3(material->reflectance) > 0) {
                 double radiance[3];
-                solution_radiance(r, &hit, first, direction, radiance);
+                solution_radiance(r, &hit, gather, depth, direction, radiance);
                 for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
             }
             for (int c = 0; c < 3; ++c) throughput[c] *= fmax(0.0, material->specular[c]);
