@@ -142,9 +142,36 @@ static double emitter_probability(const rad_renderer *r, size_t k) {
     return r->emitter_cdf[k] - (k ? r->emitter_cdf[k - 1] : 0);
 }
 
-/* The power heuristic for a sample of strategy a against strategy b (counts times densities). */
-static double power_heuristic(double a, double b) {
-    return a * a / (a * a + b * b);
+int rad_emitter_sample(const rad_renderer *r, double u0, double u1, rad_vec3 x,
+                       rad_emitter_point *out) {
+    if (r->emitter_count == 0) return 0;
+    size_t k = pick_emitter(r, &u0);
+    const rad_emitter *light = &r->emitters[k];
+    /* Uniform point on the triangle (Turk 1990). */
+    double root = sqrt(u0);
+    out->position = v3_add(light->p0, v3_add(v3_scale(light->e1, root * (1 - u1)),
+                                             v3_scale(light->e2, root * u1)));
+    rad_vec3 to_light = v3_sub(out->position, x);
+    double distance2 = v3_dot(to_light, to_light);
+    if (!(distance2 > 0)) return 0;
+    out->direction = v3_scale(to_light, 1 / sqrt(distance2));
+    double cos_y = -v3_dot(light->normal, out->direction);
+    if (cos_y <= 0) return 0;
+    out->pdf = emitter_probability(r, k) / light->area * distance2 / cos_y;
+    out->radiance = light->radiance;
+    return 1;
+}
+
+double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_element_hit *hit) {
+    if (r->emitter_count == 0) return 0;
+    /* Embree's split of a quad: (v0, v1, v3) below the diagonal u + v = 1, (v2, v3, v1) above. */
+    int piece = rad_mesh_corner_count(r->mesh, hit->element) == 4 && hit->u + hit->v > 1;
+    int32_t k = r->element_emitter[hit->element][piece];
+    if (k < 0) return 0;
+    const rad_emitter *light = &r->emitters[k];
+    double cos_y = -v3_dot(light->normal, direction);
+    if (cos_y <= 0) return 0;
+    return emitter_probability(r, (size_t)k) / light->area * hit->t * hit->t / cos_y;
 }
 
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
@@ -160,26 +187,17 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
     for (int i = 0; i < count; ++i) {
         double u[2];
         stratified(sample->index + (uint32_t)i * sample->count, total, sample->light_shift, u);
-        size_t k = pick_emitter(r, &u[0]);
-        const rad_emitter *light = &r->emitters[k];
-        /* Uniform point on the triangle (Turk 1990). */
-        double root = sqrt(u[0]);
-        rad_vec3 y = v3_add(light->p0, v3_add(v3_scale(light->e1, root * (1 - u[1])),
-                                              v3_scale(light->e2, root * u[1])));
-        rad_vec3 to_light = v3_sub(y, x);
-        double distance2 = v3_dot(to_light, to_light);
-        if (!(distance2 > 0)) continue;
-        rad_vec3 wi = v3_scale(to_light, 1 / sqrt(distance2));
-        double cos_x = v3_dot(n, wi), cos_y = -v3_dot(light->normal, wi);
-        if (cos_x <= 0 || cos_y <= 0) continue;
+        rad_emitter_point light;
+        if (!rad_emitter_sample(r, u[0], u[1], x, &light)) continue;
+        double cos_x = v3_dot(n, light.direction);
+        if (cos_x <= 0) continue;
         sample->counts->shadow++;
-        if (rad_element_rays_occluded(r->rays, x, y)) continue;
+        if (rad_element_rays_occluded(r->rays, x, light.position)) continue;
         /* Densities over solid angle at x. */
-        double pdf_light = emitter_probability(r, k) / light->area * distance2 / cos_y;
         double pdf_gather = cos_x / RAD_PI;
-        double weight = power_heuristic(count * pdf_light, from->gather_rays * pdf_gather);
-        double g = cos_x / pdf_light * weight;
-        for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * light->radiance[c] * g;
+        double weight = rad_power_heuristic(count * light.pdf, from->gather_rays * pdf_gather);
+        double g = cos_x / light.pdf * weight;
+        for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * light.radiance[c] * g;
     }
     for (int c = 0; c < 3; ++c) out[c] /= count;
 }
@@ -187,16 +205,10 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
                                   rad_vec3 direction, const rad_element_hit *hit) {
     if (!from || from->light_samples <= 0) return 1;
-    /* Embree's split of a quad: (v0, v1, v3) below the diagonal u + v = 1, (v2, v3, v1) above. */
-    int piece = rad_mesh_corner_count(r->mesh, hit->element) == 4 && hit->u + hit->v > 1;
-    int32_t k = r->element_emitter[hit->element][piece];
-    if (k < 0) return 1;
-    const rad_emitter *light = &r->emitters[k];
-    double cos_y = -v3_dot(light->normal, direction), cos_x = v3_dot(from->normal, direction);
-    if (cos_y <= 0 || cos_x <= 0) return 1;
-    double pdf_light = emitter_probability(r, (size_t)k) / light->area * hit->t * hit->t / cos_y;
-    double pdf_gather = cos_x / RAD_PI;
-    return power_heuristic(from->gather_rays * pdf_gather, from->light_samples * pdf_light);
+    double pdf_light = rad_emitter_pdf(r, direction, hit);
+    double cos_x = v3_dot(from->normal, direction);
+    if (!(pdf_light > 0) || cos_x <= 0) return 1;
+    return rad_power_heuristic(from->gather_rays * cos_x / RAD_PI, from->light_samples * pdf_light);
 }
 
 /* ------------------------------------------------------------------------------------------- */

@@ -112,6 +112,27 @@ typedef struct rad_gather_origin {
     int light_samples, gather_rays;
 } rad_gather_origin;
 
+/* A point drawn on the emitters, as seen from a point x. */
+typedef struct rad_emitter_point {
+    rad_vec3 position, direction; /* direction: unit, from x to the point */
+    double pdf;                   /* solid-angle density at x */
+    const float *radiance;        /* emitted radiance L_e */
+} rad_emitter_point;
+
+/* The power heuristic (Veach & Guibas 1995) for a sample of the strategy with (count times
+ * density) a against the other's b. */
+static inline double rad_power_heuristic(double a, double b) {
+    return a * a + b * b > 0 ? a * a / (a * a + b * b) : 0;
+}
+
+/* final_gather.c: a point on the emitters for two uniform numbers (an emitter triangle by power,
+ * then uniform on it); zero when it is not there or faces away from x. */
+int rad_emitter_sample(const rad_renderer *r, double u0, double u1, rad_vec3 x,
+                       rad_emitter_point *out);
+/* The solid-angle density rad_emitter_sample has for the point a ray along `direction` meets at
+ * `hit`; zero when that is not the front of an emitter. */
+double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_element_hit *hit);
+
 /* final_gather.c: the weight (power heuristic, Veach 1997) of the emitted radiance a gather ray
  * from `from` meets straight away at distance t on the front of emitting `element`. */
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,

@@ -10,7 +10,9 @@
  *   - perfect mirrors: the reflected ray, weighted by the specular tint; a diffuse part of the
  *     mirror material is taken from the solution, like any diffuse surface;
  *   - glass and rough mirrors: one direction drawn from the BSDF (render/bsdf.h, shared with the
- *     path tracer): Fresnel reflection or refraction, or a GGX lobe;
+ *     path tracer): Fresnel reflection or refraction, or a GGX lobe; at glossy points camera
+ *     paths also sample the emitters, combined with the BSDF sample by multiple importance
+ *     sampling (the glossy highlight of a light would otherwise be specks);
  * for at most max_depth bounces, until it lands on a diffuse surface (radiance from the solution,
  * or a final gather there when asked for), leaves the scene (black) or hits the back of a
  * one-sided surface (black: surfaces reflect from their front only, as in the solution).
@@ -42,12 +44,34 @@ static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
     for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - emitted[c]) + weight * emitted[c];
 }
 
+/* Light straight from the emitters reflected at a glossy point x towards wo: one emitter sample,
+ * weighted against the BSDF sample that continues the path (multiple importance sampling, as
+ * the path tracer does at every vertex). Without it, a rough mirror would show the light it
+ * reflects only where a BSDF sample happens to hit the emitter: bright specks. */
+static void glossy_direct(const rad_renderer *r, rad_sample *sample, const rad_material *material,
+                          rad_vec3 x, rad_vec3 normal, rad_vec3 wo, double out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    rad_emitter_point light;
+    double u0 = rad_rng_uniform(&sample->rng), u1 = rad_rng_uniform(&sample->rng);
+    if (!rad_emitter_sample(r, u0, u1, x, &light)) return;
+    double f[3], pdf_bsdf;
+    if (!rad_bsdf_eval(material, normal, wo, light.direction, f, &pdf_bsdf)) return;
+    sample->counts->shadow++;
+    if (rad_element_rays_occluded(r->rays, x, light.position)) return;
+    double cos_x = fabs(v3_dot(normal, light.direction));
+    double weight = rad_power_heuristic(light.pdf, pdf_bsdf);
+    for (int c = 0; c < 3; ++c) out[c] = f[c] * light.radiance[c] * cos_x / light.pdf * weight;
+}
+
 void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
                         rad_vec3 direction, const rad_gather_origin *gather, double out[3]) {
     rad_ray_counts *counts = sample->counts;
     out[0] = out[1] = out[2] = 0;
     double throughput[3] = {1, 1, 1};
     double tnear = gather ? r->rays->epsilon : 0;
+    /* The solid-angle density of the last bounce when it was drawn from a glossy (non-delta)
+     * lobe of a camera path, whose emitter sample then shares the emitted light found next. */
+    double glossy_pdf = 0;
     for (int depth = 0;; ++depth) {
         if (depth > 0) counts->specular++;
         else if (gather) counts->gather++;
@@ -64,6 +88,11 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
             if (!gather && r->settings.final_gather > 0)
                 rad_final_gather(r, sample, &hit, x, normal, radiance);
             else solution_radiance(r, &hit, gather, depth, direction, radiance);
+            const float *emitted = r->element_emission[hit.element];
+            if (glossy_pdf > 0 && (emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) {
+                double weight = rad_power_heuristic(glossy_pdf, rad_emitter_pdf(r, direction, &hit));
+                for (int c = 0; c < 3; ++c) radiance[c] -= (1 - weight) * emitted[c];
+            }
             for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
             return;
         }
@@ -79,14 +108,22 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
             }
             for (int c = 0; c < 3; ++c) throughput[c] *= fmax(0.0, material->specular[c]);
             direction = rad_reflect(wo, normal);
+            glossy_pdf = 0;
         } else {
-            /* Glass, rough mirrors: one sample of the whole BSDF. */
+            /* Glass, rough mirrors: one sample of the whole BSDF, and on camera paths the light
+             * straight from the emitters at glossy points. */
+            if (!gather && rad_bsdf_has_smooth_lobe(material)) {
+                double direct[3];
+                glossy_direct(r, sample, material, x, normal, wo, direct);
+                for (int c = 0; c < 3; ++c) out[c] += throughput[c] * direct[c];
+            }
             double u[3] = {rad_rng_uniform(&sample->rng), rad_rng_uniform(&sample->rng),
-                         rad_rng_uniform(&sample->rng)};
-            rad_bsdf_sample sample;
-            if (rad_bsdf_sample_direction(material, normal, wo, u, &sample) == RAD_LOBE_NONE) return;
-            for (int c = 0; c < 3; ++c) throughput[c] *= sample.weight[c];
-            direction = sample.direction;
+                           rad_rng_uniform(&sample->rng)};
+            rad_bsdf_sample scatter;
+            if (rad_bsdf_sample_direction(material, normal, wo, u, &scatter) == RAD_LOBE_NONE) return;
+            for (int c = 0; c < 3; ++c) throughput[c] *= scatter.weight[c];
+            direction = scatter.direction;
+            glossy_pdf = !gather && !scatter.delta ? scatter.pdf : 0;
         }
         if (!(largest3(throughput) > 0)) return;
         origin = x;
