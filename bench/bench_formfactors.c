@@ -111,9 +111,10 @@ static void bench_rays(void) {
             rad_rng rng = rad_rng_make(rad_ff_row_seed(c, patch), e);
             rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
             group[groups++] = (uint32_t)count;
+            rad_ff_cursor cursor = rad_ff_cursor_make(&source, &jitter, samples);
             for (int k = 0; k < samples && count < capacity; ++k) {
                 double w;
-                rad_vec3 x = rad_ff_source_point(&source, &jitter, k, samples, &w), d = v3_sub(x, y);
+                rad_vec3 x = rad_ff_cursor_next(&cursor, &w), d = v3_sub(x, y);
                 if (v3_dot(ny, d) <= 0 || v3_dot(p->normal, d) >= 0) continue;
                 from[count] = v3_add(y, v3_scale(ny, c->rays->epsilon));
                 to[count++] = v3_add(x, v3_scale(p->normal, c->rays->epsilon));
@@ -254,10 +255,11 @@ static void reference_row(const rad_ff_context *c, size_t patch, rad_ff_element_
                 rad_vec3 from[16], to[16];
                 double kernel[16], seen = 0, all = 0;
                 uint8_t blocked[16];
+                rad_ff_cursor cursor = rad_ff_cursor_make(&source, &jitter, rays_per_point);
                 for (int start = 0; start < rays_per_point; start += 16) {
                     for (int s = 0; s < 16; ++s) {
                         double w;
-                        rad_vec3 x = rad_ff_source_point(&source, &jitter, start + s, rays_per_point, &w);
+                        rad_vec3 x = rad_ff_cursor_next(&cursor, &w);
                         rad_vec3 d = v3_sub(x, y);
                         double ce = v3_dot(ny, d), cp = -v3_dot(p->normal, d), r2 = v3_dot(d, d);
                         kernel[s] = ce > 0 && cp > 0 ? w * ce * cp / (r2 * r2) : 0;

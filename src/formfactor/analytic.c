@@ -117,7 +117,7 @@ static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *row) 
          * of all points and of the points seen. */
         double factor[RAD_FF_BLOCK], all[RAD_FF_BLOCK], seen[RAD_FF_BLOCK] = {0};
         rad_ff_ray_queue queue;
-        queue.packet.count = 0;
+        rad_ray_packet_init(&queue.packet);
         for (long e = first; e < last; ++e) {
             const int slot = (int)(e - first);
             factor[slot] = 0;
@@ -145,9 +145,10 @@ static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *row) 
             const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));
             rad_rng rng = rad_rng_make(seed, (uint64_t)e);
             const rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
+            rad_ff_cursor cursor = rad_ff_cursor_make(&source, &jitter, samples);
             for (int s = 0; s < samples; ++s) {
                 double weight;
-                rad_vec3 x = rad_ff_source_point(&source, &jitter, s, samples, &weight);
+                rad_vec3 x = rad_ff_cursor_next(&cursor, &weight);
                 rad_vec3 d = v3_sub(x, y);
                 double cos_e = v3_dot(ny, d), cos_p = -v3_dot(np, d), r2 = v3_dot(d, d);
                 if (cos_e <= 0 || cos_p <= 0) continue;

@@ -167,24 +167,56 @@ static inline rad_ff_jitter rad_ff_jitter_make(rad_rng *rng) {
     return j;
 }
 
-/* Source point s of a set of n (0 <= s < n; n is usually source->count) and its area
- * weight. */
-static inline rad_vec3 rad_ff_source_point(const rad_ff_source *source, const rad_ff_jitter *j,
-                                           int s, int n, double *weight) {
+/* Walks one receiver's set of n source points (n is usually source->count) in order, without
+ * a division per point. */
+typedef struct rad_ff_cursor {
+    const rad_ff_source *source;
+    double r1, r2, choice, spread; /* spread = members / n, for fewer points than elements */
+    double share[2];               /* 1 / (points per element), for elements with more, fewer */
+    int n, s, q, index, extra;
+} rad_ff_cursor;
+
+static inline rad_ff_cursor rad_ff_cursor_make(const rad_ff_source *source,
+                                               const rad_ff_jitter *jitter, int n) {
+    rad_ff_cursor c;
+    int m = source->members;
+    c.source = source;
+    c.r1 = jitter->r1;
+    c.r2 = jitter->r2;
+    c.choice = jitter->choice;
+    c.spread = (double)m / n;
+    c.n = n;
+    c.s = c.q = c.index = 0;
+    c.extra = n >= m ? n % m : 0;
+    c.share[0] = n >= m ? 1.0 / (n / m + 1) : 0; /* elements q < extra get one more point */
+    c.share[1] = n >= m ? 1.0 / (n / m) : 0;
+    return c;
+}
+
+/* The next point and its area weight: with at least as many points as elements, point s lies
+ * on element s mod members (each element gets n / members of them); with fewer, on a
+ * stratified random choice of elements. Within an element, the R2 lattice, rotated at random
+ * per receiver and per element. */
+static inline rad_vec3 rad_ff_cursor_next(rad_ff_cursor *c, double *weight) {
+    const rad_ff_source *source = c->source;
     int m = source->members, q, index;
-    if (n >= m) {
-        q = s % m;
-        index = s / m;
-        int per = n / m + (q < n % m);
-        *weight = source->maps[q].area / per;
+    if (c->n >= m) {
+        q = c->q;
+        index = c->index;
+        *weight = source->maps[q].area * c->share[q < c->extra ? 0 : 1];
+        if (++c->q == m) {
+            c->q = 0;
+            ++c->index;
+        }
     } else {
-        q = (int)(((double)s + j->choice) * m / n);
+        q = (int)(((double)c->s + c->choice) * c->spread);
         if (q >= m) q = m - 1;
-        index = s;
-        *weight = source->maps[q].area * m / n;
+        index = c->s;
+        *weight = source->maps[q].area * c->spread;
     }
+    ++c->s;
     double u, v;
-    rad_r2_point(index, j->r1 + q * RAD_R2_A2, j->r2 + q * RAD_R2_A1, &u, &v);
+    rad_r2_point(index, c->r1 + q * RAD_R2_A2, c->r2 + q * RAD_R2_A1, &u, &v);
     return rad_ff_element_map_point(&source->maps[q], u, v);
 }
 
@@ -227,6 +259,9 @@ int rad_ff_facing_away(const rad_mesh *mesh, const rad_ff_patch *patch, size_t e
  * so a packet of 16 is full even when each receiver casts only a few. */
 #define RAD_FF_BLOCK 64
 
+/* Source points are made and weighed this many at a time (vectorised arithmetic). */
+#define RAD_FF_BATCH 32
+
 /* Segments waiting for a packet; each carries the contribution it makes to receiver `slot` of
  * the block when nothing blocks it. */
 typedef struct rad_ff_ray_queue {
@@ -258,6 +293,22 @@ static inline int rad_ff_queue_segment(rad_ff_ray_queue *queue, const rad_rays *
     }
     double margin = rays->epsilon / length;
     int lane = rad_ray_packet_add(&queue->packet, from, d, margin, 1 - margin);
+    queue->contribution[lane] = contribution;
+    queue->slot[lane] = slot;
+    if (queue->packet.count == 16) rad_ff_queue_flush(queue, rays, sums);
+    return 1;
+}
+
+/* The same with the direction (to - from) and the margin epsilon / |to - from| known to the
+ * caller, who often has the length already. */
+static inline int rad_ff_queue_ray(rad_ff_ray_queue *queue, const rad_rays *rays, double *sums,
+                                   rad_vec3 from, rad_vec3 direction, double margin,
+                                   double contribution, int slot) {
+    if (margin >= 0.5) {
+        sums[slot] += contribution;
+        return 0;
+    }
+    int lane = rad_ray_packet_add(&queue->packet, from, direction, margin, 1 - margin);
     queue->contribution[lane] = contribution;
     queue->slot[lane] = slot;
     if (queue->packet.count == 16) rad_ff_queue_flush(queue, rays, sums);

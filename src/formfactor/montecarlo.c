@@ -36,7 +36,7 @@ static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *row
         const long last = first + RAD_FF_BLOCK < n ? first + RAD_FF_BLOCK : n;
         double sums[RAD_FF_BLOCK] = {0};
         rad_ff_ray_queue queue;
-        queue.packet.count = 0;
+        rad_ray_packet_init(&queue.packet);
         for (long e = first; e < last; ++e) {
             const int slot = (int)(e - first);
             if (mesh->element_patch[e] == patch || rad_ff_facing_away(mesh, p, (size_t)e)) continue;
@@ -51,9 +51,10 @@ static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *row
              * where elements touch; there the source integral is taken in closed form at each
              * receiver point, F(dA_y -> p), and only y (and visibility) are sampled. */
             const int near = rad_ff_near(c, p, (size_t)e, 2);
+            rad_ff_cursor cursor = rad_ff_cursor_make(&source, &jitter, samples);
             for (int s = 0; s < samples; ++s) {
                 double weight, u, v, f;
-                rad_vec3 x = rad_ff_source_point(&source, &jitter, s, samples, &weight);
+                rad_vec3 x = rad_ff_cursor_next(&cursor, &weight);
                 /* The receiver's lattice runs with the axes swapped, so pairs do not line up. */
                 rad_r2_point(s, r1, r2, &v, &u);
                 rad_vec3 y = rad_ff_element_map_point(&receiver, u, v);

@@ -39,7 +39,7 @@ static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *row) {
         const long last = first + RAD_FF_BLOCK < n ? first + RAD_FF_BLOCK : n;
         double sums[RAD_FF_BLOCK] = {0};
         rad_ff_ray_queue queue;
-        queue.packet.count = 0;
+        rad_ray_packet_init(&queue.packet);
         for (long e = first; e < last; ++e) {
             const int slot = (int)(e - first);
             if (mesh->element_patch[e] == patch || rad_ff_facing_away(mesh, p, (size_t)e)) continue;
@@ -57,19 +57,43 @@ static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *row) {
                 double finer = distance > near / 4 ? ceil(near * near / (distance * distance)) : 16;
                 points = samples * (int)finer;
             }
-            for (int s = 0; s < points; ++s) {
-                double weight;
-                rad_vec3 x = rad_ff_source_point(&source, &jitter, s, points, &weight);
-                rad_vec3 d = v3_sub(x, y);
-                double cos_e = v3_dot(ny, d), cos_p = -v3_dot(np, d);
-                if (cos_e <= 0 || cos_p <= 0) continue;
-                double r2 = v3_dot(d, d);
-                /* Disc of area w at distance r: w cos cos / (pi r^2 + w), cosines unnormalised. */
-                double f = weight * cos_e * cos_p / (r2 * (RAD_PI * r2 + weight));
-                if (test)
-                    cast += (uint64_t)rad_ff_queue_segment(&queue, rays, sums, from,
-                                                           v3_add(x, v3_scale(np, epsilon)), f, slot);
-                else sums[slot] += f;
+            rad_ff_cursor cursor = rad_ff_cursor_make(&source, &jitter, points);
+            for (int start = 0; start < points; start += RAD_FF_BATCH) {
+                const int count = points - start < RAD_FF_BATCH ? points - start : RAD_FF_BATCH;
+                /* The points first (the cursor walks in order), then the arithmetic in a loop
+                 * the compiler vectorises, then the rays. */
+                double px[RAD_FF_BATCH], py[RAD_FF_BATCH], pz[RAD_FF_BATCH], weight[RAD_FF_BATCH];
+                double f[RAD_FF_BATCH], margin[RAD_FF_BATCH];
+                for (int k = 0; k < count; ++k) {
+                    rad_vec3 x = rad_ff_cursor_next(&cursor, &weight[k]);
+                    px[k] = x.x;
+                    py[k] = x.y;
+                    pz[k] = x.z;
+                }
+#pragma omp simd
+                for (int k = 0; k < count; ++k) {
+                    double dx = px[k] - y.x, dy = py[k] - y.y, dz = pz[k] - y.z;
+                    double cos_e = ny.x * dx + ny.y * dy + ny.z * dz;
+                    double cos_p = -(np.x * dx + np.y * dy + np.z * dz);
+                    /* Disc of area w at distance r: w cos cos / (pi r^2 + w), cosines
+                     * unnormalised; one division serves it and the ray's margin epsilon / r. */
+                    double r2 = dx * dx + dy * dy + dz * dz, r = sqrt(r2);
+                    double disc = r2 * (RAD_PI * r2 + weight[k]), inverse = 1 / (disc * r);
+                    int faces = cos_e > 0 && cos_p > 0;
+                    f[k] = faces ? weight[k] * cos_e * cos_p * inverse * r : 0;
+                    margin[k] = epsilon * inverse * disc;
+                }
+                for (int k = 0; k < count; ++k) {
+                    if (f[k] <= 0) continue;
+                    if (test) {
+                        rad_vec3 to = v3(px[k] + epsilon * np.x, py[k] + epsilon * np.y,
+                                         pz[k] + epsilon * np.z);
+                        cast += (uint64_t)rad_ff_queue_ray(&queue, rays, sums, from, v3_sub(to, from),
+                                                           margin[k], f[k], slot);
+                    } else {
+                        sums[slot] += f[k];
+                    }
+                }
             }
         }
         rad_ff_queue_flush(&queue, rays, sums);

@@ -257,24 +257,22 @@ void rad_rays_occluded_batch(const rad_rays *rays, const rad_vec3 *a, const rad_
     }
 }
 
-void rad_rays_trace_packet(const rad_rays *rays, rad_ray_packet *packet) {
-    struct RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+void rad_ray_packet_init(rad_ray_packet *packet) {
     for (int i = 0; i < 16; ++i) {
-        int live = i < packet->count && packet->ray.tnear[i] < packet->ray.tfar[i];
-        packet->valid[i] = live ? -1 : 0;
-        if (i >= packet->count) {
-            packet->ray.org_x[i] = packet->ray.org_y[i] = packet->ray.org_z[i] = 0;
-            packet->ray.dir_x[i] = packet->ray.dir_y[i] = 0;
-            packet->ray.dir_z[i] = 1;
-            packet->ray.tnear[i] = packet->ray.tfar[i] = 0;
-        }
         packet->ray.time[i] = 0;
         packet->ray.mask[i] = UINT32_MAX;
         packet->ray.id[i] = (unsigned)i;
         packet->ray.flags[i] = 0;
     }
+    packet->count = 0;
+}
+
+void rad_rays_trace_packet(const rad_rays *rays, rad_ray_packet *packet) {
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    for (int i = 0; i < 16; ++i)
+        packet->valid[i] = i < packet->count && packet->ray.tnear[i] < packet->ray.tfar[i] ? -1 : 0;
     rtcOccluded16(packet->valid, rays->scene, &context, &packet->ray);
     for (int i = 0; i < packet->count; ++i)
         if (!packet->valid[i]) packet->ray.tfar[i] = 1; /* a segment too short to be blocked */

@@ -42,7 +42,9 @@ typedef struct rad_ray_packet {
     int count;
 } rad_ray_packet;
 
-static inline void rad_ray_packet_clear(rad_ray_packet *packet) { packet->count = 0; }
+/* Empties a packet and sets what every lane shares (time, mask, id, flags). Call once before
+ * first use; rad_rays_trace_packet leaves the packet empty and ready again. */
+void rad_ray_packet_init(rad_ray_packet *packet);
 
 /* Adds the segment origin -> origin + direction, blocked only for t in (tnear, tfar) (in units
  * of the direction's length). Returns the lane. The packet must not be full. */
@@ -60,7 +62,8 @@ static inline int rad_ray_packet_add(rad_ray_packet *packet, rad_vec3 origin, ra
     return i;
 }
 
-/* Traces the packet's segments; afterwards rad_ray_packet_occluded tells lane by lane. */
+/* Traces the packet's segments; afterwards rad_ray_packet_occluded tells lane by lane (until
+ * the next rad_ray_packet_add; the caller resets count to 0 to refill it). */
 void rad_rays_trace_packet(const rad_rays *rays, rad_ray_packet *packet);
 
 static inline int rad_ray_packet_occluded(const rad_ray_packet *packet, int lane) {
