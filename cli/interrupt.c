@@ -25,7 +25,6 @@ void cli_interrupt_install(void) {
     action.sa_handler = on_signal;
     sigemptyset(&action.sa_mask);
     sigaction(SIGINT, &action, NULL);
-    sigaction(SIGTERM, &action, NULL);
 }
 
 int cli_interrupted(void) { return interrupted != 0; }

@@ -1,7 +1,8 @@
-/* interrupt.h - Ctrl-C: the first SIGINT (or SIGTERM) asks the running command to stop; the
- * library sees it through the progress callback, returns RAD_ERROR_CANCELLED and leaves its
- * results as far as they got, so the command can keep them (solve --save) and exits with 130
- * (143 for SIGTERM). A second Ctrl-C kills the process at once. */
+/* interrupt.h - Ctrl-C: the first SIGINT asks the running command to stop; the library sees it
+ * through the progress callback, returns RAD_ERROR_CANCELLED and leaves its results as far as
+ * they got, so the command can keep them (solve --save) and exits with 130. A second Ctrl-C
+ * kills the process at once. SIGTERM keeps its default action: a command must die when told
+ * to, even inside a step that reports no progress. */
 #ifndef RAD_CLI_INTERRUPT_H
 #define RAD_CLI_INTERRUPT_H
 
@@ -11,10 +12,10 @@
 /* Installs the handlers (once; later calls do nothing). */
 void cli_interrupt_install(void);
 
-/* Nonzero once Ctrl-C was pressed (or SIGTERM arrived). */
+/* Nonzero once Ctrl-C was pressed. */
 int cli_interrupted(void);
 
-/* The exit status of an interrupted command: 128 + the signal (130 for Ctrl-C). */
+/* The exit status of an interrupted command: 128 + SIGINT = 130. */
 int cli_interrupt_exit_status(void);
 
 #endif
