@@ -132,6 +132,23 @@ static inline rad_vec3 rad_element_corner(const rad_mesh *mesh, size_t element, 
     return mesh->vertices[mesh->element_vertices[element][k]];
 }
 
+/* 1 / sqrt(x) for x > 0 to about one ulp, with no library call: the magic-constant first guess
+ * (3.4% off) and four Newton steps, each doubling the correct digits. Unlike sqrt() (which may
+ * set errno) it lets the compiler vectorise the loops that weigh source points. */
+static inline double rad_inverse_sqrt(double x) {
+    union {
+        double d;
+        uint64_t u;
+    } bits = {x};
+    bits.u = 0x5fe6eb50c7b537a9ull - (bits.u >> 1);
+    double y = bits.d, half = 0.5 * x;
+    y = y * (1.5 - half * y * y);
+    y = y * (1.5 - half * y * y);
+    y = y * (1.5 - half * y * y);
+    y = y * (1.5 - half * y * y);
+    return y;
+}
+
 /* The R2 sequence (Roberts 2018): the 2-D low-discrepancy lattice i * (1/g, 1/g^2) mod 1 with
  * g the plastic number, rotated by a random offset (Cranley & Patterson 1976). */
 #define RAD_R2_A1 0.75487766624669276
@@ -275,8 +292,8 @@ static inline void rad_ff_queue_flush(rad_ff_ray_queue *queue, const rad_rays *r
                                       double *sums) {
     if (!queue->packet.count) return;
     rad_rays_trace_packet(rays, &queue->packet);
-    for (int i = 0; i < queue->packet.count; ++i)
-        if (!rad_ray_packet_occluded(&queue->packet, i)) sums[queue->slot[i]] += queue->contribution[i];
+    for (int i = 0; i < queue->packet.count; ++i) /* branch-free: blocking is unpredictable */
+        sums[queue->slot[i]] += rad_ray_packet_occluded(&queue->packet, i) ? 0.0 : queue->contribution[i];
     queue->packet.count = 0;
 }
 

@@ -14,6 +14,11 @@
  * distance, so the source is cut finer, (2 radius / r)^2 times the samples up to 16 times, as
  * Wallace et al. subdivide the source adaptively. Pairs that shaft culling proves unoccluded
  * cast no ray. */
+/* sqrt never sees a negative number here; without errno to set it vectorises. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-math-errno")
+#endif
+
 #include "formfactor/geometric.h"
 
 static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *row) {
@@ -76,12 +81,13 @@ static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *row) {
                     double cos_e = ny.x * dx + ny.y * dy + ny.z * dz;
                     double cos_p = -(np.x * dx + np.y * dy + np.z * dz);
                     /* Disc of area w at distance r: w cos cos / (pi r^2 + w), cosines
-                     * unnormalised; one division serves it and the ray's margin epsilon / r. */
-                    double r2 = dx * dx + dy * dy + dz * dz, r = sqrt(r2);
-                    double disc = r2 * (RAD_PI * r2 + weight[k]), inverse = 1 / (disc * r);
+                     * unnormalised; the ray's ends are kept epsilon / r from the surfaces. */
+                    double r2 = dx * dx + dy * dy + dz * dz, inverse_r = rad_inverse_sqrt(r2);
                     int faces = cos_e > 0 && cos_p > 0;
-                    f[k] = faces ? weight[k] * cos_e * cos_p * inverse * r : 0;
-                    margin[k] = epsilon * inverse * disc;
+                    f[k] = faces ? weight[k] * cos_e * cos_p * inverse_r * inverse_r /
+                                       (RAD_PI * r2 + weight[k])
+                                 : 0;
+                    margin[k] = epsilon * inverse_r;
                 }
                 for (int k = 0; k < count; ++k) {
                     if (f[k] <= 0) continue;
