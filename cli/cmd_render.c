@@ -45,7 +45,9 @@ static void print_stats(const cli_timings *t, double renderer_seconds, double wr
     printf("load           %8.3f s\n", t->load);
     printf("mesh, setup    %8.3f s   %zu elements\n", t->system, elements);
     printf("solve          %8.3f s   %s, %d %s, %s\n", t->solve, rad_solver_kind_name(solve->solver),
-           report->iterations, solve->solver == RAD_SOLVER_SHOOTING ? "shots" : "rounds",
+           report->iterations,
+           solve->solver == RAD_SOLVER_SHOOTING || solve->solver == RAD_SOLVER_IMPORTANCE ? "shots"
+                                                                                  : "rounds",
            report->converged ? "converged" : "not converged");
     printf("ray structures %8.3f s\n", renderer_seconds);
     printf("render         %8.3f s   %.3g Mrays/s (camera %llu, gather %llu, shadow %llu, "
@@ -147,8 +149,8 @@ int cmd_render(int argc, char **argv) {
         return usage ? EXIT_USAGE : 1;
     }
     rs = cli_pipeline_build(ctx, scene_name, &mesh, &ff, &scene, &system, &timings);
+    rad_camera_desc camera;
     if (!rs) {
-        rad_camera_desc camera;
         rad_scene_get_camera(scene, &camera);
         if (given(a.eye)) memcpy(camera.eye, a.eye, sizeof a.eye);
         if (given(a.look)) memcpy(camera.look, a.look, sizeof a.look);
@@ -168,6 +170,10 @@ int cmd_render(int argc, char **argv) {
         rs = rad_renderer_create(scene, system, &render, &renderer);
         renderer_seconds = cli_seconds() - start;
     }
+    /* The importance solver refines what this camera sees. */
+    solve.camera = &camera;
+    solve.view_width = a.width;
+    solve.view_height = a.height;
     if (!rs) rs = cli_pipeline_solve(system, &solve, &report, &timings);
     if (!rs) rs = rad_renderer_render(renderer, &image, &stats);
     if (!rs) {

@@ -10,9 +10,9 @@ double cli_seconds(void) {
 }
 
 void cli_pipeline_options(cli_pipeline_args *a, const char *default_solver, cli_option *o) {
-    static char solver_help[96];
+    static char solver_help[128];
     snprintf(solver_help, sizeof solver_help,
-             "NAME  direct|jacobi|gauss-seidel|shooting (%s)", default_solver);
+             "NAME  direct|jacobi|gauss-seidel|shooting|importance (%s)", default_solver);
     const cli_option shared[CLI_PIPELINE_OPTION_COUNT] = {
         {"--solver", CLI_STRING, &a->solver, solver_help},
         {"--iterations", CLI_INT, &a->iterations, "N  stop after N rounds or shots"},
@@ -39,7 +39,7 @@ int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solv
     int kind = rad_solver_kind_parse(a->solver);
     if (kind < 0)
         return cli_error(EXIT_USAGE, "%s: unknown solver '%s' (direct, jacobi, gauss-seidel, "
-                                     "shooting)", command, a->solver);
+                                     "shooting, importance)", command, a->solver);
     int method = cli_parse_ff_method(a->ff);
     if (method < 0)
         return cli_error(EXIT_USAGE, "%s: unknown form-factor method '%s' (analytic, hemicube, "
