@@ -123,6 +123,8 @@ static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *row) 
         double factor[RAD_FF_BLOCK], all[RAD_FF_BLOCK], seen[RAD_FF_BLOCK] = {0};
         rad_ff_ray_queue queue;
         rad_ray_packet_init(&queue.packet);
+        size_t tested_patch = SIZE_MAX;
+        int patch_clear = 0;
         for (long e = first; e < last; ++e) {
             const int slot = (int)(e - first);
             factor[slot] = 0;
@@ -145,7 +147,7 @@ static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *row) 
             } else {
                 factor[slot] = point_polygon(y, ny, p->corners, p->corner_count, np);
             }
-            if (factor[slot] <= 0 || rad_ff_shaft_clear(c->shaft, (size_t)e)) continue;
+            if (factor[slot] <= 0 || rad_ff_unoccluded(c, (size_t)e, &tested_patch, &patch_clear)) continue;
             /* Visibility: the kernel-weighted fraction of rays that reach the patch. */
             const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));
             rad_rng rng = rad_rng_make(seed, (uint64_t)e);

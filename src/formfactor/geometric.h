@@ -350,6 +350,27 @@ void rad_ff_shaft_begin(rad_ff_shaft *shaft, const rad_ff_patch *patch);
  * nothing. */
 int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element);
 
+/* The same for a whole receiving patch (in input polygon `polygon`): when it is clear, so is
+ * each of its elements. Thread safe. */
+int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_patch *receiver,
+                             uint32_t polygon);
+
+/* Element e is certainly fully visible from the shooting patch of the last
+ * rad_ff_shaft_begin. Receiving patches are tested first, and their answer kept in *patch and
+ * *clear (start with *patch = SIZE_MAX) for the next elements of the same patch; only elements
+ * of patches that are not clear are tested one by one. */
+static inline int rad_ff_unoccluded(const rad_ff_context *context, size_t element, size_t *patch,
+                                    int *clear) {
+    if (!context->shaft) return 0;
+    size_t q = context->mesh->element_patch[element];
+    if (q != *patch) {
+        *patch = q;
+        *clear = rad_ff_shaft_clear_patch(context->shaft, &context->patches[q],
+                                          context->mesh->element_polygon[element]);
+    }
+    return *clear || rad_ff_shaft_clear(context->shaft, element);
+}
+
 /* ------------------------------------------------------------------------------------------- */
 
 /* Point-to-polygon form factor (Lambert's contour integral, Baum et al. 1989): the fraction of

@@ -42,11 +42,13 @@ static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *row
         double sums[RAD_FF_BLOCK] = {0};
         rad_ff_ray_queue queue;
         rad_ray_packet_init(&queue.packet);
+        size_t tested_patch = SIZE_MAX;
+        int patch_clear = 0;
         for (long e = first; e < last; ++e) {
             const int slot = (int)(e - first);
             if (mesh->element_patch[e] == patch || rad_ff_facing_away(mesh, p, (size_t)e)) continue;
             ++receivers;
-            const int test = !rad_ff_shaft_clear(c->shaft, (size_t)e);
+            const int test = !rad_ff_unoccluded(c, (size_t)e, &tested_patch, &patch_clear);
             const rad_vec3 ny = mesh->element_normal[e];
             const rad_ff_element_map receiver = rad_ff_element_map_make(mesh, (size_t)e);
             rad_rng rng = rad_rng_make(seed, (uint64_t)e);

@@ -245,17 +245,13 @@ void rad_ff_shaft_begin(rad_ff_shaft *shaft, const rad_ff_patch *patch) {
     shaft->candidate_first[n] = used;
 }
 
-int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element) {
-    if (!shaft) return 0;
-    const rad_mesh *mesh = shaft->mesh;
-    uint32_t r = mesh->element_polygon[element];
+/* The test for a convex receiver with these corners, lying in input polygon r. */
+static int clear_to(const rad_ff_shaft *shaft, uint32_t r, const rad_vec3 *corners, int count) {
     uint32_t first = shaft->candidate_first[r], last = shaft->candidate_first[r + 1];
     if (first == last) return 1;
-    rad_vec3 corners[4];
-    int count = rad_mesh_corner_count(mesh, element);
     rad_vec3 lo = shaft->patch_lo, hi = shaft->patch_hi;
     for (int k = 0; k < count; ++k) {
-        rad_vec3 c = corners[k] = rad_element_corner(mesh, element, k);
+        rad_vec3 c = corners[k];
         lo = v3(min2(lo.x, c.x), min2(lo.y, c.y), min2(lo.z, c.z));
         hi = v3(max2(hi.x, c.x), max2(hi.y, c.y), max2(hi.z, c.z));
     }
@@ -283,4 +279,19 @@ int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element) {
         return 0;
     }
     return 1;
+}
+
+int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element) {
+    if (!shaft) return 0;
+    const rad_mesh *mesh = shaft->mesh;
+    rad_vec3 corners[4];
+    int count = rad_mesh_corner_count(mesh, element);
+    for (int k = 0; k < count; ++k) corners[k] = rad_element_corner(mesh, element, k);
+    return clear_to(shaft, mesh->element_polygon[element], corners, count);
+}
+
+int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_patch *receiver,
+                             uint32_t polygon) {
+    if (!shaft) return 0;
+    return clear_to(shaft, polygon, receiver->corners, receiver->corner_count);
 }
