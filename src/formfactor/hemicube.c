@@ -334,7 +334,6 @@ static rad_status hemicube_row(rad_ff_provider *self, size_t patch, float *row) 
             }
             row[e] = (float)((double)total / FIXED_ONE);
         }
-        (void)sums;
     }
     h->common.stats.rows++;
     h->common.stats.receivers += receivers;
@@ -421,6 +420,9 @@ rad_status rad_ff_hemicube_create(const rad_ff_context *context, rad_ff_provider
     h->receives = rad_alloc(ctx, n ? n : 1, sizeof *h->receives);
     h->sums = rad_alloc_zero(ctx, (size_t)threads * (n ? n : 1), sizeof *h->sums);
     if (!ok || !h->local || !h->outcode || !h->faces || !h->clip || !h->receives || !h->sums) {
+        /* The caller (rad_ff_create) releases the shared context on failure: not here too. */
+        h->common.c.rays = NULL, h->common.c.patches = NULL, h->common.c.shaft = NULL;
+        h->common.c.element_radius = NULL;
         hemicube_destroy(&h->common.base);
         return rad_fail(ctx, RAD_ERROR_NO_MEMORY, "out of memory for a %d-pixel hemicube", R);
     }
