@@ -123,7 +123,7 @@ static int write_obj(rad_context *ctx, FILE *file, const rad_scene *scene, char 
         const rad_surface_def *surface = &scene->surfaces[s];
         size_t length = strlen(surface->name) + 32;
         char *name = rad_alloc(ctx, length, 1);
-        if (!name) return 1;
+        if (!name) return -1; /* out of memory: the message is on the context */
         if (surface->name[0]) snprintf(name, length, "%s", surface->name);
         else snprintf(name, length, "surface-%zu", s);
         clean_name(name);
@@ -209,7 +209,9 @@ rad_status rad_scene_export_obj(rad_context *ctx, const rad_scene *scene, const 
     failed |= fclose(obj) != 0;
     failed |= fclose(mtl) != 0;
     int error = errno;
-    if (failed) {
+    if (failed < 0) {
+        status = RAD_ERROR_NO_MEMORY;
+    } else if (failed) {
         status = rad_fail(ctx, RAD_ERROR_IO, "%s: cannot write: %s", path,
                           error ? strerror(error) : "write error");
     } else if (rename(mtl_temp, mtl_path) != 0) {
