@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* ---- a counting allocator that can fail the Nth request ---------------------------------- */
 
@@ -142,6 +143,103 @@ static rad_status run_dense(rad_context *ctx, const void *arg, double *result) {
     return status;
 }
 
+/* Adds every pixel of an image to *result. */
+static void add_pixels(const rad_image *image, double *result) {
+    size_t count = (size_t)rad_image_width(image) * (size_t)rad_image_height(image) * 3;
+    const float *pixels = rad_image_pixels(image);
+    for (size_t i = 0; i < count; ++i) *result += pixels[i];
+}
+
+/* The Cornell box, coarse: a shooting solve, then `what` of the outputs. */
+enum { OUT_RENDER, OUT_PATHTRACE, OUT_FILES, OUT_IMPORT };
+
+static char work_directory[64];
+
+static rad_status run_outputs(rad_context *ctx, const void *arg, double *result) {
+    int what = *(const int *)arg;
+    char path[128];
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    rad_image *image = NULL, *read_back = NULL, *error_map = NULL;
+    rad_status status;
+    if (what == OUT_IMPORT) {
+        status = rad_scene_load(ctx, RAD_SOURCE_DIR "/scenes/room.obj", &scene);
+    } else {
+        status = rad_scene_builtin(ctx, "cornell", &scene);
+    }
+    rad_mesh_options mesh = {0, 0, 60};
+    rad_ff_options ff = {RAD_FF_DEFAULT, 0, 0};
+    if (!status && what != OUT_PATHTRACE) status = rad_system_create(ctx, scene, &mesh, &ff, &system);
+    if (!status && system) {
+        rad_solve_options solve = {0};
+        solve.solver = RAD_SOLVER_SHOOTING;
+        solve.max_iterations = 5;
+        status = rad_solve(system, &solve, NULL);
+    }
+    if (!status && what == OUT_RENDER) {
+        rad_render_options render = {0};
+        render.width = 6;
+        render.height = 5;
+        render.samples_per_pixel = 1;
+        render.final_gather = 2;
+        status = rad_render(scene, system, &render, &image);
+    }
+    if (!status && what == OUT_PATHTRACE) {
+        rad_pathtrace_options trace = {0};
+        trace.width = 6;
+        trace.height = 5;
+        trace.samples_per_pixel = 2;
+        status = rad_pathtrace(ctx, scene, &trace, &image, NULL);
+    }
+    if (!status && image) add_pixels(image, result);
+    if (!status && what == OUT_FILES) {
+        /* Every file the library writes, and reads back. */
+        static const char *const names[] = {"out.ply", "out.glb", "out.gltf", "out.obj"};
+        for (size_t i = 0; i < 4 && !status; ++i) {
+            snprintf(path, sizeof path, "%s/%s", work_directory, names[i]);
+            status = rad_bake(system, path, NULL);
+        }
+        snprintf(path, sizeof path, "%s/scene.obj", work_directory);
+        if (!status) status = rad_scene_export_obj(ctx, scene, path);
+        snprintf(path, sizeof path, "%s/out.sol", work_directory);
+        if (!status) status = rad_system_save_solution(system, path, NULL);
+        if (!status) status = rad_system_load_solution(system, path, NULL);
+        rad_render_options render = {0};
+        render.width = 4;
+        render.height = 3;
+        render.samples_per_pixel = 1;
+        if (!status) status = rad_render(scene, system, &render, &image);
+        static const char *const images[] = {"out.png", "out.hdr", "out.pfm"};
+        for (size_t i = 0; i < 3 && !status; ++i) {
+            snprintf(path, sizeof path, "%s/%s", work_directory, images[i]);
+            status = rad_image_save(image, path, NULL);
+        }
+        if (!status) status = rad_image_read(ctx, path, &read_back);
+        rad_image_comparison comparison;
+        if (!status) status = rad_image_compare(ctx, read_back, image, &comparison);
+        double scale = 0;
+        if (!status) status = rad_image_error_map(ctx, read_back, image, &scale, &error_map);
+        if (!status) {
+            add_pixels(read_back, result);
+            add_pixels(error_map, result);
+            *result += comparison.rmse;
+        }
+    }
+    if (!status && system) {
+        for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
+            rad_surface_info info;
+            rad_system_surface(system, i, &info);
+            *result += info.radiosity[0] + info.radiosity[1] + info.radiosity[2];
+        }
+    }
+    rad_image_destroy(image);
+    rad_image_destroy(read_back);
+    rad_image_destroy(error_map);
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    return status;
+}
+
 /* ---- the driver ----------------------------------------------------------------------------- */
 
 /* Runs the scenario on a context using `a`; returns the status (context creation included). */
@@ -249,5 +347,27 @@ int main(void) {
     /* A small geometric scene: meshing, Embree, form factors, every solver. */
     scene_job cube = {"unit-cube", 0, {0, 0, 24}, RAD_FF_ANALYTIC, 1};
     check_scenario("unit-cube, 24 elements, every solver", run_scene, &cube, 7);
+    static const rad_ff_method methods[] = {RAD_FF_HEMICUBE, RAD_FF_RAYCAST, RAD_FF_MONTECARLO};
+    static const char *const method_labels[] = {"unit-cube, hemicube form factors",
+                                                "unit-cube, ray-cast form factors",
+                                                "unit-cube, Monte Carlo form factors"};
+    for (int m = 0; m < 3; ++m) {
+        scene_job job = {"unit-cube", 0, {0, 0, 24}, methods[m], 1};
+        check_scenario(method_labels[m], run_scene, &job, 7);
+    }
+
+    /* The outputs: render, path trace, every file written and read back, an imported scene. */
+    snprintf(work_directory, sizeof work_directory, "/tmp/rad-alloc-faults-XXXXXX");
+    CHECK(mkdtemp(work_directory) != NULL);
+    static const int render = OUT_RENDER, pathtrace = OUT_PATHTRACE, files = OUT_FILES,
+                     import = OUT_IMPORT;
+    check_scenario("cornell, render with final gather", run_outputs, &render, 5);
+    check_scenario("cornell, path trace", run_outputs, &pathtrace, 5);
+    check_scenario("cornell, bake, export, solution, images written and read", run_outputs,
+                   &files, 11);
+    check_scenario("room.obj imported, solved", run_outputs, &import, 5);
+    char command[128];
+    snprintf(command, sizeof command, "rm -rf '%s'", work_directory);
+    CHECK(system(command) == 0);
     return test_finish();
 }
