@@ -217,8 +217,9 @@ int plot_write_svg(const char *path, const plot_chart *chart, const plot_series 
 
     /* Series, thinned: a point is kept when it moves half a pixel from the last one kept. */
     for (size_t k = 0; k < count; ++k) {
-        const char *colour = colours[k % (sizeof colours / sizeof colours[0])];
-        fprintf(out, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1.8\" points=\"", colour);
+        const char *colour = colours[(size_t)series[k].colour % (sizeof colours / sizeof colours[0])];
+        fprintf(out, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1.8\"%s points=\"",
+                colour, series[k].dashed ? " stroke-dasharray=\"6 3\"" : "");
         double last_x = -1e9, last_y = -1e9;
         for (size_t i = 0; i < series[k].count; ++i) {
             double y = series[k].y[i];
@@ -233,7 +234,8 @@ int plot_write_svg(const char *path, const plot_chart *chart, const plot_series 
         fputs("\"/>\n", out);
         double ly = TOP + 14 + 20.0 * (double)k;
         fprintf(out, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" "
-                     "stroke-width=\"3\"/>\n", LEFT + pw + 14, ly - 4, LEFT + pw + 38, ly - 4, colour);
+                     "stroke-width=\"3\"%s/>\n", LEFT + pw + 14, ly - 4, LEFT + pw + 38, ly - 4,
+                colour, series[k].dashed ? " stroke-dasharray=\"6 3\"" : "");
         fprintf(out, "<text x=\"%.1f\" y=\"%.1f\">", LEFT + pw + 44, ly);
         xml_text(out, series[k].name);
         fputs("</text>\n", out);

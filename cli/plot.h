@@ -10,6 +10,8 @@ typedef struct plot_series {
     char name[48];
     double *x, *y; /* seconds, value (> 0 to be drawn) */
     size_t count, capacity;
+    int dashed;    /* drawn dashed */
+    int colour;    /* index into the palette; series of one solver share it */
 } plot_series;
 
 /* Appends a point; returns nonzero when out of memory. */

@@ -68,7 +68,7 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
     size_t n = rad_system_element_count(system);
     double *reference = malloc(3 * n * sizeof *reference);
     double *share = malloc(n * sizeof *share);
-    plot_series series[8];
+    plot_series series[16];
     memset(series, 0, sizeof series);
     char *log_buffer = NULL;
     size_t log_size = 0;
@@ -106,7 +106,7 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
 
     double omega = a->pipe.omega > 0 ? a->pipe.omega : 1.1; /* measured best for the Cornell box */
     compare_run runs[8];
-    int count = 0;
+    int count = 0, series_count = 0;
     runs[count++] = (compare_run){"jacobi", RAD_SOLVER_JACOBI, 1, 0};
     runs[count++] = (compare_run){"gauss-seidel", RAD_SOLVER_GAUSS_SEIDEL, 1, 0};
     runs[count] = (compare_run){"", RAD_SOLVER_GAUSS_SEIDEL, omega, 0};
@@ -140,7 +140,17 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
             goto done;
         }
         int shooting = run->kind == RAD_SOLVER_SHOOTING || run->kind == RAD_SOLVER_IMPORTANCE;
-        snprintf(series[k].name, sizeof series[k].name, "%.40s", run->label);
+        /* The error, and for the shooting solvers the view error dashed in the same colour
+         * (for gathering the two fall together). */
+        plot_series *line = &series[series_count++], *view_line = NULL;
+        snprintf(line->name, sizeof line->name, "%.40s", run->label);
+        line->colour = k;
+        if (shooting && have_view) {
+            view_line = &series[series_count++];
+            snprintf(view_line->name, sizeof view_line->name, "%.36s, view", run->label);
+            view_line->colour = k;
+            view_line->dashed = 1;
+        }
         solve_watch watch = {0};
         watch.system = system;
         watch.solver_name = run->label;
@@ -149,7 +159,8 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
         watch.time_budget = isnan(a->time_budget) ? 0 : a->time_budget;
         watch.log = log;
         watch.log_prefix = run->label;
-        watch.series = &series[k];
+        watch.series = line;
+        watch.view_series = view_line;
         watch.reference = reference;
         watch.reference_norm = norm;
         watch.view_share = have_view ? share : NULL;
@@ -206,13 +217,13 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
         char title[160];
         snprintf(title, sizeof title, "%s: %zu elements, error against a converged solution",
                  a->scene_name ? a->scene_name : "convergence", n);
-        plot_chart chart = {title, "seconds", "error (fraction of power)", TARGET};
-        exit_status = plot_write_svg(a->plot, &chart, series, (size_t)count);
+        plot_chart chart = {title, "seconds", "error (dashed: view error)", TARGET};
+        exit_status = plot_write_svg(a->plot, &chart, series, (size_t)series_count);
     }
 done:
     if (log) fclose(log);
     free(log_buffer);
-    for (int k = 0; k < 8; ++k) plot_series_free(&series[k]);
+    for (int k = 0; k < 16; ++k) plot_series_free(&series[k]);
     free(reference);
     free(share);
     rad_system_destroy(system);

@@ -101,7 +101,8 @@ int solve_watch_iteration(void *user, const rad_iteration_event *event) {
         }
     }
     if (w->log) {
-        if (w->log_prefix) fprintf(w->log, "%s,", w->log_prefix);
+        if (w->log_prefix)
+            fprintf(w->log, strchr(w->log_prefix, ',') ? "\"%s\"," : "%s,", w->log_prefix);
         fprintf(w->log, "%ld,%.6f,%ld,%ld,", step, event->seconds,
                 w->shooting ? event->shots + w->step_offset : 0,
                 w->shooting ? 0 : event->rounds + w->step_offset);
@@ -118,7 +119,9 @@ int solve_watch_iteration(void *user, const rad_iteration_event *event) {
     }
     if (w->series) {
         double value = w->reference ? w->last_error : event->residual;
-        if (plot_series_add(w->series, event->seconds, value)) {
+        if (plot_series_add(w->series, event->seconds, value) ||
+            (w->view_series &&
+             plot_series_add(w->view_series, event->seconds, w->last_view_error))) {
             w->failed = cli_error(1, "out of memory for the plot");
             return 1;
         }

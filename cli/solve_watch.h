@@ -25,8 +25,8 @@ typedef struct solve_watch {
     size_t log_size;
     const char *log_prefix; /* a first column (the solver's name) in the comparison, or NULL */
 
-    /* --plot: the series drawn. */
-    plot_series *series;
+    /* --plot: the series drawn (the view error's too, in the comparison). */
+    plot_series *series, *view_series;
 
     /* Comparison: error against a reference solution, overall and as the camera sees it. */
     const double *reference;   /* 3 per element, or NULL */
