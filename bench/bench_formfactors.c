@@ -20,6 +20,14 @@
 
 static int quick;
 
+/* Processor seconds of this process: steadier than the wall clock on a shared machine. */
+static double cpu_seconds(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+
 static rad_context *context_with(int threads, uint64_t seed) {
     rad_context_options options = {0};
     options.threads = threads;
@@ -205,21 +213,31 @@ static void bench_threads(void) {
     setup one = cornell(1, 10000), two = cornell(2, 10000);
     printf("\n## 2. Threads: Cornell box, %zu elements, %d rows, default settings\n\n",
            one.mesh->element_count, rows);
-    printf("| method | ms/row, 1 thread | ms/row, 2 threads | speed-up |\n|---|---|---|---|\n");
+    printf("Processor ms/row adds up both threads: equal to the one-thread time when the split "
+           "costs nothing, so a speed-up below 2 with equal processor time means the machine "
+           "was busy.\n\n");
+    printf("| method | ms/row, 1 thread | ms/row, 2 threads | speed-up | processor ms/row, 1 / 2 "
+           "threads |\n|---|---|---|---|---|\n");
     float *row = malloc(one.mesh->element_count * sizeof *row);
     for (int m = 0; m < 4; ++m) {
-        double seconds[2];
+        double seconds[2], processor[2];
         for (int t = 0; t < 2; ++t) {
             rad_ff_provider *p = provider(t ? &two : &one, all_methods[m], 0, 0, 1);
             time_rows(p, one.mesh, 2, row); /* warm up */
-            double best = INFINITY;
-            for (int repeat = 0; repeat < 2; ++repeat)
+            double best = INFINITY, best_cpu = INFINITY;
+            for (int repeat = 0; repeat < 3; ++repeat) {
+                double cpu = cpu_seconds();
                 best = fmin(best, time_rows(p, one.mesh, rows, row));
+                best_cpu = fmin(best_cpu, cpu_seconds() - cpu);
+            }
             seconds[t] = best;
+            processor[t] = best_cpu;
             rad_ff_provider_destroy(p);
         }
-        printf("| %s | %.2f | %.2f | %.2fx |\n", rad_ff_method_find(all_methods[m])->name,
-               1e3 * seconds[0] / rows, 1e3 * seconds[1] / rows, seconds[0] / seconds[1]);
+        printf("| %s | %.2f | %.2f | %.2fx | %.2f / %.2f |\n",
+               rad_ff_method_find(all_methods[m])->name, 1e3 * seconds[0] / rows,
+               1e3 * seconds[1] / rows, seconds[0] / seconds[1], 1e3 * processor[0] / rows,
+               1e3 * processor[1] / rows);
     }
     free(row);
     setup_free(&one);
@@ -234,13 +252,6 @@ typedef struct trial {
     int setting; /* samples, or hemicube resolution */
     double error, ms_per_row;
 } trial;
-
-/* Processor seconds of this process: steadier than the wall clock on a shared machine. */
-static double cpu_seconds(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 /* The reference row: F_pe = 1 / A_p int_e F(dA_y -> p) V(y) dy, with y on a 4 x 4 grid of
  * midpoints of e, F(dA_y -> p) the contour integral and V(y) the kernel-weighted fraction of
