@@ -6,6 +6,7 @@
 #include "cli.h"
 #include "interrupt.h"
 #include "json.h"
+#include "output_path.h"
 #include "progress.h"
 #include "solve_cli.h"
 
@@ -263,6 +264,12 @@ int cmd_solve(int argc, char **argv) {
     rad_ff_options ff = {(rad_ff_method)ff_method, a.pipe.ff_samples, a.pipe.hemicube_res};
     if ((status = check_args(&a, solver_given || !a.resume ? kind : -1))) return status;
     if ((status = check_outputs(&a))) return status;
+    /* No output may be the scene; --save may be --resume (read whole, then replaced whole). */
+    const char *inputs[] = {positional[0], a.resume};
+    if ((status = cli_check_output_path("solve", a.save, inputs, 1)) ||
+        (status = cli_check_output_path("solve", a.log, inputs, 2)) ||
+        (status = cli_check_output_path("solve", a.plot, inputs, 2)))
+        return status;
 
     rad_context *ctx = cli_context_with_progress(a.pipe.threads, (uint64_t)a.pipe.seed,
                                                  a.pipe.max_memory, a.pipe.quiet);

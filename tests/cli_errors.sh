@@ -218,7 +218,13 @@ expect 2 "the output './keep.cube.ply' is the input" -- \
 ln -s keep.copy.pfm keep.link.pfm
 expect 2 "the output 'keep.link.pfm' is the input 'keep.copy.pfm'" -- \
     "$radiosity" compare keep.pfm keep.copy.pfm --diff keep.link.pfm
+expect 2 "the output 'keep.cube.obj' is the input" -- \
+    "$radiosity" solve keep.cube.obj --elements 24 --log keep.cube.obj
 check "inputs unchanged" test "$sums" = "$(md5sum keep.cube.obj keep.cube.mtl keep.cube.ply keep.pfm keep.copy.pfm)"
+# Going on from a solution and saving over it is fine: it is read whole first.
+"$radiosity" solve four-walls --quiet --iterations 2 --save keep.again.sol >/dev/null
+timeout 120 "$radiosity" solve four-walls --quiet --resume keep.again.sol --save keep.again.sol >out 2>err
+check "--resume FILE --save FILE is allowed" test $? -eq 0
 
 row "outputs are whole files with ordinary permissions"
 (umask 022 && "$radiosity" pathtrace cornell --width 8 --height 8 --spp 1 --quiet -o keep.mode.pfm)
