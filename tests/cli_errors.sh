@@ -162,6 +162,13 @@ expect 1 'the image needs 3072.0 MiB, over the memory budget of 100.0 MiB' -- \
     "$radiosity" pathtrace cornell --width 16384 --height 16384 --max-memory 100 -o x.pfm
 expect 1 'the mesh needs .* over the memory budget' -- \
     "$radiosity" bake cornell --elements 2000000 --max-memory 64 -o x.ply
+# Files without end stop at the budget too.
+ln -s /dev/zero in.endless.ffm
+ln -s /dev/zero in.endless.sol
+expect 1 'in.endless.ffm needs 16.0 MiB, over the memory budget of 8.0 MiB' -- \
+    "$radiosity" solve in.endless.ffm --max-memory 8
+expect 1 'in.endless.sol needs 32.0 MiB, over the memory budget of 16.0 MiB' -- \
+    "$radiosity" solve four-walls --resume in.endless.sol --max-memory 16
 check "refused before the work, not after it (took $((SECONDS - start)) s)" \
     test $((SECONDS - start)) -lt 60
 check "no output" no_outputs

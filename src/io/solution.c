@@ -211,6 +211,8 @@ static rad_status read_all(rad_context *ctx, const char *path, unsigned char **o
     rad_status status = bytes ? RAD_OK : RAD_ERROR_NO_MEMORY;
     while (!status) {
         if (length == capacity) {
+            /* A file without end (/dev/zero, a runaway pipe) stops at the memory budget. */
+            if ((status = rad_check_budget(ctx, 2.0 * (double)capacity, path))) break;
             unsigned char *grown = capacity > SIZE_MAX / 2 ? NULL : rad_realloc(ctx, bytes, capacity * 2, 1);
             if (!grown) {
                 status = RAD_ERROR_NO_MEMORY;

@@ -76,6 +76,13 @@ static rad_status read_file(rad_context *ctx, const char *path, char **text, siz
     }
     for (;;) {
         if (used + 1 >= capacity) {
+            /* A file without end (/dev/zero, a runaway pipe) stops at the memory budget. */
+            rad_status over = rad_check_budget(ctx, 2.0 * (double)capacity, path);
+            if (over) {
+                rad_free(ctx, buffer);
+                fclose(file);
+                return over;
+            }
             char *grown = rad_realloc(ctx, buffer, capacity * 2, 1);
             if (!grown) {
                 rad_free(ctx, buffer);
