@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # cli_determinism.sh - the same inputs and --seed give byte-identical outputs with --threads 1
 # and --threads 2: `solve --json` (Monte Carlo form factors, every solver), `render` (random
-# form factors and final gather) and `pathtrace`. Each random choice draws from a stream derived
+# form factors and final gather), `pathtrace`, `bake` and `formfactors --json`. Each random choice draws from a stream derived
 # from (seed, task), never from the thread that runs it. A different seed must change the
 # randomised outputs (else the test could not fail).
 # Usage: cli_determinism.sh RADIOSITY SOURCE_DIR
@@ -49,6 +49,9 @@ same_with_threads render pfm render cornell "${small[@]}" --ff montecarlo --ff-s
     --seed 7 --final-gather 4 --width 32 --height 24 --spp 2
 same_with_threads render-png png render cornell "${small[@]}" --width 32 --height 24
 same_with_threads pathtrace pfm pathtrace cornell-mirror --spp 4 --width 32 --height 24 --seed 7
+same_with_threads bake glb bake cornell "${small[@]}" --ff montecarlo --ff-samples 16 --seed 7
+same_with_threads formfactors json formfactors cornell "${small[@]}" --ff montecarlo \
+    --ff-samples 16 --seed 7
 
 # A different seed must give a different image (the seed reaches the random choices).
 "$radiosity" pathtrace cornell-mirror --spp 4 --width 32 --height 24 --seed 8 --threads 2 \
