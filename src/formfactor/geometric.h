@@ -357,10 +357,11 @@ int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_patch *rece
 
 /* Element e is certainly fully visible from the shooting patch of the last
  * rad_ff_shaft_begin. Receiving patches are tested first, and their answer kept in *patch and
- * *clear (start with *patch = SIZE_MAX) for the next elements of the same patch; only elements
- * of patches that are not clear are tested one by one. */
+ * *clear (start with *patch = SIZE_MAX) for the next elements of the same patch; elements of
+ * patches that are not clear are tested one by one when `each` is nonzero (worth it when a
+ * receiver casts many rays; with few, casting them is cheaper than the test). */
 static inline int rad_ff_unoccluded(const rad_ff_context *context, size_t element, size_t *patch,
-                                    int *clear) {
+                                    int *clear, int each) {
     if (!context->shaft) return 0;
     size_t q = context->mesh->element_patch[element];
     if (q != *patch) {
@@ -368,7 +369,7 @@ static inline int rad_ff_unoccluded(const rad_ff_context *context, size_t elemen
         *clear = rad_ff_shaft_clear_patch(context->shaft, &context->patches[q],
                                           context->mesh->element_polygon[element]);
     }
-    return *clear || rad_ff_shaft_clear(context->shaft, element);
+    return *clear || (each && rad_ff_shaft_clear(context->shaft, element));
 }
 
 /* ------------------------------------------------------------------------------------------- */

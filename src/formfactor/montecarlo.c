@@ -48,7 +48,7 @@ static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *row
             const int slot = (int)(e - first);
             if (mesh->element_patch[e] == patch || rad_ff_facing_away(mesh, p, (size_t)e)) continue;
             ++receivers;
-            const int test = !rad_ff_unoccluded(c, (size_t)e, &tested_patch, &patch_clear);
+            const int test = !rad_ff_unoccluded(c, (size_t)e, &tested_patch, &patch_clear, 1);
             const rad_vec3 ny = mesh->element_normal[e];
             const rad_ff_element_map receiver = rad_ff_element_map_make(mesh, (size_t)e);
             rad_rng rng = rad_rng_make(seed, (uint64_t)e);
