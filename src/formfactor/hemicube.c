@@ -391,7 +391,7 @@ rad_status rad_ff_hemicube_create(const rad_ff_context *context, rad_ff_provider
     const int threads = rad_thread_count(ctx);
     double bytes = (double)(top + 4 * side) * 8 + (double)(top + side) * 8 +
                    (double)context->mesh->vertex_count * 28 + (double)n * (2 + 8.0 * threads);
-    rad_status status = rad_check_budget(ctx, bytes, "the hemicube buffers");
+    rad_status status = rad_check_budget(ctx, bytes, "the hemicube");
     if (status) return status;
 
     rad_ff_common *common;
