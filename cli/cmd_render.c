@@ -17,7 +17,7 @@
 
 typedef struct render_args {
     cli_pipeline_args pipeline;
-    const char *output, *tonemap, *shading;
+    const char *output, *tonemap, *shading, *solution;
     int width, height, spp, final_gather, light_samples, max_depth, stats;
     double eye[3], look[3], up[3], fov, exposure;
 } render_args;
@@ -39,16 +39,19 @@ static char *default_output(const char *scene) {
 
 static void print_stats(const cli_timings *t, double renderer_seconds, double write_seconds,
                         const rad_solve_report *report, const rad_solve_options *solve,
-                        const rad_render_stats *stats, size_t elements) {
+                        const rad_render_stats *stats, size_t elements, const char *solution) {
     double total = t->load + t->system + t->solve + renderer_seconds + stats->seconds + write_seconds;
     uint64_t rays = stats->camera_rays + stats->gather_rays + stats->shadow_rays + stats->specular_rays;
     printf("load           %8.3f s\n", t->load);
     printf("mesh, setup    %8.3f s   %zu elements\n", t->system, elements);
-    printf("solve          %8.3f s   %s, %d %s, %s\n", t->solve, rad_solver_kind_name(solve->solver),
-           report->iterations,
-           solve->solver == RAD_SOLVER_SHOOTING || solve->solver == RAD_SOLVER_IMPORTANCE ? "shots"
-                                                                                  : "rounds",
-           report->converged ? "converged" : "not converged");
+    if (solution)
+        printf("solve          %8.3f s   loaded from %s\n", t->solve, solution);
+    else
+        printf("solve          %8.3f s   %s, %d %s, %s\n", t->solve,
+               rad_solver_kind_name(solve->solver), report->iterations,
+               solve->solver == RAD_SOLVER_SHOOTING || solve->solver == RAD_SOLVER_IMPORTANCE
+                   ? "shots" : "rounds",
+               report->converged ? "converged" : "not converged");
     printf("ray structures %8.3f s\n", renderer_seconds);
     printf("render         %8.3f s   %.3g Mrays/s (camera %llu, gather %llu, shadow %llu, "
            "specular %llu)\n", stats->seconds, stats->seconds > 0 ? rays / stats->seconds * 1e-6 : 0,
@@ -94,6 +97,9 @@ int cmd_render(int argc, char **argv) {
          "N  final gather: emitter samples per sample (a quarter of --final-gather)"},
         {"--max-depth", CLI_INT, &a.max_depth, "N  mirror and glass bounces per path (16)"},
         {"--stats", CLI_FLAG, &a.stats, "print the time of each step and ray counts"},
+        {"--solution", CLI_STRING, &a.solution,
+         "FILE  render a solution saved by solve --save (same scene and meshing/ff options) "
+         "instead of solving"},
     };
     size_t count = 0;
     while (options[count].name) ++count;
@@ -121,7 +127,8 @@ int cmd_render(int argc, char **argv) {
     char *fallback_output = a.output ? NULL : default_output(scene_name);
     const char *output = a.output ? a.output : fallback_output;
     if (!output) return cli_error(1, "render: out of memory");
-    status = cli_check_output_path("render", output, &scene_name, 1);
+    const char *inputs[2] = {scene_name, a.solution};
+    status = cli_check_output_path("render", output, inputs, a.solution ? 2 : 1);
     if (status) {
         free(fallback_output);
         return status;
@@ -174,7 +181,14 @@ int cmd_render(int argc, char **argv) {
     solve.camera = &camera;
     solve.view_width = a.width;
     solve.view_height = a.height;
-    if (!rs) rs = cli_pipeline_solve(system, &solve, &report, &timings);
+    if (!rs && a.solution) {
+        /* A saved solution replaces the solve; it is refused for another scene or mesh. */
+        double start = cli_seconds();
+        rs = rad_system_load_solution(system, a.solution, NULL);
+        timings.solve = cli_seconds() - start;
+    } else if (!rs) {
+        rs = cli_pipeline_solve(system, &solve, &report, &timings);
+    }
     if (!rs) rs = rad_renderer_render(renderer, &image, &stats);
     if (!rs) {
         double start = cli_seconds();
@@ -186,7 +200,7 @@ int cmd_render(int argc, char **argv) {
     if (rs) exit_status = cli_fail(ctx, rs);
     else if (a.stats)
         print_stats(&timings, renderer_seconds, write_seconds, &report, &solve, &stats,
-                    rad_system_element_count(system));
+                    rad_system_element_count(system), a.solution);
     rad_image_destroy(image);
     rad_renderer_destroy(renderer);
     rad_system_destroy(system);

@@ -90,5 +90,20 @@ cp "$work/c.pfm" "$work/keep.pfm"
 "$radiosity" render cornell "${small[@]}" --look 278,273,-1600 -o "$work/keep.pfm" 2>/dev/null
 check "existing image kept" cmp -s "$work/c.pfm" "$work/keep.pfm"
 
+# A saved solution renders without solving: the same image as solving again; refused for
+# another mesh, with no file left behind.
+saved=(cornell --elements 300 --solver shooting --tolerance 1e-3 --width 32 --height 32 --quiet)
+"$radiosity" solve cornell --elements 300 --solver shooting --tolerance 1e-3 --quiet \
+    --save "$work/s.sol" >/dev/null
+"$radiosity" render "${saved[@]}" -o "$work/solved.pfm"
+"$radiosity" render "${saved[@]}" --solution "$work/s.sol" -o "$work/loaded.pfm"
+check "rendering a saved solution equals solving" cmp -s "$work/solved.pfm" "$work/loaded.pfm"
+mkdir -p "$work/other"
+expect_exit 1 'different mesh' -- "$radiosity" render cornell --elements 400 --solution "$work/s.sol" \
+    -o "$work/other/x.png" --width 32 --height 32 --quiet
+check "no image for another mesh" only_files "$work/other"
+expect_exit 2 'is the input' -- "$radiosity" render cornell --elements 300 --solution "$work/s.sol" \
+    -o "$work/s.sol" --width 32 --height 32 --quiet
+
 echo "$passed passed, $failed failed"
 test "$failed" -eq 0
