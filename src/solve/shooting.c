@@ -23,20 +23,24 @@
 #include <math.h>
 #include <string.h>
 
-double rad_shooting_unshot_power(const rad_system *s, size_t p) {
-    double power = 0;
-    for (size_t e = s->patch_first[p]; e < s->patch_first[p + 1]; ++e)
-        power += (s->unshot[e][0] + s->unshot[e][1] + s->unshot[e][2]) * s->area[e];
-    return power;
+/* Patch powers and unshot totals by a full pass (at the start, and after a resume). */
+static void recount(const rad_system *s, rad_shooting *state) {
+    double unshot[3] = {0, 0, 0};
+    for (size_t p = 0; p < s->patch_count; ++p) {
+        double power = 0;
+        for (size_t e = s->patch_first[p]; e < s->patch_first[p + 1]; ++e) {
+            power += (s->unshot[e][0] + s->unshot[e][1] + s->unshot[e][2]) * s->area[e];
+            for (int c = 0; c < 3; ++c) unshot[c] += s->unshot[e][c] * s->area[e];
+        }
+        state->patch_power[p] = power;
+    }
+    memcpy(state->unshot_total, unshot, sizeof unshot);
 }
 
-static void compute_ambient(const rad_system *s, rad_shooting *state) {
-    double unshot[3] = {0, 0, 0};
-    for (size_t e = 0; e < s->element_count; ++e)
-        for (int c = 0; c < 3; ++c) unshot[c] += s->unshot[e][c] * s->area[e];
+static void compute_ambient(rad_shooting *state) {
     for (int c = 0; c < 3; ++c) {
         double r = state->mean_reflectance[c] < 1 ? 1.0 / (1.0 - state->mean_reflectance[c]) : 0;
-        state->ambient[c] = r * unshot[c] / state->total_area;
+        state->ambient[c] = r * state->unshot_total[c] / state->total_area;
     }
 }
 
@@ -44,7 +48,8 @@ rad_status rad_shooting_begin(rad_solver_run *run, rad_shooting *state) {
     rad_system *s = run->system;
     memset(state, 0, sizeof *state);
     state->row = rad_alloc(s->ctx, s->element_count, sizeof *state->row);
-    if (!state->row) return RAD_ERROR_NO_MEMORY;
+    state->patch_power = rad_alloc(s->ctx, s->patch_count, sizeof *state->patch_power);
+    if (!state->row || !state->patch_power) return RAD_ERROR_NO_MEMORY;
     for (size_t e = 0; e < s->element_count; ++e) {
         state->total_area += s->area[e];
         for (int c = 0; c < 3; ++c) {
@@ -54,14 +59,17 @@ rad_status rad_shooting_begin(rad_solver_run *run, rad_shooting *state) {
     }
     for (int c = 0; c < 3; ++c) state->mean_reflectance[c] /= state->total_area;
     /* A resumed run starts from whatever is unshot now. */
-    compute_ambient(s, state);
+    recount(s, state);
+    compute_ambient(state);
     if (run->options->ambient) memcpy(s->ambient, state->ambient, sizeof s->ambient);
     return RAD_OK;
 }
 
 void rad_shooting_end(rad_solver_run *run, rad_shooting *state) {
     rad_free(run->system->ctx, state->row);
+    rad_free(run->system->ctx, state->patch_power);
     state->row = NULL;
+    state->patch_power = NULL;
 }
 
 rad_status rad_shooting_shoot(rad_solver_run *run, rad_shooting *state, size_t shooter,
@@ -90,21 +98,30 @@ rad_status rad_shooting_shoot(rad_solver_run *run, rad_shooting *state, size_t s
         if (status) return status;
         row = state->row;
     }
-    size_t n = s->element_count;
+    /* One pass also recounts every patch's unshot power and the unshot totals, adding in the
+     * same order as recount() so the numbers are the same bits. */
     int tracing = run->tracing;
-    for (size_t j = 0; j < n; ++j) {
-        double f = (double)row[j] / s->area[j];
-        for (int c = 0; c < 3; ++c) {
-            double received = power[c] * f;
-            double reflected = s->reflectance[j][c] * received;
-            s->radiosity[j][c] += reflected;
-            s->unshot[j][c] += reflected;
-            if (tracing) {
-                run->received[j][c] = received;
-                run->reflected[j][c] = reflected;
+    double unshot[3] = {0, 0, 0};
+    for (size_t p = 0; p < s->patch_count; ++p) {
+        double patch_power = 0;
+        for (size_t j = s->patch_first[p]; j < s->patch_first[p + 1]; ++j) {
+            double f = (double)row[j] / s->area[j];
+            for (int c = 0; c < 3; ++c) {
+                double received = power[c] * f;
+                double reflected = s->reflectance[j][c] * received;
+                s->radiosity[j][c] += reflected;
+                s->unshot[j][c] += reflected;
+                if (tracing) {
+                    run->received[j][c] = received;
+                    run->reflected[j][c] = reflected;
+                }
             }
+            patch_power += (s->unshot[j][0] + s->unshot[j][1] + s->unshot[j][2]) * s->area[j];
+            for (int c = 0; c < 3; ++c) unshot[c] += s->unshot[j][c] * s->area[j];
         }
+        state->patch_power[p] = patch_power;
     }
+    memcpy(state->unshot_total, unshot, sizeof unshot);
     return RAD_OK;
 }
 
@@ -112,10 +129,10 @@ double rad_shooting_finish(rad_solver_run *run, rad_shooting *state) {
     rad_system *s = run->system;
     /* Stopping measure: unshot power left as a fraction of the power emitted. */
     double left = 0;
-    for (size_t p = 0; p < s->patch_count; ++p) left += fabs(rad_shooting_unshot_power(s, p));
+    for (size_t p = 0; p < s->patch_count; ++p) left += fabs(state->patch_power[p]);
     double fraction = state->emitted_power > 0 ? left / state->emitted_power : 0;
     run->unshot_fraction = fraction;
-    if (run->options->overshoot || run->options->ambient) compute_ambient(s, state);
+    if (run->options->overshoot || run->options->ambient) compute_ambient(state);
     if (run->options->ambient) memcpy(s->ambient, state->ambient, sizeof s->ambient);
     return fraction;
 }
@@ -143,7 +160,7 @@ static rad_status shooting_step(rad_solver_run *run, int iteration, double *resi
     size_t shooter = 0;
     double best = -1;
     for (size_t p = 0; p < s->patch_count; ++p) {
-        double power = fabs(rad_shooting_unshot_power(s, p));
+        double power = fabs(rad_shooting_patch_power(state, p));
         if (power > best) {
             best = power;
             shooter = p;

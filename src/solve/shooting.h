@@ -13,13 +13,20 @@ typedef struct rad_shooting {
     double mean_reflectance[3]; /* area-weighted */
     double total_area;
     double ambient[3];          /* Cohen et al. 1988, from the unshot radiosity after the last shot */
+    /* Kept up to date by every shot, in the same order of additions as a fresh pass over the
+     * elements would use, so they are bit-identical to recomputing them (resume depends on it). */
+    double *patch_power;        /* rad_shooting_unshot_power of every patch */
+    double unshot_total[3];     /* sum over elements of dB A, per channel */
 } rad_shooting;
+
+/* Unshot power of a patch, sum over its elements and channels of dB A (signed); valid after
+ * rad_shooting_begin and every shot. */
+static inline double rad_shooting_patch_power(const rad_shooting *state, size_t patch) {
+    return state->patch_power[patch];
+}
 
 rad_status rad_shooting_begin(rad_solver_run *run, rad_shooting *state);
 void rad_shooting_end(rad_solver_run *run, rad_shooting *state);
-
-/* Unshot power of a patch, sum over its elements and channels of dB A (signed). */
-double rad_shooting_unshot_power(const rad_system *system, size_t patch);
 
 /* Shoots from `patch`: its mean unshot radiosity times omega, plus the overshoot when asked,
  * goes to every element through the provider's row (or `row` when not NULL). */
