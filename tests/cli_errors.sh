@@ -65,6 +65,10 @@ head -c 300 "$source_dir/scenes/lamp-room.glb" >in.truncated.glb
 head -c 40 keep.pfm >in.truncated.pfm
 "$radiosity" solve four-walls --quiet --save keep.sol >/dev/null
 head -c 100 keep.sol >in.truncated.sol
+# A PLY header cut before end_header (assimp would wait forever); "ply," is still PLY to it.
+printf 'ply,\nformat ascii 1.0\nelement vertex 3\nproperty float x\n' >in.truncated.ply
+expect 1 'in.truncated.ply: the PLY header has no end_header line' -- \
+    "$radiosity" solve in.truncated.ply
 expect 1 'in.truncated.ffm:2: ' -- "$radiosity" solve in.truncated.ffm
 expect 1 'in.truncated.glb' -- "$radiosity" solve in.truncated.glb
 expect 1 'in.truncated.pfm: PFM data ends early' -- "$radiosity" compare in.truncated.pfm keep.pfm

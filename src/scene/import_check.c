@@ -118,7 +118,8 @@ rad_status rad_import_check(rad_context *ctx, const char *path) {
     char magic[4] = {0};
     size_t got = fread(magic, 1, 4, file);
     rad_status status = RAD_OK;
-    int ply = got == 4 && memcmp(magic, "ply", 3) == 0 && (magic[3] == '\n' || magic[3] == '\r');
+    /* assimp takes any file starting "ply" as PLY ("ply," too), so check every one. */
+    int ply = got >= 3 && memcmp(magic, "ply", 3) == 0;
     int glb = got == 4 && memcmp(magic, "glTF", 4) == 0;
     if ((ply || glb) && fseek(file, 0, SEEK_END) == 0) {
         double file_size = (double)ftell(file);
