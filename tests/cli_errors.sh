@@ -203,18 +203,21 @@ interrupt() {
     wait "$pid"
     status=$?
 }
-interrupt 2 "$radiosity" solve cornell --elements 20000 --solver jacobi --quiet
+# The work is made long (far more Monte Carlo samples than needed: about a second per row, a
+# minute in all), so the signal comes in the middle of it however fast the machine.
+slow=(cornell --elements 2000 --ff montecarlo --ff-samples 20000)
+interrupt 2 "$radiosity" solve "${slow[@]}" --solver jacobi --quiet
 check "solve: exit 130 (got $status)" test "$status" -eq 130
 check "solve: says interrupted" grep -q '^radiosity: interrupted' err
-interrupt 2 "$radiosity" render cornell --elements 20000 --quiet -o x.png
-check "render: exit 130 (got $status)" test "$status" -eq 130
-check "render: no image, no temporary" no_outputs
-interrupt 3 "$radiosity" solve cornell --elements 8000 --solver shooting --save keep.partial.sol
+interrupt 2 "$radiosity" pathtrace cornell --spp 100000 --width 8 --height 64 --quiet -o x.png
+check "pathtrace: exit 130 (got $status)" test "$status" -eq 130
+check "pathtrace: no image, no temporary" no_outputs
+interrupt 3 "$radiosity" solve "${slow[@]}" --solver shooting --save keep.partial.sol
 check "solve --save: exit 130 (got $status)" test "$status" -eq 130
 check "solve --save: the solution so far is kept" test -s keep.partial.sol
 check "solve --save: says so" grep -q 'saved the solution to keep.partial.sol' err
-timeout 300 "$radiosity" solve cornell --elements 8000 --solver shooting --quiet \
-    --resume keep.partial.sol --iterations 5 >out 2>err
+timeout 300 "$radiosity" solve "${slow[@]}" --solver shooting --quiet \
+    --resume keep.partial.sol --iterations 1 >out 2>err
 check "the kept solution goes on (--resume)" test $? -eq 0
 
 row "output path equal to an input path"
