@@ -9,6 +9,7 @@
 #include "pipeline.h"
 #include "progress.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -77,7 +78,10 @@ int cmd_render(int argc, char **argv) {
     a.spp = 16;
     a.final_gather = 4;
     a.eye[0] = a.look[0] = a.up[0] = a.fov = NAN;
-    cli_option options[32] = {
+    /* render's own options, then the shared solver, form-factor and meshing ones, then the
+     * terminator (the array is zeroed past what is listed here). */
+    enum { OWN_OPTIONS = 17 };
+    cli_option options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT + 1] = {
         {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm (SCENE.png)"},
         {"--output", CLI_STRING, &a.output, "FILE  the same as -o"},
         {"--width", CLI_INT, &a.width, "W  image width in pixels (512)"},
@@ -103,6 +107,7 @@ int cmd_render(int argc, char **argv) {
     };
     size_t count = 0;
     while (options[count].name) ++count;
+    assert(count == OWN_OPTIONS);
     cli_pipeline_options(&a.pipeline, "gauss-seidel", options + count);
     const char *positional[1];
     int positional_count;
