@@ -20,6 +20,9 @@ static void on_signal(int signal_number) {
 void cli_interrupt_install(void) {
     if (installed) return;
     installed = 1;
+    /* Started with Ctrl-C ignored (nohup, a background job of a script): keep it ignored. */
+    struct sigaction current;
+    if (sigaction(SIGINT, NULL, &current) == 0 && current.sa_handler == SIG_IGN) return;
     struct sigaction action;
     memset(&action, 0, sizeof action);
     action.sa_handler = on_signal;

@@ -9,7 +9,8 @@
 /* Exit status of an interrupted command: 128 + SIGINT, what shells report for Ctrl-C. */
 #define EXIT_INTERRUPTED 130
 
-/* Installs the handlers (once; later calls do nothing). */
+/* Installs the handler (once; later calls do nothing). A process started with SIGINT ignored
+ * (nohup, a background job of a script) leaves it ignored, as shells expect. */
 void cli_interrupt_install(void);
 
 /* Nonzero once Ctrl-C was pressed. */

@@ -199,7 +199,8 @@ interrupt() {
     local pid=$!
     sleep "$after"
     kill -INT "$pid" 2>/dev/null
-    # timeout(1) passes the signal on to the command it runs.
+    # timeout(1) passes the signal on to the command it runs, which it starts with SIGINT not
+    # ignored (a background job of a script has it ignored, and radiosity would keep it so).
     wait "$pid"
     status=$?
 }
