@@ -166,6 +166,11 @@ expect 1 'the image needs 3072.0 MiB, over the memory budget of 100.0 MiB' -- \
     "$radiosity" pathtrace cornell --width 16384 --height 16384 --max-memory 100 -o x.pfm
 expect 1 'the mesh needs .* over the memory budget' -- \
     "$radiosity" bake cornell --elements 2000000 --max-memory 64 -o x.ply
+# A patch system of 3000 patches (a 150 kB file) needs a 69 MiB matrix.
+python3 -c "
+for i in range(3000): print('patch p%d area 1 reflectance 0.5 emission 1' % i)" >in.many.ffm
+expect 1 'the form-factor matrix of the patch system needs 68.7 MiB, over the memory budget of 16.0 MiB' -- \
+    "$radiosity" solve in.many.ffm --max-memory 16
 # Files without end stop at the budget too.
 ln -s /dev/zero in.endless.ffm
 ln -s /dev/zero in.endless.sol

@@ -201,6 +201,9 @@ static rad_status finish(ffm_parser *p) {
     rad_scene *scene = p->scene;
     size_t n = scene->patch_count;
     if (n == 0) return rad_fail(p->ctx, RAD_ERROR_PARSE, "%s: no patches", p->source);
+    rad_status status = rad_check_budget(p->ctx, 8.0 * (double)n * (double)n,
+                                         "the form-factor matrix of the patch system");
+    if (status) return status;
     scene->form_factors = rad_alloc_zero(p->ctx, n * n, sizeof(double));
     if (!scene->form_factors) return RAD_ERROR_NO_MEMORY;
     for (size_t i = 0; i < p->entry_count; ++i)
