@@ -1,7 +1,8 @@
 /* interrupt.h - Ctrl-C: the first SIGINT asks the running command to stop; the library sees it
  * through the progress callback, returns RAD_ERROR_CANCELLED and leaves its results as far as
  * they got, so the command can keep them (solve --save) and exits with 130. A second Ctrl-C
- * kills the process at once. SIGTERM keeps its default action: a command must die when told
+ * (half a second or more after the first; timeout(1) delivers one twice) kills the process at
+ * once. SIGTERM keeps its default action: a command must die when told
  * to, even inside a step that reports no progress. */
 #ifndef RAD_CLI_INTERRUPT_H
 #define RAD_CLI_INTERRUPT_H
