@@ -1,8 +1,8 @@
 /* image.c - float RGB images and their files (see image.h).
  *
  *   .png  exposure, tone curve and sRGB (render/tonemap.h), 8 bit, through stb_image_write.
- *   .hdr  Radiance RGBE (Ward 1991), run-length encoded, through stb_image_write; read with
- *         stb_image.
+ *   .hdr  Radiance RGBE (Ward 1991), run-length encoded, through stb_image_write; read by
+ *         read_hdr below (stb_image's reader hangs on truncated run-length scanlines).
  *   .pfm  Portable Float Map: "PF\n<width> <height>\n<scale>\n" then 32-bit floats, rows from
  *         the BOTTOM of the image to the top; a negative scale means little endian. Written and
  *         read here.
@@ -20,7 +20,6 @@
 #include <string.h>
 #include <strings.h>
 
-#include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
 /* Largest side accepted when reading; larger files are almost surely corrupt. */
@@ -231,22 +230,103 @@ static rad_status read_pfm(rad_context *ctx, const char *path, FILE *file, rad_i
     return RAD_OK;
 }
 
+/* Radiance RGBE reading (Ward 1991), written here with every read bounded by the file:
+ * stb_image's decoder loops forever on a truncated run-length scanline (the zero it returns at
+ * the end of the file is taken as a count that never advances; found by fuzz_image). Reads the
+ * standard orientation "-Y H +X W", flat or new-style run-length scanlines. */
 static rad_status read_hdr(rad_context *ctx, const char *path, FILE *file, rad_image **out) {
-    if (!stbi_is_hdr_from_file(file))
-        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: not a Radiance HDR file", path);
-    int width, height, channels;
-    float *data = stbi_loadf_from_file(file, &width, &height, &channels, 3);
-    if (!data)
-        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: cannot read the HDR image: %s", path,
-                        stbi_failure_reason());
-    rad_image *image;
-    rad_status status = rad_image_new(ctx, width, height, &image);
-    if (!status) {
-        memcpy(image->pixels, data, (size_t)width * (size_t)height * 3 * sizeof(float));
-        *out = image;
+    /* The whole file: headers and pixels are bounded by its length. */
+    if (fseek(file, 0, SEEK_END) != 0) return rad_fail(ctx, RAD_ERROR_IO, "%s: cannot read", path);
+    long length = ftell(file);
+    if (length < 0 || fseek(file, 0, SEEK_SET) != 0)
+        return rad_fail(ctx, RAD_ERROR_IO, "%s: cannot read", path);
+    unsigned char *bytes = rad_alloc(ctx, (size_t)length + 1, 1);
+    if (!bytes) return RAD_ERROR_NO_MEMORY;
+    size_t size = fread(bytes, 1, (size_t)length, file), at = 0;
+    bytes[size] = '\0';
+    rad_status status = RAD_OK;
+    rad_image *image = NULL;
+#define HDR_FAIL(...) do { status = rad_fail(ctx, RAD_ERROR_PARSE, __VA_ARGS__); goto done; } while (0)
+    if (size < 2 || bytes[0] != '#' || bytes[1] != '?') HDR_FAIL("%s: not a Radiance HDR file", path);
+    /* Header lines up to an empty line. */
+    for (;;) {
+        size_t end = at;
+        while (end < size && bytes[end] != '\n') ++end;
+        if (end >= size) HDR_FAIL("%s: truncated HDR header", path);
+        if (end == at) {
+            at = end + 1;
+            break;
+        }
+        static const char format[] = "FORMAT=32-bit_rle_rgbe";
+        if (end - at >= 7 && memcmp(bytes + at, format, 7) == 0 &&
+            !(end - at == sizeof format - 1 && memcmp(bytes + at, format, sizeof format - 1) == 0))
+            HDR_FAIL("%s: unsupported HDR format (only 32-bit_rle_rgbe)", path);
+        at = end + 1;
     }
-    stbi_image_free(data);
-    return status;
+    int width = 0, height = 0, used = 0;
+    char resolution[64];
+    size_t line_end = at;
+    while (line_end < size && bytes[line_end] != '\n' && line_end - at < sizeof resolution - 1) ++line_end;
+    memcpy(resolution, bytes + at, line_end - at);
+    resolution[line_end - at] = '\0';
+    if (line_end >= size || bytes[line_end] != '\n' ||
+        sscanf(resolution, "-Y %d +X %d%n", &height, &width, &used) != 2 || resolution[used] != '\0')
+        HDR_FAIL("%s: unsupported HDR resolution line (only \"-Y H +X W\")", path);
+    at = line_end + 1;
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        HDR_FAIL("%s: HDR size %dx%d out of range (1 to 16384 per side)", path, width, height);
+    if ((status = rad_image_new(ctx, width, height, &image))) goto done;
+    unsigned char *scanline = rad_alloc(ctx, (size_t)width, 4);
+    if (!scanline) {
+        status = RAD_ERROR_NO_MEMORY;
+        goto done;
+    }
+    for (int y = 0; y < height && !status; ++y) {
+        int rle = width >= 8 && width < 32768 && at + 4 <= size && bytes[at] == 2 &&
+                  bytes[at + 1] == 2 && ((bytes[at + 2] << 8) | bytes[at + 3]) == width;
+        if (rle) {
+            at += 4;
+            /* Four planes (R, G, B, E), each runs (count > 128: repeat) or literals. */
+            for (int c = 0; c < 4 && !status; ++c) {
+                for (int x = 0; x < width;) {
+                    if (at >= size) { status = rad_fail(ctx, RAD_ERROR_PARSE, "%s: truncated HDR pixels", path); break; }
+                    int count = bytes[at++];
+                    int run = count > 128;
+                    if (run) count -= 128;
+                    if (count == 0 || x + count > width || at + (run ? 1 : (size_t)count) > size) {
+                        status = rad_fail(ctx, RAD_ERROR_PARSE, "%s: damaged HDR scanline %d", path, y);
+                        break;
+                    }
+                    for (int k = 0; k < count; ++k, ++x)
+                        scanline[4 * x + c] = run ? bytes[at] : bytes[at + (size_t)k];
+                    at += run ? 1 : (size_t)count;
+                }
+            }
+        } else {
+            if (at + 4 * (size_t)width > size) {
+                status = rad_fail(ctx, RAD_ERROR_PARSE, "%s: truncated HDR pixels", path);
+                break;
+            }
+            memcpy(scanline, bytes + at, 4 * (size_t)width);
+            at += 4 * (size_t)width;
+        }
+        float *row = image->pixels + (size_t)y * (size_t)width * 3;
+        for (int x = 0; x < width && !status; ++x) {
+            const unsigned char *p = scanline + 4 * x;
+            float scale = p[3] ? ldexpf(1.0f, (int)p[3] - (128 + 8)) : 0.0f;
+            for (int c = 0; c < 3; ++c) row[3 * x + c] = (float)p[c] * scale;
+        }
+    }
+    rad_free(ctx, scanline);
+done:
+#undef HDR_FAIL
+    rad_free(ctx, bytes);
+    if (status) {
+        rad_image_free(image);
+        return status;
+    }
+    *out = image;
+    return RAD_OK;
 }
 
 rad_status rad_image_read(rad_context *ctx, const char *path, rad_image **out) {
