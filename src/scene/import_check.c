@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #define PLY_MAX_HEADER (1 << 20)
 
@@ -49,9 +50,9 @@ static rad_status check_ply(rad_context *ctx, const char *path, FILE *file, doub
         char word[64] = "", a[64] = "", b[64] = "", c[64] = "";
         int fields = sscanf(line, "%63s %63s %63s %63s", word, a, b, c);
         if (fields <= 0) continue;
-        if (strcmp(word, "format") == 0) {
-            binary = strcmp(a, "ascii") != 0;
-        } else if (strcmp(word, "element") == 0) {
+        if (strcasecmp(word, "format") == 0) {
+            binary = strcasecmp(a, "ascii") != 0;
+        } else if (strcasecmp(word, "element") == 0) {
             needed += element_count * row_bytes;
             char *end;
             element_count = strtod(b, &end);
@@ -59,14 +60,14 @@ static rad_status check_ply(rad_context *ctx, const char *path, FILE *file, doub
             if (fields < 3 || *end || !(element_count >= 0))
                 status = rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: a PLY element needs a name and "
                                   "a count", path, line_number);
-        } else if (strcmp(word, "property") == 0) {
-            int is_list = strcmp(a, "list") == 0;
+        } else if (strcasecmp(word, "property") == 0) {
+            int is_list = strcasecmp(a, "list") == 0;
             int size = type_size(is_list ? b : a);
             if (!size || (is_list && !type_size(c)))
                 status = rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: unknown PLY property type",
                                   path, line_number);
             row_bytes += binary == 1 ? size : 2;
-        } else if (strcmp(word, "end_header") == 0) {
+        } else if (strcasecmp(word, "end_header") == 0) {
             ended = 1;
             break;
         }
@@ -118,8 +119,9 @@ rad_status rad_import_check(rad_context *ctx, const char *path) {
     char magic[4] = {0};
     size_t got = fread(magic, 1, 4, file);
     rad_status status = RAD_OK;
-    /* assimp takes any file starting "ply" as PLY ("ply," too), so check every one. */
-    int ply = got >= 3 && memcmp(magic, "ply", 3) == 0;
+    /* assimp takes any file starting "ply" in any case as PLY ("ply," and "pLy" too, and its
+     * keywords in any case), so check every one that way (found by fuzz_import). */
+    int ply = got >= 3 && strncasecmp(magic, "ply", 3) == 0;
     int glb = got == 4 && memcmp(magic, "glTF", 4) == 0;
     if ((ply || glb) && fseek(file, 0, SEEK_END) == 0) {
         double file_size = (double)ftell(file);
