@@ -3,7 +3,9 @@
 # each for a bounded time from its seed corpus.
 # Usage: scripts/fuzz.sh [BUILD_DIR [TARGET...]]      (default build-fuzz, every target)
 # Environment: FUZZ_SECONDS per target (60), FUZZ_JOBS targets at a time (nproc),
-#              FUZZ_MAX_LEN longest input in bytes (4096).
+#              FUZZ_MAX_LEN longest input in bytes (4096), FUZZ_SEED libFuzzer's seed (CI: 1,
+#              so that CI explores the same inputs every run and a finding can be replayed;
+#              otherwise 0, a new seed every run, for exploring by hand).
 #
 # The corpus grows in BUILD_DIR/corpus/NAME (seeded from fuzz/corpus/NAME, never written back).
 # A crash is kept in BUILD_DIR/crashes/NAME/ and fails the run. To make it a regression test:
@@ -16,6 +18,7 @@ shift || true
 seconds=${FUZZ_SECONDS:-60}
 jobs=${FUZZ_JOBS:-$(nproc)}
 max_len=${FUZZ_MAX_LEN:-4096}
+if [[ "${CI:-}" == true ]]; then seed=${FUZZ_SEED:-1}; else seed=${FUZZ_SEED:-0}; fi
 
 if (($# > 0)); then
     names=("$@")
@@ -53,7 +56,7 @@ run_one() { # run_one NAME: fuzz one target; output to BUILD/logs/NAME.log
     local asan=$ASAN_OPTIONS
     [[ " ${extra[*]} " == *" -detect_leaks=0 "* ]] && asan=${asan/detect_leaks=1/detect_leaks=0}
     ASAN_OPTIONS=$asan "$build/fuzz_$name" "${extra[@]}" -max_total_time="$seconds" \
-        -max_len="$max_len" -timeout=10 \
+        -max_len="$max_len" -timeout=10 -seed="$seed" \
         -rss_limit_mb=2048 -close_fd_mask=3 -print_final_stats=1 -artifact_prefix="$crashes/" \
         "$corpus" "fuzz/corpus/$name" >"$build/logs/$name.log" 2>&1
 }
