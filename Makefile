@@ -31,9 +31,10 @@ bench: deps build
 test-sanitize: deps
 	@scripts/test-sanitize.sh build-sanitize
 
-# Each libFuzzer target (fuzz/fuzz_*.c, clang) for FUZZ_SECONDS (default 60) from its seed corpus.
+# Each libFuzzer target (fuzz/fuzz_*.c, clang) for FUZZ_SECONDS (default 60) from its seed corpus;
+# FUZZ_TARGETS="ffm image" picks some.
 fuzz: deps
-	@scripts/fuzz.sh build-fuzz
+	@scripts/fuzz.sh build-fuzz $(FUZZ_TARGETS)
 
 # A short solve, render and path trace under valgrind memcheck: no errors, no leaks.
 valgrind: deps
