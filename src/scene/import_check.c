@@ -70,6 +70,12 @@ static rad_status check_ply(rad_context *ctx, const char *path, FILE *file, doub
         } else if (strcasecmp(word, "end_header") == 0) {
             ended = 1;
             break;
+        } else if (line_number > 1 && strcasecmp(word, "comment") != 0 &&
+                   strcasecmp(word, "obj_info") != 0) {
+            /* assimp loops forever on a header line it does not know (fuzz_import timeout) */
+            status = rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: not a PLY header line (format, "
+                              "element, property, comment, obj_info, end_header)", path,
+                              line_number);
         }
     }
     if (status) return status;
