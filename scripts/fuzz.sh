@@ -47,14 +47,15 @@ run_one() { # run_one NAME: fuzz one target; output to BUILD/logs/NAME.log
     local name=$1
     local corpus=$build/corpus/$name crashes=$build/crashes/$name
     mkdir -p "$corpus" "$crashes" "$build/logs"
-    # fuzz/fuzz_NAME.options: extra libFuzzer flags for one target ('#' starts a comment).
-    local extra=()
+    # fuzz/fuzz_NAME.options: extra libFuzzer flags for one target, and ASAN_OPTIONS=... lines
+    # appended to ASan's options (later ones win); '#' starts a comment.
+    local extra=() asan=$ASAN_OPTIONS
     if [[ -f fuzz/fuzz_$name.options ]]; then
-        read -ra extra <<<"$(grep -v '^#' "fuzz/fuzz_$name.options" | tr '\n' ' ')"
+        read -ra extra <<<"$(grep '^-' "fuzz/fuzz_$name.options" | tr '\n' ' ')"
+        local line
+        while read -r line; do asan+=":${line#ASAN_OPTIONS=}"; done \
+            < <(grep '^ASAN_OPTIONS=' "fuzz/fuzz_$name.options")
     fi
-    # Leaks off for a target turns off the check at exit too.
-    local asan=$ASAN_OPTIONS
-    [[ " ${extra[*]} " == *" -detect_leaks=0 "* ]] && asan=${asan/detect_leaks=1/detect_leaks=0}
     ASAN_OPTIONS=$asan "$build/fuzz_$name" "${extra[@]}" -max_total_time="$seconds" \
         -max_len="$max_len" -timeout=10 -seed="$seed" \
         -rss_limit_mb=2048 -close_fd_mask=3 -print_final_stats=1 -artifact_prefix="$crashes/" \
