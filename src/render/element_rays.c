@@ -1,12 +1,10 @@
 /* element_rays.c - Embree scene of the element mesh (see element_rays.h). */
 #include "render/element_rays.h"
 
+#include "scene/rays.h"
+
 #include <float.h>
 #include <stdio.h>
-
-static void embree_error(void *user, enum RTCError code, const char *message) {
-    rad_fail(user, RAD_ERROR_INTERNAL, "Embree error %d: %s", (int)code, message ? message : "");
-}
 
 void rad_element_rays_destroy(rad_element_rays *rays) {
     if (!rays) return;
@@ -71,19 +69,12 @@ rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_e
         rad_element_rays_destroy(rays);
         return RAD_ERROR_NO_MEMORY;
     }
-    char config[64];
-    snprintf(config, sizeof config, "threads=%d", rad_thread_count(ctx));
-    rays->device = rtcNewDevice(config);
-    if (!rays->device) {
+    rad_status status = rad_embree_open(ctx, &rays->device, &rays->scene);
+    if (status) {
         rad_element_rays_destroy(rays);
-        return rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree: cannot create a device");
+        return status;
     }
-    rtcSetDeviceErrorFunction(rays->device, embree_error, ctx);
-    rays->scene = rtcNewScene(rays->device);
-    /* Robust traversal: no rays slip through the shared edges of neighbouring elements. */
-    rtcSetSceneFlags(rays->scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(rays->scene, RTC_BUILD_QUALITY_HIGH);
-    rad_status status = add_geometry(rays, 4, quads, rays->quad_element, &rays->quad_geometry);
+    status = add_geometry(rays, 4, quads, rays->quad_element, &rays->quad_geometry);
     if (!status)
         status = add_geometry(rays, 3, triangles, rays->triangle_element, &rays->triangle_geometry);
     if (status) {

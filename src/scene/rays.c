@@ -10,6 +10,21 @@ static void embree_error(void *user, enum RTCError code, const char *message) {
     rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree error %d: %s", (int)code, message ? message : "");
 }
 
+rad_status rad_embree_open(rad_context *ctx, RTCDevice *device, RTCScene *scene) {
+    char config[64];
+    snprintf(config, sizeof config, "threads=%d", rad_thread_count(ctx));
+    *scene = NULL;
+    *device = rtcNewDevice(config);
+    if (!*device) return rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree: cannot create a device");
+    rtcSetDeviceErrorFunction(*device, embree_error, ctx);
+    *scene = rtcNewScene(*device);
+    if (!*scene) return rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree: cannot create a scene");
+    /* Robust traversal: no ray slips through an edge shared by two triangles or elements. */
+    rtcSetSceneFlags(*scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(*scene, RTC_BUILD_QUALITY_HIGH);
+    return RAD_OK;
+}
+
 rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **out) {
     *out = NULL;
     rad_rays *rays = rad_alloc_zero(ctx, 1, sizeof *rays);
@@ -23,17 +38,11 @@ rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **
         rad_rays_destroy(rays);
         return RAD_ERROR_NO_MEMORY;
     }
-    char config[64];
-    snprintf(config, sizeof config, "threads=%d", rad_thread_count(ctx));
-    rays->device = rtcNewDevice(config);
-    if (!rays->device) {
+    rad_status opened = rad_embree_open(ctx, &rays->device, &rays->scene);
+    if (opened) {
         rad_rays_destroy(rays);
-        return rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree: cannot create a device");
+        return opened;
     }
-    rtcSetDeviceErrorFunction(rays->device, embree_error, ctx);
-    rays->scene = rtcNewScene(rays->device);
-    rtcSetSceneFlags(rays->scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(rays->scene, RTC_BUILD_QUALITY_HIGH);
     RTCGeometry geometry = rtcNewGeometry(rays->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     float *positions = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
                                                RTC_FORMAT_FLOAT3, 3 * sizeof(float),

@@ -18,6 +18,10 @@ typedef struct rad_rays {
 } rad_rays;
 
 rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **out);
+
+/* An Embree device using the context's threads, whose errors land on the context, and an empty
+ * robust, high-quality scene on it: what every ray structure of the project starts from. */
+rad_status rad_embree_open(rad_context *ctx, RTCDevice *device, RTCScene *scene);
 void rad_rays_destroy(rad_rays *rays);
 
 /* Nonzero when something blocks the segment between a and b (ends excluded by epsilon).
