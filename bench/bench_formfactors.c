@@ -205,38 +205,50 @@ static void bench_rays(void) {
 /* ------------------------------------------------------------------------------------------- */
 /* 2. Threads                                                                                   */
 
+static int by_value(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 static const rad_ff_method all_methods[] = {RAD_FF_ANALYTIC, RAD_FF_HEMICUBE, RAD_FF_RAYCAST,
                                             RAD_FF_MONTECARLO};
 
 static void bench_threads(void) {
-    const int rows = quick ? 8 : 24;
+    /* Short runs, alternating one and two threads, best of each: the machine's noise (other
+     * jobs, frequency changes) then hits both alike, and the ratio is taken within one run. */
+    enum { most_repeats = 15 };
+    const int rows = quick ? 8 : 40, repeats = quick ? 3 : most_repeats;
     setup one = cornell(1, 10000), two = cornell(2, 10000);
     printf("\n## 2. Threads: Cornell box, %zu elements, %d rows, default settings\n\n",
            one.mesh->element_count, rows);
-    printf("Processor ms/row adds up both threads: equal to the one-thread time when the split "
-           "costs nothing, so a speed-up below 2 with equal processor time means the machine "
-           "was busy.\n\n");
-    printf("| method | ms/row, 1 thread | ms/row, 2 threads | speed-up | processor ms/row, 1 / 2 "
-           "threads |\n|---|---|---|---|---|\n");
+    printf("%d runs of %d rows each, alternating one and two threads; times are the best run, "
+           "the speed-up is the median over the pairs of neighbouring runs. Processor ms/row "
+           "adds up both threads: equal to the one-thread time when the split costs nothing.\n\n",
+           repeats, rows);
+    printf("| method | ms/row, 1 thread | ms/row, 2 threads | speed-up (median) | processor ms/row, "
+           "1 / 2 threads |\n|---|---|---|---|---|\n");
     float *row = malloc(one.mesh->element_count * sizeof *row);
     for (int m = 0; m < 4; ++m) {
-        double seconds[2], processor[2];
-        for (int t = 0; t < 2; ++t) {
-            rad_ff_provider *p = provider(t ? &two : &one, all_methods[m], 0, 0, 1);
-            time_rows(p, one.mesh, 2, row); /* warm up */
-            double best = INFINITY, best_cpu = INFINITY;
-            for (int repeat = 0; repeat < 3; ++repeat) {
+        double seconds[2] = {INFINITY, INFINITY}, processor[2] = {INFINITY, INFINITY};
+        rad_ff_provider *p[2] = {provider(&one, all_methods[m], 0, 0, 1),
+                                 provider(&two, all_methods[m], 0, 0, 1)};
+        for (int t = 0; t < 2; ++t) time_rows(p[t], one.mesh, 4, row); /* warm up */
+        double ratio[most_repeats];
+        for (int repeat = 0; repeat < repeats; ++repeat) {
+            double pair[2];
+            for (int t = 0; t < 2; ++t) {
                 double cpu = cpu_seconds();
-                best = fmin(best, time_rows(p, one.mesh, rows, row));
-                best_cpu = fmin(best_cpu, cpu_seconds() - cpu);
+                pair[t] = time_rows(p[t], one.mesh, rows, row);
+                seconds[t] = fmin(seconds[t], pair[t]);
+                processor[t] = fmin(processor[t], cpu_seconds() - cpu);
             }
-            seconds[t] = best;
-            processor[t] = best_cpu;
-            rad_ff_provider_destroy(p);
+            ratio[repeat] = pair[0] / pair[1];
         }
+        qsort(ratio, (size_t)repeats, sizeof *ratio, by_value);
+        for (int t = 0; t < 2; ++t) rad_ff_provider_destroy(p[t]);
         printf("| %s | %.2f | %.2f | %.2fx | %.2f / %.2f |\n",
                rad_ff_method_find(all_methods[m])->name, 1e3 * seconds[0] / rows,
-               1e3 * seconds[1] / rows, seconds[0] / seconds[1], 1e3 * processor[0] / rows,
+               1e3 * seconds[1] / rows, ratio[repeats / 2], 1e3 * processor[0] / rows,
                1e3 * processor[1] / rows);
     }
     free(row);
