@@ -23,18 +23,57 @@
 #include <math.h>
 #include <string.h>
 
-/* Patch powers and unshot totals by a full pass (at the start, and after a resume). */
-static void recount(const rad_system *s, rad_shooting *state) {
-    double unshot[3] = {0, 0, 0};
-    for (size_t p = 0; p < s->patch_count; ++p) {
-        double power = 0;
-        for (size_t e = s->patch_first[p]; e < s->patch_first[p + 1]; ++e) {
-            power += (s->unshot[e][0] + s->unshot[e][1] + s->unshot[e][2]) * s->area[e];
-            for (int c = 0; c < 3; ++c) unshot[c] += s->unshot[e][c] * s->area[e];
+/* Patches are visited in fixed chunks, each summing its own share of the unshot totals; the
+ * shares are then added in chunk order. The chunks do not depend on the thread count, so
+ * neither do the sums, and a shot's running totals stay bit-identical to a fresh recount. */
+#define CHUNK_PATCHES 128
+#define PARALLEL_ELEMENTS 4096 /* below this a shot is too short to share out */
+
+static size_t chunk_count(const rad_system *s) {
+    return (s->patch_count + CHUNK_PATCHES - 1) / CHUNK_PATCHES;
+}
+
+/* One pass over the elements: when `power` is given, first add the light it sends through
+ * `row` (every element j receives power F_pj / A_j and reflects rho_j of it); always recount
+ * every patch's unshot power and the unshot totals. */
+static void pass(rad_solver_run *run, rad_shooting *state, const float *row, const double *power) {
+    rad_system *s = run->system;
+    const long chunks = (long)chunk_count(s);
+    const int tracing = run->tracing && power;
+    double (*share)[3] = state->chunk_unshot;
+#pragma omp parallel for schedule(static) num_threads(rad_thread_count(s->ctx)) \
+    if (s->element_count >= PARALLEL_ELEMENTS)
+    for (long chunk = 0; chunk < chunks; ++chunk) {
+        double unshot[3] = {0, 0, 0};
+        size_t first = (size_t)chunk * CHUNK_PATCHES, last = first + CHUNK_PATCHES;
+        if (last > s->patch_count) last = s->patch_count;
+        for (size_t p = first; p < last; ++p) {
+            double patch_power = 0;
+            for (size_t j = s->patch_first[p]; j < s->patch_first[p + 1]; ++j) {
+                if (power) {
+                    double f = (double)row[j] / s->area[j];
+                    for (int c = 0; c < 3; ++c) {
+                        double received = power[c] * f;
+                        double reflected = s->reflectance[j][c] * received;
+                        s->radiosity[j][c] += reflected;
+                        s->unshot[j][c] += reflected;
+                        if (tracing) {
+                            run->received[j][c] = received;
+                            run->reflected[j][c] = reflected;
+                        }
+                    }
+                }
+                patch_power += (s->unshot[j][0] + s->unshot[j][1] + s->unshot[j][2]) * s->area[j];
+                for (int c = 0; c < 3; ++c) unshot[c] += s->unshot[j][c] * s->area[j];
+            }
+            state->patch_power[p] = patch_power;
         }
-        state->patch_power[p] = power;
+        memcpy(share[chunk], unshot, sizeof unshot);
     }
-    memcpy(state->unshot_total, unshot, sizeof unshot);
+    double total[3] = {0, 0, 0};
+    for (long chunk = 0; chunk < chunks; ++chunk)
+        for (int c = 0; c < 3; ++c) total[c] += share[chunk][c];
+    memcpy(state->unshot_total, total, sizeof total);
 }
 
 static void compute_ambient(rad_shooting *state) {
@@ -49,7 +88,8 @@ rad_status rad_shooting_begin(rad_solver_run *run, rad_shooting *state) {
     memset(state, 0, sizeof *state);
     state->row = rad_alloc(s->ctx, s->element_count, sizeof *state->row);
     state->patch_power = rad_alloc(s->ctx, s->patch_count, sizeof *state->patch_power);
-    if (!state->row || !state->patch_power) return RAD_ERROR_NO_MEMORY;
+    state->chunk_unshot = rad_alloc(s->ctx, chunk_count(s) + 1, sizeof *state->chunk_unshot);
+    if (!state->row || !state->patch_power || !state->chunk_unshot) return RAD_ERROR_NO_MEMORY;
     for (size_t e = 0; e < s->element_count; ++e) {
         state->total_area += s->area[e];
         for (int c = 0; c < 3; ++c) {
@@ -59,7 +99,7 @@ rad_status rad_shooting_begin(rad_solver_run *run, rad_shooting *state) {
     }
     for (int c = 0; c < 3; ++c) state->mean_reflectance[c] /= state->total_area;
     /* A resumed run starts from whatever is unshot now. */
-    recount(s, state);
+    pass(run, state, NULL, NULL);
     compute_ambient(state);
     if (run->options->ambient) memcpy(s->ambient, state->ambient, sizeof s->ambient);
     return RAD_OK;
@@ -68,8 +108,10 @@ rad_status rad_shooting_begin(rad_solver_run *run, rad_shooting *state) {
 void rad_shooting_end(rad_solver_run *run, rad_shooting *state) {
     rad_free(run->system->ctx, state->row);
     rad_free(run->system->ctx, state->patch_power);
+    rad_free(run->system->ctx, state->chunk_unshot);
     state->row = NULL;
     state->patch_power = NULL;
+    state->chunk_unshot = NULL;
 }
 
 rad_status rad_shooting_shoot(rad_solver_run *run, rad_shooting *state, size_t shooter,
@@ -92,36 +134,13 @@ rad_status rad_shooting_shoot(rad_solver_run *run, rad_shooting *state, size_t s
     double power[3];
     for (int c = 0; c < 3; ++c) power[c] = (omega * shot[c] + over[c]) * s->patch_area[shooter];
 
-    /* Distribute: every element receives dB_p A_p F_pj / A_j and reflects rho_j of it. */
+    /* Distribute, and recount the unshot powers in the same pass. */
     if (!row) {
         rad_status status = s->ff->row(s->ff, shooter, state->row);
         if (status) return status;
         row = state->row;
     }
-    /* One pass also recounts every patch's unshot power and the unshot totals, adding in the
-     * same order as recount() so the numbers are the same bits. */
-    int tracing = run->tracing;
-    double unshot[3] = {0, 0, 0};
-    for (size_t p = 0; p < s->patch_count; ++p) {
-        double patch_power = 0;
-        for (size_t j = s->patch_first[p]; j < s->patch_first[p + 1]; ++j) {
-            double f = (double)row[j] / s->area[j];
-            for (int c = 0; c < 3; ++c) {
-                double received = power[c] * f;
-                double reflected = s->reflectance[j][c] * received;
-                s->radiosity[j][c] += reflected;
-                s->unshot[j][c] += reflected;
-                if (tracing) {
-                    run->received[j][c] = received;
-                    run->reflected[j][c] = reflected;
-                }
-            }
-            patch_power += (s->unshot[j][0] + s->unshot[j][1] + s->unshot[j][2]) * s->area[j];
-            for (int c = 0; c < 3; ++c) unshot[c] += s->unshot[j][c] * s->area[j];
-        }
-        state->patch_power[p] = patch_power;
-    }
-    memcpy(state->unshot_total, unshot, sizeof unshot);
+    pass(run, state, row, power);
     return RAD_OK;
 }
 

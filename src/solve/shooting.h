@@ -17,6 +17,7 @@ typedef struct rad_shooting {
      * elements would use, so they are bit-identical to recomputing them (resume depends on it). */
     double *patch_power;        /* rad_shooting_unshot_power of every patch */
     double unshot_total[3];     /* sum over elements of dB A, per channel */
+    double (*chunk_unshot)[3];  /* scratch: each chunk of patches' share of unshot_total */
 } rad_shooting;
 
 /* Unshot power of a patch, sum over its elements and channels of dB A (signed); valid after
