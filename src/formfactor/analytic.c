@@ -159,7 +159,8 @@ static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *row) 
         double factor[RAD_FF_BLOCK], all[RAD_FF_BLOCK], seen[RAD_FF_BLOCK] = {0};
         rad_ff_ray_queue queue;
         rad_ray_packet_init(&queue.packet);
-        size_t tested_patch = SIZE_MAX;
+        size_t tested_patch = SIZE_MAX, facing_patch = SIZE_MAX;
+        int facing = RAD_FF_MIXED;
         int patch_clear = 0;
         double simple[3][RAD_FF_BLOCK], simple_normal[3][RAD_FF_BLOCK];
         int simple_slot[RAD_FF_BLOCK], simple_count = 0;
@@ -167,7 +168,7 @@ static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *row) 
             const int slot = (int)(e - first);
             factor[slot] = 0;
             all[slot] = 0;
-            if (mesh->element_patch[e] == patch || rad_ff_facing_away(mesh, p, (size_t)e)) continue;
+            if (rad_ff_skip(c, p, patch, (size_t)e, &facing_patch, &facing)) continue;
             ++receivers;
             const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
             if (!rad_ff_near(c, p, (size_t)e, 4)) {

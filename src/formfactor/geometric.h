@@ -16,9 +16,12 @@
 /* A shooting patch: the convex outline of its elements (counter-clockwise seen from the front),
  * its area-weighted centre, its unit normal and area. */
 typedef struct rad_ff_patch {
+    /* What rad_ff_patch_facing reads for every receiver of every row comes first. */
     rad_vec3 centre, normal;
+    double radius;   /* largest distance from the centre to a corner */
+    double warp;     /* largest distance of an element corner from the plane (centre, normal) */
+    double tilt;     /* largest |element normal - normal| */
     double area;
-    double radius; /* largest distance from the centre to a corner */
     rad_vec3 lo, hi; /* bounds of the outline */
     int corner_count;
     rad_vec3 corners[RAD_FF_MAX_OUTLINE];
@@ -268,6 +271,27 @@ static inline int rad_ff_near(const rad_ff_context *context, const rad_ff_patch 
 /* Nonzero when nothing can pass energy from the patch to element e: e lies on or behind the
  * patch's plane, or the whole patch lies on or behind e's plane. */
 int rad_ff_facing_away(const rad_mesh *mesh, const rad_ff_patch *patch, size_t element);
+
+/* The same question for all elements of a receiving patch at once (its elements lie in one
+ * plane, inside its outline): RAD_FF_AWAY when every one faces away, RAD_FF_FACING when none
+ * does, RAD_FF_MIXED when each must be asked. The first two answers keep a margin of the
+ * tolerance, so they never differ from rad_ff_facing_away. */
+enum { RAD_FF_AWAY, RAD_FF_FACING, RAD_FF_MIXED };
+int rad_ff_patch_facing(const rad_ff_patch *shooter, const rad_ff_patch *receiver);
+
+/* Nonzero when element e receives nothing from `patch` (p its outline): e is one of its own
+ * elements or faces away. Receivers are asked patch by patch; `last` and `state` carry the
+ * answer for the receiving patch between consecutive elements (start with SIZE_MAX). */
+static inline int rad_ff_skip(const rad_ff_context *c, const rad_ff_patch *p, size_t patch,
+                              size_t e, size_t *last, int *state) {
+    const size_t q = c->mesh->element_patch[e];
+    if (q == patch) return 1;
+    if (q != *last) {
+        *last = q;
+        *state = rad_ff_patch_facing(p, &c->patches[q]);
+    }
+    return *state == RAD_FF_MIXED ? rad_ff_facing_away(c->mesh, p, e) : *state == RAD_FF_AWAY;
+}
 
 /* ------------------------------------------------------------------------------------------- */
 /* Visibility rays in full packets                                                              */

@@ -42,11 +42,12 @@ static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *row
         double sums[RAD_FF_BLOCK] = {0};
         rad_ff_ray_queue queue;
         rad_ray_packet_init(&queue.packet);
-        size_t tested_patch = SIZE_MAX;
+        size_t tested_patch = SIZE_MAX, facing_patch = SIZE_MAX;
+        int facing = RAD_FF_MIXED;
         int patch_clear = 0;
         for (long e = first; e < last; ++e) {
             const int slot = (int)(e - first);
-            if (mesh->element_patch[e] == patch || rad_ff_facing_away(mesh, p, (size_t)e)) continue;
+            if (rad_ff_skip(c, p, patch, (size_t)e, &facing_patch, &facing)) continue;
             ++receivers;
             const int test = !rad_ff_unoccluded(c, (size_t)e, &tested_patch, &patch_clear, 1);
             const rad_vec3 ny = mesh->element_normal[e];

@@ -56,6 +56,50 @@ int rad_ff_facing_away(const rad_mesh *mesh, const rad_ff_patch *patch, size_t e
     return 1;
 }
 
+int rad_ff_patch_facing(const rad_ff_patch *shooter, const rad_ff_patch *receiver) {
+    /* rad_ff_facing_away's two tests with the receiver's outline and plane in place of one
+     * element's corners and plane. The outline's corners bound every element corner's height
+     * over the shooter's plane to within twice the patch's warp; an element's plane differs
+     * from the patch's by its tilt and warp. Answers that hold with that slack and a margin of
+     * the tolerance cannot differ from the element test. Each test is tried first with the
+     * spheres around the outlines (no corners read), then with the corners. */
+    const double tolerance = 1e-7 * sqrt(shooter->area), low = 0.5 * tolerance, high = 2 * tolerance;
+    const rad_vec3 between = v3_sub(receiver->centre, shooter->centre);
+    const double warp = 2 * receiver->warp;
+    /* Receiver corners over the shooter's plane, within its radius of the centre's height. */
+    double centre = v3_dot(shooter->normal, between);
+    double ahead = centre + receiver->radius, behind = centre - receiver->radius;
+    if (ahead + warp > low && behind - warp <= high) {
+        ahead = -INFINITY;
+        behind = INFINITY;
+        for (int k = 0; k < receiver->corner_count; ++k) {
+            double d = v3_dot(shooter->normal, v3_sub(receiver->corners[k], shooter->centre));
+            ahead = d > ahead ? d : ahead;
+            behind = d < behind ? d : behind;
+        }
+    }
+    if (ahead + warp <= low) return RAD_FF_AWAY;
+    /* The highest shooter corner over the receiver's plane: at least the centre's height (the
+     * centre lies inside the outline), at most that plus the radius. |corner - element
+     * centroid| is at most the distance of the centres plus both radii (the L1 norm bounds the
+     * distance). */
+    const double reach = fabs(between.x) + fabs(between.y) + fabs(between.z) + shooter->radius +
+                         2 * receiver->radius;
+    const double slack = receiver->tilt * reach + receiver->warp;
+    double least = -v3_dot(receiver->normal, between), most = least + shooter->radius;
+    if (most + slack > low && least - slack <= high) {
+        most = -INFINITY;
+        for (int k = 0; k < shooter->corner_count; ++k) {
+            double height = v3_dot(receiver->normal, v3_sub(shooter->corners[k], receiver->centre));
+            most = height > most ? height : most;
+        }
+        least = most;
+    }
+    if (most + slack <= low) return RAD_FF_AWAY;
+    if (behind - warp > high && least - slack > high) return RAD_FF_FACING;
+    return RAD_FF_MIXED;
+}
+
 /* ------------------------------------------------------------------------------------------- */
 /* Outlines: the convex hull of the patch's element corners in its plane (Andrew's monotone
  * chain). A patch is a block of the grid of one convex polygon, so the hull is the patch. */
@@ -150,6 +194,14 @@ rad_status rad_ff_patches_create(rad_context *ctx, const rad_mesh *mesh, rad_ff_
         patch->radius = 0;
         for (int k = 0; k < count; ++k)
             patch->radius = fmax(patch->radius, v3_length(v3_sub(hull[k].p, patch->centre)));
+        /* How far its elements stray from its plane and normal (rounding, or a warped input
+         * polygon): the slack of rad_ff_patch_facing. */
+        patch->warp = patch->tilt = 0;
+        for (size_t e = first; e < last; ++e) {
+            patch->tilt = fmax(patch->tilt, v3_length(v3_sub(mesh->element_normal[e], patch->normal)));
+            for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k)
+                patch->warp = fmax(patch->warp, fabs(v3_dot(patch->normal, v3_sub(rad_element_corner(mesh, e, k), patch->centre))));
+        }
         patch->lo = patch->hi = hull[0].p;
         for (int k = 0; k < count; ++k) {
             rad_vec3 c = hull[k].p;
