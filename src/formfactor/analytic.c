@@ -133,45 +133,34 @@ static void contour_quads(const rad_vec3 *q, int m, const double *y[3], const do
     }
 }
 
-static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *row) {
-    rad_ff_common *a = (rad_ff_common *)self;
-    const rad_ff_context *c = &a->c;
-    const rad_mesh *mesh = c->mesh;
-    rad_ff_source source;
-    rad_ff_source_begin(&source, c, patch, c->options.samples, a->maps);
-    rad_ff_shaft_begin(c->shaft, source.patch);
-    const rad_ff_patch *p = source.patch;
-    const rad_vec3 np = p->normal;
-    const rad_rays *rays = c->rays;
-    const double epsilon = rays->epsilon, inverse_area = 1.0 / p->area;
-    const int samples = c->options.samples;
-    const uint64_t seed = rad_ff_row_seed(c, patch);
-    const long n = (long)mesh->element_count, blocks = (n + RAD_FF_BLOCK - 1) / RAD_FF_BLOCK;
+static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *out) {
+    rad_ff_row row;
+    rad_ff_row_begin((rad_ff_common *)self, patch, &row);
+    const rad_mesh *mesh = row.mesh;
+    const rad_ff_patch *p = row.p;
+    const rad_vec3 np = row.np;
+    const double epsilon = row.epsilon;
+    const int samples = row.samples;
     uint64_t receivers = 0, cast = 0;
 
-#pragma omp parallel for schedule(dynamic, 1) num_threads(rad_thread_count(c->ctx)) \
-    reduction(+ : receivers, cast)
-    for (long block = 0; block < blocks; ++block) {
-        const long first = block * RAD_FF_BLOCK;
-        const long last = first + RAD_FF_BLOCK < n ? first + RAD_FF_BLOCK : n;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(row.threads) reduction(+ : receivers, cast)
+    for (long block = 0; block < row.blocks; ++block) {
+        rad_ff_block b;
+        rad_ff_block_begin(&row, block, &b);
+        const long first = b.first, last = b.last;
         /* Per receiver: the unoccluded factor, and for those that need rays the kernel weight
          * of all points and of the points seen. */
         double factor[RAD_FF_BLOCK], all[RAD_FF_BLOCK], seen[RAD_FF_BLOCK] = {0};
-        rad_ff_ray_queue queue;
-        rad_ray_packet_init(&queue.packet);
-        size_t tested_patch = SIZE_MAX, facing_patch = SIZE_MAX;
-        int facing = RAD_FF_MIXED;
-        int patch_clear = 0;
         double simple[3][RAD_FF_BLOCK], simple_normal[3][RAD_FF_BLOCK];
         int simple_slot[RAD_FF_BLOCK], simple_count = 0;
         for (long e = first; e < last; ++e) {
             const int slot = (int)(e - first);
             factor[slot] = 0;
             all[slot] = 0;
-            if (rad_ff_skip(c, p, patch, (size_t)e, &facing_patch, &facing)) continue;
+            if (!rad_ff_block_receives(&row, &b, e)) continue;
             ++receivers;
             const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
-            if (!rad_ff_near(c, p, (size_t)e, 4)) {
+            if (!rad_ff_near(row.c, p, (size_t)e, 4)) {
                 /* The common case, a quadrilateral patch whole in front of the centroid's
                  * tangent plane: queued for the vectorised contour integral; otherwise (clipped,
                  * or a patch of triangles) done here. */
@@ -213,13 +202,13 @@ static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *row) 
         }
         for (long e = first; e < last; ++e) {
             const int slot = (int)(e - first);
-            if (factor[slot] <= 0 || rad_ff_unoccluded(c, (size_t)e, &tested_patch, &patch_clear, 0)) continue;
+            if (factor[slot] <= 0 || !rad_ff_block_needs_rays(&row, &b, e, 0)) continue;
             const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
             /* Visibility: the kernel-weighted fraction of rays that reach the patch. */
             const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));
-            rad_rng rng = rad_rng_make(seed, (uint64_t)e);
+            rad_rng rng = rad_rng_make(row.seed, (uint64_t)e);
             const rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
-            rad_ff_cursor cursor = rad_ff_cursor_make(&source, &jitter, samples);
+            rad_ff_cursor cursor = rad_ff_cursor_make(&row.source, &jitter, samples);
             for (int s = 0; s < samples; ++s) {
                 double weight;
                 rad_vec3 x = rad_ff_cursor_next(&cursor, &weight);
@@ -228,28 +217,23 @@ static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *row) 
                 if (cos_e <= 0 || cos_p <= 0) continue;
                 double kernel = weight * cos_e * cos_p / (r2 * r2);
                 all[slot] += kernel;
-                cast += (uint64_t)rad_ff_queue_segment(&queue, rays, seen, from,
+                cast += (uint64_t)rad_ff_queue_segment(&b.queue, row.rays, seen, from,
                                                        v3_add(x, v3_scale(np, epsilon)), kernel, slot);
             }
             /* All points behind one of the planes while part of the patch is in front: one
              * ray to the centre of the part in front decides. */
             if (all[slot] <= 0) {
                 all[slot] = 1;
-                cast += (uint64_t)rad_ff_queue_segment(&queue, rays, seen, from,
+                cast += (uint64_t)rad_ff_queue_segment(&b.queue, row.rays, seen, from,
                                                        v3_add(p->centre, v3_scale(np, epsilon)), 1, slot);
             }
         }
-        rad_ff_queue_flush(&queue, rays, seen);
-        for (long e = first; e < last; ++e) {
-            const int slot = (int)(e - first);
-            double f = factor[slot];
-            if (all[slot] > 0) f *= seen[slot] / all[slot];
-            row[e] = (float)(mesh->element_area[e] * inverse_area * f);
-        }
+        rad_ff_queue_flush(&b.queue, row.rays, seen);
+        for (int slot = 0; slot < (int)(last - first); ++slot)
+            if (all[slot] > 0) factor[slot] *= seen[slot] / all[slot];
+        rad_ff_block_write(&row, &b, factor, out);
     }
-    a->stats.rows++;
-    a->stats.receivers += receivers;
-    a->stats.rays += cast;
+    rad_ff_row_end((rad_ff_common *)self, receivers, cast);
     return RAD_OK;
 }
 

@@ -157,3 +157,28 @@ const char *rad_ff_method_name(rad_ff_method method) {
     const rad_ff_method_entry *entry = rad_ff_method_find(method);
     return entry ? entry->name : NULL;
 }
+
+void rad_ff_row_begin(rad_ff_common *common, size_t patch, rad_ff_row *row) {
+    const rad_ff_context *c = &common->c;
+    row->c = c;
+    row->mesh = c->mesh;
+    row->rays = c->rays;
+    rad_ff_source_begin(&row->source, c, patch, c->options.samples, common->maps);
+    rad_ff_shaft_begin(c->shaft, row->source.patch);
+    row->p = row->source.patch;
+    row->patch = patch;
+    row->np = row->p->normal;
+    row->epsilon = c->rays->epsilon;
+    row->inverse_area = 1.0 / row->p->area;
+    row->samples = c->options.samples;
+    row->threads = rad_thread_count(c->ctx);
+    row->seed = rad_ff_row_seed(c, patch);
+    row->n = (long)c->mesh->element_count;
+    row->blocks = (row->n + RAD_FF_BLOCK - 1) / RAD_FF_BLOCK;
+}
+
+void rad_ff_row_end(rad_ff_common *common, uint64_t receivers, uint64_t rays) {
+    common->stats.rows++;
+    common->stats.receivers += receivers;
+    common->stats.rays += rays;
+}

@@ -279,20 +279,6 @@ int rad_ff_facing_away(const rad_mesh *mesh, const rad_ff_patch *patch, size_t e
 enum { RAD_FF_AWAY, RAD_FF_FACING, RAD_FF_MIXED };
 int rad_ff_patch_facing(const rad_ff_patch *shooter, const rad_ff_patch *receiver);
 
-/* Nonzero when element e receives nothing from `patch` (p its outline): e is one of its own
- * elements or faces away. Receivers are asked patch by patch; `last` and `state` carry the
- * answer for the receiving patch between consecutive elements (start with SIZE_MAX). */
-static inline int rad_ff_skip(const rad_ff_context *c, const rad_ff_patch *p, size_t patch,
-                              size_t e, size_t *last, int *state) {
-    const size_t q = c->mesh->element_patch[e];
-    if (q == patch) return 1;
-    if (q != *last) {
-        *last = q;
-        *state = rad_ff_patch_facing(p, &c->patches[q]);
-    }
-    return *state == RAD_FF_MIXED ? rad_ff_facing_away(c->mesh, p, e) : *state == RAD_FF_AWAY;
-}
-
 /* ------------------------------------------------------------------------------------------- */
 /* Visibility rays in full packets                                                              */
 
@@ -379,21 +365,84 @@ int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element);
 int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_patch *receiver,
                              uint32_t polygon);
 
-/* Element e is certainly fully visible from the shooting patch of the last
- * rad_ff_shaft_begin. Receiving patches are tested first, and their answer kept in *patch and
- * *clear (start with *patch = SIZE_MAX) for the next elements of the same patch; elements of
- * patches that are not clear are tested one by one when `each` is nonzero (worth it when a
- * receiver casts many rays; with few, casting them is cheaper than the test). */
-static inline int rad_ff_unoccluded(const rad_ff_context *context, size_t element, size_t *patch,
-                                    int *clear, int each) {
-    if (!context->shaft) return 0;
-    size_t q = context->mesh->element_patch[element];
-    if (q != *patch) {
-        *patch = q;
-        *clear = rad_ff_shaft_clear_patch(context->shaft, &context->patches[q],
-                                          context->mesh->element_polygon[element]);
+/* ------------------------------------------------------------------------------------------- */
+/* The frame of a row (factory.c): what analytic.c, raycast.c and montecarlo.c share around their
+ * arithmetic per receiver. A row is cut into blocks of RAD_FF_BLOCK elements, one parallel task
+ * each; a block walks its elements, skips those that receive nothing, asks the shaft whether
+ * rays are needed, and queues its rays in shared packets. */
+
+typedef struct rad_ff_row {
+    const rad_ff_context *c;
+    const rad_mesh *mesh;
+    const rad_rays *rays;
+    rad_ff_source source;
+    const rad_ff_patch *p; /* the shooting patch's outline */
+    size_t patch;
+    rad_vec3 np;           /* its normal */
+    double epsilon, inverse_area;
+    int samples, threads;
+    uint64_t seed;
+    long n, blocks;
+} rad_ff_row;
+
+/* Prepares the row of `patch`: its source points and shaft candidates. Not thread safe. */
+void rad_ff_row_begin(rad_ff_common *common, size_t patch, rad_ff_row *row);
+
+/* Adds a finished row to the provider's statistics. */
+void rad_ff_row_end(rad_ff_common *common, uint64_t receivers, uint64_t rays);
+
+typedef struct rad_ff_block {
+    long first, last;      /* its elements */
+    rad_ff_ray_queue queue;
+    size_t facing_patch;   /* the receiving patch whose facing answer is in `facing` */
+    int facing;
+    size_t tested_patch;   /* the receiving patch whose shaft answer is in `patch_clear` */
+    int patch_clear;
+} rad_ff_block;
+
+static inline void rad_ff_block_begin(const rad_ff_row *row, long block, rad_ff_block *b) {
+    b->first = block * RAD_FF_BLOCK;
+    b->last = b->first + RAD_FF_BLOCK < row->n ? b->first + RAD_FF_BLOCK : row->n;
+    rad_ray_packet_init(&b->queue.packet);
+    b->facing_patch = b->tested_patch = SIZE_MAX;
+    b->facing = RAD_FF_MIXED;
+    b->patch_clear = 0;
+}
+
+/* Nonzero when element e receives from the patch: it is not one of the patch's own elements
+ * and does not face away. Asked patch by patch (rad_ff_patch_facing), element by element only
+ * where the patch's answer is mixed. */
+static inline int rad_ff_block_receives(const rad_ff_row *row, rad_ff_block *b, long e) {
+    const size_t q = row->mesh->element_patch[e];
+    if (q == row->patch) return 0;
+    if (q != b->facing_patch) {
+        b->facing_patch = q;
+        b->facing = rad_ff_patch_facing(row->p, &row->c->patches[q]);
     }
-    return *clear || (each && rad_ff_shaft_clear(context->shaft, element));
+    return b->facing == RAD_FF_MIXED ? !rad_ff_facing_away(row->mesh, row->p, (size_t)e)
+                                     : b->facing == RAD_FF_FACING;
+}
+
+/* Nonzero when rays must decide the visibility between the patch and element e: shaft culling
+ * cannot prove the receiving patch clear, nor (when `each`) the element alone. The patch's
+ * answer is kept for its next elements. */
+static inline int rad_ff_block_needs_rays(const rad_ff_row *row, rad_ff_block *b, long e, int each) {
+    const rad_ff_context *c = row->c;
+    if (!c->shaft) return 1;
+    size_t q = row->mesh->element_patch[e];
+    if (q != b->tested_patch) {
+        b->tested_patch = q;
+        b->patch_clear = rad_ff_shaft_clear_patch(c->shaft, &c->patches[q], row->mesh->element_polygon[e]);
+    }
+    return !(b->patch_clear || (each && rad_ff_shaft_clear(c->shaft, (size_t)e)));
+}
+
+/* Writes the block's part of the row: F_pe = A_e / A_p * f[e - first], f the factor of each
+ * element from the patch's point of view (dA_e -> p, visibility included). */
+static inline void rad_ff_block_write(const rad_ff_row *row, const rad_ff_block *b,
+                                      const double *f, float *out) {
+    for (long e = b->first; e < b->last; ++e)
+        out[e] = (float)(row->mesh->element_area[e] * row->inverse_area * f[e - b->first]);
 }
 
 /* ------------------------------------------------------------------------------------------- */

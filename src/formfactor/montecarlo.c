@@ -18,48 +18,36 @@
 
 #include "formfactor/geometric.h"
 
-static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *row) {
-    rad_ff_common *m = (rad_ff_common *)self;
-    const rad_ff_context *c = &m->c;
-    const rad_mesh *mesh = c->mesh;
-    rad_ff_source source;
-    rad_ff_source_begin(&source, c, patch, c->options.samples, m->maps);
-    rad_ff_shaft_begin(c->shaft, source.patch);
-    const rad_ff_patch *p = source.patch;
-    const rad_vec3 np = p->normal;
-    const rad_rays *rays = c->rays;
-    const double epsilon = rays->epsilon, inverse_area = 1.0 / p->area;
-    const int samples = c->options.samples;
-    const uint64_t seed = rad_ff_row_seed(c, patch);
-    const long n = (long)mesh->element_count, blocks = (n + RAD_FF_BLOCK - 1) / RAD_FF_BLOCK;
+static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *out) {
+    rad_ff_row row;
+    rad_ff_row_begin((rad_ff_common *)self, patch, &row);
+    const rad_mesh *mesh = row.mesh;
+    const rad_ff_patch *p = row.p;
+    const rad_vec3 np = row.np;
+    const double epsilon = row.epsilon;
+    const int samples = row.samples;
     uint64_t receivers = 0, cast = 0;
 
-#pragma omp parallel for schedule(dynamic, 1) num_threads(rad_thread_count(c->ctx)) \
-    reduction(+ : receivers, cast)
-    for (long block = 0; block < blocks; ++block) {
-        const long first = block * RAD_FF_BLOCK;
-        const long last = first + RAD_FF_BLOCK < n ? first + RAD_FF_BLOCK : n;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(row.threads) reduction(+ : receivers, cast)
+    for (long block = 0; block < row.blocks; ++block) {
+        rad_ff_block b;
+        rad_ff_block_begin(&row, block, &b);
         double sums[RAD_FF_BLOCK] = {0};
-        rad_ff_ray_queue queue;
-        rad_ray_packet_init(&queue.packet);
-        size_t tested_patch = SIZE_MAX, facing_patch = SIZE_MAX;
-        int facing = RAD_FF_MIXED;
-        int patch_clear = 0;
-        for (long e = first; e < last; ++e) {
-            const int slot = (int)(e - first);
-            if (rad_ff_skip(c, p, patch, (size_t)e, &facing_patch, &facing)) continue;
+        for (long e = b.first; e < b.last; ++e) {
+            const int slot = (int)(e - b.first);
+            if (!rad_ff_block_receives(&row, &b, e)) continue;
             ++receivers;
-            const int test = !rad_ff_unoccluded(c, (size_t)e, &tested_patch, &patch_clear, 1);
+            const int test = rad_ff_block_needs_rays(&row, &b, e, 1);
             const rad_vec3 ny = mesh->element_normal[e];
             const rad_ff_element_map receiver = rad_ff_element_map_make(mesh, (size_t)e);
-            rad_rng rng = rad_rng_make(seed, (uint64_t)e);
+            rad_rng rng = rad_rng_make(row.seed, (uint64_t)e);
             const rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
             const double r1 = rad_rng_uniform(&rng), r2 = rad_rng_uniform(&rng);
             /* Near pairs: the kernel's 1 / r^2 gives the point-pair estimate unbounded variance
              * where elements touch; there the source integral is taken in closed form at each
              * receiver point, F(dA_y -> p), and only y (and visibility) are sampled. */
-            const int near = rad_ff_near(c, p, (size_t)e, 2);
-            rad_ff_cursor cursor = rad_ff_cursor_make(&source, &jitter, samples);
+            const int near = rad_ff_near(row.c, p, (size_t)e, 2);
+            rad_ff_cursor cursor = rad_ff_cursor_make(&row.source, &jitter, samples);
             for (int s = 0; s < samples; ++s) {
                 double weight, u, v, f;
                 rad_vec3 x = rad_ff_cursor_next(&cursor, &weight);
@@ -78,19 +66,16 @@ static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *row
                     f = weight * cos_x * cos_y / (RAD_PI * distance2 * distance2);
                 }
                 if (test)
-                    cast += (uint64_t)rad_ff_queue_segment(&queue, rays, sums,
+                    cast += (uint64_t)rad_ff_queue_segment(&b.queue, row.rays, sums,
                                                            v3_add(y, v3_scale(ny, epsilon)),
                                                            v3_add(x, v3_scale(np, epsilon)), f, slot);
                 else sums[slot] += f;
             }
         }
-        rad_ff_queue_flush(&queue, rays, sums);
-        for (long e = first; e < last; ++e)
-            row[e] = (float)(mesh->element_area[e] * inverse_area * sums[e - first]);
+        rad_ff_queue_flush(&b.queue, row.rays, sums);
+        rad_ff_block_write(&row, &b, sums, out);
     }
-    m->stats.rows++;
-    m->stats.receivers += receivers;
-    m->stats.rays += cast;
+    rad_ff_row_end((rad_ff_common *)self, receivers, cast);
     return RAD_OK;
 }
 

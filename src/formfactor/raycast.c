@@ -21,51 +21,38 @@
 
 #include "formfactor/geometric.h"
 
-static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *row) {
-    rad_ff_common *r = (rad_ff_common *)self;
-    const rad_ff_context *c = &r->c;
-    const rad_mesh *mesh = c->mesh;
-    rad_ff_source source;
-    rad_ff_source_begin(&source, c, patch, c->options.samples, r->maps);
-    rad_ff_shaft_begin(c->shaft, source.patch);
-    const rad_ff_patch *p = source.patch;
-    const rad_vec3 np = p->normal;
-    const rad_rays *rays = c->rays;
-    const double epsilon = rays->epsilon, inverse_area = 1.0 / p->area, near = 2 * p->radius;
-    const int samples = c->options.samples;
-    const uint64_t seed = rad_ff_row_seed(c, patch);
-    const long n = (long)mesh->element_count, blocks = (n + RAD_FF_BLOCK - 1) / RAD_FF_BLOCK;
+static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *out) {
+    rad_ff_row row;
+    rad_ff_row_begin((rad_ff_common *)self, patch, &row);
+    const rad_mesh *mesh = row.mesh;
+    const rad_ff_patch *p = row.p;
+    const rad_vec3 np = row.np;
+    const double epsilon = row.epsilon, near = 2 * p->radius;
     uint64_t receivers = 0, cast = 0;
 
-#pragma omp parallel for schedule(dynamic, 1) num_threads(rad_thread_count(c->ctx)) \
-    reduction(+ : receivers, cast)
-    for (long block = 0; block < blocks; ++block) {
-        const long first = block * RAD_FF_BLOCK;
-        const long last = first + RAD_FF_BLOCK < n ? first + RAD_FF_BLOCK : n;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(row.threads) reduction(+ : receivers, cast)
+    for (long block = 0; block < row.blocks; ++block) {
+        rad_ff_block b;
+        rad_ff_block_begin(&row, block, &b);
         double sums[RAD_FF_BLOCK] = {0};
-        rad_ff_ray_queue queue;
-        rad_ray_packet_init(&queue.packet);
-        size_t tested_patch = SIZE_MAX, facing_patch = SIZE_MAX;
-        int facing = RAD_FF_MIXED;
-        int patch_clear = 0;
-        for (long e = first; e < last; ++e) {
-            const int slot = (int)(e - first);
-            if (rad_ff_skip(c, p, patch, (size_t)e, &facing_patch, &facing)) continue;
+        for (long e = b.first; e < b.last; ++e) {
+            const int slot = (int)(e - b.first);
+            if (!rad_ff_block_receives(&row, &b, e)) continue;
             ++receivers;
-            const int test = !rad_ff_unoccluded(c, (size_t)e, &tested_patch, &patch_clear, 1);
+            const int test = rad_ff_block_needs_rays(&row, &b, e, 1);
             const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
             const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));
-            rad_rng rng = rad_rng_make(seed, (uint64_t)e);
+            rad_rng rng = rad_rng_make(row.seed, (uint64_t)e);
             const rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
             /* Where the source is not small against the distance the disc approximation fails:
              * cut the source finer (Wallace et al. 1989), up to 16 times the samples. */
-            int points = samples;
+            int points = row.samples;
             double distance = v3_length(v3_sub(y, p->centre));
             if (distance < near) {
                 double finer = distance > near / 4 ? ceil(near * near / (distance * distance)) : 16;
-                points = samples * (int)finer;
+                points = row.samples * (int)finer;
             }
-            rad_ff_cursor cursor = rad_ff_cursor_make(&source, &jitter, points);
+            rad_ff_cursor cursor = rad_ff_cursor_make(&row.source, &jitter, points);
             for (int start = 0; start < points; start += RAD_FF_BATCH) {
                 const int count = points - start < RAD_FF_BATCH ? points - start : RAD_FF_BATCH;
                 /* The points first (the cursor walks in order), then the arithmetic in a loop
@@ -97,21 +84,18 @@ static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *row) {
                     if (test) {
                         rad_vec3 to = v3(px[k] + epsilon * np.x, py[k] + epsilon * np.y,
                                          pz[k] + epsilon * np.z);
-                        cast += (uint64_t)rad_ff_queue_ray(&queue, rays, sums, from, v3_sub(to, from),
-                                                           margin[k], f[k], slot);
+                        cast += (uint64_t)rad_ff_queue_ray(&b.queue, row.rays, sums, from,
+                                                           v3_sub(to, from), margin[k], f[k], slot);
                     } else {
                         sums[slot] += f[k];
                     }
                 }
             }
         }
-        rad_ff_queue_flush(&queue, rays, sums);
-        for (long e = first; e < last; ++e)
-            row[e] = (float)(mesh->element_area[e] * inverse_area * sums[e - first]);
+        rad_ff_queue_flush(&b.queue, row.rays, sums);
+        rad_ff_block_write(&row, &b, sums, out);
     }
-    r->stats.rows++;
-    r->stats.receivers += receivers;
-    r->stats.rays += cast;
+    rad_ff_row_end((rad_ff_common *)self, receivers, cast);
     return RAD_OK;
 }
 
