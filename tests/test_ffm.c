@@ -3,6 +3,7 @@
 #include "radiosity.h"
 #include "test.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 static rad_context *ctx;
@@ -96,6 +97,47 @@ int main(void) {
     scene = accepts("patch a area 1 reflectance 0.5\n");
     CHECK(strstr(last_warning, "nothing emits") != NULL);
     rad_scene_destroy(scene);
+
+    /* Many patches (names found through the hash index as it grows): every ff line lands in the
+     * right cell, and a repeated name or pair far down the file is still refused with its line. */
+    enum { MANY = 600 };
+    size_t capacity = (size_t)MANY * 128, length = 0;
+    char *many = malloc(capacity);
+    CHECK(many != NULL);
+    if (!many) return test_finish();
+    for (int i = 0; i < MANY; ++i) /* lines 1..MANY */
+        length += (size_t)snprintf(many + length, capacity - length,
+                                   "patch p%d area 1 reflectance 0.5 emission %d\n", i, i % 2);
+    for (int i = 0; i < MANY; ++i) /* lines MANY+1..2 MANY: p_i -> p_{7i+1 mod MANY} */
+        length += (size_t)snprintf(many + length, capacity - length, "ff p%d p%d %.9g\n", i,
+                                   (7 * i + 1) % MANY, (i % 100) / 128.0);
+    scene = accepts(many);
+    system = NULL;
+    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
+    double *matrix = malloc(sizeof(double) * MANY * MANY);
+    CHECK(matrix && rad_system_surface_form_factors(system, matrix) == RAD_OK);
+    int cells_right = 1;
+    for (int i = 0; matrix && i < MANY; ++i)
+        for (int j = 0; j < MANY; ++j) {
+            double expected = j == (7 * i + 1) % MANY ? (i % 100) / 128.0 : 0.0;
+            if (matrix[(size_t)i * MANY + j] != expected) cells_right = 0;
+        }
+    CHECK(cells_right);
+    CHECK(rad_system_surface(system, MANY - 1, &info) == RAD_OK);
+    CHECK(strcmp(info.name, "p599") == 0);
+    free(matrix);
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    char *tail = many + length;
+    snprintf(tail, capacity - length, "patch p417 area 1 reflectance 0.5\n");
+    rejects(many, "bad.ffm:1201: duplicate patch name 'p417'");
+    snprintf(tail, capacity - length, "ff p10 p71 0.5\n");
+    rejects(many, "bad.ffm:1201: duplicate form factor p10 -> p71 (first on line 611)");
+    snprintf(tail, capacity - length, "ff p10 p600 0.5\n");
+    rejects(many, "bad.ffm:1201: unknown patch 'p600'");
+    snprintf(tail, capacity - length, "ff p99 p0 0.5\n");
+    rejects(many, "bad.ffm:1201: form factors leaving 'p99' sum to 1.27344, more than 1");
+    free(many);
 
     /* Files: missing, empty, and the shipped four-walls equal to the built-in. */
     CHECK(rad_scene_load(ctx, "/nonexistent/room.ffm", &scene) == RAD_ERROR_IO);

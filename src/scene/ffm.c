@@ -9,6 +9,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,15 +17,85 @@
 #define FFM_MAX_TOKENS 16
 #define FFM_ROW_SUM_SLACK 1e-3
 
+/* ------------------------------------------------------------------------------------------- */
+/* An open-addressing hash index: slots hold a 64-bit hash and an item number (patch or form-factor
+ * entry), so the parser finds a name or a (from, to) pair in O(1) instead of scanning what it has
+ * read. The caller confirms a hash match against the item itself. */
+
+typedef struct ffm_index {
+    struct ffm_slot { uint64_t hash; size_t item; } *slots; /* item + 1; 0 marks an empty slot */
+    unsigned bits; /* 2^bits slots, or none before the first insert */
+    size_t count;
+} ffm_index;
+
+/* FNV-1a over the bytes of the name. */
+static uint64_t hash_name(const char *name) {
+    uint64_t hash = 0xcbf29ce484222325ull;
+    for (const unsigned char *c = (const unsigned char *)name; *c; ++c)
+        hash = (hash ^ *c) * 0x100000001b3ull;
+    return hash;
+}
+
+static uint64_t hash_pair(size_t from, size_t to) {
+    return ((uint64_t)from << 32 | (uint64_t)from >> 32) ^ (uint64_t)to;
+}
+
+/* Fibonacci hashing: the top bits of hash * 2^64/phi, which depend on every bit of the hash. */
+static size_t home_slot(uint64_t hash, unsigned bits) {
+    return (size_t)((hash * 0x9e3779b97f4a7c15ull) >> (64 - bits));
+}
+
+/* Walks the probe sequence of `hash`: call with *slot = SIZE_MAX to start; returns the next item
+ * stored under the same hash, or SIZE_MAX when the sequence reaches an empty slot. */
+static size_t index_next(const ffm_index *index, uint64_t hash, size_t *slot) {
+    if (!index->slots) return SIZE_MAX;
+    size_t mask = ((size_t)1 << index->bits) - 1;
+    size_t s = *slot == SIZE_MAX ? home_slot(hash, index->bits) : (*slot + 1) & mask;
+    for (; index->slots[s].item; s = (s + 1) & mask)
+        if (index->slots[s].hash == hash) {
+            *slot = s;
+            return index->slots[s].item - 1;
+        }
+    return SIZE_MAX;
+}
+
+/* Adds `item` under `hash`, doubling the table to keep it at most half full. */
+static rad_status index_insert(rad_context *ctx, ffm_index *index, uint64_t hash, size_t item) {
+    size_t capacity = index->slots ? (size_t)1 << index->bits : 0;
+    if (2 * (index->count + 1) > capacity) {
+        unsigned bits = index->slots ? index->bits + 1 : 6;
+        struct ffm_slot *slots = rad_alloc_zero(ctx, (size_t)1 << bits, sizeof *slots);
+        if (!slots) return RAD_ERROR_NO_MEMORY;
+        for (size_t i = 0; i < capacity; ++i) {
+            if (!index->slots[i].item) continue;
+            size_t s = home_slot(index->slots[i].hash, bits);
+            while (slots[s].item) s = (s + 1) & (((size_t)1 << bits) - 1);
+            slots[s] = index->slots[i];
+        }
+        rad_free(ctx, index->slots);
+        index->slots = slots;
+        index->bits = bits;
+    }
+    size_t mask = ((size_t)1 << index->bits) - 1, s = home_slot(hash, index->bits);
+    while (index->slots[s].item) s = (s + 1) & mask;
+    index->slots[s] = (struct ffm_slot){hash, item + 1};
+    index->count++;
+    return RAD_OK;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
 typedef struct ffm_parser {
     rad_context *ctx;
     const char *source;
     int line;
     rad_scene *scene;
     size_t patch_capacity;
+    ffm_index patch_names; /* name -> patch number */
     /* Form factors as read, before the matrix exists: (from, to, value, line). */
     struct ffm_entry { size_t from, to; double value; int line; } *entries;
     size_t entry_count, entry_capacity;
+    ffm_index entry_pairs; /* (from, to) -> entry number */
 } ffm_parser;
 
 #define FFM_FAIL(p, ...) ffm_fail(p, __VA_ARGS__)
@@ -72,17 +143,27 @@ static rad_status parse_color(ffm_parser *p, char **tokens, int count, int *at, 
     return RAD_OK;
 }
 
-static long find_patch(const rad_scene *scene, const char *name) {
-    for (size_t i = 0; i < scene->patch_count; ++i)
-        if (strcmp(scene->patches[i].name, name) == 0) return (long)i;
+static long find_patch(const ffm_parser *p, const char *name) {
+    uint64_t hash = hash_name(name);
+    size_t slot = SIZE_MAX;
+    for (size_t i; (i = index_next(&p->patch_names, hash, &slot)) != SIZE_MAX;)
+        if (strcmp(p->scene->patches[i].name, name) == 0) return (long)i;
     return -1;
+}
+
+/* The entry already read for (from, to), or SIZE_MAX. */
+static size_t find_entry(const ffm_parser *p, size_t from, size_t to) {
+    size_t slot = SIZE_MAX;
+    for (size_t i; (i = index_next(&p->entry_pairs, hash_pair(from, to), &slot)) != SIZE_MAX;)
+        if (p->entries[i].from == from && p->entries[i].to == to) return i;
+    return SIZE_MAX;
 }
 
 static rad_status parse_patch(ffm_parser *p, char **tokens, int count) {
     rad_scene *scene = p->scene;
     if (count < 2) return FFM_FAIL(p, "patch needs a name");
     const char *name = tokens[1];
-    if (find_patch(scene, name) >= 0) return FFM_FAIL(p, "duplicate patch name '%s'", name);
+    if (find_patch(p, name) >= 0) return FFM_FAIL(p, "duplicate patch name '%s'", name);
     rad_ffm_patch patch = {0};
     int have_area = 0, have_reflectance = 0;
     for (int at = 2; at < count;) {
@@ -123,14 +204,14 @@ static rad_status parse_patch(ffm_parser *p, char **tokens, int count) {
     patch.name = rad_strdup(p->ctx, name);
     if (!patch.name) return RAD_ERROR_NO_MEMORY;
     scene->patches[scene->patch_count++] = patch;
-    return RAD_OK;
+    return index_insert(p->ctx, &p->patch_names, hash_name(name), scene->patch_count - 1);
 }
 
 static rad_status parse_ff(ffm_parser *p, char **tokens, int count) {
     if (count != 4) return FFM_FAIL(p, "expected 'ff FROM TO VALUE'");
-    long from = find_patch(p->scene, tokens[1]);
+    long from = find_patch(p, tokens[1]);
     if (from < 0) return FFM_FAIL(p, "unknown patch '%s' (patches come before ff lines)", tokens[1]);
-    long to = find_patch(p->scene, tokens[2]);
+    long to = find_patch(p, tokens[2]);
     if (to < 0) return FFM_FAIL(p, "unknown patch '%s' (patches come before ff lines)", tokens[2]);
     double value = 0;
     rad_status status = parse_number(p, tokens[3], "form factor", &value);
@@ -138,10 +219,10 @@ static rad_status parse_ff(ffm_parser *p, char **tokens, int count) {
     if (value < 0 || value > 1)
         return FFM_FAIL(p, "form factor %s -> %s must be in [0, 1], not %g", tokens[1], tokens[2],
                         value);
-    for (size_t i = 0; i < p->entry_count; ++i)
-        if (p->entries[i].from == (size_t)from && p->entries[i].to == (size_t)to)
-            return FFM_FAIL(p, "duplicate form factor %s -> %s (first on line %d)", tokens[1],
-                            tokens[2], p->entries[i].line);
+    size_t first = find_entry(p, (size_t)from, (size_t)to);
+    if (first != SIZE_MAX)
+        return FFM_FAIL(p, "duplicate form factor %s -> %s (first on line %d)", tokens[1],
+                        tokens[2], p->entries[first].line);
     if (p->entry_count == p->entry_capacity) {
         size_t wanted = p->entry_capacity ? 2 * p->entry_capacity : 64;
         struct ffm_entry *grown = rad_realloc(p->ctx, p->entries, wanted, sizeof *grown);
@@ -150,7 +231,8 @@ static rad_status parse_ff(ffm_parser *p, char **tokens, int count) {
         p->entry_capacity = wanted;
     }
     p->entries[p->entry_count++] = (struct ffm_entry){(size_t)from, (size_t)to, value, p->line};
-    return RAD_OK;
+    return index_insert(p->ctx, &p->entry_pairs, hash_pair((size_t)from, (size_t)to),
+                        p->entry_count - 1);
 }
 
 /* Splits a line in place at white space; '#' starts a comment. */
@@ -238,7 +320,7 @@ rad_status rad_scene_parse_ffm(rad_context *ctx, const char *text, size_t length
     if (!ctx || !out || (!text && length)) return RAD_ERROR_INVALID_ARGUMENT;
     *out = NULL;
     if (!source_name) source_name = "<text>";
-    ffm_parser p = {ctx, source_name, 0, NULL, 0, NULL, 0, 0};
+    ffm_parser p = {.ctx = ctx, .source = source_name};
     char *copy = rad_alloc(ctx, length + 1, 1);
     if (!copy) return RAD_ERROR_NO_MEMORY;
     if (length) memcpy(copy, text, length);
@@ -248,6 +330,8 @@ rad_status rad_scene_parse_ffm(rad_context *ctx, const char *text, size_t length
     if (!status) status = finish(&p);
     rad_free(ctx, copy);
     rad_free(ctx, p.entries);
+    rad_free(ctx, p.patch_names.slots);
+    rad_free(ctx, p.entry_pairs.slots);
     if (status) {
         rad_scene_destroy(p.scene);
         return status;
