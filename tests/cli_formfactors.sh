@@ -80,5 +80,16 @@ expect_exit 2 'whole number' -- "$radiosity" formfactors cornell --ff-samples -3
 expect_exit 1 'no-such-file.obj' -- "$radiosity" formfactors "$work/no-such-file.obj"
 expect_exit 1 'resolution' -- "$radiosity" formfactors cornell --ff hemicube --hemicube-res 100000
 
+# The surface table (8 n^2 bytes) is held to --max-memory: 400 separate quads need 1.2 MiB.
+printf 'newmtl light\nKd 0.5 0.5 0.5\nKe 1 1 1\n' >"$work/quads.mtl"
+awk 'BEGIN { print "mtllib quads.mtl\nusemtl light"; for (i = 0; i < 400; ++i) {
+    x = (i % 20) * 2; z = int(i / 20) * 2; k = 4 * i
+    printf "o s%d\nv %d 0 %d\nv %d 0 %d\nv %d 0 %d\nv %d 0 %d\nf %d %d %d %d\n", i,
+        x, z, x + 1, z, x + 1, z + 1, x, z + 1, k + 1, k + 4, k + 3, k + 2 } }' >"$work/quads.obj"
+expect_exit 1 'the form-factor table of 400 surfaces needs 1.2 MiB, over the memory budget of 1.0 MiB (--max-memory)' \
+    -- "$radiosity" formfactors "$work/quads.obj" --elements 400 --max-memory 1 --quiet
+"$radiosity" formfactors "$work/quads.obj" --elements 400 --max-memory 2 --quiet >"$work/quads.txt"
+check "the table within the budget" grep -q '^form factors (analytic): 400 surfaces' "$work/quads.txt"
+
 echo "$passed passed, $failed failed"
 test "$failed" -eq 0
