@@ -2,25 +2,8 @@
 # cli_bake.sh - `radiosity bake`: each format is written and looks like itself; bad names and
 # unwritable places give one line, exit 1 or 2, and leave no file and no temporary behind.
 # Usage: cli_bake.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$1
-passed=0 failed=0
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib_cli.sh" "$@"
 
-check() { # check NAME COMMAND...
-    local name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
-}
-# expect_exit STATUS MESSAGE-PATTERN -- command...
-expect_exit() {
-    local want=$1 pattern=$2; shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    check "exit $want from $*" test "$got" -eq "$want"
-    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
-    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -eq 1
-}
 # nothing_in DIR: the directory is empty (no output, no temporary).
 nothing_in() { test -z "$(ls -A "$1")"; }
 
@@ -83,5 +66,4 @@ check "failed gltf leaves no bin" test "$(ls -A "$empty" | sort | tr '\n' ' ')" 
 expect_exit 1 'no geometry' -- "$radiosity" bake four-walls -o "$empty/walls.glb"
 check "patch system leaves nothing" test ! -e "$empty/walls.glb"
 
-echo "$passed passed, $failed failed"
-test "$failed" -eq 0
+finish

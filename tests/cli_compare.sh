@@ -2,24 +2,8 @@
 # cli_compare.sh - `radiosity compare`: metrics on hand-made PFM images with known answers,
 # JSON, the --diff map, .hdr input, and bad input (one line, exit 1 or 2, no file left).
 # Usage: cli_compare.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$1
-passed=0 failed=0
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib_cli.sh" "$@"
 
-check() { # check NAME CONDITION...
-    local name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
-}
-expect_exit() { # expect_exit STATUS MESSAGE-PATTERN -- command...
-    local want=$1 pattern=$2; shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    check "exit $want from $*" test "$got" -eq "$want"
-    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
-    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -le 1
-}
 # pfm FILE WIDTH HEIGHT VALUE: a little-endian PFM filled with one value.
 pfm() {
     python3 - "$@" <<'PY'
@@ -68,5 +52,4 @@ head -c 100 /dev/urandom >"$work/garbage.pfm"
 expect_exit 1 'garbage.pfm: not a PFM file' -- "$radiosity" compare "$work/garbage.pfm" "$work/one.pfm"
 check "no diff left behind" test -z "$(ls "$work" | grep -v -e '\.pfm$' -e '^out$' -e '^err$')"
 
-echo "$passed passed, $failed failed"
-test "$failed" -eq 0
+finish

@@ -5,16 +5,8 @@
 # from (seed, task), never from the thread that runs it. A different seed must change the
 # randomised outputs (else the test could not fail).
 # Usage: cli_determinism.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$1
-passed=0 failed=0
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib_cli.sh" "$@"
 
-check() { # check NAME CONDITION...
-    local name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
-}
 # The JSON's wall-clock time is the one field allowed to differ.
 strip_time() { sed -E 's/"seconds": [0-9.eE+-]+/"seconds": _/g' "$1" >"$1.stripped"; }
 
@@ -64,5 +56,4 @@ strip_time "$work/solve.seed8.json"
 check "solve: another seed, another solution" \
     bash -c "! cmp -s '$work/solve-shooting.t1.json.stripped' '$work/solve.seed8.json.stripped'"
 
-echo "$passed passed, $failed failed"
-test "$failed" -eq 0
+finish

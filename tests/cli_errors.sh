@@ -3,11 +3,7 @@
 # line on stderr, the documented exit status, and no output file (whole or half-written).
 # A row passes when all of its checks pass; the closing line counts rows.
 # Usage: cli_errors.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$(realpath "$1")
-source_dir=$(realpath "$2")
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib_cli.sh" "$@"
 cd "$work" || exit 1
 
 rows_passed=0 rows_failed=0 row_ok=1 row_name=
@@ -21,7 +17,7 @@ end_row() {
     else rows_failed=$((rows_failed + 1)); echo "FAILED ROW: $row_name" >&2; fi
     row_name=
 }
-check() { # check NAME CONDITION...
+check() { # check NAME CONDITION...: here a failed check fails its row (replaces lib_cli.sh's)
     local name=$1; shift
     if ! "$@"; then row_ok=0; echo "  failed: $name" >&2; fi
 }

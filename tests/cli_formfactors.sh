@@ -3,25 +3,8 @@
 # JSON (shape, closed-form values, rows of a closed cube summing to one), every method by name,
 # patch systems, and bad input (one line on stderr, exit 1 or 2).
 # Usage: cli_formfactors.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$1
-source_dir=$2
-passed=0 failed=0
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib_cli.sh" "$@"
 
-check() { # check NAME COMMAND...
-    local name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
-}
-expect_exit() { # expect_exit STATUS MESSAGE-PATTERN -- command...
-    local want=$1 pattern=$2; shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    check "exit $want from $*" test "$got" -eq "$want"
-    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
-    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -eq 1
-}
 # near ACTUAL EXPECTED RELATIVE: |actual - expected| <= relative * |expected|
 near() { awk -v a="$1" -v e="$2" -v r="$3" 'BEGIN { d = a - e; if (d < 0) d = -d; exit !(d <= r * (e < 0 ? -e : e)) }'; }
 
@@ -91,5 +74,4 @@ expect_exit 1 'the form-factor table of 400 surfaces needs 1.2 MiB, over the mem
 "$radiosity" formfactors "$work/quads.obj" --elements 400 --max-memory 2 --quiet >"$work/quads.txt"
 check "the table within the budget" grep -q '^form factors (analytic): 400 surfaces' "$work/quads.txt"
 
-echo "$passed passed, $failed failed"
-test "$failed" -eq 0
+finish

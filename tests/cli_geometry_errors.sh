@@ -3,18 +3,9 @@
 # "radiosity: FILE: ..." on stderr and exit status 1, never a crash or a hang; degenerate faces
 # and a scene without emitters only warn (exit 0).
 # Usage: cli_geometry_errors.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$1
-source_dir=$2
-passed=0 failed=0
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib_cli.sh" "$@"
 cd "$work" || exit 1
 
-check() { # check NAME COMMAND...
-    local name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
-}
 run() { # run FILE [options]: solve with a time limit; status in $status, output in out/err
     timeout 60 "$radiosity" solve "$@" --elements 50 --json >out 2>err
     status=$?
@@ -96,5 +87,4 @@ run no-mtl.obj
 check "no-mtl.obj: exit 0" test "$status" -eq 0
 check "no-mtl.obj: no emitter" grep -q 'nothing emits light' err
 
-echo "$passed passed, $failed failed"
-test "$failed" -eq 0
+finish

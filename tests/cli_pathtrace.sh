@@ -2,25 +2,8 @@
 # cli_pathtrace.sh - `radiosity pathtrace`: images in every format, the same image for the same
 # seed whatever the thread count, and bad input: one line, exit 1 or 2, no file left behind.
 # Usage: cli_pathtrace.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$1
-passed=0 failed=0
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib_cli.sh" "$@"
 
-check() { # check NAME CONDITION...
-    local name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
-}
-# expect_exit STATUS MESSAGE-PATTERN -- command...
-expect_exit() {
-    local want=$1 pattern=$2; shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    check "exit $want from $*" test "$got" -eq "$want"
-    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
-    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -le 1
-}
 # Nothing but the files a test made on purpose: no temporaries, no half-written images.
 no_stray_files() { test -z "$(ls "$work" | grep -v -e '^out$' -e '^err$' -e '^keep')"; }
 
@@ -73,5 +56,4 @@ expect_exit 1 'no-such-scene' -- "$radiosity" pathtrace "$work/no-such-scene.obj
 expect_exit 1 'up must not be' -- "$radiosity" pathtrace -o "$work/x.png" "${small[@]}" --up 0,0,1
 check "errors leave no file" no_stray_files
 
-echo "$passed passed, $failed failed"
-test "$failed" -eq 0
+finish

@@ -3,25 +3,8 @@
 # --time-budget, --save/--resume (same result as never stopping), --snapshots, --overshoot,
 # --solver importance, --compare-solvers, and bad input (one line, exit 1 or 2, nothing lost).
 # Usage: cli_progressive.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$1
-passed=0 failed=0
-work=$(mktemp -d)
-trap 'chmod -R u+w "$work"; rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib_cli.sh" "$@"
 
-check() { # check NAME COMMAND...
-    local name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
-}
-# expect_exit STATUS MESSAGE-PATTERN -- command...
-expect_exit() {
-    local want=$1 pattern=$2; shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    check "exit $want (got $got) from $*" test "$got" -eq "$want"
-    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
-    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -le 1
-}
 # The radiosity column of the table, for comparing runs.
 table() { grep -E '^[a-z-]+ +[0-9]' "$1"; }
 
@@ -118,5 +101,4 @@ check "compare log quotes" grep -q '^"SOR, omega 1.1",1,' "$work/compare.csv"
 "$radiosity" solve four-walls --compare-solvers --quiet >"$work/out"
 check "compare without geometry: no importance" test "$(grep -c ' rounds\| shots' "$work/out")" -eq 5
 
-echo "$passed passed, $failed failed"
-test "$failed" -eq 0
+finish

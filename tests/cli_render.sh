@@ -3,25 +3,8 @@
 # camera flags, --stats, and bad input (unknown extension, unwritable place, sizes, cameras that
 # see nothing or only back faces): one line, exit 1 or 2, and no file left behind.
 # Usage: cli_render.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
-passed=0 failed=0
-work=$(mktemp -d)
-trap 'chmod -R u+w "$work"; rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib_cli.sh" "$@"
 
-check() { # check NAME CONDITION...
-    local name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
-}
-# expect_exit STATUS MESSAGE-PATTERN -- command...
-expect_exit() {
-    local want=$1 pattern=$2; shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    check "exit $want from $*" test "$got" -eq "$want"
-    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
-    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -eq 1
-}
 # Nothing but the expected files in a directory.
 only_files() { # only_files DIR FILE...
     local dir=$1; shift
@@ -105,5 +88,4 @@ check "no image for another mesh" only_files "$work/other"
 expect_exit 2 'is the input' -- "$radiosity" render cornell --elements 300 --solution "$work/s.sol" \
     -o "$work/s.sol" --width 32 --height 32 --quiet
 
-echo "$passed passed, $failed failed"
-test "$failed" -eq 0
+finish

@@ -3,26 +3,8 @@
 # `solve`: built-in scenes written as OBJ/MTL and read back give the same surfaces, areas and
 # radiosities; glTF, GLB, OBJ and PLY samples come in with their names.
 # Usage: cli_scenes.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$1
-source_dir=$2
-passed=0 failed=0
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib_cli.sh" "$@"
 
-check() { # check NAME COMMAND...
-    local name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
-}
-# expect_exit STATUS MESSAGE-PATTERN -- command...
-expect_exit() {
-    local want=$1 pattern=$2; shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    check "exit $want (got $got) from $*" test "$got" -eq "$want"
-    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
-    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -eq 1
-}
 # Surfaces of a solve --json: one line "name area r g b" each.
 surfaces() {
     sed -n 's/.*"name": "\([^"]*\)", "area": \([^,]*\), "radiosity": \[\([^,]*\), \([^,]*\), \([^]]*\)\].*/\1 \2 \3 \4 \5/p' "$1"
@@ -114,5 +96,4 @@ expect_exit 2 'needs a value' -- "$radiosity" scenes --export
 expect_exit 2 'unexpected argument' -- "$radiosity" scenes cornell
 expect_exit 2 'unexpected argument' -- "$radiosity" scenes --export cornell a.obj b.obj
 
-echo "$passed passed, $failed failed"
-test "$failed" -eq 0
+finish

@@ -1,26 +1,7 @@
 #!/usr/bin/env bash
 # cli_solve.sh - `radiosity solve`, `scenes`, --help, --version: output, JSON, exit statuses.
 # Usage: cli_solve.sh RADIOSITY SOURCE_DIR
-set -u
-radiosity=$1
-source_dir=$2
-passed=0 failed=0
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-
-check() { # check NAME CONDITION...
-    local name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
-}
-# expect_exit STATUS MESSAGE-PATTERN -- command...
-expect_exit() {
-    local want=$1 pattern=$2; shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    check "exit $want from $*" test "$got" -eq "$want"
-    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
-    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -le 2
-}
+source "$(dirname "$0")/lib_cli.sh" "$@"
 
 # Help and version.
 "$radiosity" --version | grep -q '^radiosity [0-9]' ; check version test $? -eq 0
@@ -66,5 +47,4 @@ printf 'patch a area 1 reflectance 0.5\n' >"$work/dark.ffm"
 check "no emitter is a warning" test $? -eq 0
 check "no emitter warns" grep -q 'nothing emits' "$work/err"
 
-echo "$passed passed, $failed failed"
-test "$failed" -eq 0
+finish

@@ -1,0 +1,44 @@
+# lib_cli.sh - what every tests/cli_*.sh shares, sourced first thing:
+#     source "$(dirname "$0")/lib_cli.sh" "$@"
+# (not a test itself: CMake globs tests/cli_*.sh). With the script's arguments RADIOSITY
+# SOURCE_DIR it sets
+#     radiosity    the binary, as an absolute path (tests may cd)
+#     source_dir   the source tree, absolute
+#     work         a fresh temporary directory, removed on exit (read-only parts too)
+# and gives the checks below, which count into `passed` and `failed`. A test ends with `finish`,
+# which prints the closing line `N passed, N failed` and fails when any check failed, or when no
+# check ran at all.
+set -u
+if (($# < 2)); then
+    echo "usage: $(basename "$0") RADIOSITY SOURCE_DIR" >&2
+    exit 2
+fi
+radiosity=$(realpath "$1")
+source_dir=$(realpath "$2")
+passed=0 failed=0
+work=$(mktemp -d)
+trap 'chmod -R u+w "$work"; rm -rf "$work"' EXIT
+
+# check NAME COMMAND...: one check, passed when COMMAND succeeds.
+check() {
+    local name=$1; shift
+    if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $name" >&2; fi
+}
+
+# expect_exit STATUS MESSAGE-PATTERN -- COMMAND...: COMMAND exits with STATUS and says
+# MESSAGE-PATTERN (grep) on stderr, in one line. Its output stays in $work/out and $work/err.
+expect_exit() {
+    local want=$1 pattern=$2; shift 3
+    "$@" >"$work/out" 2>"$work/err"
+    local got=$?
+    check "exit $want (got $got) from $*" test "$got" -eq "$want"
+    check "message /$pattern/ from $*" grep -q -- "$pattern" "$work/err"
+    check "one line on stderr from $*" test "$(wc -l <"$work/err")" -le 1
+}
+
+# finish: the closing line; the test's status.
+finish() {
+    echo "$passed passed, $failed failed"
+    if ((passed + failed == 0)); then echo "FAILED: no check ran" >&2; return 1; fi
+    test "$failed" -eq 0
+}
