@@ -2,13 +2,12 @@
  * (docs/pathtracing.md). Everything that can be refused cheaply (flags, the output path, the
  * camera) is refused before any path is traced, so a bad command fails at once and never leaves
  * a file. */
+#include "camera_options.h"
 #include "cli.h"
 #include "pipeline.h"
 #include "progress.h"
 
-#include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 #define MAX_SIDE 16384
 
@@ -16,10 +15,9 @@ typedef struct pathtrace_args {
     const char *output, *tonemap;
     int width, height, spp, max_bounces, threads, quiet, stats;
     size_t seed;
-    double eye[3], look[3], up[3], fov, exposure, max_memory;
+    double exposure, max_memory;
+    cli_camera_args camera;
 } pathtrace_args;
-
-static int given(const double v[3]) { return !isnan(v[0]); }
 
 int cmd_pathtrace(int argc, char **argv) {
     static const char synopsis[] =
@@ -29,7 +27,7 @@ int cmd_pathtrace(int argc, char **argv) {
     a.width = a.height = 512;
     a.spp = 64;
     a.max_bounces = -1;
-    a.eye[0] = a.look[0] = a.up[0] = a.fov = NAN;
+    cli_camera_args_init(&a.camera);
     const cli_option options[] = {
         {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm (required)"},
         {"--output", CLI_STRING, &a.output, "FILE  the same as -o"},
@@ -39,10 +37,7 @@ int cmd_pathtrace(int argc, char **argv) {
         {"--seed", CLI_SIZE, &a.seed, "S  random seed; the same seed gives the same image (0)"},
         {"--width", CLI_INT, &a.width, "W  image width in pixels (512)"},
         {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
-        {"--eye", CLI_VEC3, a.eye, "X,Y,Z  camera position (the scene's camera)"},
-        {"--look", CLI_VEC3, a.look, "X,Y,Z  point the camera looks at"},
-        {"--up", CLI_VEC3, a.up, "X,Y,Z  up direction"},
-        {"--fov", CLI_DOUBLE, &a.fov, "DEG  vertical field of view"},
+        CLI_CAMERA_OPTIONS(&a.camera),
         {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
         {"--threads", CLI_INT, &a.threads, "N  worker threads (all cores)"},
@@ -64,9 +59,7 @@ int cmd_pathtrace(int argc, char **argv) {
     if (a.spp < 1) return cli_error(EXIT_USAGE, "pathtrace: --spp must be at least 1");
     if (a.max_bounces == 0)
         return cli_error(EXIT_USAGE, "pathtrace: --max-bounces must be at least 1");
-    if (!isnan(a.fov) && !(a.fov > 0 && a.fov < 180))
-        return cli_error(EXIT_USAGE, "pathtrace: --fov must be between 0 and 180 degrees, not %g",
-                         a.fov);
+    if ((status = cli_camera_check("pathtrace", &a.camera))) return status;
     if (a.max_memory < 0) return cli_error(EXIT_USAGE, "pathtrace: --max-memory must be positive");
 
     rad_context *ctx = cli_context_with_progress(a.threads, (uint64_t)a.seed, a.max_memory, a.quiet);
@@ -87,11 +80,7 @@ int cmd_pathtrace(int argc, char **argv) {
     rs = cli_load_scene(ctx, scene_name, &scene);
     if (!rs) {
         rad_camera_desc camera;
-        rad_scene_get_camera(scene, &camera);
-        if (given(a.eye)) memcpy(camera.eye, a.eye, sizeof a.eye);
-        if (given(a.look)) memcpy(camera.look, a.look, sizeof a.look);
-        if (given(a.up)) memcpy(camera.up, a.up, sizeof a.up);
-        if (!isnan(a.fov)) camera.fov_degrees = a.fov;
+        cli_camera_get(&a.camera, scene, &camera);
         rad_pathtrace_options trace = {0};
         trace.width = a.width;
         trace.height = a.height;

@@ -4,13 +4,13 @@
  *
  * Order of work: everything that can be refused cheaply is refused before the solve (flags, the
  * output path, the camera), so a bad command fails in milliseconds and never leaves a file. */
+#include "camera_options.h"
 #include "cli.h"
 #include "output_path.h"
 #include "pipeline.h"
 #include "progress.h"
 
 #include <assert.h>
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,10 +20,9 @@ typedef struct render_args {
     cli_pipeline_args pipeline;
     const char *output, *tonemap, *shading, *solution;
     int width, height, spp, final_gather, light_samples, max_depth, stats;
-    double eye[3], look[3], up[3], fov, exposure;
+    double exposure;
+    cli_camera_args camera;
 } render_args;
-
-static int given(const double v[3]) { return !isnan(v[0]); }
 
 /* "scenes/room.obj" -> "room.png"; "cornell" -> "cornell.png". */
 static char *default_output(const char *scene) {
@@ -77,7 +76,7 @@ int cmd_render(int argc, char **argv) {
      * time (docs/rendering.md). --final-gather 0 shows the interpolated solution alone. */
     a.spp = 16;
     a.final_gather = 4;
-    a.eye[0] = a.look[0] = a.up[0] = a.fov = NAN;
+    cli_camera_args_init(&a.camera);
     /* render's own options, then the shared solver, form-factor and meshing ones, then the
      * terminator (the array is zeroed past what is listed here). */
     enum { OWN_OPTIONS = 17 };
@@ -87,10 +86,7 @@ int cmd_render(int argc, char **argv) {
         {"--width", CLI_INT, &a.width, "W  image width in pixels (512)"},
         {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
         {"--spp", CLI_INT, &a.spp, "N  jittered samples per pixel, box filter (16)"},
-        {"--eye", CLI_VEC3, a.eye, "X,Y,Z  camera position (the scene's camera)"},
-        {"--look", CLI_VEC3, a.look, "X,Y,Z  point the camera looks at"},
-        {"--up", CLI_VEC3, a.up, "X,Y,Z  up direction"},
-        {"--fov", CLI_DOUBLE, &a.fov, "DEG  vertical field of view"},
+        CLI_CAMERA_OPTIONS(&a.camera),
         {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
         {"--shading", CLI_STRING, &a.shading, "MODE  smooth|flat (smooth)"},
@@ -123,8 +119,7 @@ int cmd_render(int argc, char **argv) {
         return cli_error(EXIT_USAGE, "render: image size %dx%d: each side must be 1 to %d pixels",
                          a.width, a.height, MAX_SIDE);
     if (a.spp < 1) return cli_error(EXIT_USAGE, "render: --spp must be at least 1");
-    if (!isnan(a.fov) && !(a.fov > 0 && a.fov < 180))
-        return cli_error(EXIT_USAGE, "render: the field of view (--fov) must be between 0 and 180 degrees, not %g", a.fov);
+    if ((status = cli_camera_check("render", &a.camera))) return status;
     int shading = rad_shading_parse(a.shading);
     if (shading < 0)
         return cli_error(EXIT_USAGE, "render: unknown shading '%s' (smooth, flat)", a.shading);
@@ -163,11 +158,7 @@ int cmd_render(int argc, char **argv) {
     rs = cli_pipeline_build(ctx, scene_name, &mesh, &ff, &scene, &system, &timings);
     rad_camera_desc camera;
     if (!rs) {
-        rad_scene_get_camera(scene, &camera);
-        if (given(a.eye)) memcpy(camera.eye, a.eye, sizeof a.eye);
-        if (given(a.look)) memcpy(camera.look, a.look, sizeof a.look);
-        if (given(a.up)) memcpy(camera.up, a.up, sizeof a.up);
-        if (!isnan(a.fov)) camera.fov_degrees = a.fov;
+        cli_camera_get(&a.camera, scene, &camera);
         rad_render_options render = {0};
         render.width = a.width;
         render.height = a.height;
