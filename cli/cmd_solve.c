@@ -160,21 +160,13 @@ static void print_json(const rad_system *system, const rad_solve_options *option
     printf("}\n");
 }
 
-void solve_camera(const rad_scene *scene, const solve_args *a, rad_camera_desc *out) {
-    rad_scene_get_camera(scene, out);
-    if (!isnan(a->eye[0])) memcpy(out->eye, a->eye, sizeof out->eye);
-    if (!isnan(a->look[0])) memcpy(out->look, a->look, sizeof out->look);
-    if (!isnan(a->up[0])) memcpy(out->up, a->up, sizeof out->up);
-    if (a->fov != 0) out->fov_degrees = a->fov;
-}
-
 /* Usage checks that need no scene. Returns 0 or the exit status after printing the message. */
 static int check_args(solve_args *a, int kind) {
     if (!isnan(a->time_budget) && !(a->time_budget > 0))
         return cli_error(EXIT_USAGE, "solve: --time-budget must be a positive number of seconds, "
                                      "not %g", a->time_budget);
-    if (!(a->fov == 0 || (a->fov > 0 && a->fov < 180)))
-        return cli_error(EXIT_USAGE, "solve: --fov must be between 0 and 180 degrees, not %g", a->fov);
+    int status = cli_camera_check("solve", &a->camera);
+    if (status) return status;
     if ((a->width == 0) != (a->height == 0) && a->width + a->height > 0) {
         if (a->width == 0) a->width = a->height;
         else a->height = a->width;
@@ -204,7 +196,7 @@ int cmd_solve(int argc, char **argv) {
     solve_args a = {0};
     a.pipe.ff = "default";
     a.time_budget = NAN;
-    a.eye[0] = a.look[0] = a.up[0] = NAN;
+    cli_camera_args_init(&a.camera);
     static const cli_option own[] = {
         {"--time-budget", CLI_DOUBLE, NULL, "S  stop after S seconds with the solution so far"},
         {"--overshoot", CLI_FLAG, NULL, "shooting, importance: overshooting (Feda & Purgathofer 1992)"},
@@ -229,7 +221,7 @@ int cmd_solve(int argc, char **argv) {
     };
     void *own_targets[] = {&a.time_budget, &a.overshoot, &a.trace,  &a.json,      &a.log,
                            &a.plot,        &a.save,      &a.resume, &a.snapshots, &a.snapshot_every,
-                           &a.compare,     a.eye,        a.look,    a.up,         &a.fov,
+                           &a.compare,     a.camera.eye, a.camera.look, a.camera.up, &a.camera.fov,
                            &a.width,       &a.height,    &a.exposure, &a.tonemap};
     enum { OWN = sizeof own / sizeof own[0] };
     /* The shared solver, form-factor and meshing options (cli/pipeline.h), then our own. */
@@ -281,7 +273,7 @@ int cmd_solve(int argc, char **argv) {
     int exit_status = 0;
     rad_status rs = cli_load_scene(ctx, positional[0], &scene);
     rad_camera_desc camera;
-    if (!rs) solve_camera(scene, &a, &camera);
+    if (!rs) cli_camera_get(&a.camera, scene, &camera);
     if (!rs && a.compare) {
         exit_status = solve_compare(ctx, scene, &mesh, &ff, &a, &camera);
         goto done;

@@ -3,6 +3,7 @@
 #ifndef RAD_CLI_SOLVE_CLI_H
 #define RAD_CLI_SOLVE_CLI_H
 
+#include "camera_options.h"
 #include "pipeline.h"
 #include "radiosity.h"
 #include "solve_watch.h"
@@ -16,14 +17,11 @@ typedef struct solve_args {
     int overshoot, compare, snapshot_every, width, height;
     double time_budget; /* NaN when not given */
     const char *log, *plot, *save, *resume, *snapshots;
-    double eye[3], look[3], up[3], fov; /* NaN / 0 when not given */
+    cli_camera_args camera; /* --eye, --look, --up, --fov (importance, snapshots) */
     double exposure;
     const char *tonemap;
     const char *scene_name; /* the SCENE argument */
 } solve_args;
-
-/* The camera: the scene's own (or one framing it), with the flags given on top. */
-void solve_camera(const rad_scene *scene, const solve_args *args, rad_camera_desc *out);
 
 /* `radiosity solve SCENE --compare-solvers`: every solver on the same system, their error
  * against a converged reference over time, a table and (with --plot) one chart. Returns the
