@@ -8,8 +8,6 @@
 #include <string.h>
 #include <time.h>
 
-#define DEFAULT_MAX_MEMORY_MIB 2048.0 /* the library's default budget (rad_context_options) */
-
 typedef struct formfactors_args {
     const char *ff;
     int ff_samples, hemicube_res, json, threads, quiet;
@@ -22,18 +20,6 @@ static double now(void) {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-/* The surface-to-surface table (n^2 doubles) is allocated here, not in the library, so it is held
- * here to the --max-memory budget, with the library's wording (rad_check_budget): refused before
- * any form factor is computed. Prints the error and returns 1 when it does not fit. */
-static int table_over_budget(size_t surfaces, double max_memory_mib) {
-    double bytes = 8.0 * (double)surfaces * (double)surfaces;
-    double budget = (max_memory_mib > 0 ? max_memory_mib : DEFAULT_MAX_MEMORY_MIB) * 1048576.0;
-    if (bytes <= budget) return 0;
-    return cli_error(1, "the form-factor table of %zu surfaces needs %.1f MiB, over the memory "
-                        "budget of %.1f MiB (--max-memory)", surfaces, bytes / 1048576.0,
-                     budget / 1048576.0);
 }
 
 static void print_json(const rad_system *system, const double *matrix) {
@@ -140,16 +126,17 @@ int cmd_formfactors(int argc, char **argv) {
     rad_status rs = cli_load_scene(ctx, positional[0], &scene);
     if (!rs) rs = rad_system_create(ctx, scene, &mesh, &ff, &system);
     if (!rs) {
+        /* The surface-to-surface table is allocated here, for the library: held to the same
+         * budget before any form factor is computed. */
         size_t n = rad_system_surface_count(system);
-        exit_status = table_over_budget(n, a.max_memory);
-        if (!exit_status) {
-            matrix = calloc(n > 0 ? n * n : 1, sizeof *matrix);
-            rs = matrix ? rad_system_surface_form_factors(system, matrix) : RAD_ERROR_NO_MEMORY;
-        }
+        char what[64];
+        snprintf(what, sizeof what, "the form-factor table of %zu surfaces", n);
+        rs = rad_context_check_memory(ctx, 8.0 * (double)n * (double)n, what);
+        if (!rs) matrix = calloc(n > 0 ? n * n : 1, sizeof *matrix);
+        if (!rs) rs = matrix ? rad_system_surface_form_factors(system, matrix) : RAD_ERROR_NO_MEMORY;
     }
     if (rs) exit_status = cli_fail(ctx, rs);
-    else if (exit_status) { /* refused above, message printed */
-    } else if (a.json) print_json(system, matrix);
+    else if (a.json) print_json(system, matrix);
     else {
         const char *name = rad_scene_is_geometric(scene) ? rad_ff_method_name(ff.method) : "given";
         print_table(system, matrix, name ? name : a.ff, now() - start);

@@ -92,6 +92,11 @@ void rad_context_destroy(rad_context *context);
  * Lives until the next failing call on this context. */
 const char *rad_context_error(const rad_context *context);
 
+/* RAD_OK when `bytes` fit the context's memory budget (max_memory); otherwise
+ * RAD_ERROR_MEMORY_BUDGET with a message naming `what` and both sizes. For callers that allocate
+ * large tables for the library (e.g. for rad_system_surface_form_factors). */
+rad_status rad_context_check_memory(rad_context *context, double bytes, const char *what);
+
 /* ---------------------------------------------------------------------------------------------
  * Scenes
  * ------------------------------------------------------------------------------------------- */

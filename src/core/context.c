@@ -162,6 +162,10 @@ rad_status rad_check_budget(rad_context *ctx, double bytes, const char *what) {
                     bytes / 1048576.0, (double)ctx->max_memory / 1048576.0);
 }
 
+rad_status rad_context_check_memory(rad_context *context, double bytes, const char *what) {
+    return rad_check_budget(context, bytes, what);
+}
+
 int rad_thread_count(const rad_context *ctx) {
     if (ctx && ctx->threads > 0) return ctx->threads;
     int n = omp_get_num_procs();
