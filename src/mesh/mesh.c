@@ -4,12 +4,15 @@
  *    where the faces around it bend by more than the crease angle, so that a box's faces or a
  *    wall and the floor never share a vertex (and never smooth across the corner).
  * 2. Fan polygons of more than four corners into triangles: every cell is a triangle or a quad.
- * 3. Decide how many pieces each edge is cut into. A quad's opposite edges and all of a
- *    triangle's edges must agree, and an edge shared by two cells is one edge: union-find over
- *    edges ties them into classes, and a class takes the largest count any member asks for.
- * 4. Cut each cell into a grid, reusing the vertices along shared edges, and group the grid into
- *    k x k blocks, the patches. */
+ * 3. Decide how many pieces each edge is cut into. A quad's opposite edges must agree, and an
+ *    edge shared by two cells is one edge: union-find over edges ties them into classes, and a
+ *    class takes the largest count any member asks for. A triangle ties nothing: each of its
+ *    sides keeps its own count.
+ * 4. Cut each quad into a grid and each triangle to its three side counts (triangle.c), reusing
+ *    the vertices along shared edges; patches are blocks of up to k x k elements. */
 #include "mesh/mesh.h"
+
+#include "mesh/triangle.h"
 
 #include "scene/scene.h"
 
@@ -317,10 +320,7 @@ static rad_status build_edges(mesher *m, double element_size) {
             }
             c->edge[k] = e;
         }
-        if (n == 3) {
-            unite(m->edge_parent, c->edge[0], c->edge[1]);
-            unite(m->edge_parent, c->edge[1], c->edge[2]);
-        } else {
+        if (n == 4) {
             unite(m->edge_parent, c->edge[0], c->edge[2]);
             unite(m->edge_parent, c->edge[1], c->edge[3]);
         }
@@ -334,6 +334,99 @@ static rad_status build_edges(mesher *m, double element_size) {
     for (size_t e = 0; e < m->edge_count; ++e)
         m->edge_cuts[e] = m->edge_cuts[find(m->edge_parent, (uint32_t)e)];
     return RAD_OK;
+}
+
+/* Step 3, second half: even side sums for triangles. A triangle whose three counts add up to
+ * an even number is cut into three quads (triangle.c); an odd sum needs a triangle element
+ * somewhere and a less regular cut. Adding one piece to an edge flips the parity of the
+ * triangles on both sides, so adding one along a path of edges between two odd triangles (or
+ * from one to the free border of the surface) fixes both ends and leaves the triangles in
+ * between as they were: a T-join in the graph of triangles, found here by breadth-first search
+ * from each odd triangle to the nearest partner. Only edges no quad uses change (a quad's
+ * counts stay as they are), and single-element triangles (1, 1, 1) are left alone. */
+static rad_status pair_odd_triangles(mesher *m) {
+    rad_context *ctx = m->ctx;
+    size_t cells = m->cell_count, edges = m->edge_count;
+    /* Per edge: up to two triangle cells (UINT32_MAX: none) and whether it may change. */
+    uint32_t (*users)[2] = rad_alloc(ctx, edges + 1, sizeof *users);
+    uint8_t *free_edge = rad_alloc_zero(ctx, edges + 1, 1);
+    uint32_t *queue = rad_alloc(ctx, cells + 1, sizeof *queue);
+    uint32_t *via = rad_alloc(ctx, cells + 1, sizeof *via); /* the edge a cell was reached by */
+    uint32_t *seen = rad_alloc_zero(ctx, cells + 1, sizeof *seen);
+    rad_status status = RAD_OK;
+    if (!users || !free_edge || !queue || !via || !seen) {
+        status = RAD_ERROR_NO_MEMORY;
+        goto done;
+    }
+    for (size_t e = 0; e < edges; ++e) users[e][0] = users[e][1] = UINT32_MAX, free_edge[e] = 1;
+    for (size_t i = 0; i < cells; ++i) {
+        const cell *c = &m->cells[i];
+        int n = cell_corners(c);
+        for (int k = 0; k < n; ++k) {
+            uint32_t e = c->edge[k];
+            if (n == 4) free_edge[e] = 0;
+            else if (users[e][0] == UINT32_MAX) users[e][0] = (uint32_t)i;
+            else if (users[e][1] == UINT32_MAX) users[e][1] = (uint32_t)i;
+            else free_edge[e] = 0; /* three or more faces on one edge */
+        }
+    }
+#define SUM(c) (m->edge_cuts[(c)->edge[0]] + m->edge_cuts[(c)->edge[1]] + m->edge_cuts[(c)->edge[2]])
+#define SINGLE(c) (SUM(c) == 3)
+#define ODD(c) (cell_corners(c) == 3 && SUM(c) % 2 == 1 && !SINGLE(c))
+    uint32_t stamp = 0;
+    for (size_t start = 0; start < cells; ++start) {
+        if (!ODD(&m->cells[start])) continue;
+        /* Breadth-first over triangles through changeable edges, to the nearest odd triangle
+         * or changeable border edge. */
+        size_t head = 0, tail = 0;
+        uint32_t end = UINT32_MAX, border = UINT32_MAX;
+        queue[tail++] = (uint32_t)start;
+        seen[start] = ++stamp;
+        via[start] = UINT32_MAX;
+        while (head < tail && end == UINT32_MAX) {
+            uint32_t t = queue[head++];
+            const cell *c = &m->cells[t];
+            /* At the surface's border (an edge with one side only), the triangle's shortest
+             * border edge gets the piece: it keeps the counts' triangle inequality. */
+            for (int k = 0; k < 3; ++k) {
+                uint32_t e = c->edge[k];
+                if (free_edge[e] && users[e][1] == UINT32_MAX &&
+                    (border == UINT32_MAX || m->edge_cuts[e] < m->edge_cuts[border]))
+                    border = e;
+            }
+            if (border != UINT32_MAX) {
+                end = t;
+                break;
+            }
+            for (int k = 0; k < 3 && end == UINT32_MAX; ++k) {
+                uint32_t e = c->edge[k];
+                if (!free_edge[e]) continue;
+                uint32_t other = users[e][0] == t ? users[e][1] : users[e][0];
+                if (seen[other] == stamp || SINGLE(&m->cells[other])) continue;
+                seen[other] = stamp;
+                via[other] = e;
+                if (ODD(&m->cells[other])) end = other;
+                else queue[tail++] = other;
+            }
+        }
+        if (end == UINT32_MAX) continue; /* stays odd: triangle.c copes */
+        if (border != UINT32_MAX) m->edge_cuts[border]++;
+        for (uint32_t t = end; via[t] != UINT32_MAX;) {
+            uint32_t e = via[t];
+            m->edge_cuts[e]++;
+            t = users[e][0] == t ? users[e][1] : users[e][0];
+        }
+    }
+#undef SUM
+#undef SINGLE
+#undef ODD
+done:
+    rad_free(ctx, users);
+    rad_free(ctx, free_edge);
+    rad_free(ctx, queue);
+    rad_free(ctx, via);
+    rad_free(ctx, seen);
+    return status;
 }
 
 /* The mesh vertex at position `index` (0 .. cuts) along a cell edge walked from corner `from`. */
@@ -356,8 +449,8 @@ static uint32_t add_vertex(rad_mesh *mesh, rad_vec3 p, uint32_t surface) {
     return (uint32_t)mesh->vertex_count++;
 }
 
-static void add_element(rad_mesh *mesh, const cell *c, uint32_t a, uint32_t b, uint32_t d,
-                        uint32_t e) {
+void rad_mesh_put_element(rad_mesh *mesh, uint32_t polygon, uint32_t surface, uint32_t a,
+                          uint32_t b, uint32_t d, uint32_t e) {
     size_t i = mesh->element_count++;
     mesh->element_vertices[i][0] = a;
     mesh->element_vertices[i][1] = b;
@@ -374,9 +467,14 @@ static void add_element(rad_mesh *mesh, const cell *c, uint32_t a, uint32_t b, u
     mesh->element_area[i] = 0.5 * v3_length(normal);
     mesh->element_normal[i] = v3_normalize(normal);
     mesh->element_centroid[i] = v3_scale(centroid, 1.0 / n);
-    mesh->element_polygon[i] = c->polygon;
-    mesh->element_surface[i] = c->surface;
+    mesh->element_polygon[i] = polygon;
+    mesh->element_surface[i] = surface;
     mesh->element_patch[i] = (uint32_t)mesh->patch_count;
+}
+
+static void add_element(rad_mesh *mesh, const cell *c, uint32_t a, uint32_t b, uint32_t d,
+                        uint32_t e) {
+    rad_mesh_put_element(mesh, c->polygon, c->surface, a, b, d, e);
 }
 
 /* Step 4 for a quad: an nu x nv grid, k x k blocks as patches. */
@@ -412,40 +510,24 @@ static void cut_quad(mesher *m, rad_mesh *mesh, const cell *c, uint32_t k, uint3
 #undef GRID
 }
 
-/* Step 4 for a triangle: n cuts per edge, n^2 triangles; cells (i, j) grouped in k x k blocks. */
-static void cut_triangle(mesher *m, rad_mesh *mesh, const cell *c, uint32_t k, uint32_t *grid) {
-    uint32_t n = m->edge_cuts[c->edge[0]];
-    const uint32_t *q = c->corner;
-    rad_vec3 p0 = m->corner_position[q[0]], p1 = m->corner_position[q[1]],
-             p2 = m->corner_position[q[2]];
-#define TGRID(i, j) grid[(size_t)(j) * (n + 1) + (i)]
-    for (uint32_t j = 0; j <= n; ++j)
-        for (uint32_t i = 0; i + j <= n; ++i) {
-            uint32_t v;
-            if (j == 0) v = edge_vertex(m, c->edge[0], q[0], i);
-            else if (i + j == n) v = edge_vertex(m, c->edge[1], q[1], j);
-            else if (i == 0) v = edge_vertex(m, c->edge[2], q[2], n - j);
-            else {
-                rad_vec3 p = v3_add(p0, v3_add(v3_scale(v3_sub(p1, p0), (double)i / n),
-                                               v3_scale(v3_sub(p2, p0), (double)j / n)));
-                v = add_vertex(mesh, p, c->surface);
-            }
-            TGRID(i, j) = v;
+/* Step 4 for a triangle: cut to its three side counts (triangle.c). With out->mesh NULL, only
+ * counts what it would make. `ids` holds room for the three sides' vertex ids. */
+static void cut_triangle(mesher *m, tri_out *out, const cell *c, uint32_t *ids) {
+    rad_vec3 p[3];
+    tri_side sides[3];
+    for (int s = 0; s < 3; ++s) {
+        uint32_t edge = c->edge[s], count = m->edge_cuts[edge];
+        p[s] = m->corner_position[c->corner[s]];
+        sides[s] = (tri_side){NULL, count, 0};
+        if (out->mesh) {
+            for (uint32_t i = 0; i <= count; ++i) ids[i] = edge_vertex(m, edge, c->corner[s], i);
+            sides[s].ids = ids;
+            ids += count + 1;
         }
-    for (uint32_t pj = 0; pj < n; pj += k)
-        for (uint32_t pi = 0; pi + pj < n; pi += k) {
-            size_t before = mesh->element_count;
-            for (uint32_t j = pj; j < pj + k && j < n; ++j)
-                for (uint32_t i = pi; i < pi + k && i + j < n; ++i) {
-                    add_element(mesh, c, TGRID(i, j), TGRID(i + 1, j), TGRID(i, j + 1),
-                                RAD_NO_VERTEX);
-                    if (i + j + 2 <= n)
-                        add_element(mesh, c, TGRID(i + 1, j), TGRID(i + 1, j + 1),
-                                    TGRID(i, j + 1), RAD_NO_VERTEX);
-                }
-            if (mesh->element_count > before) mesh->patch_first[++mesh->patch_count] = mesh->element_count;
-        }
-#undef TGRID
+    }
+    out->polygon = c->polygon;
+    out->surface = c->surface;
+    tri_cut(out, p, sides);
 }
 
 static void mesher_free(mesher *m) {
@@ -519,6 +601,7 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
                           "%s: every face is degenerate (zero area or not finite)", scene->source);
     if (!status) status = split_creases(&m);
     if (!status) status = build_edges(&m, o.element_size);
+    if (!status) status = pair_odd_triangles(&m);
     if (status) {
         mesher_free(&m);
         return status;
@@ -526,9 +609,17 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
     if (m.skipped) rad_warn(ctx, "%s: skipped %zu degenerate faces (zero area or not finite)",
                             scene->source, m.skipped);
 
-    /* Count what the grids will make, and check it fits before allocating. */
+    /* Count what the grids will make, and check it fits before allocating. Triangles are
+     * counted by running their cut without output. */
     double vertices = (double)m.corner_count, elements = 0, grid = 0;
+    uint32_t largest_side = 0;
+    tri_out counting = {0};
+    counting.k = k;
+    counting.element_size = o.element_size;
     for (size_t e = 0; e < m.edge_count; ++e) vertices += m.edge_cuts[e] - 1.0;
+    /* First what the quads make and a floor for the triangles (no element is larger than a
+     * square of the element size), so that a mesh far too large is refused before counting. */
+    double triangle_floor = 0;
     for (size_t i = 0; i < m.cell_count; ++i) {
         const cell *c = &m.cells[i];
         double nu = m.edge_cuts[c->edge[0]], nv = m.edge_cuts[c->edge[1]];
@@ -537,11 +628,29 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
             elements += nu * nv;
             grid = fmax(grid, (nu + 1) * (nv + 1));
         } else {
-            vertices += (nu - 1) * (nu - 2) / 2;
-            elements += nu * nu;
-            grid = fmax(grid, (nu + 1) * (nu + 1));
+            rad_vec3 a = m.corner_position[c->corner[0]], b = m.corner_position[c->corner[1]],
+                     d = m.corner_position[c->corner[2]];
+            double area = 0.5 * v3_length(v3_cross(v3_sub(b, a), v3_sub(d, a)));
+            triangle_floor += fmax(1.0, area / (o.element_size * o.element_size));
         }
     }
+    status = rad_check_budget(ctx, vertices * 40 + (elements + triangle_floor) * 120, "the mesh");
+    if (!status && elements + triangle_floor > 2e9)
+        status = rad_fail(ctx, RAD_ERROR_MEMORY_BUDGET, "%.0f elements are too many", elements + triangle_floor);
+    if (status) {
+        mesher_free(&m);
+        return status;
+    }
+    for (size_t i = 0; i < m.cell_count; ++i) {
+        const cell *c = &m.cells[i];
+        if (cell_corners(c) == 4) continue;
+        for (int s = 0; s < 3; ++s)
+            if (m.edge_cuts[c->edge[s]] > largest_side) largest_side = m.edge_cuts[c->edge[s]];
+        cut_triangle(&m, &counting, c, NULL);
+    }
+    vertices += (double)counting.vertices;
+    elements += (double)counting.elements;
+    if (largest_side) grid = fmax(grid, 3.0 * (largest_side + 1) + (double)tri_scratch_size(largest_side));
     double bytes = vertices * 40 + elements * 120;
     status = rad_check_budget(ctx, bytes, "the mesh");
     if (!status && elements > 2e9)
@@ -587,9 +696,17 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
             add_vertex(mesh, v3_lerp(a, b, (double)t / m.edge_cuts[e]), m.corner_surface[m.edge_a[e]]);
     }
     mesh->patch_first[0] = 0;
+    tri_out output = {0};
+    output.mesh = mesh;
+    output.k = k;
+    output.element_size = o.element_size;
+    if (largest_side) {
+        output.scratch = scratch + 3 * ((size_t)largest_side + 1);
+        output.scratch_size = tri_scratch_size(largest_side);
+    }
     for (size_t i = 0; i < m.cell_count; ++i) {
         if (cell_corners(&m.cells[i]) == 4) cut_quad(&m, mesh, &m.cells[i], k, scratch);
-        else cut_triangle(&m, mesh, &m.cells[i], k, scratch);
+        else cut_triangle(&m, &output, &m.cells[i], scratch);
     }
     mesh->element_size = o.element_size;
     mesh->patch_size = o.patch_size;

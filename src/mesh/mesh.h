@@ -1,12 +1,14 @@
 /* mesh.h - surfaces cut into patches and patches into elements (Cohen et al. 1986).
  *
- * Each input polygon is cut into a regular grid of elements (quads into quads, triangles into
- * triangles, larger convex polygons fanned into triangles first). The number of cuts along an
- * edge is shared by every polygon of the surface that uses the edge, so elements of a surface
- * share their vertices: no T-junctions inside a surface. Vertices are never shared between
- * surfaces, so a corner between two surfaces keeps one value per side.
+ * Each input polygon is cut into elements (quads into a grid of quads, triangles to their own
+ * three side counts, mostly into three grids of quads: triangle.h; larger convex polygons are
+ * fanned into triangles first). The number of cuts along an edge is shared by every polygon of
+ * the surface that uses the edge, so elements of a surface share their vertices: no T-junctions
+ * inside a surface. Vertices are never shared between surfaces, so a corner between two
+ * surfaces keeps one value per side.
  *
- * Patches are blocks of k x k elements of one polygon; elements of a patch are contiguous. */
+ * Patches are convex groups of elements of one polygon, no larger than k x k elements;
+ * elements of a patch are contiguous. */
 #ifndef RAD_MESH_MESH_H
 #define RAD_MESH_MESH_H
 
