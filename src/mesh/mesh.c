@@ -438,11 +438,6 @@ static uint32_t edge_vertex(const mesher *m, uint32_t edge, uint32_t from, uint3
     return m->edge_first_vertex[edge] + along - 1;
 }
 
-typedef struct mesh_builder {
-    rad_mesh *mesh;
-    size_t vertex_capacity, element_capacity;
-} mesh_builder;
-
 static uint32_t add_vertex(rad_mesh *mesh, rad_vec3 p, uint32_t surface) {
     mesh->vertices[mesh->vertex_count] = p;
     mesh->vertex_surface[mesh->vertex_count] = surface;
