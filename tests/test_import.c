@@ -407,6 +407,46 @@ static void test_bad_input(void) {
         }
         expect_failure(ctx, temp_path("greedy.glb"), RAD_ERROR_PARSE, "chunk 0 claims 3774");
     }
+    /* assimp matches end_header case by case and loops forever on "End_header". */
+    write_text(temp_path("end-case.ply"), "ply\nformat ascii 1.0\nelement vertex 0\n"
+                                          "property float x\nEnd_header\n");
+    expect_failure(ctx, temp_path("end-case.ply"), RAD_ERROR_PARSE, "end-case.ply:5: not a PLY");
+
+    /* OBJ polylines of one vertex: assimp 5.2.5 writes past its vertex array (a heap overflow
+     * that aborts in glibc) once two of them precede a longer polyline. Every way of writing
+     * one is refused, with its line; polylines of two vertices or more still import. */
+    static const struct {
+        const char *name, *text, *fragment;
+    } polylines[] = {
+        {"one.obj", "v 0 0 0\nl 1\nl 1\nl 1 1 1\n", "one.obj:2: a polyline ('l') needs"},
+        {"lod.obj", "v 0 0 0\nv 1 0 0\nlod 1\n", "lod.obj:3: assimp reads 'lod' as a polyline"},
+        {"bare.obj", "v 0 0 0\r\nv 1 0 0\r\nl\r\n", "bare.obj:3: a polyline"},
+        {"cr.obj", "v 0 0 0\rv 1 0 0\rl 2\r", "cr.obj:3: a polyline"},
+        {"hidden.obj", "v 0 0 0\nv 1 0 0\n# x\fl 1\n", "hidden.obj:3: a polyline"},
+        {"zero-padded.obj", "v 0 0 0\nv 1 0 0\nl 01 2\n", "zero-padded.obj:3: a polyline"},
+        {"normal-as-texture.obj", "v 0 0 0\nv 1 0 0\nvn 0 0 1\nl 1/1/1 2/1/1\n",
+         "normal-as-texture.obj:4: a polyline"},
+        {"polyline.txt", "v 0 0 0\nv 1 0 0\nl 1\n", "polyline.txt:3: a polyline"},
+        {"continued.obj", "v 0 0 0\nv 1 0 0\nf 1 2 \\\r1\n", "continued.obj:3: a line "
+                                                             "continuation"},
+        {"last-byte.obj", "v 0 0 0\nv 1 0 0\nf 1 2 1\\", "last-byte.obj:3: a line continuation"},
+    };
+    for (size_t i = 0; i < sizeof polylines / sizeof polylines[0]; ++i) {
+        write_text(temp_path(polylines[i].name), polylines[i].text);
+        expect_failure(ctx, temp_path(polylines[i].name), RAD_ERROR_PARSE, polylines[i].fragment);
+    }
+    static const char *const fine[] = {
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2\nl 1 2 3\nl -1 -2\nl\t1//1\t2//1\nf 1 2 3\n",
+        "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nvt 0 0\r\nl 1/1/1 2/1/1\r\nf 1 2 \\\r\n3\r\n",
+    };
+    for (size_t i = 0; i < sizeof fine / sizeof fine[0]; ++i) {
+        write_text(temp_path("fine.obj"), fine[i]);
+        rad_scene *scene = NULL;
+        CHECK(rad_scene_load(ctx, temp_path("fine.obj"), &scene) == RAD_OK);
+        CHECK(scene && scene->polygon_count == 1);
+        if (!scene) fprintf(stderr, "  fine.obj %zu: %s\n", i, rad_context_error(ctx));
+        rad_scene_destroy(scene);
+    }
 
     /* Some faces degenerate: dropped and counted, the rest imported. */
     log_text[0] = '\0';

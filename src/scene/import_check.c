@@ -1,5 +1,5 @@
-/* import_check.c - checks PLY and binary glTF headers before assimp reads the file (see
- * import_check.h).
+/* import_check.c - checks PLY and binary glTF headers, and the polylines of OBJ files, before
+ * assimp reads the file (see import_check.h).
  *
  * PLY: the header is lines of text up to "end_header":
  *   ply
@@ -9,11 +9,25 @@
  *   comment ... | obj_info ...
  * Each row of an element takes at least: in binary, the sizes of its scalar properties plus the
  * size of each list's count; in ASCII, two characters per property (a digit and a separator).
- * The rows promised must fit in what follows the header.
+ * The rows promised must fit in what follows the header. assimp matches "end_header" case by
+ * case, so "End_header" is no end to it (it then loops forever): here neither.
  *
  * Binary glTF: a 12-byte header ("glTF", version 2, total length), then chunks of (length,
- * type, data); every length must fit in the file. */
+ * type, data); every length must fit in the file.
+ *
+ * OBJ: assimp 5.2.5 sizes a mesh's vertex array from its faces, counting two corners per segment
+ * of an 'l' polyline, so an 'l' with a single vertex is counted as none but still takes a slot
+ * (ObjFileImporter::createVertexArray). Two such lines before a polyline of three vertices
+ * shift the copy of that polyline's middle vertex one element past the array: a heap overflow,
+ * which glibc reports as "malloc assertion failure" and aborts (found by fuzz_import). So every
+ * 'l' needs two vertices, counted the way assimp parses them (ObjFileParser::getFace), and a
+ * line continuation '\\' must end in a newline (else assimp searches for that newline past its
+ * buffer). The count errs on the safe side: a statement starts after any character assimp ends
+ * a line on (CR, LF, NUL, form feed), and only indices written V, V/T, V//N or V/T/N with at
+ * most nine digits each count, up to the first token that is written otherwise. */
 #include "scene/import_check.h"
+
+#include <assimp/cimport.h>
 
 #include <errno.h>
 #include <stdio.h>
@@ -67,7 +81,7 @@ static rad_status check_ply(rad_context *ctx, const char *path, FILE *file, doub
                 status = rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: unknown PLY property type",
                                   path, line_number);
             row_bytes += binary == 1 ? size : 2;
-        } else if (strcasecmp(word, "end_header") == 0) {
+        } else if (strcmp(word, "end_header") == 0) {
             ended = 1;
             break;
         } else if (line_number > 1 && strcasecmp(word, "comment") != 0 &&
@@ -119,6 +133,158 @@ static rad_status check_glb(rad_context *ctx, const char *path, FILE *file, doub
     return RAD_OK;
 }
 
+/* ------------------------------------------------------------------------------------------- */
+/* OBJ polylines.                                                                               */
+
+/* Characters on which assimp's OBJ reader ends a line (ParsingUtils.h: IsLineEnd). */
+static int obj_line_end(int c) { return c == '\n' || c == '\r' || c == '\0' || c == '\f'; }
+
+/* One index token of an 'l' statement: up to three parts split by '/', each -?[1-9][0-9]{0,8}
+ * or (texture and normal) empty. Such a token moves assimp's face reader exactly to its end
+ * (it steps by the digits of the value it read), so its vertex is counted once. */
+typedef struct obj_token {
+    int plain;     /* so far of that form */
+    int part;      /* 0 vertex, 1 texture, 2 normal */
+    int digits;    /* of the current part */
+    int sign;      /* the current part has a '-' */
+    int filled[3]; /* which parts hold a number */
+} obj_token;
+
+static void obj_token_start(obj_token *t) {
+    memset(t, 0, sizeof *t);
+    t->plain = 1;
+}
+
+/* A part ends: it must be a number, or empty unless it is the vertex. */
+static int obj_part_end(obj_token *t) {
+    if (t->sign && !t->digits) return 0;
+    if (t->part == 0 && !t->digits) return 0;
+    t->filled[t->part] = t->digits > 0;
+    return 1;
+}
+
+static void obj_token_add(obj_token *t, int c) {
+    if (!t->plain) return;
+    if (c == '/') {
+        if (t->part == 2 || !obj_part_end(t)) {
+            t->plain = 0;
+            return;
+        }
+        t->part++;
+        t->digits = t->sign = 0;
+    } else if (c == '-' && !t->digits && !t->sign) {
+        t->sign = 1;
+    } else if (c >= '0' && c <= '9' && (c != '0' || t->digits) && t->digits < 9) {
+        t->digits++;
+    } else {
+        t->plain = 0;
+    }
+}
+
+/* 1 when the token counts as a vertex of the statement. */
+static int obj_token_end(obj_token *t) { return t->plain && obj_part_end(t); }
+
+/* Could assimp hand `path` to its OBJ reader? It picks the reader by extension; when no reader
+ * or several claim the extension it looks at the contents, and may then take any text for OBJ.
+ * So: a ".obj" name, or one that not exactly one reader claims. */
+static int obj_reader_possible(const char *path) {
+    size_t length = strlen(path);
+    if (length >= 4 && strcasecmp(path + length - 4, ".obj") == 0) return 1;
+    int claimers = 0;
+    size_t formats = aiGetImportFormatCount();
+    for (size_t i = 0; i < formats; ++i) {
+        const struct aiImporterDesc *desc = aiGetImportFormatDescription(i);
+        const char *list = desc ? desc->mFileExtensions : NULL;
+        while (list && *list) {
+            while (*list == ' ' || *list == '*' || *list == '.' || *list == ';') ++list;
+            size_t n = strcspn(list, " ;");
+            if (n > 0 && n < length && path[length - n - 1] == '.' &&
+                strncasecmp(path + length - n, list, n) == 0) {
+                ++claimers;
+                break;
+            }
+            list += n;
+        }
+    }
+    return claimers != 1;
+}
+
+static rad_status polyline_error(rad_context *ctx, const char *path, long line,
+                                 const char *keyword) {
+    if (strcmp(keyword, "l") == 0)
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s:%ld: a polyline ('l') needs at least two "
+                        "vertex indices, written V, V/T, V//N or V/T/N", path, line);
+    return rad_fail(ctx, RAD_ERROR_PARSE, "%s:%ld: assimp reads '%s' as a polyline ('l'), which "
+                    "needs at least two vertex indices", path, line, keyword);
+}
+
+static rad_status check_obj(rad_context *ctx, const char *path, FILE *file) {
+    enum { AT_START, AFTER_V, SKIP, KEYWORD, INDICES } state = AT_START;
+    unsigned char buffer[1 << 16];
+    char keyword[16] = "";
+    size_t keyword_length = 0;
+    long line_number = 1, statement_line = 1, vertices = 0;
+    int before = -1, previous = -1, texcoords_seen = 0, counting = 0, in_token = 0;
+    obj_token token;
+    rewind(file);
+    for (size_t got = sizeof buffer; got == sizeof buffer;) {
+        got = fread(buffer, 1, sizeof buffer, file);
+        if (got < sizeof buffer && ferror(file))
+            return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(errno));
+        for (size_t i = 0; i <= got; ++i) {
+            if (i == got && got == sizeof buffer) break; /* more to read */
+            int c = i < got ? buffer[i] : EOF;
+            /* A continuation: assimp skips from '\\' to the next '\n', so only "\\\n" and
+             * "\\\r\n" stay inside its buffer. */
+            if ((previous == '\\' && (c == EOF || c == '\0' || c == '\f')) ||
+                (before == '\\' && previous == '\r' && c != '\n'))
+                return rad_fail(ctx, RAD_ERROR_PARSE, "%s:%ld: a line continuation ('\\') must "
+                                "be followed by a newline", path, line_number - (previous == '\r'));
+            if (c == EOF || obj_line_end(c)) {
+                if (state == KEYWORD || state == INDICES) {
+                    if (in_token && counting) vertices += obj_token_end(&token);
+                    if (vertices < 2) return polyline_error(ctx, path, statement_line, keyword);
+                }
+                if (c == EOF) return RAD_OK;
+                if (c == '\n' ? previous != '\r' : c == '\r') ++line_number;
+                state = AT_START;
+            } else if (state == AT_START) {
+                statement_line = line_number;
+                state = c == 'l' ? KEYWORD : c == 'v' ? AFTER_V : SKIP;
+                keyword[0] = (char)c, keyword[1] = '\0', keyword_length = 1;
+                vertices = 0, counting = 1, in_token = 0;
+            } else if (state == AFTER_V) {
+                if (c == 't') texcoords_seen = 1;
+                state = SKIP;
+            } else if (state == KEYWORD) {
+                if (c == ' ' || c == '\t') {
+                    state = INDICES;
+                } else if (keyword_length + 1 < sizeof keyword && c >= 0x20 && c < 0x7f) {
+                    keyword[keyword_length++] = (char)c;
+                    keyword[keyword_length] = '\0';
+                }
+            } else if (state == INDICES) {
+                if (c == ' ' || c == '\t') {
+                    if (in_token && counting) {
+                        int counted = obj_token_end(&token);
+                        vertices += counted;
+                        /* V/T/N before any 'vt': assimp takes T for N, finds a fourth part in
+                         * N and skips the rest of the line. */
+                        if (!counted || (token.filled[1] && token.filled[2] && !texcoords_seen))
+                            counting = 0;
+                    }
+                    in_token = 0;
+                } else {
+                    if (!in_token) obj_token_start(&token), in_token = 1;
+                    obj_token_add(&token, c);
+                }
+            }
+            before = previous, previous = c;
+        }
+    }
+    return RAD_OK; /* not reached: the EOF step returns */
+}
+
 rad_status rad_import_check(rad_context *ctx, const char *path) {
     FILE *file = fopen(path, "rb");
     if (!file) return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(errno));
@@ -132,6 +298,8 @@ rad_status rad_import_check(rad_context *ctx, const char *path) {
     if ((ply || glb) && fseek(file, 0, SEEK_END) == 0) {
         double file_size = (double)ftell(file);
         status = ply ? check_ply(ctx, path, file, file_size) : check_glb(ctx, path, file, file_size);
+    } else if (!ply && !glb && obj_reader_possible(path)) {
+        status = check_obj(ctx, path, file);
     }
     fclose(file);
     return status;
