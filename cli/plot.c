@@ -74,44 +74,35 @@ int cli_write_whole(const char *path, const char *data, size_t size) {
     return 0;
 }
 
+/* Creates and removes a file named `pattern` (with "%s" for `name` and ending in XXXXXX):
+ * 0 when that works, else the error `failure` ("%s: <failure>: <reason>") is printed. */
+static int probe_write(const char *name, const char *pattern, const char *failure) {
+    size_t size = strlen(name) + strlen(pattern) + 1;
+    char *probe = malloc(size);
+    if (!probe) return cli_error(1, "%s: out of memory", name);
+    snprintf(probe, size, pattern, name);
+    int fd = mkstemp(probe);
+    int saved = errno;
+    if (fd >= 0) {
+        close(fd);
+        unlink(probe);
+    }
+    free(probe);
+    return fd < 0 ? cli_error(1, "%s: %s: %s", name, failure, strerror(saved)) : 0;
+}
+
 int cli_check_writable(const char *path) {
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
         return cli_error(1, "%s: is a directory, not a file", path);
-    size_t length = strlen(path);
-    char *temporary = malloc(length + 16);
-    if (!temporary) return cli_error(1, "%s: out of memory", path);
-    snprintf(temporary, length + 16, "%s.tmp-XXXXXX", path);
-    int fd = mkstemp(temporary);
-    if (fd < 0) {
-        int saved = errno;
-        free(temporary);
-        return cli_error(1, "%s: cannot write: %s", path, strerror(saved));
-    }
-    close(fd);
-    unlink(temporary);
-    free(temporary);
-    return 0;
+    return probe_write(path, "%s.tmp-XXXXXX", "cannot write");
 }
 
 int cli_check_directory(const char *dir) {
     struct stat st;
     if (stat(dir, &st) != 0) return cli_error(1, "%s: cannot use as a directory: %s", dir, strerror(errno));
     if (!S_ISDIR(st.st_mode)) return cli_error(1, "%s: is not a directory", dir);
-    size_t length = strlen(dir);
-    char *probe = malloc(length + 32);
-    if (!probe) return cli_error(1, "%s: out of memory", dir);
-    snprintf(probe, length + 32, "%s/.radiosity-probe-XXXXXX", dir);
-    int fd = mkstemp(probe);
-    if (fd < 0) {
-        int saved = errno;
-        free(probe);
-        return cli_error(1, "%s: cannot write into the directory: %s", dir, strerror(saved));
-    }
-    close(fd);
-    unlink(probe);
-    free(probe);
-    return 0;
+    return probe_write(dir, "%s/.radiosity-probe-XXXXXX", "cannot write into the directory");
 }
 
 /* ------------------------------------------------------------------------------------------- */
