@@ -687,6 +687,140 @@ static void test_element_counts(void) {
     rad_scene_destroy(scene);
 }
 
+/* A 4 x 3 x 4 room of triangles only, facing inwards: each wall its own surface, a jittered,
+ * graded nu x nv grid cut along random diagonals (as the importer gets from a triangulated
+ * file it cannot join back into quads). 2 nu nv triangles a wall, area 80. */
+static rad_scene *make_triangle_room(int nu, int nv) {
+    static const double walls[6][3][3] = {/* origin, u and v edges; u x v points inwards */
+                                          {{0, 0, 0}, {0, 0, 4}, {4, 0, 0}}, {{0, 3, 0}, {4, 0, 0}, {0, 0, 4}},
+                                          {{0, 0, 0}, {0, 3, 0}, {0, 0, 4}}, {{4, 0, 0}, {0, 0, 4}, {0, 3, 0}},
+                                          {{0, 0, 0}, {4, 0, 0}, {0, 3, 0}}, {{0, 0, 4}, {0, 3, 0}, {4, 0, 0}}};
+    rad_scene *scene = new_scene("triangle room");
+    double (*p)[3] = malloc((size_t)(nu + 1) * (nv + 1) * sizeof *p);
+    for (int w = 0; w < 6; ++w) {
+        char name[16];
+        snprintf(name, sizeof name, "wall%d", w);
+        uint32_t s = add_surface(scene, name);
+        for (int j = 0; j <= nv; ++j)
+            for (int i = 0; i <= nu; ++i) {
+                double x = pow((double)i / nu, 1.5), y = (double)j / nv;
+                if (i > 0 && i < nu && j > 0 && j < nv) x += (lcg() - 0.5) * 0.3 / nu, y += (lcg() - 0.5) * 0.5 / nv;
+                for (int k = 0; k < 3; ++k) p[j * (nu + 1) + i][k] = walls[w][0][k] + x * walls[w][1][k] + y * walls[w][2][k];
+            }
+        for (int j = 0; j < nv; ++j)
+            for (int i = 0; i < nu; ++i) {
+                const double *a = p[j * (nu + 1) + i], *b = p[j * (nu + 1) + i + 1],
+                             *c = p[(j + 1) * (nu + 1) + i + 1], *d = p[(j + 1) * (nu + 1) + i];
+                const double *first[3] = {a, b, c}, *second[3] = {a, c, d};
+                if (lcg() < 0.5) first[2] = d, second[0] = b, second[1] = c, second[2] = d;
+                double t[2][3][3];
+                for (int k = 0; k < 3; ++k)
+                    for (int x = 0; x < 3; ++x) t[0][k][x] = first[k][x], t[1][k][x] = second[k][x];
+                add_polygon(scene, s, 3, (const double(*)[3])t[0]);
+                add_polygon(scene, s, 3, (const double(*)[3])t[1]);
+            }
+    }
+    free(p);
+    return scene;
+}
+
+/* --elements N is re-aimed where triangles make more elements than their area asks for
+ * (docs/meshing.md): triangle scenes land within 5% of N, a scene of more polygons than N at
+ * its floor of one element each, scenes of quads exactly as before. */
+static void test_element_aim(void) {
+    rad_scene *room = make_triangle_room(10, 9); /* 1,080 triangles */
+    static const size_t wanted[] = {2500, 10000, 40000};
+    for (int i = 0; i < 3; ++i) {
+        rad_mesh *mesh = mesh_of(room, 0, 0, wanted[i]);
+        if (!mesh) continue;
+        double ratio = (double)mesh->element_count / (double)wanted[i];
+        printf("triangle room --elements %-6zu %6zu elements (%.3f x), %5zu patches, element size %.4f\n",
+               wanted[i], mesh->element_count, ratio, mesh->patch_count, mesh->element_size);
+        CHECK(fabs(ratio - 1) <= 0.05);
+        CHECK(mesh->patch_size == 2 * mesh->element_size); /* the patch size follows */
+        if (i == 0) {
+            check_mesh("triangle room, aimed", room, mesh, 1); /* edges within the size used */
+            /* The size it settled on, given explicitly, is the same mesh: no re-aim then. */
+            rad_mesh *same = mesh_of(room, 0, mesh->element_size, 0);
+            if (same) CHECK(same->element_count == mesh->element_count && same->patch_count == mesh->patch_count);
+            rad_mesh_destroy(same);
+        }
+        rad_mesh_destroy(mesh);
+    }
+    /* Fewer elements than triangles: one element each, at most 5% more. */
+    rad_mesh *mesh = mesh_of(room, 0, 0, 300);
+    if (mesh) {
+        printf("triangle room --elements 300    %6zu elements (floor %zu)\n", mesh->element_count,
+               room->polygon_count);
+        CHECK(mesh->element_count >= room->polygon_count && mesh->element_count <= 1.05 * room->polygon_count);
+    }
+    rad_mesh_destroy(mesh);
+    /* The memory budget applies to the mesh re-aimed: 10,000 elements fit in 2.5 MB (the first
+     * size's 2.2 x as many would not), 10^9 do not, refused before anything is counted. */
+    rad_context_options small = {0};
+    small.log = on_log;
+    small.max_memory = 2500000;
+    rad_context *tight = NULL;
+    if (rad_context_create(&small, &tight) == RAD_OK) {
+        rad_mesh_options options = {0, 0, 10000};
+        mesh = NULL;
+        CHECK(rad_mesh_create(tight, room, &options, &mesh) == RAD_OK && mesh);
+        rad_mesh_destroy(mesh);
+        options.elements = 1000000000;
+        mesh = NULL;
+        CHECK(rad_mesh_create(tight, room, &options, &mesh) == RAD_ERROR_MEMORY_BUDGET && !mesh);
+        rad_context_destroy(tight);
+    }
+    rad_scene_destroy(room);
+
+    rad_scene *soup = make_triangle_soup(9, 7); /* 126 triangles, 12 units^2 */
+    static const size_t soup_wanted[] = {60, 500, 3000};
+    for (int i = 0; i < 3; ++i) {
+        mesh = mesh_of(soup, 0, 0, soup_wanted[i]);
+        if (!mesh) continue;
+        printf("triangle soup --elements %-6zu %6zu elements\n", soup_wanted[i], mesh->element_count);
+        if (i == 0) CHECK(mesh->element_count >= 126 && mesh->element_count <= 1.05 * 126);
+        else CHECK(fabs((double)mesh->element_count / (double)soup_wanted[i] - 1) <= 0.05);
+        rad_mesh_destroy(mesh);
+    }
+    rad_scene_destroy(soup);
+
+    /* A quad and a triangle: the triangle's excess goes, the quad's rounding stays. */
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_load(ctx, RAD_SOURCE_DIR "/scenes/square.ply", &scene) == RAD_OK);
+    if (scene) {
+        static const size_t mixed_wanted[] = {1000, 2500, 10000};
+        for (int i = 0; i < 3; ++i) {
+            mesh = mesh_of(scene, 0, 0, mixed_wanted[i]);
+            if (mesh) CHECK(mesh->element_count >= mixed_wanted[i] && mesh->element_count <= 1.06 * mixed_wanted[i]);
+            rad_mesh_destroy(mesh);
+        }
+        rad_scene_destroy(scene);
+    }
+
+    /* Scenes of quads are never re-aimed: the counts of docs/meshing.md, as before. */
+    static const char *const quads[] = {"two-squares", "unit-cube", RAD_SOURCE_DIR "/scenes/room.obj",
+                                        RAD_SOURCE_DIR "/scenes/lamp-room.gltf"};
+    static const size_t counts[4][4] = {{128, 1058, 2592, 10082}, {150, 1014, 2646, 10086},
+                                        {170, 1420, 3397, 13075}, {132, 1130, 2656, 10450}};
+    static const size_t sizes[4] = {100, 1000, 2500, 10000};
+    for (int q = 0; q < 4; ++q) {
+        scene = NULL;
+        rad_status status = q < 2 ? rad_scene_builtin(ctx, quads[q], &scene) : rad_scene_load(ctx, quads[q], &scene);
+        CHECK(status == RAD_OK);
+        if (!scene) continue;
+        for (int i = 0; i < 4; ++i) {
+            mesh = mesh_of(scene, 0, 0, sizes[i]);
+            if (mesh) CHECK(mesh->element_count == counts[q][i]);
+            if (mesh && mesh->element_count != counts[q][i])
+                fprintf(stderr, "  %s --elements %zu: %zu elements, not %zu\n", quads[q], sizes[i],
+                        mesh->element_count, counts[q][i]);
+            rad_mesh_destroy(mesh);
+        }
+        rad_scene_destroy(scene);
+    }
+}
+
 static void test_builtin_and_imported(void) {
     static const char *const builtins[] = {"two-squares", "unit-cube", "cornell-mirror"};
     for (int i = 0; i < 3; ++i) {
@@ -756,6 +890,7 @@ int main(void) {
     test_creases();
     test_smooth_cone();
     test_element_counts();
+    test_element_aim();
     test_builtin_and_imported();
     test_bad_input();
     rad_context_destroy(ctx);

@@ -284,8 +284,8 @@ done:
     return status;
 }
 
-/* Step 3: edges, their classes and cut counts. */
-static rad_status build_edges(mesher *m, double element_size) {
+/* Step 3: edges and their classes (they do not depend on the element size). */
+static rad_status build_edges(mesher *m) {
     rad_context *ctx = m->ctx;
     size_t max_edges = 4 * m->cell_count + 1;
     m->edge_a = rad_alloc(ctx, max_edges, sizeof(uint32_t));
@@ -313,9 +313,6 @@ static rad_status build_edges(mesher *m, double element_size) {
                 m->edge_a[e] = lo;
                 m->edge_b[e] = hi;
                 m->edge_parent[e] = e;
-                double length = v3_length(v3_sub(m->corner_position[a], m->corner_position[b]));
-                double cuts = ceil(length / element_size - 1e-9);
-                m->edge_cuts[e] = (uint32_t)fmax(1.0, fmin(cuts, 1e6));
                 m->edge_count++;
             }
             c->edge[k] = e;
@@ -326,14 +323,26 @@ static rad_status build_edges(mesher *m, double element_size) {
         }
     }
     key_map_free(ctx, &edges);
-    /* A class takes the largest count any of its edges asks for. */
+    for (size_t e = 0; e < m->edge_count; ++e) m->edge_parent[e] = find(m->edge_parent, (uint32_t)e);
+    return RAD_OK;
+}
+
+static rad_status pair_odd_triangles(mesher *m);
+
+/* Step 3, cut counts for an element size: each edge asks for ceil(length / size) pieces and a
+ * class takes the largest count any of its edges asks for; then triangle parities. */
+static rad_status cut_edges(mesher *m, double element_size) {
     for (size_t e = 0; e < m->edge_count; ++e) {
-        uint32_t root = find(m->edge_parent, (uint32_t)e);
+        double length = v3_length(v3_sub(m->corner_position[m->edge_a[e]], m->corner_position[m->edge_b[e]]));
+        double cuts = ceil(length / element_size - 1e-9);
+        m->edge_cuts[e] = (uint32_t)fmax(1.0, fmin(cuts, 1e6));
+    }
+    for (size_t e = 0; e < m->edge_count; ++e) {
+        uint32_t root = m->edge_parent[e];
         if (m->edge_cuts[e] > m->edge_cuts[root]) m->edge_cuts[root] = m->edge_cuts[e];
     }
-    for (size_t e = 0; e < m->edge_count; ++e)
-        m->edge_cuts[e] = m->edge_cuts[find(m->edge_parent, (uint32_t)e)];
-    return RAD_OK;
+    for (size_t e = 0; e < m->edge_count; ++e) m->edge_cuts[e] = m->edge_cuts[m->edge_parent[e]];
+    return pair_odd_triangles(m);
 }
 
 /* Step 3, second half: even side sums for triangles. A triangle whose three counts add up to
@@ -563,6 +572,126 @@ static double scene_area(const rad_scene *scene) {
     return area;
 }
 
+/* What the current cuts will make, counted before anything is allocated. */
+typedef struct mesh_count {
+    double vertices, elements;
+    double grid; /* scratch vertex ids for the largest cell */
+    uint32_t largest_side; /* the largest count on a triangle's side */
+    double quad_elements;
+    double triangle_floor; /* the sum of max(1, area / element size^2) over triangles */
+    double triangle_area; /* the triangles' area over the element size squared */
+} mesh_count;
+
+static rad_status check_budget(rad_context *ctx, double vertices, double elements) {
+    rad_status status = rad_check_budget(ctx, vertices * 40 + elements * 120, "the mesh");
+    if (!status && elements > 2e9)
+        status = rad_fail(ctx, RAD_ERROR_MEMORY_BUDGET, "%.0f elements are too many", elements);
+    return status;
+}
+
+/* Counts what the grids and the triangle cuts will make; triangles by running their cut
+ * without output. First what the quads make and a floor for the triangles (no element is
+ * larger than a square of the element size), so that a mesh far too large is refused before
+ * the triangles are counted. */
+static rad_status count_mesh(mesher *m, double element_size, uint32_t k, mesh_count *out) {
+    mesh_count c = {0};
+    c.vertices = (double)m->corner_count;
+    for (size_t e = 0; e < m->edge_count; ++e) c.vertices += m->edge_cuts[e] - 1.0;
+    for (size_t i = 0; i < m->cell_count; ++i) {
+        const cell *q = &m->cells[i];
+        double nu = m->edge_cuts[q->edge[0]], nv = m->edge_cuts[q->edge[1]];
+        if (cell_corners(q) == 4) {
+            c.vertices += (nu - 1) * (nv - 1);
+            c.quad_elements += nu * nv;
+            c.grid = fmax(c.grid, (nu + 1) * (nv + 1));
+        } else {
+            rad_vec3 a = m->corner_position[q->corner[0]], b = m->corner_position[q->corner[1]],
+                     d = m->corner_position[q->corner[2]];
+            double area = 0.5 * v3_length(v3_cross(v3_sub(b, a), v3_sub(d, a)));
+            c.triangle_area += area / (element_size * element_size);
+            c.triangle_floor += fmax(1.0, area / (element_size * element_size));
+            for (int s = 0; s < 3; ++s)
+                if (m->edge_cuts[q->edge[s]] > c.largest_side) c.largest_side = m->edge_cuts[q->edge[s]];
+        }
+    }
+    rad_status status = check_budget(m->ctx, c.vertices, c.quad_elements + c.triangle_floor);
+    if (status) return status;
+    tri_out counting = {0};
+    counting.k = k;
+    counting.element_size = element_size;
+    for (size_t i = 0; i < m->cell_count; ++i)
+        if (cell_corners(&m->cells[i]) == 3) cut_triangle(m, &counting, &m->cells[i], NULL);
+    c.vertices += (double)counting.vertices;
+    c.elements = c.quad_elements + (double)counting.elements;
+    if (c.largest_side)
+        c.grid = fmax(c.grid, 3.0 * (c.largest_side + 1) + (double)tri_scratch_size(c.largest_side));
+    *out = c;
+    return RAD_OK;
+}
+
+/* The patch size follows the element size unless given; an element is no larger than a
+ * patch. Returns k, the patch edge in elements. */
+static uint32_t set_sizes(rad_mesh_options *o, double element_size, double patch_option) {
+    o->element_size = element_size;
+    o->patch_size = patch_option > 0 ? patch_option : 2 * element_size;
+    if (o->patch_size < o->element_size) o->element_size = o->patch_size;
+    return (uint32_t)fmax(1.0, floor(o->patch_size / o->element_size + 0.5));
+}
+
+/* Re-aiming --elements N (docs/meshing.md, "What --elements N gives"). The first element size
+ * is that of a square of 1/N of the area. Quads then make about N (more by rounding their edges
+ * up, which stays as it is); a triangle makes more and smaller elements than its area asks for
+ * (its three quads' grids). The target is what the quads make at the first size plus the
+ * triangles' area over that size squared (N itself for a scene of triangles only), and at
+ * least one element per cell: a scene of more polygons than N is aimed at that floor. A scene
+ * without triangles is never re-aimed. The size is scaled until the count is within
+ * AIM_TOLERANCE of the target, by a secant step on log count against log size (slope -2 to
+ * start: a count that follows the area), kept between the sizes known to be too fine and too
+ * coarse; it stops after AIM_STEPS recounts, when those two are within AIM_GAP of each other
+ * (the count jumps over the target there: triangles of one size change their cut together),
+ * or when an explicit patch size caps the element size. The closest count found wins. */
+#define AIM_TOLERANCE 0.05
+#define AIM_STEPS 6
+#define AIM_GAP 1.02
+
+static rad_status aim_element_count(mesher *m, double patch_option, rad_mesh_options *o,
+                                    uint32_t *k, mesh_count *count) {
+    if (count->elements == count->quad_elements) return RAD_OK; /* no triangles */
+    double target = fmax(count->quad_elements + count->triangle_area, (double)m->cell_count);
+    double best_size = o->element_size, best_off = fabs(count->elements - target);
+    double too_fine = 0, too_coarse = INFINITY, last_size = 0, last_elements = 0;
+    rad_status status = RAD_OK;
+    for (int step = 0; step < AIM_STEPS && best_off > AIM_TOLERANCE * target; ++step) {
+        double size = o->element_size, elements = count->elements;
+        if (elements > target) too_fine = fmax(too_fine, size);
+        else too_coarse = fmin(too_coarse, size);
+        double slope = -2;
+        if (last_size > 0 && last_elements != elements)
+            slope = fmin(-0.25, fmax(-4.0, log(elements / last_elements) / log(size / last_size)));
+        double next = size * exp(log(target / elements) / slope);
+        if (!(next > too_fine && next < too_coarse)) next = sqrt(too_fine * too_coarse);
+        if (too_coarse < AIM_GAP * too_fine) break; /* the target falls in a jump of the count */
+        if (patch_option > 0 && next >= patch_option) {
+            if (size >= patch_option) break; /* as coarse as the patches allow */
+            next = patch_option;
+        }
+        last_size = size;
+        last_elements = elements;
+        *k = set_sizes(o, next, patch_option);
+        status = cut_edges(m, o->element_size);
+        if (!status) status = count_mesh(m, o->element_size, *k, count);
+        if (status) return status;
+        double off = fabs(count->elements - target);
+        if (off < best_off) best_off = off, best_size = o->element_size;
+    }
+    if (o->element_size != best_size) {
+        *k = set_sizes(o, best_size, patch_option);
+        status = cut_edges(m, o->element_size);
+        if (!status) status = count_mesh(m, o->element_size, *k, count);
+    }
+    return status;
+}
+
 rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
                            const rad_mesh_options *options, rad_mesh **out) {
     *out = NULL;
@@ -575,86 +704,42 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
     if (!(total_area > 0))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "%s: the scene has no area", scene->source);
 
-    /* Sizes: an element count gives the edge of a square of that share of the area. */
+    /* Sizes: an element count gives the edge of a square of that share of the area, then
+     * re-aimed below where triangles make more elements than that. */
+    int aimed = o.element_size == 0 && !(o.patch_size > 0 && o.elements == 0);
+    double patch_option = o.patch_size;
     if (o.element_size == 0) {
-        if (o.patch_size > 0 && o.elements == 0) o.element_size = o.patch_size / 2;
+        if (!aimed) o.element_size = o.patch_size / 2;
         else {
             size_t wanted = o.elements ? o.elements : RAD_MESH_DEFAULT_ELEMENTS;
             o.element_size = sqrt(total_area / (double)wanted);
         }
     }
-    if (o.patch_size == 0) o.patch_size = 2 * o.element_size;
-    if (o.patch_size < o.element_size) o.element_size = o.patch_size;
-    uint32_t k = (uint32_t)fmax(1.0, floor(o.patch_size / o.element_size + 0.5));
+    uint32_t k = set_sizes(&o, o.element_size, patch_option);
 
     mesher m = {0};
     m.ctx = ctx;
     m.scene = scene;
+    mesh_count count = {0};
     rad_status status = build_cells(&m);
     if (!status && m.cell_count == 0)
         status = rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                           "%s: every face is degenerate (zero area or not finite)", scene->source);
     if (!status) status = split_creases(&m);
-    if (!status) status = build_edges(&m, o.element_size);
-    if (!status) status = pair_odd_triangles(&m);
+    if (!status) status = build_edges(&m);
+    if (!status && m.skipped) rad_warn(ctx, "%s: skipped %zu degenerate faces (zero area or not finite)",
+                                       scene->source, m.skipped);
+    if (!status) status = cut_edges(&m, o.element_size);
+    if (!status) status = count_mesh(&m, o.element_size, k, &count);
+    if (!status && aimed) status = aim_element_count(&m, patch_option, &o, &k, &count);
+    /* The budget, on what will be allocated. */
+    double vertices = count.vertices, elements = count.elements, grid = count.grid;
+    uint32_t largest_side = count.largest_side;
+    if (!status) status = check_budget(ctx, vertices, elements);
     if (status) {
         mesher_free(&m);
         return status;
     }
-    if (m.skipped) rad_warn(ctx, "%s: skipped %zu degenerate faces (zero area or not finite)",
-                            scene->source, m.skipped);
-
-    /* Count what the grids will make, and check it fits before allocating. Triangles are
-     * counted by running their cut without output. */
-    double vertices = (double)m.corner_count, elements = 0, grid = 0;
-    uint32_t largest_side = 0;
-    tri_out counting = {0};
-    counting.k = k;
-    counting.element_size = o.element_size;
-    for (size_t e = 0; e < m.edge_count; ++e) vertices += m.edge_cuts[e] - 1.0;
-    /* First what the quads make and a floor for the triangles (no element is larger than a
-     * square of the element size), so that a mesh far too large is refused before counting. */
-    double triangle_floor = 0;
-    for (size_t i = 0; i < m.cell_count; ++i) {
-        const cell *c = &m.cells[i];
-        double nu = m.edge_cuts[c->edge[0]], nv = m.edge_cuts[c->edge[1]];
-        if (cell_corners(c) == 4) {
-            vertices += (nu - 1) * (nv - 1);
-            elements += nu * nv;
-            grid = fmax(grid, (nu + 1) * (nv + 1));
-        } else {
-            rad_vec3 a = m.corner_position[c->corner[0]], b = m.corner_position[c->corner[1]],
-                     d = m.corner_position[c->corner[2]];
-            double area = 0.5 * v3_length(v3_cross(v3_sub(b, a), v3_sub(d, a)));
-            triangle_floor += fmax(1.0, area / (o.element_size * o.element_size));
-        }
-    }
-    status = rad_check_budget(ctx, vertices * 40 + (elements + triangle_floor) * 120, "the mesh");
-    if (!status && elements + triangle_floor > 2e9)
-        status = rad_fail(ctx, RAD_ERROR_MEMORY_BUDGET, "%.0f elements are too many", elements + triangle_floor);
-    if (status) {
-        mesher_free(&m);
-        return status;
-    }
-    for (size_t i = 0; i < m.cell_count; ++i) {
-        const cell *c = &m.cells[i];
-        if (cell_corners(c) == 4) continue;
-        for (int s = 0; s < 3; ++s)
-            if (m.edge_cuts[c->edge[s]] > largest_side) largest_side = m.edge_cuts[c->edge[s]];
-        cut_triangle(&m, &counting, c, NULL);
-    }
-    vertices += (double)counting.vertices;
-    elements += (double)counting.elements;
-    if (largest_side) grid = fmax(grid, 3.0 * (largest_side + 1) + (double)tri_scratch_size(largest_side));
-    double bytes = vertices * 40 + elements * 120;
-    status = rad_check_budget(ctx, bytes, "the mesh");
-    if (!status && elements > 2e9)
-        status = rad_fail(ctx, RAD_ERROR_MEMORY_BUDGET, "%.0f elements are too many", elements);
-    if (status) {
-        mesher_free(&m);
-        return status;
-    }
-
     rad_mesh *mesh = rad_alloc_zero(ctx, 1, sizeof *mesh);
     size_t nv = (size_t)vertices, ne = (size_t)elements;
     uint32_t *scratch = rad_alloc(ctx, (size_t)grid, sizeof *scratch);
