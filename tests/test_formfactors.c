@@ -500,6 +500,48 @@ static void test_patch_facing(rad_context *ctx) {
     rad_scene_destroy(scene);
 }
 
+/* Shaft culling gathers polygons by plane: a wall cut into 1,152 triangles (over the 512
+ * occluders the tables allow) is a few occluders, so culling stays on, and the wall hides
+ * exactly what the same wall as one quad does. */
+static void test_triangulated_occluder(rad_context *ctx) {
+    quad walled[3] = {opposed[0], opposed[1],
+                      {"wall", {{0.5, -0.5, 0}, {0.5, 1.5, 0}, {0.5, 1.5, 1}, {0.5, -0.5, 1}}, 0}};
+    rad_scene *whole = quad_scene(ctx, walled, 3), *cut = quad_scene(ctx, opposed, 2);
+    uint32_t surface;
+    rad_status status = rad_scene_add_surface(cut, "wall", 0, &surface);
+    const int grid = 24;
+    for (int j = 0; j < grid && !status; ++j)
+        for (int i = 0; i < grid && !status; ++i) {
+            double y0 = -0.5 + 2.0 * i / grid, y1 = -0.5 + 2.0 * (i + 1) / grid;
+            double z0 = (double)j / grid, z1 = (double)(j + 1) / grid;
+            rad_vec3 a = v3(0.5, y0, z0), b = v3(0.5, y1, z0), c = v3(0.5, y1, z1), d = v3(0.5, y0, z1);
+            rad_vec3 first[3] = {a, b, c}, second[3] = {a, c, d};
+            status = rad_scene_add_polygon_points(cut, surface, first, 3);
+            if (!status) status = rad_scene_add_polygon_points(cut, surface, second, 3);
+        }
+    CHECK(status == RAD_OK);
+    rad_mesh_options options = {0};
+    options.element_size = 0.125;
+    rad_mesh *mesh = NULL;
+    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0};
+    rad_ff_context c;
+    int culled = 0;
+    if (!status && !rad_mesh_create(ctx, cut, &options, &mesh) &&
+        !rad_ff_context_build(ctx, cut, mesh, &ff, 1, &c)) {
+        culled = c.shaft != NULL;
+        rad_ff_context_release(&c);
+    }
+    rad_mesh_destroy(mesh);
+    double f_whole = factor(ctx, whole, RAD_FF_ANALYTIC, 0, 0, 0.125, 0, 1);
+    double f_cut = factor(ctx, cut, RAD_FF_ANALYTIC, 0, 0, 0.125, 0, 1);
+    printf("  a wall of %d triangles: shaft culling %s, F %.9f (one quad: %.9f)\n", 2 * grid * grid,
+           culled ? "on" : "off", f_cut, f_whole);
+    CHECK(culled);
+    CHECK_NEAR(f_cut, f_whole, 1e-6 * f_whole);
+    rad_scene_destroy(whole);
+    rad_scene_destroy(cut);
+}
+
 int main(void) {
     double start = rad_seconds();
     rad_context *ctx = make_context(1);
@@ -516,6 +558,7 @@ int main(void) {
     test_patch_facing(ctx);
     printf("occluders\n");
     test_occluders(ctx);
+    test_triangulated_occluder(ctx);
     printf("(%.1f s)\n", rad_seconds() - start);
     printf("thread count\n");
     test_threads();

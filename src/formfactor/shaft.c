@@ -11,18 +11,26 @@
  * Applied to all corners of the patch and the element, both tests hold for every segment
  * between them (the set of segments lies in the convex hull of the corners).
  *
- * Per shooting patch (rad_ff_shaft_begin) the plane test is made against every receiving input
- * polygon R as a whole, giving for each R a short list of candidate occluders; per element
- * (rad_ff_shaft_clear) the candidates of its polygon are tested against the element itself. The
- * pairwise side table costs polygons^2 bytes, so large scenes (many polygons) skip culling and
- * every pair is ray tested. */
+ * Both tests hold as well for a set of polygons in one plane, taken with all their corners: no
+ * segment with both ends on one side of the plane crosses any of them, and corners all beyond
+ * a line keep every one of them out. So the polygons are first gathered into planes
+ * (occluders below): a wall cut into hundreds of triangles is one occluder of up to 64 corners,
+ * and the tables below are per occluder.
+ *
+ * Per shooting patch (rad_ff_shaft_begin) the plane test is made against every receiving
+ * occluder R as a whole, giving for each R a short list of candidate occluders; per element
+ * (rad_ff_shaft_clear) the candidates of its plane are tested against the element itself. The
+ * pairwise side table costs occluders^2 bytes, so scenes of more than SHAFT_MAX_OCCLUDERS planes
+ * (curved meshes) skip culling and every pair is ray tested. */
 #include "formfactor/geometric.h"
 
 #include "scene/scene.h"
 
+#include <stdlib.h>
 #include <string.h>
 
-#define SHAFT_MAX_POLYGONS 512
+#define SHAFT_MAX_OCCLUDERS 512
+#define OCCLUDER_CORNERS 64 /* at most, so planes of many polygons make several occluders */
 
 enum { SIDE_FRONT = 1, SIDE_BACK = 2 };
 
@@ -32,14 +40,15 @@ static inline double max2(double a, double b) { return a > b ? a : b; }
 struct rad_ff_shaft {
     rad_context *ctx;
     const rad_mesh *mesh;
-    size_t polygon_count;
-    rad_vec3 *normal;    /* unit plane normal of polygon Q */
+    size_t polygon_count; /* occluders: input polygons gathered by plane */
+    uint32_t *occluder_of; /* scene polygon -> occluder */
+    rad_vec3 *normal;    /* unit plane normal of occluder Q */
     double *offset;      /* plane: normal . x = offset */
     double *tolerance;   /* distances within this count as "on the plane" */
     rad_vec3 *lo, *hi;   /* bounds, widened by the tolerance */
-    uint32_t *corner_first; /* count + 1: polygon Q's corners are corners[first[Q] .. first[Q+1]) */
+    uint32_t *corner_first; /* count + 1: occluder Q's corners are corners[first[Q] .. first[Q+1]) */
     rad_vec3 *corners;
-    uint8_t *side;       /* side[R * count + Q]: where polygon R's corners lie against Q's plane */
+    uint8_t *side;       /* side[R * count + Q]: where occluder R's corners lie against Q's plane */
     /* Per shooting patch. */
     uint8_t *patch_side; /* where the patch's corners lie against Q's plane */
     rad_vec3 patch_lo, patch_hi;
@@ -60,6 +69,7 @@ static uint8_t classify(const rad_ff_shaft *shaft, size_t q, const rad_vec3 *poi
 void rad_ff_shaft_destroy(rad_ff_shaft *shaft) {
     if (!shaft) return;
     rad_context *ctx = shaft->ctx;
+    rad_free(ctx, shaft->occluder_of);
     rad_free(ctx, shaft->normal);
     rad_free(ctx, shaft->offset);
     rad_free(ctx, shaft->tolerance);
@@ -74,16 +84,116 @@ void rad_ff_shaft_destroy(rad_ff_shaft *shaft) {
     rad_free(ctx, shaft);
 }
 
+/* A polygon's plane and how far its corners stray from it. */
+typedef struct plane_fit {
+    rad_vec3 normal, centre;
+    double warp;
+    double key[4]; /* the plane rounded: polygons of one plane sort next to each other */
+    int degenerate; /* no plane: never blocks */
+    int alone;      /* not gathered with others (degenerate, or too many corners) */
+} plane_fit;
+
+/* A polygon in the sort by plane. */
+typedef struct plane_entry {
+    double key[4];
+    int alone;
+    uint32_t polygon;
+} plane_entry;
+
+static int by_plane(const void *a, const void *b) {
+    const plane_entry *p = a, *q = b;
+    if (p->alone != q->alone) return p->alone - q->alone;
+    for (int i = 0; i < 4; ++i)
+        if (p->key[i] != q->key[i]) return p->key[i] < q->key[i] ? -1 : 1;
+    return (p->polygon > q->polygon) - (p->polygon < q->polygon);
+}
+
 rad_status rad_ff_shaft_create(rad_context *ctx, const rad_scene *scene, const rad_mesh *mesh,
                                rad_ff_shaft **out) {
     *out = NULL;
-    size_t n = scene->polygon_count;
-    if (n == 0 || n > SHAFT_MAX_POLYGONS) return RAD_OK;
+    const size_t polygons = scene->polygon_count;
+    /* An occluder holds at most OCCLUDER_CORNERS / 3 polygons: more cannot fit the tables. */
+    if (polygons == 0 || polygons > (size_t)SHAFT_MAX_OCCLUDERS * (OCCLUDER_CORNERS / 3)) return RAD_OK;
+    rad_vec3 scene_lo, scene_hi;
+    rad_scene_bounds(scene, &scene_lo, &scene_hi);
+    const double base = 1e-6 * v3_length(v3_sub(scene_hi, scene_lo));
+
+    /* Each polygon's plane, rounded to a key: polygons of one plane sort next to each other. */
+    plane_fit *fit = rad_alloc(ctx, polygons, sizeof *fit);
+    plane_entry *order = rad_alloc(ctx, polygons, sizeof *order);
+    uint32_t *occluder_of = rad_alloc(ctx, polygons, sizeof *occluder_of);
+    if (!fit || !order || !occluder_of) {
+        rad_free(ctx, fit);
+        rad_free(ctx, order);
+        rad_free(ctx, occluder_of);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    for (size_t q = 0; q < polygons; ++q) {
+        const rad_polygon *polygon = &scene->polygons[q];
+        plane_fit *f = &fit[q];
+        f->normal = rad_polygon_normal(scene, polygon);
+        f->centre = v3(0, 0, 0);
+        for (uint32_t k = 0; k < polygon->count; ++k)
+            f->centre = v3_add(f->centre, rad_polygon_vertex(scene, polygon, k));
+        f->centre = v3_scale(f->centre, 1.0 / polygon->count);
+        f->warp = 0;
+        for (uint32_t k = 0; k < polygon->count; ++k)
+            f->warp = fmax(f->warp, fabs(v3_dot(f->normal, v3_sub(rad_polygon_vertex(scene, polygon, k), f->centre))));
+        /* Degenerate polygons never block (the mesher skips them; Embree hardly hits them);
+         * they and polygons of over OCCLUDER_CORNERS corners stand alone. */
+        f->degenerate = !isfinite(f->normal.x) || v3_length(f->normal) < 0.5;
+        f->alone = f->degenerate || polygon->count > OCCLUDER_CORNERS;
+        double offset = f->degenerate ? 0 : v3_dot(f->normal, f->centre);
+        f->key[0] = round(f->normal.x * 1e4) + 0.0; /* + 0.0: no -0, the keys are compared bytewise */
+        f->key[1] = round(f->normal.y * 1e4) + 0.0;
+        f->key[2] = round(f->normal.z * 1e4) + 0.0;
+        f->key[3] = base > 0 ? round(offset / (1000 * base)) + 0.0 : 0;
+        if (f->alone || !isfinite(offset)) f->alone = 1, f->key[0] = f->key[1] = f->key[2] = f->key[3] = 0;
+        memcpy(order[q].key, f->key, sizeof f->key);
+        order[q].alone = f->alone;
+        order[q].polygon = (uint32_t)q;
+    }
+    qsort(order, polygons, sizeof *order, by_plane);
+
+    /* Occluders: runs of polygons with the same key whose corners all lie within 10 base of the
+     * first one's plane, up to OCCLUDER_CORNERS corners. */
+    size_t n = 0, corner_total = 0;
+    uint32_t leader = 0, corners_in = 0;
+    for (size_t i = 0; i < polygons; ++i) {
+        const uint32_t q = order[i].polygon;
+        const rad_polygon *polygon = &scene->polygons[q];
+        int join = i > 0 && !fit[q].alone && !fit[leader].alone &&
+                   memcmp(fit[q].key, fit[leader].key, sizeof fit[q].key) == 0 &&
+                   corners_in + polygon->count <= OCCLUDER_CORNERS;
+        for (uint32_t k = 0; k < polygon->count && join; ++k)
+            join = fabs(v3_dot(fit[leader].normal, v3_sub(rad_polygon_vertex(scene, polygon, k),
+                                                         fit[leader].centre))) <= 10 * base;
+        if (!join) {
+            leader = q;
+            corners_in = 0;
+            ++n;
+        }
+        occluder_of[q] = (uint32_t)(n - 1);
+        corners_in += polygon->count;
+        corner_total += polygon->count;
+    }
+    rad_free(ctx, order);
+    if (n > SHAFT_MAX_OCCLUDERS) {
+        rad_free(ctx, fit);
+        rad_free(ctx, occluder_of);
+        return RAD_OK;
+    }
+
     rad_ff_shaft *shaft = rad_alloc_zero(ctx, 1, sizeof *shaft);
-    if (!shaft) return RAD_ERROR_NO_MEMORY;
+    if (!shaft) {
+        rad_free(ctx, fit);
+        rad_free(ctx, occluder_of);
+        return RAD_ERROR_NO_MEMORY;
+    }
     shaft->ctx = ctx;
     shaft->mesh = mesh;
     shaft->polygon_count = n;
+    shaft->occluder_of = occluder_of;
     shaft->normal = rad_alloc(ctx, n, sizeof *shaft->normal);
     shaft->offset = rad_alloc(ctx, n, sizeof *shaft->offset);
     shaft->tolerance = rad_alloc(ctx, n, sizeof *shaft->tolerance);
@@ -93,65 +203,61 @@ rad_status rad_ff_shaft_create(rad_context *ctx, const rad_scene *scene, const r
     shaft->patch_side = rad_alloc(ctx, n, sizeof *shaft->patch_side);
     shaft->candidate_first = rad_alloc(ctx, n + 1, sizeof *shaft->candidate_first);
     shaft->candidates = rad_alloc(ctx, n * n, sizeof *shaft->candidates);
-    shaft->corner_first = rad_alloc(ctx, n + 1, sizeof *shaft->corner_first);
-    shaft->corners = rad_alloc(ctx, scene->polygon_vertex_count + 1, sizeof *shaft->corners);
+    shaft->corner_first = rad_alloc_zero(ctx, n + 1, sizeof *shaft->corner_first);
+    shaft->corners = rad_alloc(ctx, corner_total + 1, sizeof *shaft->corners);
     if (!shaft->normal || !shaft->offset || !shaft->tolerance || !shaft->lo || !shaft->hi ||
         !shaft->corner_first || !shaft->corners ||
         !shaft->side || !shaft->patch_side || !shaft->candidate_first || !shaft->candidates) {
+        rad_free(ctx, fit);
         rad_ff_shaft_destroy(shaft);
         return RAD_ERROR_NO_MEMORY;
     }
-    rad_vec3 scene_lo, scene_hi;
-    rad_scene_bounds(scene, &scene_lo, &scene_hi);
-    double base = 1e-6 * v3_length(v3_sub(scene_hi, scene_lo));
-    rad_vec3 points[64];
-    uint32_t stored = 0;
-    for (size_t q = 0; q < n; ++q) {
+    /* Each occluder's corners, in one run (counted first, then placed). */
+    for (size_t q = 0; q < polygons; ++q) shaft->corner_first[occluder_of[q] + 1] += scene->polygons[q].count;
+    for (size_t g = 0; g < n; ++g) shaft->corner_first[g + 1] += shaft->corner_first[g];
+    uint32_t *fill = shaft->candidate_first; /* scratch until rad_ff_shaft_begin */
+    memcpy(fill, shaft->corner_first, n * sizeof *fill);
+    for (size_t q = 0; q < polygons; ++q) {
         const rad_polygon *polygon = &scene->polygons[q];
-        shaft->corner_first[q] = stored;
         for (uint32_t k = 0; k < polygon->count; ++k)
-            shaft->corners[stored++] = rad_polygon_vertex(scene, polygon, k);
+            shaft->corners[fill[occluder_of[q]]++] = rad_polygon_vertex(scene, polygon, k);
     }
-    shaft->corner_first[n] = stored;
-    for (size_t q = 0; q < n; ++q) {
-        const rad_polygon *polygon = &scene->polygons[q];
-        rad_vec3 normal = rad_polygon_normal(scene, polygon);
-        int count = polygon->count < 64 ? (int)polygon->count : 64;
-        rad_vec3 centre = v3(0, 0, 0), lo = rad_polygon_vertex(scene, polygon, 0), hi = lo;
-        for (int k = 0; k < count; ++k) {
-            points[k] = rad_polygon_vertex(scene, polygon, (uint32_t)k);
-            centre = v3_add(centre, points[k]);
-            lo = v3(fmin(lo.x, points[k].x), fmin(lo.y, points[k].y), fmin(lo.z, points[k].z));
-            hi = v3(fmax(hi.x, points[k].x), fmax(hi.y, points[k].y), fmax(hi.z, points[k].z));
-        }
-        centre = v3_scale(centre, 1.0 / count);
-        /* A polygon that is not quite planar (Embree sees its fan of triangles) widens the band
-         * that counts as its plane, so the test stays conservative. */
+    /* Each occluder's plane: that of its first polygon, the band widened by how far its
+     * corners stray from it (a polygon that is not quite planar: Embree sees its fan of
+     * triangles), so the tests stay conservative. */
+    uint8_t *seen = shaft->patch_side; /* scratch: occluder planes set */
+    memset(seen, 0, n);
+    for (size_t q = 0; q < polygons; ++q) {
+        uint32_t g = occluder_of[q];
+        if (seen[g]) continue;
+        seen[g] = 1;
+        const rad_vec3 *corners = shaft->corners + shaft->corner_first[g];
+        const int count = (int)(shaft->corner_first[g + 1] - shaft->corner_first[g]);
+        rad_vec3 normal = fit[q].normal, centre = fit[q].centre;
+        rad_vec3 lo = corners[0], hi = corners[0];
         double warp = 0;
-        for (int k = 0; k < count; ++k) warp = fmax(warp, fabs(v3_dot(normal, v3_sub(points[k], centre))));
+        for (int k = 0; k < count; ++k) {
+            lo = v3(fmin(lo.x, corners[k].x), fmin(lo.y, corners[k].y), fmin(lo.z, corners[k].z));
+            hi = v3(fmax(hi.x, corners[k].x), fmax(hi.y, corners[k].y), fmax(hi.z, corners[k].z));
+            warp = fmax(warp, fabs(v3_dot(normal, v3_sub(corners[k], centre))));
+        }
         double tolerance = base + 2 * warp;
-        if (!isfinite(normal.x) || v3_length(normal) < 0.5) {
-            /* Degenerate polygons never block (the mesher skips them; Embree hardly hits them). */
+        if (fit[q].degenerate) {
             normal = v3(0, 0, 1);
             tolerance = INFINITY;
         }
-        shaft->normal[q] = normal;
-        shaft->offset[q] = v3_dot(normal, centre);
-        shaft->tolerance[q] = tolerance;
-        rad_vec3 widen = v3(tolerance, tolerance, tolerance);
-        if (!isfinite(tolerance)) widen = v3(0, 0, 0);
-        shaft->lo[q] = v3_sub(lo, widen);
-        shaft->hi[q] = v3_add(hi, widen);
+        shaft->normal[g] = normal;
+        shaft->offset[g] = isfinite(tolerance) ? v3_dot(normal, centre) : 0;
+        shaft->tolerance[g] = tolerance;
+        rad_vec3 widen = isfinite(tolerance) ? v3(tolerance, tolerance, tolerance) : v3(0, 0, 0);
+        shaft->lo[g] = v3_sub(lo, widen);
+        shaft->hi[g] = v3_add(hi, widen);
     }
+    rad_free(ctx, fit);
     for (size_t r = 0; r < n; ++r) {
-        const rad_polygon *polygon = &scene->polygons[r];
-        int count = polygon->count < 64 ? (int)polygon->count : 64;
-        for (int k = 0; k < count; ++k) points[k] = rad_polygon_vertex(scene, polygon, (uint32_t)k);
-        for (size_t q = 0; q < n; ++q) {
-            /* Polygons beyond 64 corners are treated as straddling: conservative. */
-            shaft->side[r * n + q] = polygon->count > 64 ? (SIDE_FRONT | SIDE_BACK)
-                                                         : classify(shaft, q, points, count);
-        }
+        const rad_vec3 *corners = shaft->corners + shaft->corner_first[r];
+        const int count = (int)(shaft->corner_first[r + 1] - shaft->corner_first[r]);
+        for (size_t q = 0; q < n; ++q) shaft->side[r * n + q] = classify(shaft, q, corners, count);
     }
     *out = shaft;
     return RAD_OK;
@@ -287,11 +393,11 @@ int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element) {
     rad_vec3 corners[4];
     int count = rad_mesh_corner_count(mesh, element);
     for (int k = 0; k < count; ++k) corners[k] = rad_element_corner(mesh, element, k);
-    return clear_to(shaft, mesh->element_polygon[element], corners, count);
+    return clear_to(shaft, shaft->occluder_of[mesh->element_polygon[element]], corners, count);
 }
 
 int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_patch *receiver,
                              uint32_t polygon) {
     if (!shaft) return 0;
-    return clear_to(shaft, polygon, receiver->corners, receiver->corner_count);
+    return clear_to(shaft, shaft->occluder_of[polygon], receiver->corners, receiver->corner_count);
 }
