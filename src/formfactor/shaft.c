@@ -84,19 +84,16 @@ void rad_ff_shaft_destroy(rad_ff_shaft *shaft) {
     rad_free(ctx, shaft);
 }
 
-/* A polygon's plane and how far its corners stray from it. */
+/* A polygon's plane. */
 typedef struct plane_fit {
     rad_vec3 normal, centre;
-    double warp;
-    double key[4]; /* the plane rounded: polygons of one plane sort next to each other */
     int degenerate; /* no plane: never blocks */
-    int alone;      /* not gathered with others (degenerate, or too many corners) */
 } plane_fit;
 
 /* A polygon in the sort by plane. */
 typedef struct plane_entry {
-    double key[4];
-    int alone;
+    double key[4]; /* the plane rounded: polygons of one plane sort next to each other */
+    int alone;     /* not gathered with others (degenerate, or too many corners) */
     uint32_t polygon;
 } plane_entry;
 
@@ -122,72 +119,77 @@ rad_status rad_ff_shaft_create(rad_context *ctx, const rad_scene *scene, const r
     plane_fit *fit = rad_alloc(ctx, polygons, sizeof *fit);
     plane_entry *order = rad_alloc(ctx, polygons, sizeof *order);
     uint32_t *occluder_of = rad_alloc(ctx, polygons, sizeof *occluder_of);
-    if (!fit || !order || !occluder_of) {
+    uint32_t *leader = rad_alloc(ctx, polygons, sizeof *leader); /* an occluder's first polygon */
+    if (!fit || !order || !occluder_of || !leader) {
         rad_free(ctx, fit);
         rad_free(ctx, order);
         rad_free(ctx, occluder_of);
+        rad_free(ctx, leader);
         return RAD_ERROR_NO_MEMORY;
     }
     for (size_t q = 0; q < polygons; ++q) {
         const rad_polygon *polygon = &scene->polygons[q];
         plane_fit *f = &fit[q];
+        plane_entry *entry = &order[q];
         f->normal = rad_polygon_normal(scene, polygon);
         f->centre = v3(0, 0, 0);
         for (uint32_t k = 0; k < polygon->count; ++k)
             f->centre = v3_add(f->centre, rad_polygon_vertex(scene, polygon, k));
         f->centre = v3_scale(f->centre, 1.0 / polygon->count);
-        f->warp = 0;
-        for (uint32_t k = 0; k < polygon->count; ++k)
-            f->warp = fmax(f->warp, fabs(v3_dot(f->normal, v3_sub(rad_polygon_vertex(scene, polygon, k), f->centre))));
         /* Degenerate polygons never block (the mesher skips them; Embree hardly hits them);
          * they and polygons of over OCCLUDER_CORNERS corners stand alone. */
         f->degenerate = !isfinite(f->normal.x) || v3_length(f->normal) < 0.5;
-        f->alone = f->degenerate || polygon->count > OCCLUDER_CORNERS;
         double offset = f->degenerate ? 0 : v3_dot(f->normal, f->centre);
-        f->key[0] = round(f->normal.x * 1e4) + 0.0; /* + 0.0: no -0, the keys are compared bytewise */
-        f->key[1] = round(f->normal.y * 1e4) + 0.0;
-        f->key[2] = round(f->normal.z * 1e4) + 0.0;
-        f->key[3] = base > 0 ? round(offset / (1000 * base)) + 0.0 : 0;
-        if (f->alone || !isfinite(offset)) f->alone = 1, f->key[0] = f->key[1] = f->key[2] = f->key[3] = 0;
-        memcpy(order[q].key, f->key, sizeof f->key);
-        order[q].alone = f->alone;
-        order[q].polygon = (uint32_t)q;
+        entry->polygon = (uint32_t)q;
+        entry->alone = f->degenerate || polygon->count > OCCLUDER_CORNERS || !isfinite(offset);
+        /* + 0.0: no -0, the keys are compared bytewise. */
+        entry->key[0] = entry->alone ? 0 : round(f->normal.x * 1e4) + 0.0;
+        entry->key[1] = entry->alone ? 0 : round(f->normal.y * 1e4) + 0.0;
+        entry->key[2] = entry->alone ? 0 : round(f->normal.z * 1e4) + 0.0;
+        entry->key[3] = entry->alone || !(base > 0) ? 0 : round(offset / (1000 * base)) + 0.0;
     }
     qsort(order, polygons, sizeof *order, by_plane);
 
     /* Occluders: runs of polygons with the same key whose corners all lie within 10 base of the
-     * first one's plane, up to OCCLUDER_CORNERS corners. */
+     * plane of the run's first polygon (the lowest index: the sort breaks ties by index), up to
+     * OCCLUDER_CORNERS corners. */
     size_t n = 0, corner_total = 0;
-    uint32_t leader = 0, corners_in = 0;
+    uint32_t corners_in = 0;
+    const plane_entry *first = NULL;
     for (size_t i = 0; i < polygons; ++i) {
-        const uint32_t q = order[i].polygon;
+        const plane_entry *entry = &order[i];
+        const uint32_t q = entry->polygon;
         const rad_polygon *polygon = &scene->polygons[q];
-        int join = i > 0 && !fit[q].alone && !fit[leader].alone &&
-                   memcmp(fit[q].key, fit[leader].key, sizeof fit[q].key) == 0 &&
+        int join = first && !entry->alone && !first->alone &&
+                   memcmp(entry->key, first->key, sizeof entry->key) == 0 &&
                    corners_in + polygon->count <= OCCLUDER_CORNERS;
+        const plane_fit *plane = first ? &fit[first->polygon] : NULL;
         for (uint32_t k = 0; k < polygon->count && join; ++k)
-            join = fabs(v3_dot(fit[leader].normal, v3_sub(rad_polygon_vertex(scene, polygon, k),
-                                                         fit[leader].centre))) <= 10 * base;
+            join = fabs(v3_dot(plane->normal, v3_sub(rad_polygon_vertex(scene, polygon, k),
+                                                    plane->centre))) <= 10 * base;
         if (!join) {
-            leader = q;
+            first = entry;
+            leader[n++] = q;
             corners_in = 0;
-            ++n;
         }
         occluder_of[q] = (uint32_t)(n - 1);
         corners_in += polygon->count;
         corner_total += polygon->count;
     }
-    rad_free(ctx, order);
     if (n > SHAFT_MAX_OCCLUDERS) {
         rad_free(ctx, fit);
+        rad_free(ctx, order);
         rad_free(ctx, occluder_of);
+        rad_free(ctx, leader);
         return RAD_OK;
     }
 
+    rad_free(ctx, order);
     rad_ff_shaft *shaft = rad_alloc_zero(ctx, 1, sizeof *shaft);
     if (!shaft) {
         rad_free(ctx, fit);
         rad_free(ctx, occluder_of);
+        rad_free(ctx, leader);
         return RAD_ERROR_NO_MEMORY;
     }
     shaft->ctx = ctx;
@@ -209,6 +211,7 @@ rad_status rad_ff_shaft_create(rad_context *ctx, const rad_scene *scene, const r
         !shaft->corner_first || !shaft->corners ||
         !shaft->side || !shaft->patch_side || !shaft->candidate_first || !shaft->candidates) {
         rad_free(ctx, fit);
+        rad_free(ctx, leader);
         rad_ff_shaft_destroy(shaft);
         return RAD_ERROR_NO_MEMORY;
     }
@@ -225,34 +228,30 @@ rad_status rad_ff_shaft_create(rad_context *ctx, const rad_scene *scene, const r
     /* Each occluder's plane: that of its first polygon, the band widened by how far its
      * corners stray from it (a polygon that is not quite planar: Embree sees its fan of
      * triangles), so the tests stay conservative. */
-    uint8_t *seen = shaft->patch_side; /* scratch: occluder planes set */
-    memset(seen, 0, n);
-    for (size_t q = 0; q < polygons; ++q) {
-        uint32_t g = occluder_of[q];
-        if (seen[g]) continue;
-        seen[g] = 1;
+    for (size_t g = 0; g < n; ++g) {
+        const plane_fit *plane = &fit[leader[g]];
         const rad_vec3 *corners = shaft->corners + shaft->corner_first[g];
         const int count = (int)(shaft->corner_first[g + 1] - shaft->corner_first[g]);
-        rad_vec3 normal = fit[q].normal, centre = fit[q].centre;
-        rad_vec3 lo = corners[0], hi = corners[0];
+        rad_vec3 normal = plane->normal, lo = corners[0], hi = corners[0];
         double warp = 0;
         for (int k = 0; k < count; ++k) {
             lo = v3(fmin(lo.x, corners[k].x), fmin(lo.y, corners[k].y), fmin(lo.z, corners[k].z));
             hi = v3(fmax(hi.x, corners[k].x), fmax(hi.y, corners[k].y), fmax(hi.z, corners[k].z));
-            warp = fmax(warp, fabs(v3_dot(normal, v3_sub(corners[k], centre))));
+            warp = fmax(warp, fabs(v3_dot(normal, v3_sub(corners[k], plane->centre))));
         }
         double tolerance = base + 2 * warp;
-        if (fit[q].degenerate) {
+        if (plane->degenerate) {
             normal = v3(0, 0, 1);
             tolerance = INFINITY;
         }
         shaft->normal[g] = normal;
-        shaft->offset[g] = isfinite(tolerance) ? v3_dot(normal, centre) : 0;
+        shaft->offset[g] = isfinite(tolerance) ? v3_dot(normal, plane->centre) : 0;
         shaft->tolerance[g] = tolerance;
         rad_vec3 widen = isfinite(tolerance) ? v3(tolerance, tolerance, tolerance) : v3(0, 0, 0);
         shaft->lo[g] = v3_sub(lo, widen);
         shaft->hi[g] = v3_add(hi, widen);
     }
+    rad_free(ctx, leader);
     rad_free(ctx, fit);
     for (size_t r = 0; r < n; ++r) {
         const rad_vec3 *corners = shaft->corners + shaft->corner_first[r];
