@@ -13,10 +13,6 @@
  * that are not clear costs more than their four rays). Otherwise `samples` rays go from the centroid to points
  * spread over the patch; the visible fraction is weighted by each point's share of the point
  * kernel cos cos / r^2, so a partly hidden patch loses what its hidden part would have sent. */
-/* sqrt never sees a negative number here; without errno to set it vectorises. */
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("no-math-errno")
-#endif
 
 #include "formfactor/geometric.h"
 

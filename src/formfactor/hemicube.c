@@ -20,10 +20,6 @@
  * Work is split into 12 tiles (the top face in quadrants, each side in halves), rasterised in
  * parallel; each pixel's delta form factor is added to its element in 2^-60 fixed point, so the
  * sums do not depend on the order, the tiling or the thread count. */
-/* sqrt never sees a negative number here; without errno to set it vectorises. */
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("no-math-errno")
-#endif
 
 #include "formfactor/geometric.h"
 

@@ -11,10 +11,6 @@
  * than twice their radii the integral over the source is therefore taken in closed form at each
  * sampled receiver point (the contour integral of analytic.c), which keeps it unbiased with
  * bounded variance. Pairs that shaft culling proves unoccluded cast no ray. */
-/* sqrt never sees a negative number here; without errno to set it vectorises. */
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("no-math-errno")
-#endif
 
 #include "formfactor/geometric.h"
 

@@ -14,10 +14,6 @@
  * distance, so the source is cut finer, (2 radius / r)^2 times the samples up to 16 times, as
  * Wallace et al. subdivide the source adaptively. Pairs that shaft culling proves unoccluded
  * cast no ray. */
-/* sqrt never sees a negative number here; without errno to set it vectorises. */
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("no-math-errno")
-#endif
 
 #include "formfactor/geometric.h"
 
