@@ -50,6 +50,9 @@ rad_status cli_load_scene(rad_context *ctx, const char *name, rad_scene **out);
 /* Parses a form-factor method name; -1 when unknown. */
 int cli_parse_ff_method(const char *name);
 
+/* Wall-clock seconds (monotonic), for timings and progress (pipeline.c). */
+double cli_seconds(void);
+
 /* Commands. */
 int cmd_solve(int argc, char **argv);
 int cmd_scenes(int argc, char **argv);

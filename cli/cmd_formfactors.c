@@ -6,7 +6,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 typedef struct formfactors_args {
     const char *ff;
@@ -15,12 +14,6 @@ typedef struct formfactors_args {
     size_t elements;
     uint64_t seed;
 } formfactors_args;
-
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static void print_json(const rad_system *system, const double *matrix) {
     size_t n = rad_system_surface_count(system);
@@ -121,7 +114,7 @@ int cmd_formfactors(int argc, char **argv) {
     double *matrix = NULL;
     rad_mesh_options mesh = {a.patch_size, a.element_size, a.elements};
     rad_ff_options ff = {(rad_ff_method)method, a.ff_samples, a.hemicube_res};
-    double start = now();
+    double start = cli_seconds();
     int exit_status = 0;
     rad_status rs = cli_load_scene(ctx, positional[0], &scene);
     if (!rs) rs = rad_system_create(ctx, scene, &mesh, &ff, &system);
@@ -139,7 +132,7 @@ int cmd_formfactors(int argc, char **argv) {
     else if (a.json) print_json(system, matrix);
     else {
         const char *name = rad_scene_is_geometric(scene) ? rad_ff_method_name(ff.method) : "given";
-        print_table(system, matrix, name ? name : a.ff, now() - start);
+        print_table(system, matrix, name ? name : a.ff, cli_seconds() - start);
     }
     free(matrix);
     rad_system_destroy(system);

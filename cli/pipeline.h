@@ -40,7 +40,4 @@ rad_status cli_pipeline_build(rad_context *ctx, const char *scene_name,
 rad_status cli_pipeline_solve(rad_system *system, const rad_solve_options *solve,
                               rad_solve_report *report, cli_timings *timings);
 
-/* Wall-clock seconds. */
-double cli_seconds(void);
-
 #endif

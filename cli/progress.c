@@ -12,7 +12,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #define BAR_WIDTH 24
@@ -25,12 +24,6 @@ static struct {
     char phase[48];
     double phase_start, phase_start_done, last_draw;
 } bar;
-
-static double now_seconds(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 void cli_progress_clear(void) {
     if (!bar.shown) return;
@@ -63,7 +56,7 @@ int cli_progress_report(void *user, const char *phase, double done, double total
     (void)user;
     if (cli_interrupted()) return 1; /* Ctrl-C: the library stops and reports it cancelled */
     if (!bar.enabled || !phase) return 0;
-    double now = now_seconds();
+    double now = cli_seconds();
     if (strncmp(bar.phase, phase, sizeof bar.phase - 1) != 0) {
         snprintf(bar.phase, sizeof bar.phase, "%s", phase);
         bar.phase_start = now;

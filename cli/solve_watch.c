@@ -7,13 +7,6 @@
 
 #include <math.h>
 #include <string.h>
-#include <time.h>
-
-static double wall_seconds(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 void solve_watch_measure(solve_watch *w) {
     const rad_system *s = w->system;
@@ -55,7 +48,7 @@ static double time_left(solve_watch *w, double seconds, double residual) {
 }
 
 static void draw_progress(solve_watch *w, const rad_iteration_event *event) {
-    double now = wall_seconds();
+    double now = cli_seconds();
     double left = time_left(w, event->seconds, event->residual);
     if (now - w->last_draw < 0.1) return;
     if (w->last_draw == 0) cli_progress_clear(); /* the bar of the phases before */
