@@ -21,11 +21,7 @@ static void print_json(const rad_system *system, const double *matrix) {
     for (size_t i = 0; i < n; ++i) {
         rad_surface_info info;
         rad_system_surface(system, i, &info);
-        printf(i ? ",\n  " : "\n  ");
-        printf("{\"name\": ");
-        json_string(stdout, info.name);
-        printf(", \"area\": ");
-        json_number(stdout, info.area);
+        json_surface_open(stdout, i, info.name, info.area);
         printf("}");
     }
     printf("],\n \"form_factors\": [");

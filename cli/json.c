@@ -27,6 +27,13 @@ void json_number(FILE *out, double value) {
     }
 }
 
+void json_surface_open(FILE *out, size_t index, const char *name, double area) {
+    fputs(index ? ",\n  {\"name\": " : "\n  {\"name\": ", out);
+    json_string(out, name);
+    fputs(", \"area\": ", out);
+    json_number(out, area);
+}
+
 void json_rgb(FILE *out, const double rgb[3]) {
     fputc('[', out);
     for (int c = 0; c < 3; ++c) {
