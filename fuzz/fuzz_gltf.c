@@ -2,6 +2,7 @@
  * the binary glTF chunk header and a JSON walker that picks out emissive strengths and camera
  * fields of view). The input is written to a temporary file, since the reader takes a path;
  * "glTF" at its start makes it a .glb. */
+#include "input_file.h"
 #include "scene/gltf_extras.h"
 
 #include <stdint.h>
@@ -11,24 +12,8 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static char directory[64], path[96];
-static void remove_directory(void) {
-    unlink(path);
-    rmdir(directory);
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    if (!directory[0]) {
-        const char *base = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
-        snprintf(directory, sizeof directory, "%s/rad-fuzz-gltf-XXXXXX", base);
-        if (!mkdtemp(directory)) abort();
-        snprintf(path, sizeof path, "%s/input.gltf", directory);
-        atexit(remove_directory);
-    }
-    FILE *file = fopen(path, "wb");
-    if (!file) abort();
-    if (size && fwrite(data, 1, size, file) != size) abort();
-    if (fclose(file)) abort();
+    const char *path = fuzz_write_input("gltf", data, size);
 
     rad_context_options options = {0};
     options.max_memory = 64u << 20;

@@ -3,6 +3,7 @@
  * holds, loading it gives a scene or an error, in bounded time and memory. The first byte picks
  * the extension (.ply, .glb, .obj, .gltf); the rest is written to a temporary file. (Meshing
  * is left to the other tests: building Embree scenes would cut the rate by ten.) */
+#include "input_file.h"
 #include "radiosity.h"
 
 #include <stdint.h>
@@ -13,27 +14,10 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static const char *const extensions[] = {"ply", "glb", "obj", "gltf"};
-static char directory[64], paths[4][96];
-static void remove_directory(void) {
-    for (int i = 0; i < 4; ++i) unlink(paths[i]);
-    rmdir(directory);
-}
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    if (!directory[0]) {
-        const char *base = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
-        snprintf(directory, sizeof directory, "%s/rad-fuzz-import-XXXXXX", base);
-        if (!mkdtemp(directory)) abort();
-        for (int i = 0; i < 4; ++i)
-            snprintf(paths[i], sizeof paths[i], "%s/input.%s", directory, extensions[i]);
-        atexit(remove_directory);
-    }
     if (size < 1) return 0;
-    const char *path = paths[data[0] & 3];
-    FILE *file = fopen(path, "wb");
-    if (!file) abort();
-    if (size > 1 && fwrite(data + 1, 1, size - 1, file) != size - 1) abort();
-    if (fclose(file)) abort();
+    const char *path = fuzz_write_input(extensions[data[0] & 3], data + 1, size - 1);
 
     rad_context_options options = {0};
     options.threads = 1;

@@ -5,6 +5,7 @@
  * input byte is odd the target rewrites the checksum of the rest before loading, and mutations
  * reach the fields behind it; when it is even the bytes are loaded as they are. Either way the
  * rest of the input is written to a temporary file, since the loader takes a path. */
+#include "input_file.h"
 #include "io/solution.h"
 
 #include <stdint.h>
@@ -15,20 +16,7 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static char directory[64], path[96];
-static void remove_directory(void) {
-    unlink(path);
-    rmdir(directory);
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    if (!directory[0]) {
-        const char *base = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
-        snprintf(directory, sizeof directory, "%s/rad-fuzz-solution-XXXXXX", base);
-        if (!mkdtemp(directory)) abort();
-        snprintf(path, sizeof path, "%s/input.sol", directory);
-        atexit(remove_directory);
-    }
     if (size < 1) return 0;
     size_t length = size - 1;
     uint8_t *bytes = malloc(length ? length : 1);
@@ -38,10 +26,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         uint64_t checksum = rad_fnv1a(RAD_FNV1A_START, bytes, length - 8);
         for (int k = 0; k < 8; ++k) bytes[length - 8 + k] = (uint8_t)(checksum >> (8 * k));
     }
-    FILE *file = fopen(path, "wb");
-    if (!file) abort();
-    if (length && fwrite(bytes, 1, length, file) != length) abort();
-    if (fclose(file)) abort();
+    const char *path = fuzz_write_input("sol", bytes, length);
     free(bytes);
 
     rad_context_options options = {0};
