@@ -194,7 +194,7 @@ static int segment_ray(const rad_rays *rays, rad_vec3 a, rad_vec3 b, float org[3
             RTC_ALIGN(64) int valid[N];                                                          \
             size_t lanes = count - start < N ? count - start : N;                                \
             for (size_t i = 0; i < N; ++i) {                                                     \
-                float org[3] = {0, 0, 0}, dir[3] = {0, 0, 1}, tnear = 0, tfar = 0;              \
+                float org[3] = {0, 0, 0}, dir[3] = {0, 0, 1}, tnear = 1, tfar = 0; /* empty */ \
                 int live = i < lanes &&                                                          \
                            segment_ray(rays, a[start + i], b[start + i], org, dir, &tnear, &tfar); \
                 valid[i] = live ? -1 : 0;                                                        \
@@ -266,8 +266,20 @@ void rad_rays_occluded_batch(const rad_rays *rays, const rad_vec3 *a, const rad_
     }
 }
 
+/* An empty lane: a finite ray at the origin whose segment is empty (tnear > tfar, both >= 0).
+ * Embree reads every lane of a packet on some processors whatever valid[] says (Debian's
+ * Embree asserts ray.valid() and tnear >= 0 across all 16), so no lane may hold garbage. */
+static void empty_lane(struct RTCRay16 *ray, int i) {
+    ray->org_x[i] = ray->org_y[i] = ray->org_z[i] = 0;
+    ray->dir_x[i] = ray->dir_y[i] = 0;
+    ray->dir_z[i] = 1;
+    ray->tnear[i] = 1;
+    ray->tfar[i] = 0;
+}
+
 void rad_ray_packet_init(rad_ray_packet *packet) {
     for (int i = 0; i < 16; ++i) {
+        empty_lane(&packet->ray, i);
         packet->ray.time[i] = 0;
         packet->ray.mask[i] = UINT32_MAX;
         packet->ray.id[i] = (unsigned)i;
@@ -280,8 +292,10 @@ void rad_rays_trace_packet(const rad_rays *rays, rad_ray_packet *packet) {
     struct RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    for (int i = 0; i < 16; ++i)
+    for (int i = 0; i < 16; ++i) {
+        if (i >= packet->count) empty_lane(&packet->ray, i); /* unused lanes: filled, inactive */
         packet->valid[i] = i < packet->count && packet->ray.tnear[i] < packet->ray.tfar[i] ? -1 : 0;
+    }
     rtcOccluded16(packet->valid, rays->scene, &context, &packet->ray);
     for (int i = 0; i < packet->count; ++i)
         if (!packet->valid[i]) packet->ray.tfar[i] = 1; /* a segment too short to be blocked */
