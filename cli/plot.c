@@ -39,40 +39,22 @@ void plot_series_free(plot_series *s) {
 /* ------------------------------------------------------------------------------------------- */
 /* Whole-file writes.                                                                            */
 
-int cli_write_whole(const char *path, const char *data, size_t size) {
-    size_t length = strlen(path);
-    char *temporary = malloc(length + 16);
-    if (!temporary) return cli_error(1, "%s: out of memory", path);
-    snprintf(temporary, length + 16, "%s.tmp-XXXXXX", path);
-    int fd = mkstemp(temporary);
-    if (fd < 0) {
-        int saved = errno;
-        free(temporary);
-        return cli_error(1, "%s: cannot write: %s", path, strerror(saved));
-    }
-    /* mkstemp makes the file private; an output gets the usual permissions. */
-    mode_t mask = umask(0);
-    umask(mask);
-    fchmod(fd, 0666 & ~mask);
-    FILE *f = fdopen(fd, "wb");
-    int failed = !f;
-    if (f) {
-        failed = fwrite(data, 1, size, f) != size;
-        failed |= fflush(f) != 0;
-        failed |= fclose(f) != 0;
-    } else {
-        close(fd);
-    }
-    int saved = errno;
-    if (!failed && rename(temporary, path) != 0) {
-        failed = 1;
-        saved = errno;
-    }
-    if (failed) unlink(temporary);
-    free(temporary);
-    if (failed) return cli_error(1, "%s: cannot write: %s", path, strerror(saved));
-    return 0;
+/* The library's output rules (rad_output_write): symbolic links followed, regular files
+ * replaced whole by rename, devices, FIFOs and sockets written through, never replaced. */
+static int output_call(const char *path, const char *data, size_t size, int write) {
+    rad_context *ctx = NULL;
+    if (rad_context_create(NULL, &ctx)) return cli_error(1, "%s: out of memory", path);
+    rad_status status = write ? rad_output_write(ctx, path, data, size) : rad_output_check(ctx, path);
+    int result = status ? cli_error(1, "%s", rad_context_error(ctx)) : 0;
+    rad_context_destroy(ctx);
+    return result;
 }
+
+int cli_write_whole(const char *path, const char *data, size_t size) {
+    return output_call(path, data, size, 1);
+}
+
+int cli_check_writable(const char *path) { return output_call(path, NULL, 0, 0); }
 
 /* Creates and removes a file named `pattern` (with "%s" for `name` and ending in XXXXXX):
  * 0 when that works, else the error `failure` ("%s: <failure>: <reason>") is printed. */
@@ -89,13 +71,6 @@ static int probe_write(const char *name, const char *pattern, const char *failur
     }
     free(probe);
     return fd < 0 ? cli_error(1, "%s: %s: %s", name, failure, strerror(saved)) : 0;
-}
-
-int cli_check_writable(const char *path) {
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-        return cli_error(1, "%s: is a directory, not a file", path);
-    return probe_write(path, "%s.tmp-XXXXXX", "cannot write");
 }
 
 int cli_check_directory(const char *dir) {

@@ -301,6 +301,23 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                      rad_solve_report *report);
 
 /* ---------------------------------------------------------------------------------------------
+ * Output files (docs/errors.md, "Outputs"): every file the library writes goes this way
+ *
+ * Symbolic links are followed and their target written. A regular file (or a new name) is
+ * written whole or not at all: a temporary file beside it, renamed over it. A device, FIFO or
+ * socket is written through and never replaced; a FIFO with no reader is an error, not a wait.
+ * A directory is refused.
+ * ------------------------------------------------------------------------------------------- */
+
+/* Checks, before long work, that `path` can be written (RAD_ERROR_IO with the reason): a
+ * temporary file is made and removed beside a regular target; special files are not opened. */
+rad_status rad_output_check(rad_context *context, const char *path);
+
+/* Writes `size` bytes to `path` by the rules above. */
+rad_status rad_output_write(rad_context *context, const char *path, const void *data,
+                            size_t size);
+
+/* ---------------------------------------------------------------------------------------------
  * Baking: the solution as vertex colours that other tools open (docs/bake.md)
  * ------------------------------------------------------------------------------------------- */
 

@@ -2,7 +2,7 @@
  * format, and the baked mesh every writer reads. */
 #include "io/bake.h"
 
-#include "io/atomic_file.h"
+#include "core/atomic_file.h"
 #include "mesh/mesh.h"
 #include "render/camera.h"
 #include "scene/scene.h"
@@ -120,10 +120,8 @@ rad_status rad_bake_check(rad_context *ctx, const char *path, const rad_bake_opt
     rad_status status = check_options(ctx, path, o, &format, &tonemap);
     if (status) return status;
     /* Try the directory: make the temporary the real write would make, and drop it. */
-    rad_atomic_file probe;
-    status = rad_atomic_open(ctx, path, &probe);
+    status = rad_atomic_check(ctx, path);
     if (status) return status;
-    rad_atomic_abandon(&probe);
     return RAD_OK;
 }
 

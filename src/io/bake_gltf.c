@@ -21,7 +21,7 @@
  *     (JSON with spaces, BIN with zeros). */
 #include "io/bake.h"
 
-#include "io/atomic_file.h"
+#include "core/atomic_file.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -289,7 +289,8 @@ rad_status rad_bake_write_gltf(const rad_baked_mesh *b, const char *path, int bi
     fwrite(buffer, 1, total, bin_file.file);
     fwrite(json.data, 1, json.length, main_file.file);
     if ((status = rad_atomic_commit(&bin_file))) goto done;
-    if ((status = rad_atomic_commit(&main_file))) unlink(bin_path);
+    /* A .bin written through to a device cannot be taken back; a renamed one is removed. */
+    if ((status = rad_atomic_commit(&main_file)) && !bin_file.direct) unlink(bin_path);
 
 done:
     rad_atomic_abandon(&bin_file);

@@ -10,7 +10,7 @@
  * Every write goes through rad_atomic_open/commit: a failure never leaves a half-written file. */
 #include "io/image.h"
 
-#include "io/atomic_file.h"
+#include "core/atomic_file.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -375,10 +375,8 @@ rad_status rad_image_check_path(rad_context *ctx, const char *path,
     rad_status status = write_options(ctx, options, &write);
     if (status) return status;
     /* Make (and drop) the temporary file the write will use: the directory takes new files. */
-    rad_atomic_file file;
-    status = rad_atomic_open(ctx, path, &file);
+    status = rad_atomic_check(ctx, path);
     if (status) return status;
-    rad_atomic_abandon(&file);
     return RAD_OK;
 }
 

@@ -9,6 +9,7 @@
  * the surface's vertices and its faces (1-based, counter-clockwise as in the scene). The MTL
  * file has Kd (reflectance), Ke (emitted radiance L, docs/units.md) and, for mirrors and glass,
  * illum/Ks/Ns or illum/Ni/Tf, the inverse of what the importer reads. */
+#include "core/atomic_file.h"
 #include "scene/scene.h"
 
 #include <errno.h>
@@ -164,21 +165,18 @@ rad_status rad_scene_export_obj(rad_context *ctx, const rad_scene *scene, const 
     const char *dot = strrchr(path, '.');
     size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - path) : length;
     char *mtl_path = rad_alloc(ctx, stem + 5, 1);
-    char *obj_temp = rad_alloc(ctx, length + 32, 1);
-    char *mtl_temp = rad_alloc(ctx, stem + 40, 1);
     size_t *order = rad_alloc(ctx, scene->polygon_count + 1, sizeof *order);
     size_t *first = rad_alloc_zero(ctx, scene->surface_count + 2, sizeof *first);
     uint32_t *obj_index = rad_alloc(ctx, scene->vertex_count + 1, sizeof *obj_index);
     char **names = material_names(ctx, scene);
     rad_status status = RAD_OK;
-    if (!mtl_path || !obj_temp || !mtl_temp || !order || !first || !obj_index || !names) {
+    rad_atomic_file obj = {0}, mtl = {0};
+    if (!mtl_path || !order || !first || !obj_index || !names) {
         status = RAD_ERROR_NO_MEMORY;
         goto done;
     }
     memcpy(mtl_path, path, stem);
     memcpy(mtl_path + stem, ".mtl", 5);
-    snprintf(obj_temp, length + 32, "%s.tmp%ld", path, (long)getpid());
-    snprintf(mtl_temp, stem + 40, "%s.tmp%ld", mtl_path, (long)getpid());
 
     /* Polygons grouped by surface (a counting sort keeps their order within a surface). */
     for (size_t i = 0; i < scene->polygon_count; ++i) first[scene->polygons[i].surface + 1]++;
@@ -191,44 +189,24 @@ rad_status rad_scene_export_obj(rad_context *ctx, const rad_scene *scene, const 
     first[0] = 0;
 
     const char *mtl_base = strrchr(mtl_path, '/') ? strrchr(mtl_path, '/') + 1 : mtl_path;
-    FILE *obj = fopen(obj_temp, "w");
-    if (!obj) {
-        status = rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(errno));
-        goto done;
-    }
-    FILE *mtl = fopen(mtl_temp, "w");
-    if (!mtl) {
-        status = rad_fail(ctx, RAD_ERROR_IO, "%s: %s", mtl_path, strerror(errno));
-        fclose(obj);
-        remove(obj_temp);
-        goto done;
-    }
-    errno = 0;
-    int failed = write_obj(ctx, obj, scene, names, mtl_base, order, first, obj_index);
-    failed |= write_mtl(mtl, scene, names);
-    failed |= fclose(obj) != 0;
-    failed |= fclose(mtl) != 0;
-    int error = errno;
+    /* Both written before either is renamed into place; the .mtl first, so that an .obj never
+     * names a missing library. */
+    if ((status = rad_atomic_open(ctx, path, &obj))) goto done;
+    if ((status = rad_atomic_open(ctx, mtl_path, &mtl))) goto done;
+    int failed = write_obj(ctx, obj.file, scene, names, mtl_base, order, first, obj_index);
+    failed |= write_mtl(mtl.file, scene, names);
     if (failed < 0) {
         status = RAD_ERROR_NO_MEMORY;
-    } else if (failed) {
-        status = rad_fail(ctx, RAD_ERROR_IO, "%s: cannot write: %s", path,
-                          error ? strerror(error) : "write error");
-    } else if (rename(mtl_temp, mtl_path) != 0) {
-        status = rad_fail(ctx, RAD_ERROR_IO, "%s: %s", mtl_path, strerror(errno));
-    } else if (rename(obj_temp, path) != 0) {
-        status = rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(errno));
-        remove(mtl_path);
+        goto done;
     }
-    if (status) {
-        remove(obj_temp);
-        remove(mtl_temp);
-    }
+    if ((status = rad_atomic_commit(&mtl))) goto done;
+    /* A .mtl written through to a device cannot be taken back; a renamed one is removed. */
+    if ((status = rad_atomic_commit(&obj)) && !mtl.direct) remove(mtl_path);
 done:
+    rad_atomic_abandon(&obj);
+    rad_atomic_abandon(&mtl);
     free_names(ctx, names, scene->material_count);
     rad_free(ctx, mtl_path);
-    rad_free(ctx, obj_temp);
-    rad_free(ctx, mtl_temp);
     rad_free(ctx, order);
     rad_free(ctx, first);
     rad_free(ctx, obj_index);
