@@ -2,7 +2,8 @@
  *
  * Kajiya 1986 path tracing, with the estimator of Veach 1997 (ch. 9, 10):
  *   - at every vertex with a non-delta lobe, one emitter sample (next-event estimation): an
- *     emitting triangle chosen by power, a point uniform on it, a shadow ray;
+ *     emitting triangle chosen by power, a point uniform on it (the emitter table of
+ *     light/emitters.h, which the renderer's final gather shares), a shadow ray;
  *   - one BSDF sample to continue the path; when it hits an emitter, its emission counts with
  *     the power-heuristic weight against the emitter sample, or fully after a delta lobe;
  *   - Russian roulette after three bounces, on the path throughput.
@@ -42,57 +43,41 @@ rad_status rad_tracer_create(rad_context *ctx, const rad_scene *scene, int max_b
     t->next_event = 1;
     size_t polygons = scene->polygon_count;
     t->polygon_material = rad_alloc(ctx, polygons, sizeof *t->polygon_material);
-    t->polygon_light_pdf = rad_alloc_zero(ctx, polygons, sizeof *t->polygon_light_pdf);
-    if (!t->polygon_material || !t->polygon_light_pdf) {
+    t->polygon_emitter = rad_alloc(ctx, polygons, sizeof *t->polygon_emitter);
+    if (!t->polygon_material || !t->polygon_emitter) {
         rad_tracer_destroy(t);
         return RAD_ERROR_NO_MEMORY;
     }
-    /* Emitters: every triangle of an emitting polygon, chosen by power (area times the sum of
-     * the emitted radiance over the channels). */
+    /* Emitters: every triangle of an emitting polygon, fanned the way Embree sees it, in one
+     * table (light/emitters.h) that picks them by power. */
     size_t light_triangles = 0;
-    double total_power = 0;
     for (size_t i = 0; i < polygons; ++i) {
         const rad_polygon *p = &scene->polygons[i];
         const rad_material *m = &scene->materials[scene->surfaces[p->surface].material];
         t->polygon_material[i] = m;
-        double weight = luminance_weight(m->emission);
-        if (weight > 0) {
-            light_triangles += p->count - 2;
-            total_power += weight * rad_polygon_area(scene, p);
+        t->polygon_emitter[i] = -1;
+        if (luminance_weight(m->emission) > 0) light_triangles += p->count - 2;
+    }
+    rad_status status = rad_emitter_table_reserve(ctx, &t->emitters, light_triangles);
+    if (status) {
+        rad_tracer_destroy(t);
+        return status;
+    }
+    for (size_t i = 0; i < polygons && light_triangles; ++i) {
+        const rad_polygon *p = &scene->polygons[i];
+        const double *emission = t->polygon_material[i]->emission;
+        if (!(luminance_weight(emission) > 0)) continue;
+        rad_vec3 normal = rad_polygon_normal(scene, p);
+        rad_vec3 p0 = rad_polygon_vertex(scene, p, 0);
+        for (uint32_t k = 1; k + 1 < p->count; ++k) {
+            int32_t index = rad_emitter_table_add(&t->emitters, p0, rad_polygon_vertex(scene, p, k),
+                                                  rad_polygon_vertex(scene, p, k + 1), normal,
+                                                  emission, (uint32_t)i);
+            if (t->polygon_emitter[i] < 0) t->polygon_emitter[i] = index;
         }
     }
-    if (light_triangles && total_power > 0) {
-        t->lights = rad_alloc(ctx, light_triangles, sizeof *t->lights);
-        t->light_cdf = rad_alloc(ctx, light_triangles, sizeof *t->light_cdf);
-        if (!t->lights || !t->light_cdf) {
-            rad_tracer_destroy(t);
-            return RAD_ERROR_NO_MEMORY;
-        }
-        double running = 0;
-        size_t n = 0;
-        for (size_t i = 0; i < polygons; ++i) {
-            const rad_polygon *p = &scene->polygons[i];
-            double weight = luminance_weight(t->polygon_material[i]->emission);
-            if (!(weight > 0)) continue;
-            /* Area density of a point on this polygon: its share of the power over its area. */
-            t->polygon_light_pdf[i] = weight / total_power;
-            rad_vec3 normal = rad_polygon_normal(scene, p);
-            rad_vec3 p0 = rad_polygon_vertex(scene, p, 0);
-            for (uint32_t k = 1; k + 1 < p->count; ++k) {
-                rad_light_triangle *l = &t->lights[n];
-                l->p0 = p0;
-                l->e1 = v3_sub(rad_polygon_vertex(scene, p, k), p0);
-                l->e2 = v3_sub(rad_polygon_vertex(scene, p, k + 1), p0);
-                l->normal = normal;
-                l->polygon = (uint32_t)i;
-                running += weight * 0.5 * v3_length(v3_cross(l->e1, l->e2));
-                t->light_cdf[n++] = running / total_power;
-            }
-        }
-        t->light_count = n;
-        t->light_cdf[n - 1] = 1;
-    }
-    rad_status status = rad_rays_create(ctx, scene, &t->rays);
+    rad_emitter_table_finish(&t->emitters, RAD_EMITTERS_BY_POWER);
+    status = rad_rays_create(ctx, scene, &t->rays);
     if (status) {
         rad_tracer_destroy(t);
         return status;
@@ -105,32 +90,12 @@ void rad_tracer_destroy(rad_tracer *t) {
     if (!t) return;
     rad_rays_destroy(t->rays);
     rad_free(t->ctx, t->polygon_material);
-    rad_free(t->ctx, t->polygon_light_pdf);
-    rad_free(t->ctx, t->lights);
-    rad_free(t->ctx, t->light_cdf);
+    rad_free(t->ctx, t->polygon_emitter);
+    rad_emitter_table_free(t->ctx, &t->emitters);
     rad_free(t->ctx, t);
 }
 
 /* ---- one path ----------------------------------------------------------------------------- */
-
-/* A point on the emitters: position, front normal, and the polygon it lies on. */
-static const rad_light_triangle *sample_light(const rad_tracer *t, rad_rng *rng, rad_vec3 *point) {
-    double u = rad_rng_uniform(rng);
-    size_t lo = 0, hi = t->light_count - 1;
-    while (lo < hi) { /* the first entry with cdf > u */
-        size_t mid = (lo + hi) / 2;
-        if (t->light_cdf[mid] > u) hi = mid;
-        else lo = mid + 1;
-    }
-    const rad_light_triangle *l = &t->lights[lo];
-    double s = rad_rng_uniform(rng), r = rad_rng_uniform(rng);
-    if (s + r > 1) {
-        s = 1 - s;
-        r = 1 - r;
-    }
-    *point = v3_add(l->p0, v3_add(v3_scale(l->e1, s), v3_scale(l->e2, r)));
-    return l;
-}
 
 static double power_heuristic(double f, double g) {
     double f2 = f * f, g2 = g * g;
@@ -159,11 +124,11 @@ void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad
         rad_vec3 wo = v3_scale(direction, -1);
 
         /* Emission seen along the path (front sides only). */
-        if (hit.front && t->polygon_light_pdf[hit.polygon] > 0) {
+        if (hit.front && t->polygon_emitter[hit.polygon] >= 0) {
             double weight = 1;
             if (!previous_delta && t->next_event) {
-                double cos_light = v3_dot(wo, hit.normal);
-                double light_pdf = t->polygon_light_pdf[hit.polygon] * hit.t * hit.t / cos_light;
+                double light_pdf = rad_emitter_table_pdf(
+                    &t->emitters, (size_t)t->polygon_emitter[hit.polygon], direction, hit.t);
                 weight = power_heuristic(previous_pdf, light_pdf);
             }
             for (int c = 0; c < 3; ++c) radiance[c] += throughput[c] * weight * m->emission[c];
@@ -171,25 +136,19 @@ void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad
         if (bounce >= t->max_bounces) break;
 
         /* Next-event estimation: one point on the emitters, weighted against BSDF sampling. */
-        if (t->next_event && t->light_count && rad_bsdf_has_smooth_lobe(m)) {
-            rad_vec3 y;
-            const rad_light_triangle *l = sample_light(t, rng, &y);
-            rad_vec3 to_light = v3_sub(y, x);
-            double distance2 = v3_dot(to_light, to_light);
-            double distance = sqrt(distance2);
-            rad_vec3 wi = v3_scale(to_light, 1 / distance);
-            double cos_light = -v3_dot(wi, l->normal);
+        if (t->next_event && t->emitters.count && rad_bsdf_has_smooth_lobe(m)) {
+            double u0 = rad_rng_uniform(rng), u1 = rad_rng_uniform(rng);
+            rad_emitter_point light;
             double f[3], bsdf_pdf;
-            if (cos_light > 0 && rad_bsdf_eval(m, hit.normal, wo, wi, f, &bsdf_pdf)) {
+            if (rad_emitter_table_sample(&t->emitters, u0, u1, x, &light) &&
+                rad_bsdf_eval(m, hit.normal, wo, light.direction, f, &bsdf_pdf)) {
                 ++counts->rays;
-                if (!rad_rays_occluded(rays, x, y)) {
-                    const double *emission = t->polygon_material[l->polygon]->emission;
-                    double light_pdf = t->polygon_light_pdf[l->polygon] * distance2 / cos_light;
-                    double weight = power_heuristic(light_pdf, bsdf_pdf);
-                    double cos_surface = fabs(v3_dot(wi, hit.normal));
-                    double scale = weight * cos_surface / light_pdf;
+                if (!rad_rays_occluded(rays, x, light.position)) {
+                    double weight = power_heuristic(light.pdf, bsdf_pdf);
+                    double cos_surface = fabs(v3_dot(light.direction, hit.normal));
+                    double scale = weight * cos_surface / light.pdf;
                     for (int c = 0; c < 3; ++c)
-                        radiance[c] += throughput[c] * f[c] * emission[c] * scale;
+                        radiance[c] += throughput[c] * f[c] * light.radiance[c] * scale;
                 }
             }
         }
@@ -279,7 +238,7 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
     status = rad_tracer_create(ctx, scene, o.max_bounces, &t);
     if (status) return status;
     status = check_view(t, &view);
-    if (!status && t->light_count == 0)
+    if (!status && t->emitters.count == 0)
         rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
     rad_image *image = NULL;
     if (!status) status = rad_image_new(ctx, width, height, &image);

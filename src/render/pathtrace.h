@@ -7,16 +7,10 @@
 #define RAD_RENDER_PATHTRACE_H
 
 #include "core/rng.h"
+#include "light/emitters.h"
 #include "render/bsdf.h"
 #include "render/camera.h"
 #include "scene/rays.h"
-
-/* One triangle of an emitting polygon, fanned the way Embree sees it. */
-typedef struct rad_light_triangle {
-    rad_vec3 p0, e1, e2; /* p = p0 + s e1 + t e2 */
-    rad_vec3 normal;     /* front, unit: only the front emits */
-    uint32_t polygon;
-} rad_light_triangle;
 
 /* Everything the path tracer looks up per hit, precomputed once. */
 typedef struct rad_tracer {
@@ -24,10 +18,8 @@ typedef struct rad_tracer {
     const rad_scene *scene;
     rad_rays *rays;
     const rad_material **polygon_material; /* polygon -> material */
-    double *polygon_light_pdf;             /* polygon -> area density of light sampling */
-    size_t light_count;
-    rad_light_triangle *lights;
-    double *light_cdf; /* light_count entries, the last is 1 */
+    rad_emitter_table emitters;            /* the emitting polygons' triangles, by power */
+    int32_t *polygon_emitter;              /* polygon -> its first emitter triangle, or -1 */
     int max_bounces;   /* 0: no limit (Russian roulette ends paths) */
     int next_event;    /* nonzero (the default): sample the emitters at every smooth vertex;
                           zero: BSDF sampling only (a slower estimator, for tests) */

@@ -32,8 +32,7 @@ void rad_renderer_destroy(rad_renderer *r) {
     rad_context *ctx = r->ctx;
     rad_element_rays_destroy(r->rays);
     rad_free(ctx, r->surface_material);
-    rad_free(ctx, r->emitters);
-    rad_free(ctx, r->emitter_cdf);
+    rad_emitter_table_free(ctx, &r->emitters);
     rad_free(ctx, r->element_emitter);
     rad_free(ctx, r->fit_vertex);
     rad_free(ctx, r->fit_first);

@@ -16,19 +16,11 @@
 #define RAD_RENDER_RENDER_H
 
 #include "core/rng.h"
+#include "light/emitters.h"
 #include "render/camera.h"
 #include "render/element_rays.h"
 #include "scene/scene.h"
 #include "solve/system.h"
-
-/* A piece of emitting surface for light sampling: a triangle of an emitting element, cut the
- * same way Embree cuts it, so sampled points lie exactly on the traced geometry. */
-typedef struct rad_emitter {
-    rad_vec3 p0, e1, e2; /* corner and edges: p = p0 + s e1 + t e2, s, t >= 0, s + t <= 1 */
-    rad_vec3 normal;     /* front, unit */
-    double area;
-    float radiance[3];   /* emitted radiance L = E / pi */
-} rad_emitter;
 
 typedef struct rad_render_settings {
     int width, height, samples_per_pixel;
@@ -49,10 +41,8 @@ struct rad_renderer {
     size_t surface_count;
     rad_material *surface_material;
 
-    /* Light sampling: emitter triangles and their cumulative distribution by power. */
-    size_t emitter_count;
-    rad_emitter *emitters;
-    double *emitter_cdf;           /* emitter_count entries, the last is 1 */
+    /* Light sampling: the emitting elements' triangles, picked by power (light/emitters.h). */
+    rad_emitter_table emitters;
     int32_t (*element_emitter)[2]; /* per element, its emitter triangles (-1: none) */
 
     /* Boundary vertices of the smooth reconstruction (reconstruct.c): their radiance is the
@@ -99,8 +89,8 @@ rad_status rad_reconstruct_build(rad_renderer *r);
 /* Fills the radiance arrays from the system's current solution. */
 rad_status rad_reconstruct_prepare(rad_renderer *r);
 
-/* final_gather.c: the emitter table, and the radiance leaving the diffuse point x (on element,
- * front normal n) by direct light plus gathered indirect light. */
+/* final_gather.c: the emitter table of the emitting elements, and the radiance leaving the
+ * diffuse point x (on element, front normal n) by direct light plus gathered indirect light. */
 rad_status rad_emitters_build(rad_renderer *r);
 void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_element_hit *hit,
                       rad_vec3 x, rad_vec3 n, double out[3]);
@@ -112,25 +102,14 @@ typedef struct rad_gather_origin {
     int light_samples, gather_rays;
 } rad_gather_origin;
 
-/* A point drawn on the emitters, as seen from a point x. */
-typedef struct rad_emitter_point {
-    rad_vec3 position, direction; /* direction: unit, from x to the point */
-    double pdf;                   /* solid-angle density at x */
-    const float *radiance;        /* emitted radiance L_e */
-} rad_emitter_point;
-
 /* The power heuristic (Veach & Guibas 1995) for a sample of the strategy with (count times
  * density) a against the other's b. */
 static inline double rad_power_heuristic(double a, double b) {
     return a * a + b * b > 0 ? a * a / (a * a + b * b) : 0;
 }
 
-/* final_gather.c: a point on the emitters for two uniform numbers (an emitter triangle by power,
- * then uniform on it); zero when it is not there or faces away from x. */
-int rad_emitter_sample(const rad_renderer *r, double u0, double u1, rad_vec3 x,
-                       rad_emitter_point *out);
-/* The solid-angle density rad_emitter_sample has for the point a ray along `direction` meets at
- * `hit`; zero when that is not the front of an emitter. */
+/* final_gather.c: the solid-angle density rad_emitter_table_sample has (on r->emitters) for the
+ * point a ray along `direction` meets at `hit`; zero when that is not the front of an emitter. */
 double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_element_hit *hit);
 
 /* final_gather.c: the weight (power heuristic, Veach 1997) of the emitted radiance a gather ray

@@ -53,7 +53,7 @@ static void glossy_direct(const rad_renderer *r, rad_sample *sample, const rad_m
     out[0] = out[1] = out[2] = 0;
     rad_emitter_point light;
     double u0 = rad_rng_uniform(&sample->rng), u1 = rad_rng_uniform(&sample->rng);
-    if (!rad_emitter_sample(r, u0, u1, x, &light)) return;
+    if (!rad_emitter_table_sample(&r->emitters, u0, u1, x, &light)) return;
     double f[3], pdf_bsdf;
     if (!rad_bsdf_eval(material, normal, wo, light.direction, f, &pdf_bsdf)) return;
     sample->counts->shadow++;
