@@ -7,8 +7,10 @@
  *   - one BSDF sample to continue the path; when it hits an emitter, its emission counts with
  *     the power-heuristic weight against the emitter sample, or fully after a delta lobe;
  *   - Russian roulette after three bounces, on the path throughput.
- * Pixels: uniform jitter inside the pixel, box filter, each pixel with its own random stream
- * derived from (seed, pixel index), so the image does not depend on the thread count. */
+ * Samples: Owen-scrambled Sobol' points (core/sampler.h, Burley 2020), one 2D dimension for the
+ * position in the pixel (box filter) and three per bounce (emitter point, BSDF direction, lobe
+ * choice and roulette), each a pure function of (seed, pixel, sample, dimension), so the image
+ * does not depend on the thread count. */
 #include "render/pathtrace.h"
 
 #include "io/image.h"
@@ -102,13 +104,14 @@ static double power_heuristic(double f, double g) {
     return f2 + g2 > 0 ? f2 / (f2 + g2) : 0;
 }
 
-void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad_vec3 direction,
+void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 origin, rad_vec3 direction,
                          rad_trace_counts *counts, double out[3]) {
     const rad_rays *rays = t->rays;
     double radiance[3] = {0, 0, 0};
     double throughput[3] = {1, 1, 1};
     double previous_pdf = 0; /* solid-angle pdf of the BSDF sample that made this ray */
     int previous_delta = 1;  /* the camera ray counts as a delta: emitters seen fully */
+    double next_light[2] = {0, 0}; /* the emitter point of the next bounce */
     ++counts->paths;
     for (int bounce = 0;; ++bounce) {
         rad_hit hit;
@@ -134,13 +137,35 @@ void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad
             for (int c = 0; c < 3; ++c) radiance[c] += throughput[c] * weight * m->emission[c];
         }
         if (bounce >= t->max_bounces) break;
+        /* This bounce's numbers: the emitter point from the 4D set it shares with the
+         * direction that led here (the pixel position at bounce 0), this bounce's direction
+         * from the next set, and (lobe, roulette). */
+        double u_light[2], u_direction[2], u_choice[2];
+        if (bounce == 0) {
+            sampler->dimension = RAD_PATH_DIM_PIXEL;
+            double set[4];
+            rad_sampler_4d(sampler, set);
+            next_light[0] = set[2];
+            next_light[1] = set[3];
+        }
+        u_light[0] = next_light[0];
+        u_light[1] = next_light[1];
+        {
+            double set[4];
+            sampler->dimension = RAD_PATH_DIM_BOUNCE + RAD_PATH_DIMS_PER_BOUNCE * (uint32_t)bounce;
+            rad_sampler_4d(sampler, set);
+            rad_sampler_2d(sampler, u_choice);
+            u_direction[0] = set[0];
+            u_direction[1] = set[1];
+            next_light[0] = set[2];
+            next_light[1] = set[3];
+        }
 
         /* Next-event estimation: one point on the emitters, weighted against BSDF sampling. */
         if (t->next_event && t->emitters.count && rad_bsdf_has_smooth_lobe(m)) {
-            double u0 = rad_rng_uniform(rng), u1 = rad_rng_uniform(rng);
             rad_emitter_point light;
             double f[3], bsdf_pdf;
-            if (rad_emitter_table_sample(&t->emitters, u0, u1, x, &light) &&
+            if (rad_emitter_table_sample(&t->emitters, u_light[0], u_light[1], x, &light) &&
                 rad_bsdf_eval(m, hit.normal, wo, light.direction, f, &bsdf_pdf)) {
                 ++counts->rays;
                 if (!rad_rays_occluded(rays, x, light.position)) {
@@ -154,7 +179,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad
         }
 
         /* Continue the path by sampling the BSDF. */
-        double u[3] = {rad_rng_uniform(rng), rad_rng_uniform(rng), rad_rng_uniform(rng)};
+        double u[3] = {u_choice[0], u_direction[0], u_direction[1]};
         rad_bsdf_sample s;
         if (rad_bsdf_sample_direction(m, hit.normal, wo, u, &s) == RAD_LOBE_NONE) break;
         for (int c = 0; c < 3; ++c) throughput[c] *= s.weight[c];
@@ -164,7 +189,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad
         /* Russian roulette: continue with probability of the throughput, capped at 0.95. */
         if (bounce + 1 >= ROULETTE_START) {
             double q = fmin(0.95, v3_max_component(v3(throughput[0], throughput[1], throughput[2])));
-            if (!(rad_rng_uniform(rng) < q)) break;
+            if (!(u_choice[1] < q)) break;
             for (int c = 0; c < 3; ++c) throughput[c] /= q;
         } else if (!(throughput[0] > 0 || throughput[1] > 0 || throughput[2] > 0)) {
             break;
@@ -262,12 +287,17 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
             if (stop) continue;
             for (int x = 0; x < width; ++x) {
                 uint64_t pixel = (uint64_t)y * (uint64_t)width + (uint64_t)x;
-                rad_rng rng = rad_rng_make(seed, pixel);
+                rad_sampler sampler = rad_sampler_make(seed, 0);
                 double sum[3] = {0, 0, 0};
                 for (int s = 0; s < spp; ++s) {
-                    double px = x + rad_rng_uniform(&rng), py = y + rad_rng_uniform(&rng);
+                    sampler.index = rad_sampler_pixel_index((uint32_t)x, (uint32_t)y,
+                                                            (uint32_t)spp, (uint32_t)s);
+                    sampler.dimension = RAD_PATH_DIM_PIXEL;
+                    double jitter[4];
+                    rad_sampler_4d(&sampler, jitter);
+                    double px = x + jitter[0], py = y + jitter[1];
                     double radiance[3];
-                    rad_tracer_radiance(t, &rng, view.eye, rad_view_direction(&view, px, py),
+                    rad_tracer_radiance(t, &sampler, view.eye, rad_view_direction(&view, px, py),
                                         &counts, radiance);
                     for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
                 }

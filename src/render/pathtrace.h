@@ -1,12 +1,12 @@
 /* pathtrace.h - the reference path tracer (docs/pathtracing.md): unbiased for every material of
  * render/bsdf.h, next-event estimation over the emitters with multiple importance sampling
- * (Veach & Guibas 1995, power heuristic), Russian roulette, jittered samples with a box filter.
+ * (Veach & Guibas 1995, power heuristic), Russian roulette, Owen-scrambled Sobol' samples (core/sampler.h) with a box filter.
  * The public entry point is rad_pathtrace (include/radiosity.h); the pieces below are shared
  * with the tests and the benchmark. */
 #ifndef RAD_RENDER_PATHTRACE_H
 #define RAD_RENDER_PATHTRACE_H
 
-#include "core/rng.h"
+#include "core/sampler.h"
 #include "light/emitters.h"
 #include "render/bsdf.h"
 #include "render/camera.h"
@@ -34,8 +34,15 @@ typedef struct rad_trace_counts {
     uint64_t paths, rays, camera_hits, back_hits;
 } rad_trace_counts;
 
-/* The radiance arriving at `origin` from `direction` (unit) along one random path. */
-void rad_tracer_radiance(const rad_tracer *tracer, rad_rng *rng, rad_vec3 origin,
+/* The sampler's 2D dimensions (core/sampler.h) along a path, the same for every path: the
+ * position in the pixel, then three per bounce b, from RAD_PATH_DIM_BOUNCE + 3 b: the emitter
+ * point, the BSDF direction, and (lobe choice, Russian roulette). The camera is a pinhole: no
+ * lens dimensions. */
+enum { RAD_PATH_DIM_PIXEL = 0, RAD_PATH_DIM_BOUNCE = 1, RAD_PATH_DIMS_PER_BOUNCE = 2 };
+
+/* The radiance arriving at `origin` from `direction` (unit) along one path, its random numbers
+ * drawn from `sampler` (from dimension RAD_PATH_DIM_BOUNCE on). */
+void rad_tracer_radiance(const rad_tracer *tracer, rad_sampler *sampler, rad_vec3 origin,
                          rad_vec3 direction, rad_trace_counts *counts, double out[3]);
 
 #endif
