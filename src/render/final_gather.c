@@ -31,11 +31,12 @@
  * (Jensen 1996, "Global illumination using photon maps").
  *
  * Both point sets are stratified over the whole pixel: with S camera samples in the pixel and n
- * rays per sample, the pixel has one Hammersley set of S n points, (i / (S n), radical_inverse(i))
- * shifted by one random offset per pixel (Cranley & Patterson 1976), and sample s takes the
- * points i = s, s + S, s + 2S, ...: evenly spread in the first coordinate for each sample and
- * for the pixel as a whole. A few rays per sample then cover the hemisphere and the light
- * evenly across the pixel. */
+ * rays per sample, ray i of sample s is point s n + i of the pixel's S n Owen-scrambled Sobol'
+ * points in its own dimension (core/sampler.h; Burley 2020): each sample's n points are an
+ * aligned run, so they are stratified for the sample and the pixel's S n points for the pixel
+ * (one (0,m,2)-net each when the counts are powers of two), and blocks of pixels in Morton
+ * order are stratified together (Ahmed & Wonka 2020). A few rays per sample then cover the
+ * hemisphere and the light evenly across the pixel. */
 #include "render/render.h"
 
 /* ------------------------------------------------------------------------------------------- */
@@ -84,29 +85,6 @@ rad_status rad_emitters_build(rad_renderer *r) {
 }
 
 /* ------------------------------------------------------------------------------------------- */
-/* Stratified points                                                                            */
-
-static double radical_inverse2(uint32_t i) {
-    i = (i << 16) | (i >> 16);
-    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
-    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
-    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
-    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
-    return (double)i * (1.0 / 4294967296.0);
-}
-
-static double wrap(double x) { return x >= 1 ? x - 1 : x; }
-
-/* Point i of a shifted Hammersley set of n points. */
-static void stratified(uint32_t i, uint32_t n, const double shift[2], double out[2]) {
-    out[0] = wrap((i + 0.5) / n + shift[0]);
-    out[1] = wrap(radical_inverse2(i) + shift[1]);
-    /* Keep inside [0, 1) whatever the rounding. */
-    if (out[0] >= 1) out[0] = 0x1.fffffffffffffp-1;
-    if (out[1] >= 1) out[1] = 0x1.fffffffffffffp-1;
-}
-
-/* ------------------------------------------------------------------------------------------- */
 /* Direct light                                                                                 */
 
 double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_element_hit *hit) {
@@ -127,10 +105,9 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
     int count = from->light_samples;
     if (r->emitters.count == 0 || count <= 0) return;
     rad_vec3 n = from->normal;
-    uint32_t total = (uint32_t)count * sample->count;
     for (int i = 0; i < count; ++i) {
         double u[2];
-        stratified(sample->index + (uint32_t)i * sample->count, total, sample->light_shift, u);
+        rad_sample_2d(sample, (uint32_t)count, (uint32_t)i, RAD_RENDER_DIM_LIGHT, u);
         rad_emitter_point light;
         if (!rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light)) continue;
         double cos_x = v3_dot(n, light.direction);
@@ -165,7 +142,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     for (int c = 0; c < 3; ++c) out[c] = emitted[c];
     if (!(rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return;
 
-    rad_gather_origin from = {n, r->settings.light_samples, r->settings.final_gather};
+    rad_gather_origin from = {n, r->settings.light_samples, r->settings.final_gather, 0};
 
     /* Direct light. */
     double direct[3];
@@ -178,11 +155,11 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     int rays = r->settings.final_gather;
     rad_vec3 t, b;
     v3_basis(n, &t, &b);
-    uint32_t total = (uint32_t)rays * sample->count;
     double sum[3] = {0, 0, 0};
     for (int i = 0; i < rays; ++i) {
         double u[2];
-        stratified(sample->index + (uint32_t)i * sample->count, total, sample->gather_shift, u);
+        rad_sample_2d(sample, (uint32_t)rays, (uint32_t)i, RAD_RENDER_DIM_GATHER, u);
+        from.ray = (uint32_t)i;
         double radius = sqrt(u[0]), phi = 2 * RAD_PI * u[1];
         double z = sqrt(fmax(0.0, 1 - u[0]));
         rad_vec3 direction = v3_normalize(v3_add(

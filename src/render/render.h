@@ -15,7 +15,7 @@
 #ifndef RAD_RENDER_RENDER_H
 #define RAD_RENDER_RENDER_H
 
-#include "core/rng.h"
+#include "core/sampler.h"
 #include "light/emitters.h"
 #include "render/camera.h"
 #include "render/element_rays.h"
@@ -65,16 +65,39 @@ typedef struct rad_ray_counts {
     uint64_t camera, gather, shadow, specular;
 } rad_ray_counts;
 
-/* One camera sample: its random numbers, and its place among the samples of its pixel. The final
- * gather spreads its rays and emitter samples over the whole pixel: sample `index` of `count`
- * takes every count-th point of one stratified set per pixel (shifted by the pixel's offsets),
- * so the pixel's estimate is stratified, not only each sample's. */
+/* One camera sample: its pixel and its place among the samples of the pixel, from which every
+ * random number it needs is drawn (core/sampler.h: Owen-scrambled Sobol' points, the pixels in
+ * Morton order). The final gather spreads its rays and emitter samples over the whole pixel:
+ * ray i of sample `index` of `count` is point index * n + i of the pixel's count * n points, one
+ * net over the pixel, so the pixel's estimate is stratified, not only each sample's. */
 typedef struct rad_sample {
-    rad_rng rng;
-    uint32_t index, count;
-    double gather_shift[2], light_shift[2];
+    uint64_t seed;
+    uint32_t x, y, index, count;
     rad_ray_counts *counts;
 } rad_sample;
+
+/* The sampler's 2D dimensions in the renderer: the position in the pixel, the final gather's
+ * directions and emitter points, and three per bounce of a camera path through mirrors and
+ * glass (emitter point, BSDF direction, lobe choice) from RAD_RENDER_DIM_BOUNCE, of a gather
+ * ray's path from RAD_RENDER_DIM_GATHER_BOUNCE. */
+enum {
+    RAD_RENDER_DIM_PIXEL = 0,
+    RAD_RENDER_DIM_GATHER = 1,
+    RAD_RENDER_DIM_LIGHT = 2,
+    RAD_RENDER_DIM_BOUNCE = 3,
+    RAD_RENDER_DIM_GATHER_BOUNCE = 1000
+};
+
+/* Number i of `per_sample` numbers of this sample (of count * per_sample for the pixel) in 2D
+ * dimension `dimension`. */
+static inline void rad_sample_2d(const rad_sample *sample, uint32_t per_sample, uint32_t i,
+                                 uint32_t dimension, double out[2]) {
+    rad_sampler sampler = rad_sampler_make(sample->seed, 0);
+    sampler.index = rad_sampler_pixel_index(sample->x, sample->y, sample->count * per_sample,
+                                            sample->index * per_sample + i);
+    sampler.dimension = dimension;
+    rad_sampler_2d(&sampler, out);
+}
 
 /* The material of an element. */
 static inline const rad_material *rad_renderer_material(const rad_renderer *r, uint32_t element) {
@@ -100,6 +123,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
 typedef struct rad_gather_origin {
     rad_vec3 normal;
     int light_samples, gather_rays;
+    uint32_t ray; /* which of the gather_rays (its sampler index) */
 } rad_gather_origin;
 
 /* The power heuristic (Veach & Guibas 1995) for a sample of the strategy with (count times
