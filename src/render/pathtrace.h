@@ -34,14 +34,15 @@ typedef struct rad_trace_counts {
     uint64_t paths, rays, camera_hits, back_hits;
 } rad_trace_counts;
 
-/* The sampler's 2D dimensions (core/sampler.h) along a path, the same for every path: the
- * position in the pixel, then three per bounce b, from RAD_PATH_DIM_BOUNCE + 3 b: the emitter
- * point, the BSDF direction, and (lobe choice, Russian roulette). The camera is a pinhole: no
- * lens dimensions. */
+/* The sampler's dimensions (core/sampler.h) along a path, the same for every path: a 4D set
+ * RAD_PATH_DIM_PIXEL (the position in the pixel, bounce 0's emitter point), then two per bounce
+ * b from RAD_PATH_DIM_BOUNCE + 2 b: a 4D set (b's BSDF direction, bounce b + 1's emitter point)
+ * and a 2D one (lobe choice, Russian roulette). The camera is a pinhole: no lens dimensions. */
 enum { RAD_PATH_DIM_PIXEL = 0, RAD_PATH_DIM_BOUNCE = 1, RAD_PATH_DIMS_PER_BOUNCE = 2 };
 
 /* The radiance arriving at `origin` from `direction` (unit) along one path, its random numbers
- * drawn from `sampler` (from dimension RAD_PATH_DIM_BOUNCE on). */
+ * drawn from `sampler` at its index in the dimensions above (the caller sets the index and
+ * takes the position in the pixel from RAD_PATH_DIM_PIXEL; this sets the dimensions). */
 void rad_tracer_radiance(const rad_tracer *tracer, rad_sampler *sampler, rad_vec3 origin,
                          rad_vec3 direction, rad_trace_counts *counts, double out[3]);
 
