@@ -31,27 +31,25 @@
  * (Jensen 1996, "Global illumination using photon maps").
  *
  * Both point sets are stratified over the whole pixel: with S camera samples in the pixel and n
- * rays per sample, the pixel has one Hammersley set of S n points, (i / (S n), radical_inverse(i))
- * shifted by one random offset per pixel (Cranley & Patterson 1976), and sample s takes the
- * points i = s, s + S, s + 2S, ...: evenly spread in the first coordinate for each sample and
- * for the pixel as a whole. A few rays per sample then cover the hemisphere and the light
- * evenly across the pixel. */
+ * rays per sample, ray i of sample s is point s n + i of the pixel's S n Owen-scrambled Sobol'
+ * points in its own dimension (core/sampler.h; Burley 2020): each sample's n points are an
+ * aligned run, so they are stratified for the sample and the pixel's S n points for the pixel
+ * (one (0,m,2)-net each when the counts are powers of two), and blocks of pixels in Morton
+ * order are stratified together (Ahmed & Wonka 2020). A few rays per sample then cover the
+ * hemisphere and the light evenly across the pixel. */
 #include "render/render.h"
 
 /* ------------------------------------------------------------------------------------------- */
 /* The emitters                                                                                 */
 
-static rad_emitter emitter_triangle(const rad_mesh *mesh, uint32_t a, uint32_t b, uint32_t c,
-                                    const float radiance[3]) {
-    rad_emitter t;
-    t.p0 = mesh->vertices[a];
-    t.e1 = v3_sub(mesh->vertices[b], t.p0);
-    t.e2 = v3_sub(mesh->vertices[c], t.p0);
-    rad_vec3 cross = v3_cross(t.e1, t.e2);
-    t.area = 0.5 * v3_length(cross);
-    t.normal = v3_normalize(cross);
-    for (int k = 0; k < 3; ++k) t.radiance[k] = radiance[k];
-    return t;
+/* Adds triangle (a, b, c) of an emitting element to the emitter table; its index, or -1. */
+static int32_t add_emitter(rad_emitter_table *table, const rad_mesh *mesh, uint32_t element,
+                           uint32_t a, uint32_t b, uint32_t c, const double radiance[3]) {
+    rad_vec3 p0 = mesh->vertices[a];
+    rad_vec3 normal = v3_normalize(v3_cross(v3_sub(mesh->vertices[b], p0),
+                                            v3_sub(mesh->vertices[c], p0)));
+    return rad_emitter_table_add(table, p0, mesh->vertices[b], mesh->vertices[c], normal,
+                                 radiance, element);
 }
 
 rad_status rad_emitters_build(rad_renderer *r) {
@@ -61,117 +59,41 @@ rad_status rad_emitters_build(rad_renderer *r) {
     for (size_t e = 0; e < mesh->element_count; ++e)
         if (s->emission[e][0] > 0 || s->emission[e][1] > 0 || s->emission[e][2] > 0)
             count += (size_t)rad_mesh_corner_count(mesh, e) - 2;
-    r->emitter_count = 0;
     r->element_emitter = rad_alloc(r->ctx, mesh->element_count + 1, sizeof *r->element_emitter);
     if (!r->element_emitter) return RAD_ERROR_NO_MEMORY;
     for (size_t e = 0; e < mesh->element_count; ++e) r->element_emitter[e][0] = r->element_emitter[e][1] = -1;
-    if (count == 0) return RAD_OK;
-    r->emitters = rad_alloc(r->ctx, count, sizeof *r->emitters);
-    r->emitter_cdf = rad_alloc(r->ctx, count, sizeof *r->emitter_cdf);
-    if (!r->emitters || !r->emitter_cdf) return RAD_ERROR_NO_MEMORY;
-    double total = 0;
+    rad_status status = rad_emitter_table_reserve(r->ctx, &r->emitters, count);
+    if (status || count == 0) return status;
     for (size_t e = 0; e < mesh->element_count; ++e) {
         const double *emission = s->emission[e];
         if (!(emission[0] > 0 || emission[1] > 0 || emission[2] > 0)) continue;
-        float radiance[3];
+        /* Emitted radiance L = E / pi, rounded to float as the renderer keeps it. */
+        double radiance[3];
         for (int c = 0; c < 3; ++c) radiance[c] = (float)(emission[c] / RAD_PI);
         const uint32_t *v = mesh->element_vertices[e];
-        rad_emitter pieces[2];
-        int n = 0;
-        if (rad_mesh_corner_count(mesh, e) == 3) pieces[n++] = emitter_triangle(mesh, v[0], v[1], v[2], radiance);
-        else {
+        uint32_t element = (uint32_t)e;
+        if (rad_mesh_corner_count(mesh, e) == 3) {
+            r->element_emitter[e][0] = add_emitter(&r->emitters, mesh, element, v[0], v[1], v[2], radiance);
+        } else {
             /* Embree's split of a quad: (v0, v1, v3) and (v2, v3, v1). */
-            pieces[n++] = emitter_triangle(mesh, v[0], v[1], v[3], radiance);
-            pieces[n++] = emitter_triangle(mesh, v[2], v[3], v[1], radiance);
-        }
-        for (int k = 0; k < n; ++k) {
-            if (!(pieces[k].area > 0)) continue;
-            double power = pieces[k].area * ((double)radiance[0] + radiance[1] + radiance[2]);
-            total += power;
-            r->element_emitter[e][k] = (int32_t)r->emitter_count;
-            r->emitters[r->emitter_count] = pieces[k];
-            r->emitter_cdf[r->emitter_count++] = total;
+            r->element_emitter[e][0] = add_emitter(&r->emitters, mesh, element, v[0], v[1], v[3], radiance);
+            r->element_emitter[e][1] = add_emitter(&r->emitters, mesh, element, v[2], v[3], v[1], radiance);
         }
     }
-    for (size_t i = 0; i < r->emitter_count; ++i) r->emitter_cdf[i] /= total;
-    if (r->emitter_count) r->emitter_cdf[r->emitter_count - 1] = 1;
+    rad_emitter_table_finish(&r->emitters, RAD_EMITTERS_BY_POWER);
     return RAD_OK;
-}
-
-/* ------------------------------------------------------------------------------------------- */
-/* Stratified points                                                                            */
-
-static double radical_inverse2(uint32_t i) {
-    i = (i << 16) | (i >> 16);
-    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
-    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
-    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
-    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
-    return (double)i * (1.0 / 4294967296.0);
-}
-
-static double wrap(double x) { return x >= 1 ? x - 1 : x; }
-
-/* Point i of a shifted Hammersley set of n points. */
-static void stratified(uint32_t i, uint32_t n, const double shift[2], double out[2]) {
-    out[0] = wrap((i + 0.5) / n + shift[0]);
-    out[1] = wrap(radical_inverse2(i) + shift[1]);
-    /* Keep inside [0, 1) whatever the rounding. */
-    if (out[0] >= 1) out[0] = 0x1.fffffffffffffp-1;
-    if (out[1] >= 1) out[1] = 0x1.fffffffffffffp-1;
 }
 
 /* ------------------------------------------------------------------------------------------- */
 /* Direct light                                                                                 */
 
-/* Picks an emitter with the first coordinate and rescales it for reuse inside the emitter. */
-static size_t pick_emitter(const rad_renderer *r, double *u) {
-    size_t lo = 0, hi = r->emitter_count - 1;
-    while (lo < hi) {
-        size_t mid = (lo + hi) / 2;
-        if (r->emitter_cdf[mid] <= *u) lo = mid + 1;
-        else hi = mid;
-    }
-    double before = lo ? r->emitter_cdf[lo - 1] : 0;
-    double p = r->emitter_cdf[lo] - before;
-    *u = p > 0 ? fmin((*u - before) / p, 0x1.fffffffffffffp-1) : 0;
-    return lo;
-}
-
-static double emitter_probability(const rad_renderer *r, size_t k) {
-    return r->emitter_cdf[k] - (k ? r->emitter_cdf[k - 1] : 0);
-}
-
-int rad_emitter_sample(const rad_renderer *r, double u0, double u1, rad_vec3 x,
-                       rad_emitter_point *out) {
-    if (r->emitter_count == 0) return 0;
-    size_t k = pick_emitter(r, &u0);
-    const rad_emitter *light = &r->emitters[k];
-    /* Uniform point on the triangle (Turk 1990). */
-    double root = sqrt(u0);
-    out->position = v3_add(light->p0, v3_add(v3_scale(light->e1, root * (1 - u1)),
-                                             v3_scale(light->e2, root * u1)));
-    rad_vec3 to_light = v3_sub(out->position, x);
-    double distance2 = v3_dot(to_light, to_light);
-    if (!(distance2 > 0)) return 0;
-    out->direction = v3_scale(to_light, 1 / sqrt(distance2));
-    double cos_y = -v3_dot(light->normal, out->direction);
-    if (cos_y <= 0) return 0;
-    out->pdf = emitter_probability(r, k) / light->area * distance2 / cos_y;
-    out->radiance = light->radiance;
-    return 1;
-}
-
 double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_element_hit *hit) {
-    if (r->emitter_count == 0) return 0;
+    if (r->emitters.count == 0) return 0;
     /* Embree's split of a quad: (v0, v1, v3) below the diagonal u + v = 1, (v2, v3, v1) above. */
     int piece = rad_mesh_corner_count(r->mesh, hit->element) == 4 && hit->u + hit->v > 1;
     int32_t k = r->element_emitter[hit->element][piece];
     if (k < 0) return 0;
-    const rad_emitter *light = &r->emitters[k];
-    double cos_y = -v3_dot(light->normal, direction);
-    if (cos_y <= 0) return 0;
-    return emitter_probability(r, (size_t)k) / light->area * hit->t * hit->t / cos_y;
+    return rad_emitter_table_pdf(&r->emitters, (size_t)k, direction, hit->t);
 }
 
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
@@ -181,14 +103,13 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
                          rad_vec3 x, const float rho[3], double out[3]) {
     out[0] = out[1] = out[2] = 0;
     int count = from->light_samples;
-    if (r->emitter_count == 0 || count <= 0) return;
+    if (r->emitters.count == 0 || count <= 0) return;
     rad_vec3 n = from->normal;
-    uint32_t total = (uint32_t)count * sample->count;
     for (int i = 0; i < count; ++i) {
         double u[2];
-        stratified(sample->index + (uint32_t)i * sample->count, total, sample->light_shift, u);
+        rad_sample_2d(sample, (uint32_t)count, (uint32_t)i, RAD_RENDER_DIM_LIGHT, u);
         rad_emitter_point light;
-        if (!rad_emitter_sample(r, u[0], u[1], x, &light)) continue;
+        if (!rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light)) continue;
         double cos_x = v3_dot(n, light.direction);
         if (cos_x <= 0) continue;
         sample->counts->shadow++;
@@ -221,7 +142,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     for (int c = 0; c < 3; ++c) out[c] = emitted[c];
     if (!(rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return;
 
-    rad_gather_origin from = {n, r->settings.light_samples, r->settings.final_gather};
+    rad_gather_origin from = {n, r->settings.light_samples, r->settings.final_gather, 0};
 
     /* Direct light. */
     double direct[3];
@@ -234,11 +155,11 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     int rays = r->settings.final_gather;
     rad_vec3 t, b;
     v3_basis(n, &t, &b);
-    uint32_t total = (uint32_t)rays * sample->count;
     double sum[3] = {0, 0, 0};
     for (int i = 0; i < rays; ++i) {
         double u[2];
-        stratified(sample->index + (uint32_t)i * sample->count, total, sample->gather_shift, u);
+        rad_sample_2d(sample, (uint32_t)rays, (uint32_t)i, RAD_RENDER_DIM_GATHER, u);
+        from.ray = (uint32_t)i;
         double radius = sqrt(u[0]), phi = 2 * RAD_PI * u[1];
         double z = sqrt(fmax(0.0, 1 - u[0]));
         rad_vec3 direction = v3_normalize(v3_add(

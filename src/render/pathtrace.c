@@ -2,12 +2,15 @@
  *
  * Kajiya 1986 path tracing, with the estimator of Veach 1997 (ch. 9, 10):
  *   - at every vertex with a non-delta lobe, one emitter sample (next-event estimation): an
- *     emitting triangle chosen by power, a point uniform on it, a shadow ray;
+ *     emitting triangle chosen by power, a point uniform on it (the emitter table of
+ *     light/emitters.h, which the renderer's final gather shares), a shadow ray;
  *   - one BSDF sample to continue the path; when it hits an emitter, its emission counts with
  *     the power-heuristic weight against the emitter sample, or fully after a delta lobe;
  *   - Russian roulette after three bounces, on the path throughput.
- * Pixels: uniform jitter inside the pixel, box filter, each pixel with its own random stream
- * derived from (seed, pixel index), so the image does not depend on the thread count. */
+ * Samples: Owen-scrambled Sobol' points (core/sampler.h, Burley 2020), one 2D dimension for the
+ * position in the pixel (box filter) and three per bounce (emitter point, BSDF direction, lobe
+ * choice and roulette), each a pure function of (seed, pixel, sample, dimension), so the image
+ * does not depend on the thread count. */
 #include "render/pathtrace.h"
 
 #include "io/image.h"
@@ -42,57 +45,41 @@ rad_status rad_tracer_create(rad_context *ctx, const rad_scene *scene, int max_b
     t->next_event = 1;
     size_t polygons = scene->polygon_count;
     t->polygon_material = rad_alloc(ctx, polygons, sizeof *t->polygon_material);
-    t->polygon_light_pdf = rad_alloc_zero(ctx, polygons, sizeof *t->polygon_light_pdf);
-    if (!t->polygon_material || !t->polygon_light_pdf) {
+    t->polygon_emitter = rad_alloc(ctx, polygons, sizeof *t->polygon_emitter);
+    if (!t->polygon_material || !t->polygon_emitter) {
         rad_tracer_destroy(t);
         return RAD_ERROR_NO_MEMORY;
     }
-    /* Emitters: every triangle of an emitting polygon, chosen by power (area times the sum of
-     * the emitted radiance over the channels). */
+    /* Emitters: every triangle of an emitting polygon, fanned the way Embree sees it, in one
+     * table (light/emitters.h) that picks them by power. */
     size_t light_triangles = 0;
-    double total_power = 0;
     for (size_t i = 0; i < polygons; ++i) {
         const rad_polygon *p = &scene->polygons[i];
         const rad_material *m = &scene->materials[scene->surfaces[p->surface].material];
         t->polygon_material[i] = m;
-        double weight = luminance_weight(m->emission);
-        if (weight > 0) {
-            light_triangles += p->count - 2;
-            total_power += weight * rad_polygon_area(scene, p);
+        t->polygon_emitter[i] = -1;
+        if (luminance_weight(m->emission) > 0) light_triangles += p->count - 2;
+    }
+    rad_status status = rad_emitter_table_reserve(ctx, &t->emitters, light_triangles);
+    if (status) {
+        rad_tracer_destroy(t);
+        return status;
+    }
+    for (size_t i = 0; i < polygons && light_triangles; ++i) {
+        const rad_polygon *p = &scene->polygons[i];
+        const double *emission = t->polygon_material[i]->emission;
+        if (!(luminance_weight(emission) > 0)) continue;
+        rad_vec3 normal = rad_polygon_normal(scene, p);
+        rad_vec3 p0 = rad_polygon_vertex(scene, p, 0);
+        for (uint32_t k = 1; k + 1 < p->count; ++k) {
+            int32_t index = rad_emitter_table_add(&t->emitters, p0, rad_polygon_vertex(scene, p, k),
+                                                  rad_polygon_vertex(scene, p, k + 1), normal,
+                                                  emission, (uint32_t)i);
+            if (t->polygon_emitter[i] < 0) t->polygon_emitter[i] = index;
         }
     }
-    if (light_triangles && total_power > 0) {
-        t->lights = rad_alloc(ctx, light_triangles, sizeof *t->lights);
-        t->light_cdf = rad_alloc(ctx, light_triangles, sizeof *t->light_cdf);
-        if (!t->lights || !t->light_cdf) {
-            rad_tracer_destroy(t);
-            return RAD_ERROR_NO_MEMORY;
-        }
-        double running = 0;
-        size_t n = 0;
-        for (size_t i = 0; i < polygons; ++i) {
-            const rad_polygon *p = &scene->polygons[i];
-            double weight = luminance_weight(t->polygon_material[i]->emission);
-            if (!(weight > 0)) continue;
-            /* Area density of a point on this polygon: its share of the power over its area. */
-            t->polygon_light_pdf[i] = weight / total_power;
-            rad_vec3 normal = rad_polygon_normal(scene, p);
-            rad_vec3 p0 = rad_polygon_vertex(scene, p, 0);
-            for (uint32_t k = 1; k + 1 < p->count; ++k) {
-                rad_light_triangle *l = &t->lights[n];
-                l->p0 = p0;
-                l->e1 = v3_sub(rad_polygon_vertex(scene, p, k), p0);
-                l->e2 = v3_sub(rad_polygon_vertex(scene, p, k + 1), p0);
-                l->normal = normal;
-                l->polygon = (uint32_t)i;
-                running += weight * 0.5 * v3_length(v3_cross(l->e1, l->e2));
-                t->light_cdf[n++] = running / total_power;
-            }
-        }
-        t->light_count = n;
-        t->light_cdf[n - 1] = 1;
-    }
-    rad_status status = rad_rays_create(ctx, scene, &t->rays);
+    rad_emitter_table_finish(&t->emitters, RAD_EMITTERS_BY_POWER);
+    status = rad_rays_create(ctx, scene, &t->rays);
     if (status) {
         rad_tracer_destroy(t);
         return status;
@@ -105,45 +92,26 @@ void rad_tracer_destroy(rad_tracer *t) {
     if (!t) return;
     rad_rays_destroy(t->rays);
     rad_free(t->ctx, t->polygon_material);
-    rad_free(t->ctx, t->polygon_light_pdf);
-    rad_free(t->ctx, t->lights);
-    rad_free(t->ctx, t->light_cdf);
+    rad_free(t->ctx, t->polygon_emitter);
+    rad_emitter_table_free(t->ctx, &t->emitters);
     rad_free(t->ctx, t);
 }
 
 /* ---- one path ----------------------------------------------------------------------------- */
-
-/* A point on the emitters: position, front normal, and the polygon it lies on. */
-static const rad_light_triangle *sample_light(const rad_tracer *t, rad_rng *rng, rad_vec3 *point) {
-    double u = rad_rng_uniform(rng);
-    size_t lo = 0, hi = t->light_count - 1;
-    while (lo < hi) { /* the first entry with cdf > u */
-        size_t mid = (lo + hi) / 2;
-        if (t->light_cdf[mid] > u) hi = mid;
-        else lo = mid + 1;
-    }
-    const rad_light_triangle *l = &t->lights[lo];
-    double s = rad_rng_uniform(rng), r = rad_rng_uniform(rng);
-    if (s + r > 1) {
-        s = 1 - s;
-        r = 1 - r;
-    }
-    *point = v3_add(l->p0, v3_add(v3_scale(l->e1, s), v3_scale(l->e2, r)));
-    return l;
-}
 
 static double power_heuristic(double f, double g) {
     double f2 = f * f, g2 = g * g;
     return f2 + g2 > 0 ? f2 / (f2 + g2) : 0;
 }
 
-void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad_vec3 direction,
+void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 origin, rad_vec3 direction,
                          rad_trace_counts *counts, double out[3]) {
     const rad_rays *rays = t->rays;
     double radiance[3] = {0, 0, 0};
     double throughput[3] = {1, 1, 1};
     double previous_pdf = 0; /* solid-angle pdf of the BSDF sample that made this ray */
     int previous_delta = 1;  /* the camera ray counts as a delta: emitters seen fully */
+    double next_light[2] = {0, 0}; /* the emitter point of the next bounce */
     ++counts->paths;
     for (int bounce = 0;; ++bounce) {
         rad_hit hit;
@@ -159,43 +127,59 @@ void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad
         rad_vec3 wo = v3_scale(direction, -1);
 
         /* Emission seen along the path (front sides only). */
-        if (hit.front && t->polygon_light_pdf[hit.polygon] > 0) {
+        if (hit.front && t->polygon_emitter[hit.polygon] >= 0) {
             double weight = 1;
             if (!previous_delta && t->next_event) {
-                double cos_light = v3_dot(wo, hit.normal);
-                double light_pdf = t->polygon_light_pdf[hit.polygon] * hit.t * hit.t / cos_light;
+                double light_pdf = rad_emitter_table_pdf(
+                    &t->emitters, (size_t)t->polygon_emitter[hit.polygon], direction, hit.t);
                 weight = power_heuristic(previous_pdf, light_pdf);
             }
             for (int c = 0; c < 3; ++c) radiance[c] += throughput[c] * weight * m->emission[c];
         }
         if (bounce >= t->max_bounces) break;
+        /* This bounce's numbers: the emitter point from the 4D set it shares with the
+         * direction that led here (the pixel position at bounce 0), this bounce's direction
+         * from the next set, and (lobe, roulette). */
+        double u_light[2], u_direction[2], u_choice[2];
+        if (bounce == 0) {
+            sampler->dimension = RAD_PATH_DIM_PIXEL;
+            double set[4];
+            rad_sampler_4d(sampler, set);
+            next_light[0] = set[2];
+            next_light[1] = set[3];
+        }
+        u_light[0] = next_light[0];
+        u_light[1] = next_light[1];
+        {
+            double set[4];
+            sampler->dimension = RAD_PATH_DIM_BOUNCE + RAD_PATH_DIMS_PER_BOUNCE * (uint32_t)bounce;
+            rad_sampler_4d(sampler, set);
+            rad_sampler_2d(sampler, u_choice);
+            u_direction[0] = set[0];
+            u_direction[1] = set[1];
+            next_light[0] = set[2];
+            next_light[1] = set[3];
+        }
 
         /* Next-event estimation: one point on the emitters, weighted against BSDF sampling. */
-        if (t->next_event && t->light_count && rad_bsdf_has_smooth_lobe(m)) {
-            rad_vec3 y;
-            const rad_light_triangle *l = sample_light(t, rng, &y);
-            rad_vec3 to_light = v3_sub(y, x);
-            double distance2 = v3_dot(to_light, to_light);
-            double distance = sqrt(distance2);
-            rad_vec3 wi = v3_scale(to_light, 1 / distance);
-            double cos_light = -v3_dot(wi, l->normal);
+        if (t->next_event && t->emitters.count && rad_bsdf_has_smooth_lobe(m)) {
+            rad_emitter_point light;
             double f[3], bsdf_pdf;
-            if (cos_light > 0 && rad_bsdf_eval(m, hit.normal, wo, wi, f, &bsdf_pdf)) {
+            if (rad_emitter_table_sample(&t->emitters, u_light[0], u_light[1], x, &light) &&
+                rad_bsdf_eval(m, hit.normal, wo, light.direction, f, &bsdf_pdf)) {
                 ++counts->rays;
-                if (!rad_rays_occluded(rays, x, y)) {
-                    const double *emission = t->polygon_material[l->polygon]->emission;
-                    double light_pdf = t->polygon_light_pdf[l->polygon] * distance2 / cos_light;
-                    double weight = power_heuristic(light_pdf, bsdf_pdf);
-                    double cos_surface = fabs(v3_dot(wi, hit.normal));
-                    double scale = weight * cos_surface / light_pdf;
+                if (!rad_rays_occluded(rays, x, light.position)) {
+                    double weight = power_heuristic(light.pdf, bsdf_pdf);
+                    double cos_surface = fabs(v3_dot(light.direction, hit.normal));
+                    double scale = weight * cos_surface / light.pdf;
                     for (int c = 0; c < 3; ++c)
-                        radiance[c] += throughput[c] * f[c] * emission[c] * scale;
+                        radiance[c] += throughput[c] * f[c] * light.radiance[c] * scale;
                 }
             }
         }
 
         /* Continue the path by sampling the BSDF. */
-        double u[3] = {rad_rng_uniform(rng), rad_rng_uniform(rng), rad_rng_uniform(rng)};
+        double u[3] = {u_choice[0], u_direction[0], u_direction[1]};
         rad_bsdf_sample s;
         if (rad_bsdf_sample_direction(m, hit.normal, wo, u, &s) == RAD_LOBE_NONE) break;
         for (int c = 0; c < 3; ++c) throughput[c] *= s.weight[c];
@@ -205,7 +189,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_rng *rng, rad_vec3 origin, rad
         /* Russian roulette: continue with probability of the throughput, capped at 0.95. */
         if (bounce + 1 >= ROULETTE_START) {
             double q = fmin(0.95, v3_max_component(v3(throughput[0], throughput[1], throughput[2])));
-            if (!(rad_rng_uniform(rng) < q)) break;
+            if (!(u_choice[1] < q)) break;
             for (int c = 0; c < 3; ++c) throughput[c] /= q;
         } else if (!(throughput[0] > 0 || throughput[1] > 0 || throughput[2] > 0)) {
             break;
@@ -279,7 +263,7 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
     status = rad_tracer_create(ctx, scene, o.max_bounces, &t);
     if (status) return status;
     status = check_view(t, &view);
-    if (!status && t->light_count == 0)
+    if (!status && t->emitters.count == 0)
         rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
     rad_image *image = NULL;
     if (!status) status = rad_image_new(ctx, width, height, &image);
@@ -303,12 +287,17 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
             if (stop) continue;
             for (int x = 0; x < width; ++x) {
                 uint64_t pixel = (uint64_t)y * (uint64_t)width + (uint64_t)x;
-                rad_rng rng = rad_rng_make(seed, pixel);
+                rad_sampler sampler = rad_sampler_make(seed, 0);
                 double sum[3] = {0, 0, 0};
                 for (int s = 0; s < spp; ++s) {
-                    double px = x + rad_rng_uniform(&rng), py = y + rad_rng_uniform(&rng);
+                    sampler.index = rad_sampler_pixel_index((uint32_t)x, (uint32_t)y,
+                                                            (uint32_t)spp, (uint32_t)s);
+                    sampler.dimension = RAD_PATH_DIM_PIXEL;
+                    double jitter[4];
+                    rad_sampler_4d(&sampler, jitter);
+                    double px = x + jitter[0], py = y + jitter[1];
                     double radiance[3];
-                    rad_tracer_radiance(t, &rng, view.eye, rad_view_direction(&view, px, py),
+                    rad_tracer_radiance(t, &sampler, view.eye, rad_view_direction(&view, px, py),
                                         &counts, radiance);
                     for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
                 }

@@ -1,22 +1,16 @@
 /* pathtrace.h - the reference path tracer (docs/pathtracing.md): unbiased for every material of
  * render/bsdf.h, next-event estimation over the emitters with multiple importance sampling
- * (Veach & Guibas 1995, power heuristic), Russian roulette, jittered samples with a box filter.
+ * (Veach & Guibas 1995, power heuristic), Russian roulette, Owen-scrambled Sobol' samples (core/sampler.h) with a box filter.
  * The public entry point is rad_pathtrace (include/radiosity.h); the pieces below are shared
  * with the tests and the benchmark. */
 #ifndef RAD_RENDER_PATHTRACE_H
 #define RAD_RENDER_PATHTRACE_H
 
-#include "core/rng.h"
+#include "core/sampler.h"
+#include "light/emitters.h"
 #include "render/bsdf.h"
 #include "render/camera.h"
 #include "scene/rays.h"
-
-/* One triangle of an emitting polygon, fanned the way Embree sees it. */
-typedef struct rad_light_triangle {
-    rad_vec3 p0, e1, e2; /* p = p0 + s e1 + t e2 */
-    rad_vec3 normal;     /* front, unit: only the front emits */
-    uint32_t polygon;
-} rad_light_triangle;
 
 /* Everything the path tracer looks up per hit, precomputed once. */
 typedef struct rad_tracer {
@@ -24,10 +18,8 @@ typedef struct rad_tracer {
     const rad_scene *scene;
     rad_rays *rays;
     const rad_material **polygon_material; /* polygon -> material */
-    double *polygon_light_pdf;             /* polygon -> area density of light sampling */
-    size_t light_count;
-    rad_light_triangle *lights;
-    double *light_cdf; /* light_count entries, the last is 1 */
+    rad_emitter_table emitters;            /* the emitting polygons' triangles, by power */
+    int32_t *polygon_emitter;              /* polygon -> its first emitter triangle, or -1 */
     int max_bounces;   /* 0: no limit (Russian roulette ends paths) */
     int next_event;    /* nonzero (the default): sample the emitters at every smooth vertex;
                           zero: BSDF sampling only (a slower estimator, for tests) */
@@ -42,8 +34,16 @@ typedef struct rad_trace_counts {
     uint64_t paths, rays, camera_hits, back_hits;
 } rad_trace_counts;
 
-/* The radiance arriving at `origin` from `direction` (unit) along one random path. */
-void rad_tracer_radiance(const rad_tracer *tracer, rad_rng *rng, rad_vec3 origin,
+/* The sampler's dimensions (core/sampler.h) along a path, the same for every path: a 4D set
+ * RAD_PATH_DIM_PIXEL (the position in the pixel, bounce 0's emitter point), then two per bounce
+ * b from RAD_PATH_DIM_BOUNCE + 2 b: a 4D set (b's BSDF direction, bounce b + 1's emitter point)
+ * and a 2D one (lobe choice, Russian roulette). The camera is a pinhole: no lens dimensions. */
+enum { RAD_PATH_DIM_PIXEL = 0, RAD_PATH_DIM_BOUNCE = 1, RAD_PATH_DIMS_PER_BOUNCE = 2 };
+
+/* The radiance arriving at `origin` from `direction` (unit) along one path, its random numbers
+ * drawn from `sampler` at its index in the dimensions above (the caller sets the index and
+ * takes the position in the pixel from RAD_PATH_DIM_PIXEL; this sets the dimensions). */
+void rad_tracer_radiance(const rad_tracer *tracer, rad_sampler *sampler, rad_vec3 origin,
                          rad_vec3 direction, rad_trace_counts *counts, double out[3]);
 
 #endif

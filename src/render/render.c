@@ -32,8 +32,7 @@ void rad_renderer_destroy(rad_renderer *r) {
     rad_context *ctx = r->ctx;
     rad_element_rays_destroy(r->rays);
     rad_free(ctx, r->surface_material);
-    rad_free(ctx, r->emitters);
-    rad_free(ctx, r->emitter_cdf);
+    rad_emitter_table_free(ctx, &r->emitters);
     rad_free(ctx, r->element_emitter);
     rad_free(ctx, r->fit_vertex);
     rad_free(ctx, r->fit_first);
@@ -181,33 +180,25 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
     return RAD_OK;
 }
 
-/* One pixel: the mean of its jittered samples. With n = k * k + m samples, k * k of them are
- * stratified (one uniform point in each cell of a k x k grid, Cook 1986) and the m others
- * uniform in the pixel: every sample is uniform over the pixel, so the expected value is the
- * box-filtered image the path tracer converges to, with less noise along edges. */
+/* One pixel: the mean of its samples, at Owen-scrambled Sobol' points of the pixel (a (0,m,2)-net
+ * for 2^m samples, core/sampler.h): every sample is uniform over the pixel, so the expected
+ * value is the box-filtered image the path tracer converges to, with less noise along edges. */
 static void render_pixel(const rad_renderer *r, int x, int y, rad_ray_counts *counts,
                          float out[3]) {
     const rad_view *view = &r->view;
     rad_sample sample;
-    sample.rng = rad_rng_make(r->seed, (uint64_t)y * (uint64_t)view->width + (uint64_t)x);
+    sample.seed = r->seed;
+    sample.x = (uint32_t)x;
+    sample.y = (uint32_t)y;
     sample.count = (uint32_t)r->settings.samples_per_pixel;
     sample.counts = counts;
-    for (int k = 0; k < 2; ++k) {
-        sample.gather_shift[k] = rad_rng_uniform(&sample.rng);
-        sample.light_shift[k] = rad_rng_uniform(&sample.rng);
-    }
     int samples = r->settings.samples_per_pixel;
-    int side = (int)sqrt((double)samples);
-    while ((side + 1) * (side + 1) <= samples) ++side;
-    while (side * side > samples) --side;
     double sum[3] = {0, 0, 0};
     for (int s = 0; s < samples; ++s) {
-        double jx = rad_rng_uniform(&sample.rng), jy = rad_rng_uniform(&sample.rng);
-        if (s < side * side) {
-            jx = (s % side + jx) / side;
-            jy = (s / side + jy) / side;
-        }
+        double jitter[2];
         sample.index = (uint32_t)s;
+        rad_sample_2d(&sample, 1, 0, RAD_RENDER_DIM_PIXEL, jitter);
+        double jx = jitter[0], jy = jitter[1];
         double radiance[3];
         rad_trace_radiance(r, &sample, view->eye, rad_view_direction(view, x + jx, y + jy), NULL,
                            radiance);

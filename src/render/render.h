@@ -15,20 +15,12 @@
 #ifndef RAD_RENDER_RENDER_H
 #define RAD_RENDER_RENDER_H
 
-#include "core/rng.h"
+#include "core/sampler.h"
+#include "light/emitters.h"
 #include "render/camera.h"
 #include "render/element_rays.h"
 #include "scene/scene.h"
 #include "solve/system.h"
-
-/* A piece of emitting surface for light sampling: a triangle of an emitting element, cut the
- * same way Embree cuts it, so sampled points lie exactly on the traced geometry. */
-typedef struct rad_emitter {
-    rad_vec3 p0, e1, e2; /* corner and edges: p = p0 + s e1 + t e2, s, t >= 0, s + t <= 1 */
-    rad_vec3 normal;     /* front, unit */
-    double area;
-    float radiance[3];   /* emitted radiance L = E / pi */
-} rad_emitter;
 
 typedef struct rad_render_settings {
     int width, height, samples_per_pixel;
@@ -49,10 +41,8 @@ struct rad_renderer {
     size_t surface_count;
     rad_material *surface_material;
 
-    /* Light sampling: emitter triangles and their cumulative distribution by power. */
-    size_t emitter_count;
-    rad_emitter *emitters;
-    double *emitter_cdf;           /* emitter_count entries, the last is 1 */
+    /* Light sampling: the emitting elements' triangles, picked by power (light/emitters.h). */
+    rad_emitter_table emitters;
     int32_t (*element_emitter)[2]; /* per element, its emitter triangles (-1: none) */
 
     /* Boundary vertices of the smooth reconstruction (reconstruct.c): their radiance is the
@@ -75,16 +65,39 @@ typedef struct rad_ray_counts {
     uint64_t camera, gather, shadow, specular;
 } rad_ray_counts;
 
-/* One camera sample: its random numbers, and its place among the samples of its pixel. The final
- * gather spreads its rays and emitter samples over the whole pixel: sample `index` of `count`
- * takes every count-th point of one stratified set per pixel (shifted by the pixel's offsets),
- * so the pixel's estimate is stratified, not only each sample's. */
+/* One camera sample: its pixel and its place among the samples of the pixel, from which every
+ * random number it needs is drawn (core/sampler.h: Owen-scrambled Sobol' points, the pixels in
+ * Morton order). The final gather spreads its rays and emitter samples over the whole pixel:
+ * ray i of sample `index` of `count` is point index * n + i of the pixel's count * n points, one
+ * net over the pixel, so the pixel's estimate is stratified, not only each sample's. */
 typedef struct rad_sample {
-    rad_rng rng;
-    uint32_t index, count;
-    double gather_shift[2], light_shift[2];
+    uint64_t seed;
+    uint32_t x, y, index, count;
     rad_ray_counts *counts;
 } rad_sample;
+
+/* The sampler's 2D dimensions in the renderer: the position in the pixel, the final gather's
+ * directions and emitter points, and three per bounce of a camera path through mirrors and
+ * glass (emitter point, BSDF direction, lobe choice) from RAD_RENDER_DIM_BOUNCE, of a gather
+ * ray's path from RAD_RENDER_DIM_GATHER_BOUNCE. */
+enum {
+    RAD_RENDER_DIM_PIXEL = 0,
+    RAD_RENDER_DIM_GATHER = 1,
+    RAD_RENDER_DIM_LIGHT = 2,
+    RAD_RENDER_DIM_BOUNCE = 3,
+    RAD_RENDER_DIM_GATHER_BOUNCE = 1000
+};
+
+/* Number i of `per_sample` numbers of this sample (of count * per_sample for the pixel) in 2D
+ * dimension `dimension`. */
+static inline void rad_sample_2d(const rad_sample *sample, uint32_t per_sample, uint32_t i,
+                                 uint32_t dimension, double out[2]) {
+    rad_sampler sampler = rad_sampler_make(sample->seed, 0);
+    sampler.index = rad_sampler_pixel_index(sample->x, sample->y, sample->count * per_sample,
+                                            sample->index * per_sample + i);
+    sampler.dimension = dimension;
+    rad_sampler_2d(&sampler, out);
+}
 
 /* The material of an element. */
 static inline const rad_material *rad_renderer_material(const rad_renderer *r, uint32_t element) {
@@ -99,8 +112,8 @@ rad_status rad_reconstruct_build(rad_renderer *r);
 /* Fills the radiance arrays from the system's current solution. */
 rad_status rad_reconstruct_prepare(rad_renderer *r);
 
-/* final_gather.c: the emitter table, and the radiance leaving the diffuse point x (on element,
- * front normal n) by direct light plus gathered indirect light. */
+/* final_gather.c: the emitter table of the emitting elements, and the radiance leaving the
+ * diffuse point x (on element, front normal n) by direct light plus gathered indirect light. */
 rad_status rad_emitters_build(rad_renderer *r);
 void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_element_hit *hit,
                       rad_vec3 x, rad_vec3 n, double out[3]);
@@ -110,14 +123,8 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
 typedef struct rad_gather_origin {
     rad_vec3 normal;
     int light_samples, gather_rays;
+    uint32_t ray; /* which of the gather_rays (its sampler index) */
 } rad_gather_origin;
-
-/* A point drawn on the emitters, as seen from a point x. */
-typedef struct rad_emitter_point {
-    rad_vec3 position, direction; /* direction: unit, from x to the point */
-    double pdf;                   /* solid-angle density at x */
-    const float *radiance;        /* emitted radiance L_e */
-} rad_emitter_point;
 
 /* The power heuristic (Veach & Guibas 1995) for a sample of the strategy with (count times
  * density) a against the other's b. */
@@ -125,12 +132,8 @@ static inline double rad_power_heuristic(double a, double b) {
     return a * a + b * b > 0 ? a * a / (a * a + b * b) : 0;
 }
 
-/* final_gather.c: a point on the emitters for two uniform numbers (an emitter triangle by power,
- * then uniform on it); zero when it is not there or faces away from x. */
-int rad_emitter_sample(const rad_renderer *r, double u0, double u1, rad_vec3 x,
-                       rad_emitter_point *out);
-/* The solid-angle density rad_emitter_sample has for the point a ray along `direction` meets at
- * `hit`; zero when that is not the front of an emitter. */
+/* final_gather.c: the solid-angle density rad_emitter_table_sample has (on r->emitters) for the
+ * point a ray along `direction` meets at `hit`; zero when that is not the front of an emitter. */
 double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_element_hit *hit);
 
 /* final_gather.c: the weight (power heuristic, Veach 1997) of the emitted radiance a gather ray

@@ -48,15 +48,15 @@ static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
  * weighted against the BSDF sample that continues the path (multiple importance sampling, as
  * the path tracer does at every vertex). Without it, a rough mirror would show the light it
  * reflects only where a BSDF sample happens to hit the emitter: bright specks. */
-static void glossy_direct(const rad_renderer *r, rad_sample *sample, const rad_material *material,
-                          rad_vec3 x, rad_vec3 normal, rad_vec3 wo, double out[3]) {
+static void glossy_direct(const rad_renderer *r, const double u[2], const rad_material *material,
+                          rad_vec3 x, rad_vec3 normal, rad_vec3 wo, rad_ray_counts *counts,
+                          double out[3]) {
     out[0] = out[1] = out[2] = 0;
     rad_emitter_point light;
-    double u0 = rad_rng_uniform(&sample->rng), u1 = rad_rng_uniform(&sample->rng);
-    if (!rad_emitter_sample(r, u0, u1, x, &light)) return;
+    if (!rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light)) return;
     double f[3], pdf_bsdf;
     if (!rad_bsdf_eval(material, normal, wo, light.direction, f, &pdf_bsdf)) return;
-    sample->counts->shadow++;
+    counts->shadow++;
     if (rad_element_rays_occluded(r->rays, x, light.position)) return;
     double cos_x = fabs(v3_dot(normal, light.direction));
     double weight = rad_power_heuristic(light.pdf, pdf_bsdf);
@@ -112,13 +112,22 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
         } else {
             /* Glass, rough mirrors: one sample of the whole BSDF, and on camera paths the light
              * straight from the emitters at glossy points. */
+            /* This bounce's numbers: (emitter point, BSDF direction, lobe choice), drawn for the
+             * camera sample, or for this gather ray among the pixel's. */
+            uint32_t per_sample = gather ? (uint32_t)gather->gather_rays : 1;
+            uint32_t ray = gather ? gather->ray : 0;
+            uint32_t dimension = (gather ? RAD_RENDER_DIM_GATHER_BOUNCE : RAD_RENDER_DIM_BOUNCE) +
+                                 3 * (uint32_t)depth;
+            double u_light[2], u_direction[2], u_choice[2];
+            rad_sample_2d(sample, per_sample, ray, dimension, u_light);
+            rad_sample_2d(sample, per_sample, ray, dimension + 1, u_direction);
+            rad_sample_2d(sample, per_sample, ray, dimension + 2, u_choice);
             if (!gather && rad_bsdf_has_smooth_lobe(material)) {
                 double direct[3];
-                glossy_direct(r, sample, material, x, normal, wo, direct);
+                glossy_direct(r, u_light, material, x, normal, wo, counts, direct);
                 for (int c = 0; c < 3; ++c) out[c] += throughput[c] * direct[c];
             }
-            double u[3] = {rad_rng_uniform(&sample->rng), rad_rng_uniform(&sample->rng),
-                           rad_rng_uniform(&sample->rng)};
+            double u[3] = {u_choice[0], u_direction[0], u_direction[1]};
             rad_bsdf_sample scatter;
             if (rad_bsdf_sample_direction(material, normal, wo, u, &scatter) == RAD_LOBE_NONE) return;
             for (int c = 0; c < 3; ++c) throughput[c] *= scatter.weight[c];

@@ -1,0 +1,77 @@
+/* emitters.h - the emitter table: the emitting surfaces of a scene cut into triangles, one
+ * distribution to pick a point on them, and the density of that choice (docs/rendering.md,
+ * "Light sampling"). Shared by every method that samples light: the path tracer
+ * (render/pathtrace.c) builds it from the scene's emitting polygons, the renderer's final gather
+ * and second pass (render/final_gather.c, render/second_pass.c) from the emitting elements.
+ *
+ * A sample for two uniform numbers (u0, u1): a triangle k with probability P_k (by power, area
+ * times summed emitted radiance, or by area), u0 rescaled inside k's share of the cumulative
+ * distribution and reused, then a point uniform on k (Turk 1990: sqrt(u0) along the edges). Its
+ * density at the receiver x is the area density P_k / A_k turned to solid angle:
+ *     pdf(w) = P_k / A_k * |x - y|^2 / cos(theta_y)    (Veach 1997, sec. 8.2.2). */
+#ifndef RAD_LIGHT_EMITTERS_H
+#define RAD_LIGHT_EMITTERS_H
+
+#include "core/context.h"
+#include "core/vec3.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* One emitting triangle: p = p0 + s e1 + t e2, s, t >= 0, s + t <= 1. */
+typedef struct rad_emitter {
+    rad_vec3 p0, e1, e2;
+    rad_vec3 normal;    /* front, unit: only the front emits */
+    double area;
+    double radiance[3]; /* emitted radiance L_e */
+    uint32_t source;    /* the caller's polygon or element this triangle is part of */
+} rad_emitter;
+
+/* How a triangle is picked. */
+typedef enum rad_emitter_selection {
+    RAD_EMITTERS_BY_POWER = 0, /* P_k proportional to A_k (L_r + L_g + L_b) */
+    RAD_EMITTERS_BY_AREA       /* P_k proportional to A_k */
+} rad_emitter_selection;
+
+typedef struct rad_emitter_table {
+    size_t count, capacity;
+    rad_emitter *emitters;
+    double *cdf; /* count entries, the last is 1 (after rad_emitter_table_finish) */
+} rad_emitter_table;
+
+/* A point drawn on the emitters, as seen from a receiver x. */
+typedef struct rad_emitter_point {
+    rad_vec3 position, direction; /* direction: unit, from x to the point */
+    double distance2;             /* |position - x|^2 */
+    double pdf;                   /* solid-angle density at x */
+    const double *radiance;       /* emitted radiance L_e of the triangle */
+    size_t index;                 /* the triangle */
+} rad_emitter_point;
+
+/* Room for `capacity` triangles (a zeroed table needs no call when nothing emits). */
+rad_status rad_emitter_table_reserve(rad_context *ctx, rad_emitter_table *table, size_t capacity);
+/* Appends the triangle (a, b, c) with front `normal` (unit) and emitted radiance; a triangle
+ * without area is skipped. Returns its index, or -1 when skipped. Needs room (reserve). */
+int32_t rad_emitter_table_add(rad_emitter_table *table, rad_vec3 a, rad_vec3 b, rad_vec3 c,
+                              rad_vec3 normal, const double radiance[3], uint32_t source);
+/* The selection distribution over what was added; a table whose triangles carry no power is
+ * emptied (count 0: nothing to sample). */
+void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection selection);
+void rad_emitter_table_free(rad_context *ctx, rad_emitter_table *table);
+
+/* The probability P_k of picking triangle k. */
+static inline double rad_emitter_table_probability(const rad_emitter_table *table, size_t k) {
+    return table->cdf[k] - (k ? table->cdf[k - 1] : 0);
+}
+
+/* A point on the emitters for two uniform numbers in [0, 1); zero when the table is empty, the
+ * point is x itself or the triangle faces away from x. */
+int rad_emitter_table_sample(const rad_emitter_table *table, double u0, double u1, rad_vec3 x,
+                             rad_emitter_point *out);
+
+/* The solid-angle density rad_emitter_table_sample has for the point on triangle k that a ray
+ * along unit `direction` meets at `distance`; zero from behind. */
+double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 direction,
+                             double distance);
+
+#endif
