@@ -19,7 +19,7 @@
 typedef struct render_args {
     cli_pipeline_args pipeline;
     const char *output, *tonemap, *shading, *solution;
-    int width, height, spp, final_gather, light_samples, max_depth, stats;
+    int width, height, spp, final_gather, light_samples, max_depth, stats, half;
     double exposure;
     cli_camera_args camera;
 } render_args;
@@ -79,9 +79,9 @@ int cmd_render(int argc, char **argv) {
     cli_camera_args_init(&a.camera);
     /* render's own options, then the shared solver, form-factor and meshing ones, then the
      * terminator (the array is zeroed past what is listed here). */
-    enum { OWN_OPTIONS = 17 };
+    enum { OWN_OPTIONS = 18 };
     cli_option options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT + 1] = {
-        {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm (SCENE.png)"},
+        {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm, .exr (SCENE.png)"},
         {"--output", CLI_STRING, &a.output, "FILE  the same as -o"},
         {"--width", CLI_INT, &a.width, "W  image width in pixels (512)"},
         {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
@@ -89,6 +89,7 @@ int cmd_render(int argc, char **argv) {
         CLI_CAMERA_OPTIONS(&a.camera),
         {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
+        {"--half", CLI_FLAG, &a.half, "EXR only: 16-bit half floats (default 32-bit float)"},
         {"--shading", CLI_STRING, &a.shading, "MODE  smooth|flat (smooth)"},
         {"--final-gather", CLI_INT, &a.final_gather,
          "N  direct light sampled + N gather rays per sample into the solution (4; 0: the "
@@ -136,7 +137,7 @@ int cmd_render(int argc, char **argv) {
 
     cli_pipeline_args *p = &a.pipeline;
     rad_context *ctx = cli_context_with_progress(p->threads, p->seed, p->max_memory, p->quiet);
-    rad_image_save_options save = {a.exposure, a.tonemap};
+    rad_image_save_options save = {a.exposure, a.tonemap, a.half};
     rad_scene *scene = NULL;
     rad_system *system = NULL;
     rad_renderer *renderer = NULL;
