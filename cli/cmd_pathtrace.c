@@ -88,6 +88,7 @@ int cmd_pathtrace(int argc, char **argv) {
         trace.camera = &camera;
         trace.samples_per_pixel = a.spp;
         trace.max_bounces = a.max_bounces > 0 ? a.max_bounces : 0;
+        cli_stage("pathtrace", "%dx%d pixels, %d paths per pixel", a.width, a.height, a.spp);
         rs = rad_pathtrace(ctx, scene, &trace, &image, &stats);
     }
     if (!rs) {
