@@ -3,7 +3,7 @@ BUILD ?= build
 BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build run test bench clean test-sanitize fuzz valgrind
+.PHONY: all deps configure build run test bench clean test-sanitize fuzz valgrind install
 
 all: build
 
@@ -39,6 +39,12 @@ fuzz: deps
 # A short solve, render and path trace under valgrind memcheck: no errors, no leaks.
 valgrind: deps
 	@scripts/valgrind-check.sh build-valgrind
+
+# The header, static and shared library, radiosity.pc, the CMake package and the tool under
+# PREFIX (default /usr/local): make install PREFIX=$HOME/.local
+PREFIX ?= /usr/local
+install: build
+	cmake --install $(BUILD) --prefix $(PREFIX)
 
 clean:
 	rm -rf $(BUILD)

@@ -17,8 +17,10 @@ int cmd_bake(int argc, char **argv) {
     p.solver = "shooting";
     p.ff = "default";
     const char *output = NULL, *tonemap = "clamp";
-    double exposure = 0, scale = 0, aspect = 0;
-    cli_option options[6 + CLI_PIPELINE_OPTION_COUNT + 1] = {
+    const char *solution = NULL;
+    double exposure = 0, scale = 0, aspect = 0, time_budget = 0;
+    enum { OWN_OPTIONS = 8 };
+    cli_option options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT + 1] = {
         {"-o", CLI_STRING, &output, "FILE  .glb, .gltf (writes FILE.bin beside it), .ply or .obj"},
         {"--output", CLI_STRING, &output, "FILE  the same as -o"},
         {"--exposure", CLI_DOUBLE, &exposure, "STOPS  PLY and OBJ display colours: exposure (0)"},
@@ -26,9 +28,14 @@ int cmd_bake(int argc, char **argv) {
          "CURVE  PLY and OBJ display colours: none|clamp|reinhard|aces (clamp)"},
         {"--scale", CLI_DOUBLE, &scale, "S  multiply positions, e.g. 0.001 for mm to m (1)"},
         {"--aspect", CLI_DOUBLE, &aspect, "A  glTF camera aspect ratio, width / height (1)"},
+        {"--time-budget", CLI_DOUBLE, &time_budget,
+         "S  stop the solve after S seconds and bake the solution so far"},
+        {"--solution", CLI_STRING, &solution,
+         "FILE  bake a solution saved by solve --save (same scene and meshing/ff options) "
+         "instead of solving"},
     };
-    cli_pipeline_options(&p, "shooting", options + 6);
-    options[6 + CLI_PIPELINE_OPTION_COUNT] = (cli_option){0};
+    cli_pipeline_options(&p, "shooting", options + OWN_OPTIONS);
+    options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT] = (cli_option){0};
 
     const char *positional[1];
     int count;
@@ -40,14 +47,16 @@ int cmd_bake(int argc, char **argv) {
         return cli_error(EXIT_USAGE, "bake: where to? -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj");
     if (scale < 0 || aspect < 0)
         return cli_error(EXIT_USAGE, "bake: --scale and --aspect must be positive");
-    if ((status = cli_check_output_path("bake", output, positional, 1))) return status;
+    if (time_budget < 0 || time_budget != time_budget)
+        return cli_error(EXIT_USAGE, "bake: --time-budget must be a positive number of seconds");
+    const char *inputs[2] = {positional[0], solution};
+    if ((status = cli_check_output_path("bake", output, inputs, solution ? 2 : 1))) return status;
     rad_solve_options solve;
     rad_mesh_options mesh;
     rad_ff_options ff;
     status = cli_pipeline_check("bake", &p, &solve, &mesh, &ff);
     if (status) return status;
-    status = cli_check_output_path("bake", output, positional, 1);
-    if (status) return status;
+    solve.time_budget = time_budget;
 
     rad_context *ctx = cli_context_with_progress(p.threads, p.seed, p.max_memory, p.quiet);
     rad_bake_options bake = {0};
@@ -76,7 +85,14 @@ int cmd_bake(int argc, char **argv) {
                                 positional[0]);
         goto done;
     }
-    if (!rs) rs = cli_pipeline_solve(system, &solve, &report, NULL);
+    if (!rs && solution) {
+        /* A saved solution replaces the solve; it is refused for another scene or mesh. */
+        rs = rad_system_load_solution(system, solution, NULL);
+        if (!rs) cli_stage("solve", "loaded from %s", solution);
+    } else if (!rs) {
+        rs = cli_pipeline_solve(system, &solve, &report, NULL);
+    }
+    if (!rs) cli_stage("bake", "%s", output);
     bake.scene = scene;
     if (!rs) rs = rad_bake(system, output, &bake);
     cli_progress_clear();
@@ -84,7 +100,11 @@ int cmd_bake(int argc, char **argv) {
         exit_status = cli_fail(ctx, rs);
         goto done;
     }
-    if (!p.quiet) {
+    if (!p.quiet && solution) {
+        printf("baked %zu elements of %zu surfaces into %s (solution from %s)\n",
+               rad_system_element_count(system), rad_system_surface_count(system), output,
+               solution);
+    } else if (!p.quiet) {
         int gathering =
             solve.solver == RAD_SOLVER_JACOBI || solve.solver == RAD_SOLVER_GAUSS_SEIDEL;
         printf("baked %zu elements of %zu surfaces into %s (%s", rad_system_element_count(system),

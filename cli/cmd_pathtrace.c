@@ -13,7 +13,7 @@
 
 typedef struct pathtrace_args {
     const char *output, *tonemap;
-    int width, height, spp, max_bounces, threads, quiet, stats;
+    int width, height, spp, max_bounces, threads, quiet, stats, half;
     size_t seed;
     double exposure, max_memory;
     cli_camera_args camera;
@@ -29,7 +29,7 @@ int cmd_pathtrace(int argc, char **argv) {
     a.max_bounces = -1;
     cli_camera_args_init(&a.camera);
     const cli_option options[] = {
-        {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm (required)"},
+        {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm, .exr (required)"},
         {"--output", CLI_STRING, &a.output, "FILE  the same as -o"},
         {"--spp", CLI_INT, &a.spp, "N  paths per pixel, jittered, box filter (64)"},
         {"--max-bounces", CLI_INT, &a.max_bounces,
@@ -40,6 +40,7 @@ int cmd_pathtrace(int argc, char **argv) {
         CLI_CAMERA_OPTIONS(&a.camera),
         {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
+        {"--half", CLI_FLAG, &a.half, "EXR only: 16-bit half floats (default 32-bit float)"},
         {"--threads", CLI_INT, &a.threads, "N  worker threads (all cores)"},
         {"--max-memory", CLI_DOUBLE, &a.max_memory, "MIB  memory budget for the image (2048)"},
         {"--stats", CLI_FLAG, &a.stats, "print time, paths and rays per second"},
@@ -63,7 +64,7 @@ int cmd_pathtrace(int argc, char **argv) {
     if (a.max_memory < 0) return cli_error(EXIT_USAGE, "pathtrace: --max-memory must be positive");
 
     rad_context *ctx = cli_context_with_progress(a.threads, (uint64_t)a.seed, a.max_memory, a.quiet);
-    rad_image_save_options save = {a.exposure, a.tonemap};
+    rad_image_save_options save = {a.exposure, a.tonemap, a.half};
     rad_status rs = rad_image_check_path(ctx, a.output, &save);
     if (rs) {
         /* A bad extension or tone curve is a usage error; an unwritable place is not. */
@@ -87,6 +88,7 @@ int cmd_pathtrace(int argc, char **argv) {
         trace.camera = &camera;
         trace.samples_per_pixel = a.spp;
         trace.max_bounces = a.max_bounces > 0 ? a.max_bounces : 0;
+        cli_stage("pathtrace", "%dx%d pixels, %d paths per pixel", a.width, a.height, a.spp);
         rs = rad_pathtrace(ctx, scene, &trace, &image, &stats);
     }
     if (!rs) {

@@ -19,8 +19,8 @@
 typedef struct render_args {
     cli_pipeline_args pipeline;
     const char *output, *tonemap, *shading, *solution;
-    int width, height, spp, final_gather, light_samples, max_depth, stats;
-    double exposure;
+    int width, height, spp, final_gather, light_samples, max_depth, stats, half;
+    double exposure, time_budget;
     cli_camera_args camera;
 } render_args;
 
@@ -65,7 +65,7 @@ int cmd_render(int argc, char **argv) {
     static const char synopsis[] =
         "[SCENE] [-o FILE] [options]   (SCENE: a file or a built-in name; default cornell)";
     render_args a = {0};
-    a.pipeline.solver = "gauss-seidel";
+    a.pipeline.solver = "shooting"; /* solve's default, so that render and solve agree */
     a.pipeline.ff = "default";
     a.tonemap = "clamp";
     a.shading = "smooth";
@@ -79,9 +79,9 @@ int cmd_render(int argc, char **argv) {
     cli_camera_args_init(&a.camera);
     /* render's own options, then the shared solver, form-factor and meshing ones, then the
      * terminator (the array is zeroed past what is listed here). */
-    enum { OWN_OPTIONS = 17 };
+    enum { OWN_OPTIONS = 19 };
     cli_option options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT + 1] = {
-        {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm (SCENE.png)"},
+        {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm, .exr (SCENE.png)"},
         {"--output", CLI_STRING, &a.output, "FILE  the same as -o"},
         {"--width", CLI_INT, &a.width, "W  image width in pixels (512)"},
         {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
@@ -89,6 +89,7 @@ int cmd_render(int argc, char **argv) {
         CLI_CAMERA_OPTIONS(&a.camera),
         {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
+        {"--half", CLI_FLAG, &a.half, "EXR only: 16-bit half floats (default 32-bit float)"},
         {"--shading", CLI_STRING, &a.shading, "MODE  smooth|flat (smooth)"},
         {"--final-gather", CLI_INT, &a.final_gather,
          "N  direct light sampled + N gather rays per sample into the solution (4; 0: the "
@@ -97,6 +98,8 @@ int cmd_render(int argc, char **argv) {
          "N  final gather: emitter samples per sample (a quarter of --final-gather)"},
         {"--max-depth", CLI_INT, &a.max_depth, "N  mirror and glass bounces per path (16)"},
         {"--stats", CLI_FLAG, &a.stats, "print the time of each step and ray counts"},
+        {"--time-budget", CLI_DOUBLE, &a.time_budget,
+         "S  stop the solve after S seconds and render the solution so far"},
         {"--solution", CLI_STRING, &a.solution,
          "FILE  render a solution saved by solve --save (same scene and meshing/ff options) "
          "instead of solving"},
@@ -104,7 +107,7 @@ int cmd_render(int argc, char **argv) {
     size_t count = 0;
     while (options[count].name) ++count;
     assert(count == OWN_OPTIONS);
-    cli_pipeline_options(&a.pipeline, "gauss-seidel", options + count);
+    cli_pipeline_options(&a.pipeline, "shooting", options + count);
     const char *positional[1];
     int positional_count;
     int status = cli_parse("render", synopsis, options, argc, argv, positional, 1, &positional_count);
@@ -119,6 +122,9 @@ int cmd_render(int argc, char **argv) {
         return cli_error(EXIT_USAGE, "render: image size %dx%d: each side must be 1 to %d pixels",
                          a.width, a.height, MAX_SIDE);
     if (a.spp < 1) return cli_error(EXIT_USAGE, "render: --spp must be at least 1");
+    if (a.time_budget < 0 || a.time_budget != a.time_budget)
+        return cli_error(EXIT_USAGE, "render: --time-budget must be a positive number of seconds");
+    solve.time_budget = a.time_budget;
     if ((status = cli_camera_check("render", &a.camera))) return status;
     int shading = rad_shading_parse(a.shading);
     if (shading < 0)
@@ -136,7 +142,7 @@ int cmd_render(int argc, char **argv) {
 
     cli_pipeline_args *p = &a.pipeline;
     rad_context *ctx = cli_context_with_progress(p->threads, p->seed, p->max_memory, p->quiet);
-    rad_image_save_options save = {a.exposure, a.tonemap};
+    rad_image_save_options save = {a.exposure, a.tonemap, a.half};
     rad_scene *scene = NULL;
     rad_system *system = NULL;
     rad_renderer *renderer = NULL;
@@ -182,9 +188,13 @@ int cmd_render(int argc, char **argv) {
         double start = cli_seconds();
         rs = rad_system_load_solution(system, a.solution, NULL);
         timings.solve = cli_seconds() - start;
+        if (!rs) cli_stage("solve", "loaded from %s", a.solution);
     } else if (!rs) {
         rs = cli_pipeline_solve(system, &solve, &report, &timings);
     }
+    if (!rs)
+        cli_stage("render", "%dx%d pixels, %d samples per pixel, final gather %d, %s shading",
+                  a.width, a.height, a.spp, a.final_gather, a.shading);
     if (!rs) rs = rad_renderer_render(renderer, &image, &stats);
     if (!rs) {
         double start = cli_seconds();

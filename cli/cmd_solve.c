@@ -274,7 +274,9 @@ int cmd_solve(int argc, char **argv) {
         exit_status = solve_compare(ctx, scene, &mesh, &ff, &a, &camera);
         goto done;
     }
+    double mesh_start = cli_seconds();
     if (!rs) rs = rad_system_create(ctx, scene, &mesh, &ff, &system);
+    if (!rs) cli_stage_mesh(system, cli_seconds() - mesh_start);
 
     /* Going on from a saved solution. */
     rad_solution_info resumed = {(rad_solver_kind)kind, 0};
@@ -352,6 +354,7 @@ int cmd_solve(int argc, char **argv) {
         rad_solve_report report;
         rs = rad_solve(system, &solve, &report);
         solve_watch_finish(&watch);
+        if (!rs) cli_stage_solve(&solve, &report);
         if (trace.out != stdout && trace.out) fclose(trace.out);
         if (watch.log) fclose(watch.log);
         long steps = watch.step_offset + report.iterations;

@@ -1,6 +1,7 @@
 /* options.c - the declarative option parser and the shared helpers of every command. */
 #include "cli.h"
 #include "interrupt.h"
+#include "progress.h"
 
 #include <errno.h>
 #include <math.h>
@@ -155,9 +156,14 @@ int cli_fail(rad_context *ctx, rad_status status) {
 }
 
 rad_status cli_load_scene(rad_context *ctx, const char *name, rad_scene **out) {
-    for (size_t i = 0; i < rad_builtin_scene_count(); ++i)
-        if (strcmp(rad_builtin_scene_name(i), name) == 0) return rad_scene_builtin(ctx, name, out);
-    return rad_scene_load(ctx, name, out);
+    double start = cli_seconds();
+    int builtin = 0;
+    for (size_t i = 0; i < rad_builtin_scene_count() && !builtin; ++i)
+        builtin = strcmp(rad_builtin_scene_name(i), name) == 0;
+    rad_status status = builtin ? rad_scene_builtin(ctx, name, out) : rad_scene_load(ctx, name, out);
+    if (!status)
+        cli_stage("scene", "%s%s, %.2f s", name, builtin ? " (built in)" : "", cli_seconds() - start);
+    return status;
 }
 
 int cli_parse_ff_method(const char *name) {

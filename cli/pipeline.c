@@ -1,6 +1,8 @@
 /* pipeline.c - the shared load, mesh and solve steps of the commands (see pipeline.h). */
 #include "pipeline.h"
 
+#include "progress.h"
+
 #include <time.h>
 
 double cli_seconds(void) {
@@ -71,6 +73,7 @@ rad_status cli_pipeline_build(rad_context *ctx, const char *scene_name,
     rad_status status = cli_load_scene(ctx, scene_name, scene);
     double loaded = cli_seconds();
     if (!status) status = rad_system_create(ctx, *scene, mesh, ff, system);
+    if (!status) cli_stage_mesh(*system, cli_seconds() - loaded);
     if (timings) {
         timings->load = loaded - start;
         timings->system = cli_seconds() - loaded;
@@ -83,5 +86,6 @@ rad_status cli_pipeline_solve(rad_system *system, const rad_solve_options *solve
     double start = cli_seconds();
     rad_status status = rad_solve(system, solve, report);
     if (timings) timings->solve = cli_seconds() - start;
+    if (!status && report) cli_stage_solve(solve, report);
     return status;
 }

@@ -1,6 +1,8 @@
 /* progress.h - what a long command shows on stderr while it works: a progress bar (the phase,
- * how much is done, the rate and the time left) when stderr is a terminal, nothing when it is
- * not or with --quiet; and warnings, which clear the bar before they print. */
+ * how much is done, the rate and the time left) when stderr is a terminal; when it is not (a
+ * batch job, a log file), one line per stage ("radiosity: [mesh] ...") and a progress line
+ * every few seconds of long work instead; nothing but warnings and errors with --quiet.
+ * Warnings clear the bar before they print. */
 #ifndef RAD_CLI_PROGRESS_H
 #define RAD_CLI_PROGRESS_H
 
@@ -17,5 +19,14 @@ void cli_progress_clear(void);
 /* The progress callback itself, for contexts made elsewhere; `user` is unused. Returns nonzero
  * (stop) after Ctrl-C. */
 int cli_progress_report(void *user, const char *phase, double done, double total);
+
+/* Batch feedback (stderr not a terminal, not --quiet; nothing otherwise): one line
+ * "radiosity: [STAGE] what", e.g. "radiosity: [mesh] 8 surfaces, 40 patches, 2527 elements,
+ * 0.41 s". The square brackets tell these lines from errors and notes. */
+void cli_stage(const char *stage, const char *format, ...) __attribute__((format(printf, 2, 3)));
+
+/* The stage lines of the shared steps: the mesh of a new system, and a finished solve. */
+void cli_stage_mesh(const rad_system *system, double seconds);
+void cli_stage_solve(const rad_solve_options *solve, const rad_solve_report *report);
 
 #endif

@@ -1,6 +1,7 @@
 /* fuzz_image.c - libFuzzer target for the linear image readers that `compare` uses
- * (src/io/image.c rad_image_read: .pfm parsed here, .hdr through stb_image). The first byte
- * picks the format; the rest is written to a temporary file, since the reader takes a path. */
+ * (src/io/image.c rad_image_read: .pfm and .hdr parsed there, .exr through OpenEXR's C API in
+ * src/io/image_exr.c). The first byte picks the format (low two bits 2: EXR, else bit 0: HDR or
+ * PFM); the rest is written to a temporary file, since the reader takes a path. */
 #include "input_file.h"
 #include "io/image.h"
 
@@ -17,7 +18,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 /* A private directory for the temporary images, removed at exit. */
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (size < 1) return 0;
-    const char *path = fuzz_write_input((data[0] & 1) ? "hdr" : "pfm", data + 1, size - 1);
+    const char *format = (data[0] & 3) == 2 ? "exr" : (data[0] & 1) ? "hdr" : "pfm";
+    const char *path = fuzz_write_input(format, data + 1, size - 1);
 
     rad_context_options options = {0};
     options.threads = 1;

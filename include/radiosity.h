@@ -386,6 +386,7 @@ void rad_image_destroy(rad_image *image);
 typedef struct rad_image_save_options {
     double exposure;     /* stops; PNG only */
     const char *tonemap; /* "clamp" (NULL), "none", "reinhard", "aces"; PNG only */
+    int exr_half;        /* EXR only: nonzero writes 16-bit half floats (default 32-bit float) */
 } rad_image_save_options;
 
 /* Checks before any work is done: an extension rad_image_save knows and a known tone curve
@@ -393,8 +394,8 @@ typedef struct rad_image_save_options {
 rad_status rad_image_check_path(rad_context *context, const char *path,
                                 const rad_image_save_options *options);
 
-/* Writes by extension: .png tone mapped sRGB 8 bit; .hdr (Radiance RGBE) and .pfm (32-bit float)
- * linear, never tone mapped. The file appears whole or not at all. */
+/* Writes by extension: .png tone mapped sRGB 8 bit; .hdr (Radiance RGBE), .pfm (32-bit float)
+ * and .exr (OpenEXR, 32-bit float or half, ZIP) linear, never tone mapped. The file appears whole or not at all. */
 rad_status rad_image_save(const rad_image *image, const char *path,
                           const rad_image_save_options *options);
 
@@ -486,7 +487,7 @@ rad_status rad_system_screen_share(rad_system *system, const rad_camera_desc *ca
  * docs/images.md). Cameras and image files are those of "Rendering" above.
  * ------------------------------------------------------------------------------------------- */
 
-/* Reads a linear image: .pfm (Portable Float Map) or .hdr (Radiance RGBE). */
+/* Reads a linear image: .pfm (Portable Float Map), .hdr (Radiance RGBE) or .exr (OpenEXR). */
 rad_status rad_image_read(rad_context *context, const char *path, rad_image **out);
 
 typedef struct rad_pathtrace_options {

@@ -9,6 +9,7 @@ packages=(
   libassimp-dev                      # assimp C API: scene import and export
   libstb-dev                         # stb_image / stb_image_write: PNG and HDR
   liblapack-dev                      # LAPACK dgesv: the direct solver
+  libopenexr-dev                     # OpenEXR C API (OpenEXRCore): .exr images
   libomp-dev                         # OpenMP runtime for clang builds (gcc brings libgomp)
   clang                              # fuzzers and sanitizer builds
   libclang-rt-dev                    # libFuzzer and the sanitizer runtimes for clang

@@ -41,6 +41,22 @@ check "diff reported" grep -q 'diff.png' "$work/out"
 "$radiosity" compare "$work/a.hdr" "$work/a.pfm" --json >"$work/out"
 check "hdr reads" grep -q '"mean_ratio": 0\.99' "$work/out"
 
+# EXR (OpenEXR): 32-bit float is the PFM bit for bit; --half rounds to 11 bits; render writes it.
+"$radiosity" pathtrace -o "$work/a.exr" --width 16 --height 16 --spp 1 --quiet
+"$radiosity" compare "$work/a.exr" "$work/a.pfm" >"$work/out"
+check "exr float equals pfm" grep -Eq '^rmse +0$' "$work/out"
+"$radiosity" pathtrace -o "$work/h.exr" --half --width 16 --height 16 --spp 1 --quiet
+"$radiosity" compare "$work/h.exr" "$work/a.pfm" --json >"$work/out"
+check "exr half close" grep -Eq '"mean_ratio": (0\.999[0-9]*|1\.000[0-9]*|1)[,}]' "$work/out"
+check "exr half is smaller" test "$(stat -c %s "$work/h.exr")" -lt "$(stat -c %s "$work/a.exr")"
+"$radiosity" render -o "$work/r.exr" --width 16 --height 16 --elements 40 --quiet
+check "render writes exr" test -s "$work/r.exr"
+head -c 200 "$work/a.exr" >"$work/cut.exr"
+expect_exit 1 'cut.exr: not a readable EXR file' -- "$radiosity" compare "$work/cut.exr" "$work/a.pfm"
+head -c 100 /dev/urandom >"$work/garbage.exr"
+expect_exit 1 'garbage.exr: not a readable EXR file' -- "$radiosity" compare "$work/a.pfm" "$work/garbage.exr"
+rm -f "$work/a.exr" "$work/h.exr" "$work/r.exr" "$work/cut.exr" "$work/garbage.exr"
+
 rm -f "$work/diff.png" "$work/a.hdr" "$work/a.pfm"
 expect_exit 2 'needs two images' -- "$radiosity" compare "$work/one.pfm"
 expect_exit 2 'unknown option' -- "$radiosity" compare "$work/one.pfm" "$work/one.pfm" --frobnicate

@@ -29,7 +29,7 @@ expect() {
     local got=$?
     check "exit $want (got $got) from: $*" test "$got" -eq "$want"
     check "message /$pattern/ from: $*" grep -q -- "$pattern" err
-    check "one error line from: $*" test "$(grep -vc '^radiosity: warning:' err)" -le 1
+    check "one error line from: $*" test "$(grep -vEc '^radiosity: (warning:|\[)' err)" -le 1
     if ! grep -q -- "$pattern" err; then sed 's/^/    stderr: /' err | head -n 5 >&2; fi
 }
 # Nothing in the directory but the inputs a row made on purpose (named in.* or keep.*).

@@ -15,7 +15,7 @@ refused() {
     local file=$1 pattern=$2
     run "$file"
     check "$file: exit 1 (got $status)" test "$status" -eq 1
-    check "$file: one line on stderr" test "$(wc -l <err)" -eq 1
+    check "$file: one line on stderr" test "$(grep -vc '^radiosity: \[' err)" -eq 1
     check "$file: message /$pattern/ (got: $(head -c 200 err))" grep -q "^radiosity: .*$pattern" err
     check "$file: no output" test ! -s out
 }

@@ -1,10 +1,11 @@
-/* test_images.c - image files: PFM and HDR round trips, PFM row order and byte layout, PNG tone
+/* test_images.c - image files: PFM, HDR and EXR (float and half) round trips, damaged EXR files, PFM row order and byte layout, PNG tone
  * mapping decoded with stb_image, unknown extensions and unwritable paths. */
 #include "io/image.h"
 #include "render/compare.h"
 #include "render/tonemap.h"
 #include "test.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -121,6 +122,65 @@ static void test_hdr_round_trip(void) {
     rad_image_free(image);
 }
 
+/* EXR through OpenEXR: float is exact, half within its 11-bit mantissa; negative and large
+ * values survive (EXR is linear and signed); truncated or garbage files fail with a message. */
+static void test_exr(void) {
+    rad_image *image = gradient(37, 19); /* more lines than one ZIP chunk (16) */
+    CHECK(image != NULL);
+    if (!image) return;
+    image->pixels[0] = -2.5f;
+    image->pixels[4] = 65000.0f;
+    rad_image_write_options options = {0, RAD_TONEMAP_CLAMP, 0};
+    for (int half = 0; half <= 1; ++half) {
+        options.exr_half = half;
+        CHECK(rad_image_write(image, "test_images.exr", &options) == RAD_OK);
+        rad_image *back = NULL;
+        CHECK(rad_image_read(ctx, "test_images.exr", &back) == RAD_OK);
+        if (!back) continue;
+        CHECK(back->width == 37 && back->height == 19);
+        double worst = 0;
+        for (size_t i = 0; i < (size_t)37 * 19 * 3; ++i) {
+            double want = image->pixels[i], got = back->pixels[i];
+            double error = fabs(got - want) / (fabs(want) > 1e-3 ? fabs(want) : 1e-3);
+            if (error > worst) worst = error;
+        }
+        if (half) CHECK(worst > 0 && worst < 1.0 / 1024); /* half rounds, to 2^-11 relative */
+        else CHECK(worst == 0);
+        rad_image_free(back);
+    }
+    /* Damaged copies of the file: every cut and a garbage header give one message, no image. */
+    options.exr_half = 0;
+    CHECK(rad_image_write(image, "test_images.exr", &options) == RAD_OK);
+    FILE *file = fopen("test_images.exr", "rb");
+    static unsigned char bytes[1 << 16];
+    size_t size = file ? fread(bytes, 1, sizeof bytes, file) : 0;
+    if (file) fclose(file);
+    CHECK(size > 400 && size < sizeof bytes);
+    const size_t cuts[] = {0, 3, 40, 200, 340, size / 2, size - 1};
+    for (size_t k = 0; k < sizeof cuts / sizeof cuts[0]; ++k) {
+        file = fopen("test_images_cut.exr", "wb");
+        if (!file) break;
+        fwrite(bytes, 1, cuts[k], file);
+        fclose(file);
+        rad_image *back = NULL;
+        rad_status status = rad_image_read(ctx, "test_images_cut.exr", &back);
+        CHECK(status == RAD_ERROR_PARSE && back == NULL);
+        CHECK(strstr(rad_context_error(ctx), "test_images_cut.exr: ") != NULL);
+        CHECK(strchr(rad_context_error(ctx), '\n') == NULL);
+        rad_image_free(back);
+    }
+    bytes[0] ^= 0xff; /* not the EXR magic number */
+    file = fopen("test_images_cut.exr", "wb");
+    if (file) {
+        fwrite(bytes, 1, size, file);
+        fclose(file);
+    }
+    rad_image *back = NULL;
+    CHECK(rad_image_read(ctx, "test_images_cut.exr", &back) == RAD_ERROR_PARSE && back == NULL);
+    remove("test_images_cut.exr");
+    rad_image_free(image);
+}
+
 static void test_png_values(void) {
     rad_image *image;
     if (rad_image_new(ctx, 4, 2, &image)) {
@@ -133,7 +193,7 @@ static void test_png_values(void) {
         image->pixels[3 * i + 1] = values[i] * 0.5f;
         image->pixels[3 * i + 2] = 0;
     }
-    rad_image_write_options options = {0, RAD_TONEMAP_CLAMP};
+    rad_image_write_options options = {0, RAD_TONEMAP_CLAMP, 0};
     CHECK(rad_image_write(image, "test_images.png", &options) == RAD_OK);
     int width, height, channels;
     unsigned char *png = stbi_load("test_images.png", &width, &height, &channels, 3);
@@ -256,12 +316,14 @@ int main(void) {
     test_pfm_round_trip();
     test_pfm_big_endian_and_grey();
     test_hdr_round_trip();
+    test_exr();
     test_png_values();
     test_bad_outputs();
     test_compare();
     remove("test_images.pfm");
     remove("test_images.hdr");
     remove("test_images.png");
+    remove("test_images.exr");
     rad_context_destroy(ctx);
     return test_finish();
 }

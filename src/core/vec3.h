@@ -3,6 +3,7 @@
 #define RAD_CORE_VEC3_H
 
 #include <math.h>
+#include <stddef.h>
 
 typedef struct rad_vec3 {
     double x, y, z;
@@ -32,6 +33,19 @@ static inline double v3_max_component(rad_vec3 a) {
     return m > a.z ? m : a.z;
 }
 static inline double v3_get(rad_vec3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
+
+/* Newell's normal of a polygon p[0..n-1]: perpendicular to it, by the right-hand rule of its
+ * winding, and twice its area long (any planar polygon, convex or not). */
+static inline rad_vec3 v3_newell_normal(const rad_vec3 *p, size_t n) {
+    rad_vec3 normal = v3(0, 0, 0);
+    for (size_t k = 0; k < n; ++k) {
+        rad_vec3 a = p[k], b = p[(k + 1) % n];
+        normal.x += (a.y - b.y) * (a.z + b.z);
+        normal.y += (a.z - b.z) * (a.x + b.x);
+        normal.z += (a.x - b.x) * (a.y + b.y);
+    }
+    return normal;
+}
 
 /* An orthonormal basis (t, b) around a unit normal n (Duff et al. 2017). */
 static inline void v3_basis(rad_vec3 n, rad_vec3 *t, rad_vec3 *b) {

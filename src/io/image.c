@@ -3,6 +3,7 @@
  *   .png  exposure, tone curve and sRGB (render/tonemap.h), 8 bit, through stb_image_write.
  *   .hdr  Radiance RGBE (Ward 1991), run-length encoded, through stb_image_write; read by
  *         read_hdr below (stb_image's reader hangs on truncated run-length scanlines).
+ *   .exr  OpenEXR, 32-bit float (or half) linear RGB, ZIP compressed: image_exr.c.
  *   .pfm  Portable Float Map: "PF\n<width> <height>\n<scale>\n" then 32-bit floats, rows from
  *         the BOTTOM of the image to the top; a negative scale means little endian. Written and
  *         read here.
@@ -11,6 +12,7 @@
 #include "io/image.h"
 
 #include "core/atomic_file.h"
+#include "io/image_exr.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -57,7 +59,7 @@ void rad_image_free(rad_image *image) {
     rad_free(image->ctx, image);
 }
 
-typedef enum image_format { FORMAT_UNKNOWN = 0, FORMAT_PNG, FORMAT_HDR, FORMAT_PFM } image_format;
+typedef enum image_format { FORMAT_UNKNOWN = 0, FORMAT_PNG, FORMAT_HDR, FORMAT_PFM, FORMAT_EXR } image_format;
 
 static image_format format_of(const char *path) {
     if (!path) return FORMAT_UNKNOWN;
@@ -67,6 +69,7 @@ static image_format format_of(const char *path) {
     if (strcasecmp(dot, ".png") == 0) return FORMAT_PNG;
     if (strcasecmp(dot, ".hdr") == 0) return FORMAT_HDR;
     if (strcasecmp(dot, ".pfm") == 0) return FORMAT_PFM;
+    if (strcasecmp(dot, ".exr") == 0) return FORMAT_EXR;
     return FORMAT_UNKNOWN;
 }
 
@@ -144,7 +147,7 @@ rad_status rad_image_write(const rad_image *image, const char *path,
     image_format format = format_of(path);
     if (format == FORMAT_UNKNOWN)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
-                        "%s: unknown image format (use .png, .hdr or .pfm)", path ? path : "");
+                        "%s: unknown image format (use .png, .hdr, .pfm or .exr)", path ? path : "");
     rad_atomic_file file;
     rad_status status = rad_atomic_open(ctx, path, &file);
     if (status) return status;
@@ -152,6 +155,7 @@ rad_status rad_image_write(const rad_image *image, const char *path,
     case FORMAT_PNG: status = write_png(image, file.file, options); break;
     case FORMAT_HDR: status = write_hdr(image, file.file); break;
     case FORMAT_PFM: status = write_pfm(image, file.file); break;
+    case FORMAT_EXR: status = rad_exr_write(image, file.file, path, options && options->exr_half); break;
     case FORMAT_UNKNOWN: break;
     }
     if (status) {
@@ -332,9 +336,10 @@ done:
 rad_status rad_image_read(rad_context *ctx, const char *path, rad_image **out) {
     *out = NULL;
     image_format format = format_of(path);
+    if (format == FORMAT_EXR) return rad_exr_read(ctx, path, out);
     if (format != FORMAT_PFM && format != FORMAT_HDR)
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED,
-                        "%s: can only read linear images (.pfm or .hdr)", path ? path : "");
+                        "%s: can only read linear images (.pfm, .hdr or .exr)", path ? path : "");
     FILE *file = fopen(path, "rb");
     if (!file) return rad_fail(ctx, RAD_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
     rad_status status = format == FORMAT_PFM ? read_pfm(ctx, path, file, out)
@@ -354,6 +359,7 @@ static rad_status write_options(rad_context *ctx, const rad_image_save_options *
                                 rad_image_write_options *out) {
     out->exposure = options ? options->exposure : 0;
     out->curve = RAD_TONEMAP_CLAMP;
+    out->exr_half = options ? options->exr_half : 0;
     if (!isfinite(out->exposure))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "exposure must be finite");
     const char *name = options ? options->tonemap : NULL;
@@ -370,7 +376,7 @@ rad_status rad_image_check_path(rad_context *ctx, const char *path,
                                 const rad_image_save_options *options) {
     if (!rad_image_extension_known(path))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
-                        "%s: unknown image format (use .png, .hdr or .pfm)", path ? path : "");
+                        "%s: unknown image format (use .png, .hdr, .pfm or .exr)", path ? path : "");
     rad_image_write_options write;
     rad_status status = write_options(ctx, options, &write);
     if (status) return status;

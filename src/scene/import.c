@@ -142,16 +142,7 @@ static int finite3(rad_vec3 p) { return isfinite(p.x) && isfinite(p.y) && isfini
 static int same_point(rad_vec3 a, rad_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 /* Newell's normal: its length is twice the area. */
-static rad_vec3 newell_normal(const rad_vec3 *p, size_t n) {
-    rad_vec3 normal = v3(0, 0, 0);
-    for (size_t k = 0; k < n; ++k) {
-        rad_vec3 a = p[k], b = p[(k + 1) % n];
-        normal.x += (a.y - b.y) * (a.z + b.z);
-        normal.y += (a.z - b.z) * (a.x + b.x);
-        normal.z += (a.x - b.x) * (a.y + b.y);
-    }
-    return normal;
-}
+static rad_vec3 newell_normal(const rad_vec3 *p, size_t n) { return v3_newell_normal(p, n); }
 
 static int degenerate(const rad_vec3 *p, size_t n) {
     if (n < 3) return 1;

@@ -1,6 +1,8 @@
 /* load.c - scene loading by file kind, and the list of built-in scenes. */
 #include "scene/scene.h"
 
+#include "scene/mgf.h"
+
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
@@ -111,6 +113,7 @@ static rad_status read_file(rad_context *ctx, const char *path, char **text, siz
 rad_status rad_scene_load(rad_context *ctx, const char *path, rad_scene **out) {
     if (!ctx || !path || !out) return RAD_ERROR_INVALID_ARGUMENT;
     *out = NULL;
+    if (has_extension(path, ".mgf")) return rad_scene_load_mgf(ctx, path, out);
     if (!has_extension(path, ".ffm")) return rad_scene_import(ctx, path, out);
     char *text = NULL;
     size_t length = 0;

@@ -1,0 +1,237 @@
+#!/usr/bin/env bash
+# cli_mgf.sh - MGF input (src/scene/mgf.c): scenes/cornell.mgf against the same box written
+# in OBJ here (same surfaces and areas; renders within 1% in the mean, relative MSE < 1e-4), the
+# tessellated primitives (areas against their closed forms, and facing outwards: an emitting
+# primitive inside a closed box lights the box), includes and transforms, and bad input (one
+# line FILE:LINE, exit 1).
+# Usage: cli_mgf.sh RADIOSITY SOURCE_DIR
+source "$(dirname "$0")/lib_cli.sh" "$@"
+cd "$work" || exit 1
+
+# The OBJ twin: the colours converted by hand from the chromaticities (sRGB primaries, white
+# E: a colour at a primary's chromaticity is that channel alone, scaled by the luminance weight
+# of the primary), the emission ed / (pi 179) = 10.
+python3 - <<'PY'
+import math
+xy = [(0.64, 0.33), (0.30, 0.60), (0.15, 0.06)]
+# Columns X/Y, 1, Z/Y of the primaries; weights w solve M w = (1, 1, 1) (white E).
+m = [[x / y for x, y in xy], [1.0, 1.0, 1.0], [(1 - x - y) / y for x, y in xy]]
+def det(a):
+    return (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]))
+d = det(m)
+w = []
+for k in range(3):
+    a = [row[:] for row in m]
+    for i in range(3): a[i][k] = 1.0
+    w.append(det(a) / d)
+red, green = 0.25 / w[0], 0.25 / w[1]
+light = 5623.4508 / (math.pi * 179)
+open("twin.mtl", "w").write(f"""newmtl white
+Kd 0.75 0.75 0.75
+newmtl red
+Kd {red:.9f} 0 0
+newmtl green
+Kd 0 {green:.9f} 0
+newmtl light
+Kd 0.5 0.5 0.5
+Ke {light:.9f} {light:.9f} {light:.9f}
+""")
+open("twin.obj", "w").write("""mtllib twin.mtl
+v 0 0 0
+v 0 0 1
+v 1 0 1
+v 1 0 0
+v 0 1 0
+v 0 1 1
+v 1 1 1
+v 1 1 0
+v 0.4 0.99 0.4
+v 0.6 0.99 0.4
+v 0.6 0.99 0.6
+v 0.4 0.99 0.6
+v 0.2 0 0.2
+v 0.2 0 0.45
+v 0.45 0 0.45
+v 0.45 0 0.2
+v 0.2 0.3 0.2
+v 0.2 0.3 0.45
+v 0.45 0.3 0.45
+v 0.45 0.3 0.2
+o floor
+usemtl white
+f 1 2 3 4
+o ceiling
+usemtl white
+f 5 8 7 6
+o back-wall
+usemtl white
+f 1 4 8 5
+o red-wall
+usemtl red
+f 1 5 6 2
+o green-wall
+usemtl green
+f 4 3 7 8
+o light
+usemtl light
+f 9 10 11 12
+o block
+usemtl white
+f 13 16 15 14
+f 17 18 19 20
+f 13 14 18 17
+f 14 15 19 18
+f 15 16 20 19
+f 16 13 17 20
+""")
+PY
+
+surfaces() { # surfaces FILE: "name area" per surface, from solve --json
+    "$radiosity" solve "$1" --elements 400 --json --quiet |
+        python3 -c 'import json, sys; [print(p["name"], "%.9f" % p["area"]) for p in json.load(sys.stdin)["patches"]]'
+}
+surfaces "$source_dir/scenes/cornell.mgf" >mgf.surfaces
+surfaces twin.obj >obj.surfaces
+check "MGF reads: 7 surfaces" test "$(wc -l <mgf.surfaces)" -eq 7
+# (assimp reads OBJ in single precision: areas agree to 1e-6.)
+check "same surfaces and areas as the OBJ twin" python3 -c '
+import sys
+a = [l.split() for l in open("mgf.surfaces")]
+b = [l.split() for l in open("obj.surfaces")]
+sys.exit(0 if len(a) == len(b) and all(x[0] == y[0] and abs(float(x[1]) / float(y[1]) - 1) < 1e-6
+                                       for x, y in zip(a, b)) else 1)'
+
+view=(--eye 0.5,0.5,2.4 --look 0.5,0.5,0 --fov 40 --width 48 --height 48 --spp 4 --elements 600
+      --quiet)
+"$radiosity" render "$source_dir/scenes/cornell.mgf" -o mgf.pfm "${view[@]}"
+check "render the MGF box" test $? -eq 0
+"$radiosity" render twin.obj -o obj.pfm "${view[@]}"
+"$radiosity" compare mgf.pfm obj.pfm --json >cmp.json
+check "MGF and OBJ renders agree in the mean within 1%" python3 -c '
+import json, sys; d = json.load(open("cmp.json")); sys.exit(0 if abs(d["mean_ratio"] - 1) < 0.01 else 1)'
+check "MGF and OBJ renders agree pixel by pixel" python3 -c '
+import json, sys; d = json.load(open("cmp.json")); sys.exit(0 if d["relative_mse"] < 1e-4 else 1)'
+check "the box is lit" python3 -c '
+import json, sys; d = json.load(open("cmp.json")); sys.exit(0 if d["mean_reference"] > 0.01 else 1)' \
+    || cat cmp.json >&2
+
+# Primitives: areas against closed forms (24 segments: within 3%), and outward: an emitting
+# primitive inside a closed white box (faces inward) lights the box.
+box='v a =
+	p -3 -3 -3
+v b =
+	p 3 -3 -3
+v c =
+	p 3 3 -3
+v d =
+	p -3 3 -3
+v e =
+	p -3 -3 3
+v f =
+	p 3 -3 3
+v g =
+	p 3 3 3
+v h =
+	p -3 3 3
+m wall =
+	rd 0.5
+o box
+m wall
+f a b c d
+f e h g f
+f a e f b
+f b f g c
+f c g h d
+f d h e a
+o
+m lamp =
+	ed 1000
+v o =
+	p 0 0 0
+	n 0 0 1
+v top =
+	p 0 0 1.5
+v t1 =
+	p 0.5 0 0
+v t2 =
+	p 0 0.5 0
+v t3 =
+	p -0.5 -0.5 0
+o shape
+m lamp
+'
+primitive() { # primitive NAME MGF-LINE AREA: area within 3%, the box receives light
+    printf '%s%s\no\n' "$box" "$2" >"$1.mgf"
+    "$radiosity" solve "$1.mgf" --elements 300 --tolerance 1e-3 --json --quiet >"$1.json" 2>"$1.err"
+    check "$1: solves" test $? -eq 0 || cat "$1.err" >&2
+    check "$1: area within 3% of $3" python3 -c "
+import json, sys
+d = {p['name']: p for p in json.load(open('$1.json'))['patches']}
+sys.exit(0 if abs(d['shape']['area'] / ($3) - 1) < 0.03 else 1)"
+    check "$1: faces outward (the box is lit)" python3 -c "
+import json, sys
+d = {p['name']: p for p in json.load(open('$1.json'))['patches']}
+sys.exit(0 if d['box']['radiosity'][1] > 1e-3 else 1)"
+}
+pi=3.141592653589793
+primitive sph 'sph o 1' "4*$pi"
+primitive cyl 'cyl o 0.5 top' "2*$pi*0.5*1.5"
+primitive cone 'cone o 1 top 0' "$pi*1*(1+1.5**2)**0.5"
+primitive ring 'ring o 0.5 1' "$pi*(1-0.25)"
+primitive torus 'torus o 0.5 1.5' "4*$pi**2*1*0.5"
+primitive prism 'prism t1 t2 t3 1' "2*0.375+1*(0.5**2+0.5**2)**0.5+2*1*(0.5**2+1)**0.5"
+# Inward primitives (negative radius) light nothing outside them.
+printf '%s%s\no\n' "$box" 'sph o -1' >inward.mgf
+"$radiosity" solve inward.mgf --elements 300 --tolerance 1e-3 --json --quiet >inward.json 2>/dev/null
+check "sph with a negative radius faces inward" python3 -c "
+import json, sys
+d = {p['name']: p for p in json.load(open('inward.json'))['patches']}
+sys.exit(0 if d['box']['radiosity'][1] < 1e-9 else 1)"
+
+# Includes with a transform, and xf: the light square of a file included twice, moved.
+mkdir -p parts
+cat >parts/square.mgf <<'MGF'
+v s0 =
+	p 0 0 0
+v s1 =
+	p 1 0 0
+v s2 =
+	p 1 1 0
+v s3 =
+	p 0 1 0
+f s0 s1 s2 s3
+MGF
+cat >two.mgf <<'MGF'
+m grey =
+	rd 0.5
+o pair
+m grey
+i parts/square.mgf
+i parts/square.mgf -s 2 -t 5 0 0
+xf -rz 90 -t 0 0 3
+i parts/square.mgf
+xf
+o
+MGF
+surfaces two.mgf >two.surfaces 2>/dev/null # (nothing emits: a warning)
+check "includes: one surface of area 1 + 4 + 1" grep -q '^pair 6.0000' two.surfaces
+
+# Bad input: one line FILE:LINE, exit 1.
+bad() { # bad FILE TEXT PATTERN: solve refuses FILE (holding TEXT) with one line PATTERN, exit 1
+    printf "$2" >"$1"
+    expect_exit 1 "$3" -- "$radiosity" solve "$1"
+}
+bad undef.mgf 'v a =\n\tp 0 0 0\nf a b c\n' 'undef.mgf:3: undefined vertex: b'
+bad unknown.mgf 'm x =\n\trd 0.5\nfrobnicate 1 2\n' 'unknown.mgf:3: unknown MGF entity: frobnicate'
+bad bright.mgf 'm x =\n\trd 1.5\n' 'bright.mgf:2: reflectance must be in'
+bad nan.mgf 'v a =\n\tp 0 zero 0\n' 'nan.mgf:2: not a number: zero'
+bad inc.mgf 'i missing.mgf\n' 'inc.mgf:1: cannot include'
+bad inc2.mgf 'i inc2.mgf\n' 'includes nested too deep'
+bad open.mgf 'o open\n' 'not ended'
+bad empty.mgf '# nothing\n' 'empty.mgf: no faces'
+bad device.mgf 'i /dev/null\n' 'device.mgf:1: cannot include /dev/null: not a regular file'
+head -c 300 /dev/urandom >garbage.mgf
+expect_exit 1 'garbage.mgf' -- "$radiosity" solve garbage.mgf
+
+finish
