@@ -14,7 +14,7 @@ int cmd_bake(int argc, char **argv) {
         "SCENE -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj [options]   "
         "(SCENE: a file or a built-in name)";
     cli_pipeline_args p = {0};
-    p.solver = "shooting";
+    p.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
     p.ff = "default";
     const char *output = NULL, *tonemap = "clamp";
     double exposure = 0, scale = 0, aspect = 0;
@@ -27,7 +27,7 @@ int cmd_bake(int argc, char **argv) {
         {"--scale", CLI_DOUBLE, &scale, "S  multiply positions, e.g. 0.001 for mm to m (1)"},
         {"--aspect", CLI_DOUBLE, &aspect, "A  glTF camera aspect ratio, width / height (1)"},
     };
-    cli_pipeline_options(&p, "shooting", options + 6);
+    cli_pipeline_options(&p, RAD_SOLVER_SHOOTING, options + 6);
     options[6 + CLI_PIPELINE_OPTION_COUNT] = (cli_option){0};
 
     const char *positional[1];

@@ -65,7 +65,7 @@ int cmd_render(int argc, char **argv) {
     static const char synopsis[] =
         "[SCENE] [-o FILE] [options]   (SCENE: a file or a built-in name; default cornell)";
     render_args a = {0};
-    a.pipeline.solver = "gauss-seidel";
+    a.pipeline.solver = rad_solver_kind_name(RAD_SOLVER_GAUSS_SEIDEL);
     a.pipeline.ff = "default";
     a.tonemap = "clamp";
     a.shading = "smooth";
@@ -104,7 +104,7 @@ int cmd_render(int argc, char **argv) {
     size_t count = 0;
     while (options[count].name) ++count;
     assert(count == OWN_OPTIONS);
-    cli_pipeline_options(&a.pipeline, "gauss-seidel", options + count);
+    cli_pipeline_options(&a.pipeline, RAD_SOLVER_GAUSS_SEIDEL, options + count);
     const char *positional[1];
     int positional_count;
     int status = cli_parse("render", synopsis, options, argc, argv, positional, 1, &positional_count);

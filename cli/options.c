@@ -159,10 +159,3 @@ rad_status cli_load_scene(rad_context *ctx, const char *name, rad_scene **out) {
         if (strcmp(rad_builtin_scene_name(i), name) == 0) return rad_scene_builtin(ctx, name, out);
     return rad_scene_load(ctx, name, out);
 }
-
-int cli_parse_ff_method(const char *name) {
-    static const char *const names[] = {"default", "analytic", "hemicube", "raycast", "montecarlo"};
-    for (int i = 0; i < 5; ++i)
-        if (strcmp(names[i], name) == 0) return i;
-    return -1;
-}

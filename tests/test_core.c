@@ -248,6 +248,46 @@ static void test_memory_budget(void) {
     rad_context_destroy(small);
 }
 
+/* The registries: names parse back to their kinds, a zeroed options struct runs the default
+ * solver (shooting: same shots, same radiosity), the resume rule, the form-factor methods. */
+static void test_registries(void) {
+    CHECK(rad_solver_count() >= 5);
+    for (size_t i = 0; i < rad_solver_count(); ++i) {
+        const rad_solver_info *info = rad_solver_at(i);
+        CHECK(info && info->name && info->description && *info->description);
+        CHECK(rad_solver_kind_parse(info->name) == (int)i + 1);
+        CHECK(strcmp(rad_solver_kind_name((rad_solver_kind)(i + 1)), info->name) == 0);
+        CHECK(rad_solver_get((rad_solver_kind)(i + 1)) == info);
+    }
+    CHECK(rad_solver_at(rad_solver_count()) == NULL);
+    CHECK(rad_solver_kind_parse("no-such-solver") == -1 && rad_solver_kind_parse(NULL) == -1);
+    CHECK(rad_solver_get(RAD_SOLVER_DEFAULT) == rad_solver_get(RAD_SOLVER_SHOOTING));
+    CHECK(rad_solver_get((rad_solver_kind)(rad_solver_count() + 1)) == NULL);
+    CHECK(rad_solver_get(RAD_SOLVER_SHOOTING)->capabilities & RAD_SOLVER_SHOOTS);
+    CHECK(!(rad_solver_get(RAD_SOLVER_JACOBI)->capabilities & RAD_SOLVER_SHOOTS));
+    CHECK(rad_solver_get(RAD_SOLVER_IMPORTANCE)->capabilities & RAD_SOLVER_NEEDS_CAMERA);
+    CHECK(!rad_solver_can_resume(RAD_SOLVER_SHOOTING, RAD_SOLVER_JACOBI));
+    CHECK(rad_solver_can_resume(RAD_SOLVER_SHOOTING, RAD_SOLVER_DIRECT));
+    CHECK(rad_solver_can_resume(RAD_SOLVER_IMPORTANCE, RAD_SOLVER_SHOOTING));
+    CHECK(rad_solver_can_resume(RAD_SOLVER_GAUSS_SEIDEL, RAD_SOLVER_SHOOTING));
+    rad_system *system = load("four-walls");
+    rad_solve_options zeroed = {0}, shooting = {.solver = RAD_SOLVER_SHOOTING};
+    rad_solve_report a = {0}, b = {0};
+    CHECK(rad_solve(system, &zeroed, &a) == RAD_OK);
+    double floor_zeroed = radiosity_of(system, "floor");
+    CHECK(rad_solve(system, &shooting, &b) == RAD_OK);
+    CHECK(a.iterations == b.iterations && a.iterations > 1);
+    CHECK(floor_zeroed == radiosity_of(system, "floor"));
+    rad_system_destroy(system);
+    CHECK(rad_ff_method_count() >= 4);
+    for (size_t i = 0; i < rad_ff_method_count(); ++i) {
+        const rad_ff_method_info *info = rad_ff_method_at(i);
+        CHECK(info && rad_ff_method_parse(info->name) == (int)i + 1);
+        CHECK(strcmp(rad_ff_method_name((rad_ff_method)(i + 1)), info->name) == 0);
+    }
+    CHECK(rad_ff_method_parse("default") == RAD_FF_DEFAULT && rad_ff_method_parse("x") == -1);
+}
+
 int main(void) {
     CHECK(rad_context_create(NULL, &ctx) == RAD_OK);
     test_jacobi_rounds();
@@ -257,6 +297,7 @@ int main(void) {
     test_enclosure();
     test_colour();
     test_memory_budget();
+    test_registries();
     rad_context_destroy(ctx);
     return test_finish();
 }

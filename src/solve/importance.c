@@ -230,6 +230,15 @@ static void importance_end(rad_solver_run *run) {
     run->state = NULL;
 }
 
+static const rad_method_option importance_options[] = {
+    {"overshoot", "overshooting (Feda & Purgathofer 1992)"},
+};
+static const rad_solver_variant importance_variants[] = {{"importance", 0, 0}};
+
 const rad_solver_impl rad_solver_importance = {
-    RAD_SOLVER_IMPORTANCE, "importance", 1, 1, importance_begin, importance_step, importance_end,
+    {"importance", "shooting ordered by what the camera sees (Smits, Arvo & Salesin 1992)",
+     RAD_SOLVER_SHOOTS | RAD_SOLVER_ITERATIVE | RAD_SOLVER_NEEDS_CAMERA | RAD_SOLVER_KEEPS_UNSHOT |
+         RAD_SOLVER_NEEDS_UNSHOT,
+     importance_options, 1, importance_variants, 1, 0},
+    importance_begin, importance_step, importance_end,
 };

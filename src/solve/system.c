@@ -221,3 +221,7 @@ rad_status rad_system_surface_form_factors(rad_system *s, double *matrix) {
     rad_free(s->ctx, patch_to_surface);
     return status;
 }
+
+const char *rad_system_ff_method(const rad_system *system) {
+    return system && system->ff ? system->ff->method : NULL;
+}
