@@ -11,7 +11,7 @@
  * numbers in bench/README.md come from a quiet one. */
 #include "formfactor/geometric.h"
 #include "scene/scene.h"
-#include "solve/system.h"
+#include "system/system.h"
 
 #include <stdio.h>
 #include <stdlib.h>

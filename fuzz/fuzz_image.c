@@ -2,7 +2,7 @@
  * (src/io/image.c rad_image_read: .pfm parsed here, .hdr through stb_image). The first byte
  * picks the format; the rest is written to a temporary file, since the reader takes a path. */
 #include "input_file.h"
-#include "io/image.h"
+#include "image/image.h"
 
 #include <stdint.h>
 #include <stdio.h>

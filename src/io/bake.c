@@ -2,12 +2,12 @@
  * format, and the baked mesh every writer reads. */
 #include "io/bake.h"
 
-#include "io/atomic_file.h"
+#include "core/atomic_file.h"
 #include "mesh/mesh.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
-#include "solve/system.h"
-#include "solve/vertex_radiosity.h"
+#include "system/system.h"
+#include "system/vertex_radiosity.h"
 
 #include <ctype.h>
 #include <math.h>

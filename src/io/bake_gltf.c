@@ -21,7 +21,7 @@
  *     (JSON with spaces, BIN with zeros). */
 #include "io/bake.h"
 
-#include "io/atomic_file.h"
+#include "core/atomic_file.h"
 
 #include <stdio.h>
 #include <string.h>

@@ -12,7 +12,7 @@
  * export leaves nothing behind. OBJ names end at whitespace: a surface name's spaces become '_'. */
 #include "io/bake.h"
 
-#include "io/atomic_file.h"
+#include "core/atomic_file.h"
 
 #include <assimp/cexport.h>
 #include <assimp/cimport.h>

@@ -11,7 +11,7 @@
  * and faces belong to which surface. */
 #include "io/bake.h"
 
-#include "io/atomic_file.h"
+#include "core/atomic_file.h"
 
 #include <string.h>
 

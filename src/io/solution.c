@@ -14,7 +14,7 @@
  * all. A load checks everything before it touches the system, so a refused file loses nothing. */
 #include "io/solution.h"
 
-#include "io/atomic_file.h"
+#include "core/atomic_file.h"
 #include "mesh/mesh.h"
 #include "solve/solver.h"
 

@@ -10,7 +10,7 @@
  * derived from (seed, pixel index), so the image does not depend on the thread count. */
 #include "render/pathtrace.h"
 
-#include "io/image.h"
+#include "image/image.h"
 
 #include <omp.h>
 #include <string.h>

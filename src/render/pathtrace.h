@@ -8,7 +8,7 @@
 
 #include "core/rng.h"
 #include "render/bsdf.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "scene/rays.h"
 
 /* One triangle of an emitting polygon, fanned the way Embree sees it. */

@@ -7,7 +7,7 @@
  * the order rows are handed out. */
 #include "render/render.h"
 
-#include "io/image.h"
+#include "image/image.h"
 
 #include <omp.h>
 #include <string.h>

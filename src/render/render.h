@@ -16,10 +16,10 @@
 #define RAD_RENDER_RENDER_H
 
 #include "core/rng.h"
-#include "render/camera.h"
-#include "render/element_rays.h"
+#include "scene/camera.h"
+#include "system/element_rays.h"
 #include "scene/scene.h"
-#include "solve/system.h"
+#include "system/system.h"
 
 /* A piece of emitting surface for light sampling: a triangle of an emitting element, cut the
  * same way Embree cuts it, so sampled points lie exactly on the traced geometry. */

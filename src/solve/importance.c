@@ -32,7 +32,7 @@
  *
  * Importance depends only on the camera and the form factors, so a resumed run recomputes the
  * same importance and takes the same shots as one that never stopped. */
-#include "solve/screen_share.h"
+#include "system/screen_share.h"
 #include "solve/shooting.h"
 
 #include <math.h>

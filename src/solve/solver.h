@@ -5,7 +5,7 @@
 #ifndef RAD_SOLVE_SOLVER_H
 #define RAD_SOLVE_SOLVER_H
 
-#include "solve/system.h"
+#include "system/system.h"
 
 typedef struct rad_solver_run {
     rad_system *system;

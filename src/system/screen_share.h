@@ -4,7 +4,7 @@
 #define RAD_SOLVE_SCREEN_SHARE_H
 
 #include "scene/scene.h"
-#include "solve/system.h"
+#include "system/system.h"
 
 /* Pixels per side when the caller gives no size. */
 #define RAD_SCREEN_SHARE_SIZE 256

@@ -8,9 +8,9 @@
  *         read here.
  *
  * Every write goes through rad_atomic_open/commit: a failure never leaves a half-written file. */
-#include "io/image.h"
+#include "image/image.h"
 
-#include "io/atomic_file.h"
+#include "core/atomic_file.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -3,10 +3,10 @@
  * (render/element_rays.h) so a hit names its element directly; only front sides count, since
  * the solution lives on the front. This is the emitted importance of Smits, Arvo & Salesin 1992
  * (importance.c) and the weight of the view error (docs/solvers.md, "Importance"). */
-#include "solve/screen_share.h"
+#include "system/screen_share.h"
 
-#include "render/camera.h"
-#include "render/element_rays.h"
+#include "scene/camera.h"
+#include "system/element_rays.h"
 #include "mesh/mesh.h"
 #include "scene/scene.h"
 

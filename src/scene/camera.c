@@ -1,5 +1,5 @@
 /* camera.c - pinhole cameras (see camera.h). */
-#include "render/camera.h"
+#include "scene/camera.h"
 
 rad_camera rad_camera_framing(const rad_scene *scene) {
     rad_vec3 lo, hi;

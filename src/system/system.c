@@ -1,5 +1,5 @@
 /* system.c - building systems, their bookkeeping and the public getters. */
-#include "solve/system.h"
+#include "system/system.h"
 
 #include "scene/scene.h"
 

@@ -1,5 +1,5 @@
 /* atomic_file.c - write-then-rename outputs (see atomic_file.h). */
-#include "io/atomic_file.h"
+#include "core/atomic_file.h"
 
 #include <errno.h>
 #include <stdlib.h>
