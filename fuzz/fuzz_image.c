@@ -1,5 +1,5 @@
 /* fuzz_image.c - libFuzzer target for the linear image readers that `compare` uses
- * (src/io/image.c rad_image_read: .pfm parsed here, .hdr through stb_image). The first byte
+ * (src/image/image.c rad_image_read: .pfm parsed here, .hdr through stb_image). The first byte
  * picks the format; the rest is written to a temporary file, since the reader takes a path. */
 #include "input_file.h"
 #include "image/image.h"

@@ -1,6 +1,6 @@
 /* image.c - float RGB images and their files (see image.h).
  *
- *   .png  exposure, tone curve and sRGB (render/tonemap.h), 8 bit, through stb_image_write.
+ *   .png  exposure, tone curve and sRGB (image/tonemap.h), 8 bit, through stb_image_write.
  *   .hdr  Radiance RGBE (Ward 1991), run-length encoded, through stb_image_write; read by
  *         read_hdr below (stb_image's reader hangs on truncated run-length scanlines).
  *   .pfm  Portable Float Map: "PF\n<width> <height>\n<scale>\n" then 32-bit floats, rows from

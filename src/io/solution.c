@@ -10,7 +10,7 @@
  *   72 24  ambient term, 3 x float64
  *   96     per element: radiosity[3], unshot[3], float64 (48 bytes each)
  *   end 8  FNV-1a 64 of every byte before it
- * Files are written to a temporary and renamed into place (io/atomic_file.h): whole or not at
+ * Files are written to a temporary and renamed into place (core/atomic_file.h): whole or not at
  * all. A load checks everything before it touches the system, so a refused file loses nothing. */
 #include "io/solution.h"
 

@@ -8,7 +8,7 @@
  *
  * where the emitted importance R_i = (share of the screen element i covers) / A_i, so that
  * sum_i A_i R_i dB_i is the change of the image's mean radiosity when element i changes by dB_i
- * (render/element_rays.h traces one ray per pixel, screen_share.c).
+ * (system/element_rays.h traces one ray per pixel, screen_share.c).
  *
  * 1. Emitted importance from the camera (begin).
  * 2. Spread it with the same form-factor rows as light: a shooting pass of Z = rho Y, where

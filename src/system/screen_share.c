@@ -1,6 +1,6 @@
 /* screen_share.c - what a camera sees of a system: the share of the image each element covers.
  * One ray through the centre of every pixel, traced against the element mesh
- * (render/element_rays.h) so a hit names its element directly; only front sides count, since
+ * (system/element_rays.h) so a hit names its element directly; only front sides count, since
  * the solution lives on the front. This is the emitted importance of Smits, Arvo & Salesin 1992
  * (importance.c) and the weight of the view error (docs/solvers.md, "Importance"). */
 #include "system/screen_share.h"
