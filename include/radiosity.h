@@ -48,6 +48,13 @@ typedef enum rad_status {
 /* A short name for a status ("parse error"); static storage. */
 const char *rad_status_name(rad_status status);
 
+/* The version of this header; rad_version() gives the library's, the same when they match. */
+#define RAD_VERSION_MAJOR 0
+#define RAD_VERSION_MINOR 1
+#define RAD_VERSION_PATCH 0
+/* One number to compare: MAJOR * 10000 + MINOR * 100 + PATCH. */
+#define RAD_VERSION_NUMBER (RAD_VERSION_MAJOR * 10000 + RAD_VERSION_MINOR * 100 + RAD_VERSION_PATCH)
+
 /* The library version, "MAJOR.MINOR.PATCH"; static storage. */
 const char *rad_version(void);
 
@@ -60,6 +67,11 @@ typedef struct rad_context rad_context;
 typedef enum rad_log_level { RAD_LOG_INFO = 0, RAD_LOG_WARNING = 1 } rad_log_level;
 
 typedef void (*rad_log_fn)(void *user, rad_log_level level, const char *message);
+
+/* Called with every error the library records on the context, as it records it (the same
+ * message rad_context_error then gives): for callers that log or count errors where they
+ * happen. The failing call still returns its status. */
+typedef void (*rad_error_fn)(void *user, rad_status status, const char *message);
 
 /* Called now and then during long work. `phase` names the step ("form factors", "shooting");
  * done/total measure it in the phase's own unit. Return nonzero to cancel: the running call
@@ -83,6 +95,8 @@ typedef struct rad_context_options {
     int threads;          /* worker threads; zero: all cores */
     uint64_t seed;        /* seed for every random choice; the same seed gives the same result */
     uint64_t max_memory;  /* bytes a form-factor matrix or dense solve may take; zero: 2 GiB */
+    rad_error_fn on_error; /* zero: none */
+    void *error_user;
 } rad_context_options;
 
 rad_status rad_context_create(const rad_context_options *options, rad_context **out);

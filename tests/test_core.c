@@ -288,6 +288,37 @@ static void test_registries(void) {
     CHECK(rad_ff_method_parse("default") == RAD_FF_DEFAULT && rad_ff_method_parse("x") == -1);
 }
 
+/* The version macros agree with the library; the error callback sees each error as it is
+ * recorded, with the message rad_context_error gives. */
+typedef struct seen_errors {
+    int count;
+    rad_status status;
+    char message[256];
+} seen_errors;
+
+static void on_error(void *user, rad_status status, const char *message) {
+    seen_errors *seen = user;
+    seen->count++;
+    seen->status = status;
+    snprintf(seen->message, sizeof seen->message, "%s", message);
+}
+
+static void test_version_and_error_callback(void) {
+    char text[32];
+    snprintf(text, sizeof text, "%d.%d.%d", RAD_VERSION_MAJOR, RAD_VERSION_MINOR, RAD_VERSION_PATCH);
+    CHECK(strcmp(text, rad_version()) == 0);
+    CHECK(RAD_VERSION_NUMBER == RAD_VERSION_MAJOR * 10000 + RAD_VERSION_MINOR * 100 + RAD_VERSION_PATCH);
+    seen_errors seen = {0};
+    rad_context_options options = {.on_error = on_error, .error_user = &seen};
+    rad_context *context = NULL;
+    CHECK(rad_context_create(&options, &context) == RAD_OK);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_builtin(context, "no-such-scene", &scene) != RAD_OK);
+    CHECK(seen.count == 1 && seen.status != RAD_OK);
+    CHECK(strcmp(seen.message, rad_context_error(context)) == 0 && seen.message[0]);
+    rad_context_destroy(context);
+}
+
 int main(void) {
     CHECK(rad_context_create(NULL, &ctx) == RAD_OK);
     test_jacobi_rounds();
@@ -298,6 +329,7 @@ int main(void) {
     test_colour();
     test_memory_budget();
     test_registries();
+    test_version_and_error_callback();
     rad_context_destroy(ctx);
     return test_finish();
 }
