@@ -33,23 +33,6 @@ typedef struct compare_run {
     int overshoot;
 } compare_run;
 
-/* The reference solution, into reference[3 * element_count]; `how` says how it was made. */
-static rad_status solve_reference(rad_system *system, double *reference, char *how, size_t size) {
-    rad_solve_options options = {0};
-    options.solver = RAD_SOLVER_GAUSS_SEIDEL;
-    options.tolerance = 1e-10;
-    rad_status status = rad_solve(system, &options, NULL);
-    if (status == RAD_ERROR_MEMORY_BUDGET) {
-        options.solver = RAD_SOLVER_SHOOTING;
-        status = rad_solve(system, &options, NULL);
-    }
-    snprintf(how, size, "%s to %g", rad_solver_kind_name(options.solver), options.tolerance);
-    if (status) return status;
-    for (size_t e = 0; e < rad_system_element_count(system); ++e)
-        rad_system_element_radiosity(system, e, reference + 3 * e);
-    return RAD_OK;
-}
-
 static void print_reached(double seconds, long steps, int shooting) {
     if (seconds < 0) printf("  %-22s", "not reached");
     else {
@@ -78,16 +61,15 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
         goto done;
     }
     if (!a->pipe.quiet) fprintf(stderr, "radiosity: computing the reference solution\n");
-    char how[64];
-    status = solve_reference(system, reference, how, sizeof how);
+    rad_solver_kind used;
+    double tolerance;
+    status = rad_system_solve_reference(system, reference, &used, &tolerance);
     if (status) {
         exit_status = cli_fail(ctx, status);
         goto done;
     }
-    double norm = 0, view_norm = 0;
-    for (size_t e = 0; e < n; ++e)
-        norm += rad_system_element_area(system, e) *
-                (fabs(reference[3 * e]) + fabs(reference[3 * e + 1]) + fabs(reference[3 * e + 2]));
+    char how[64];
+    snprintf(how, sizeof how, "%s to %g", rad_solver_kind_name(used), tolerance);
     /* What the camera sees; patch systems have no geometry and no view. */
     int have_view = 1;
     status = rad_system_screen_share(system, camera, a->width, a->height, share);
@@ -100,11 +82,8 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
                     cli_solver_names(names, sizeof names, &viewers, ", ", " or "),
                     rad_context_error(ctx));
         }
-    } else {
-        for (size_t e = 0; e < n; ++e)
-            view_norm += share[e] * (fabs(reference[3 * e]) + fabs(reference[3 * e + 1]) +
-                                     fabs(reference[3 * e + 2]));
-        if (!(view_norm > 0)) have_view = 0;
+    } else if (isnan(rad_system_solution_error(system, reference, share))) {
+        have_view = 0; /* the camera sees no light: no view error */
     }
 
     /* The runs: every registered solver's comparison variants (rad_solver_info.variants);
@@ -170,9 +149,7 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
         watch.series = line;
         watch.view_series = view_line;
         watch.reference = reference;
-        watch.reference_norm = norm;
         watch.view_share = have_view ? share : NULL;
-        watch.view_norm = view_norm;
         watch.stop_error = STOP_ERROR;
         watch.target = TARGET;
         watch.error_seconds = watch.view_error_seconds = -1;

@@ -528,6 +528,20 @@ void rad_scene_get_camera(const rad_scene *scene, rad_camera_desc *out);
 rad_status rad_system_screen_share(rad_system *system, const rad_camera_desc *camera, int width,
                                    int height, double *share);
 
+/* A converged solution to measure others against (docs/solvers.md, "Comparing the solvers"):
+ * Gauss-Seidel to 1e-10, or shooting to 1e-10 when the matrix does not fit the memory budget.
+ * Solves the system from B = E and copies the radiosity into reference[3 * element_count];
+ * `used` (may be NULL) gets the solver, `tolerance` (may be NULL) the tolerance. */
+rad_status rad_system_solve_reference(rad_system *system, double *reference,
+                                      rad_solver_kind *used, double *tolerance);
+
+/* How far the system's solution is from a reference: sum_e w_e |B_e - B*_e| / sum_e w_e |B*_e|
+ * over elements, each summed over channels, with weights w_e the element areas (weights NULL:
+ * the fraction of the power that is wrong) or given (a screen share: the view error). Zero
+ * when the reference is zero with area weights; NaN with given weights that see nothing. */
+double rad_system_solution_error(const rad_system *system, const double *reference,
+                                 const double *weights);
+
 /* ---------------------------------------------------------------------------------------------
  * Images and path tracing: reference images and their comparison (docs/pathtracing.md,
  * docs/images.md). Cameras and image files are those of "Rendering" above.
