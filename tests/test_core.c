@@ -4,6 +4,7 @@
 #include "radiosity.h"
 #include "test.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -319,6 +320,27 @@ static void test_version_and_error_callback(void) {
     rad_context_destroy(context);
 }
 
+/* The reference solution and the error measure of the solver comparison. */
+static void test_reference_error(void) {
+    rad_system *system = load("four-walls");
+    size_t n = rad_system_element_count(system);
+    double *reference = calloc(3 * n, sizeof *reference), *weights = calloc(n, sizeof *weights);
+    rad_solver_kind used = RAD_SOLVER_DEFAULT;
+    double tolerance = 0;
+    CHECK(rad_system_solve_reference(system, reference, &used, &tolerance) == RAD_OK);
+    CHECK(used == RAD_SOLVER_GAUSS_SEIDEL && tolerance == 1e-10);
+    CHECK(rad_system_solution_error(system, reference, NULL) == 0);
+    CHECK(isnan(rad_system_solution_error(system, reference, weights))); /* sees nothing */
+    rad_system_reset(system); /* B = E: the light of one bounce and more is missing */
+    double error = rad_system_solution_error(system, reference, NULL);
+    CHECK(error > 0.05 && error < 1);
+    for (size_t e = 0; e < n; ++e) weights[e] = rad_system_element_area(system, e);
+    CHECK(rad_system_solution_error(system, reference, weights) == error);
+    free(reference);
+    free(weights);
+    rad_system_destroy(system);
+}
+
 int main(void) {
     CHECK(rad_context_create(NULL, &ctx) == RAD_OK);
     test_jacobi_rounds();
@@ -330,6 +352,7 @@ int main(void) {
     test_memory_budget();
     test_registries();
     test_version_and_error_callback();
+    test_reference_error();
     rad_context_destroy(ctx);
     return test_finish();
 }
