@@ -11,7 +11,7 @@
  * numbers in bench/README.md come from a quiet one. */
 #include "formfactor/geometric.h"
 #include "scene/scene.h"
-#include "solve/system.h"
+#include "system/system.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -250,7 +250,7 @@ static void bench_threads(void) {
         qsort(ratio, (size_t)repeats, sizeof *ratio, by_value);
         for (int t = 0; t < 2; ++t) rad_ff_provider_destroy(p[t]);
         printf("| %s | %.2f | %.2f | %.2fx | %.2f / %.2f |\n",
-               rad_ff_method_find(all_methods[m])->name, 1e3 * seconds[0] / rows,
+               rad_ff_method_find(all_methods[m])->info.name, 1e3 * seconds[0] / rows,
                1e3 * seconds[1] / rows, ratio[repeats / 2], 1e3 * processor[0] / rows,
                1e3 * processor[1] / rows);
     }
@@ -372,7 +372,7 @@ static void bench_accuracy(void) {
             rad_ff_provider_destroy(p);
             trial t = {method, setting, error, 1e3 * seconds / rows};
             trials[count++] = t;
-            printf("| %s | %s %d | %.2f%% | %.2f | %.2fM |\n", rad_ff_method_find(method)->name,
+            printf("| %s | %s %d | %.2f%% | %.2f | %.2fM |\n", rad_ff_method_find(method)->info.name,
                    hemicube ? "resolution" : "samples", setting, 100 * error, t.ms_per_row,
                    (double)n / (t.ms_per_row * 1e-3) * 1e-6);
         }
@@ -438,7 +438,7 @@ static void shoot(rad_ff_method method, int threads, double patch_factor) {
     cpu = cpu_seconds() - cpu;
     rad_ff_stats stats = rad_ff_provider_stats(system->ff);
     printf("| %s%s | %zu / %zu | %d | %.3f | %.3f | %.3f | %d | %llu |\n",
-           rad_ff_method_find(method)->name, method == RAD_FF_DEFAULT ? " (default)" : "",
+           rad_ff_method_find(method)->info.name, method == RAD_FF_DEFAULT ? " (default)" : "",
            system->element_count, system->patch_count, threads, setup_seconds, report.seconds, cpu,
            report.iterations, (unsigned long long)stats.rows);
     rad_system_destroy(system);

@@ -50,6 +50,28 @@ rad_status cli_load_scene(rad_context *ctx, const char *name, rad_scene **out);
 /* Parses a form-factor method name; -1 when unknown. */
 int cli_parse_ff_method(const char *name);
 
+/* The registries (registry.c). Which solvers a list names: those with every capability in
+ * `need`, none in `without`, and (unless NULL) the solver's own option `option`. */
+typedef struct cli_solver_filter {
+    unsigned need, without;
+    const char *option;
+} cli_solver_filter;
+
+/* The selected solvers' names joined ("a, b and c" with ", " and " and "); NULL: all. */
+const char *cli_solver_names(char *out, size_t size, const cli_solver_filter *filter,
+                             const char *separator, const char *last_separator);
+/* "shooting, importance: overshooting (...)": the solvers that take an option, and its help. */
+const char *cli_solver_option_help(char *out, size_t size, const char *option);
+/* The form-factor methods' names, joined. */
+const char *cli_ff_method_names(char *out, size_t size, const char *separator);
+/* Nonzero when the solver shoots (RAD_SOLVER_SHOOTS) / takes its own option `option`. */
+int cli_solver_shoots(rad_solver_kind kind);
+int cli_solver_takes(rad_solver_kind kind, const char *option);
+/* The usage errors for a name the registry does not have, listing the names it has; return
+ * EXIT_USAGE. */
+int cli_unknown_solver(const char *command, const char *name);
+int cli_unknown_ff_method(const char *command, const char *name);
+
 /* Wall-clock seconds (monotonic), for timings and progress (pipeline.c). */
 double cli_seconds(void);
 
@@ -61,5 +83,6 @@ int cmd_render(int argc, char **argv);
 int cmd_pathtrace(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_bake(int argc, char **argv);
+int cmd_solvers(int argc, char **argv);
 
 #endif

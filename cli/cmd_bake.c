@@ -14,7 +14,7 @@ int cmd_bake(int argc, char **argv) {
         "SCENE -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj [options]   "
         "(SCENE: a file or a built-in name)";
     cli_pipeline_args p = {0};
-    p.solver = "shooting";
+    p.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
     p.ff = "default";
     const char *output = NULL, *tonemap = "clamp";
     const char *solution = NULL;
@@ -34,7 +34,7 @@ int cmd_bake(int argc, char **argv) {
          "FILE  bake a solution saved by solve --save (same scene and meshing/ff options) "
          "instead of solving"},
     };
-    cli_pipeline_options(&p, "shooting", options + OWN_OPTIONS);
+    cli_pipeline_options(&p, RAD_SOLVER_SHOOTING, options + OWN_OPTIONS);
     options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT] = (cli_option){0};
 
     const char *positional[1];

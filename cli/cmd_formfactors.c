@@ -74,9 +74,11 @@ int cmd_formfactors(int argc, char **argv) {
     static const char synopsis[] = "SCENE [options]   (SCENE: a file or a built-in name)";
     formfactors_args a = {0};
     a.ff = "default";
+    char ff_help[200], names[160];
+    snprintf(ff_help, sizeof ff_help, "METHOD  %s (default: docs/formfactors.md)",
+             cli_ff_method_names(names, sizeof names, "|"));
     const cli_option options[] = {
-        {"--ff", CLI_STRING, &a.ff, "METHOD  analytic|hemicube|raycast|montecarlo (default: "
-                                    "docs/formfactors.md)"},
+        {"--ff", CLI_STRING, &a.ff, ff_help},
         {"--ff-samples", CLI_INT, &a.ff_samples, "N  rays or point pairs per form factor"},
         {"--hemicube-res", CLI_INT, &a.hemicube_res, "N  hemicube top-face resolution"},
         {"--patch-size", CLI_DOUBLE, &a.patch_size, "S  longest patch edge (scene units)"},
@@ -97,9 +99,7 @@ int cmd_formfactors(int argc, char **argv) {
         return cli_error(EXIT_USAGE, "formfactors: which scene? (usage: radiosity formfactors %s)",
                          synopsis);
     int method = cli_parse_ff_method(a.ff);
-    if (method < 0)
-        return cli_error(EXIT_USAGE, "formfactors: unknown form-factor method '%s' (analytic, "
-                         "hemicube, raycast, montecarlo)", a.ff);
+    if (method < 0) return cli_unknown_ff_method("formfactors", a.ff);
     if (a.max_memory < 0) return cli_error(EXIT_USAGE, "formfactors: --max-memory must be positive");
     if (a.patch_size < 0 || a.element_size < 0)
         return cli_error(EXIT_USAGE, "formfactors: sizes must be positive");
@@ -127,7 +127,7 @@ int cmd_formfactors(int argc, char **argv) {
     if (rs) exit_status = cli_fail(ctx, rs);
     else if (a.json) print_json(system, matrix);
     else {
-        const char *name = rad_scene_is_geometric(scene) ? rad_ff_method_name(ff.method) : "given";
+        const char *name = rad_system_ff_method(system);
         print_table(system, matrix, name ? name : a.ff, cli_seconds() - start);
     }
     free(matrix);

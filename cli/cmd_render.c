@@ -65,7 +65,8 @@ int cmd_render(int argc, char **argv) {
     static const char synopsis[] =
         "[SCENE] [-o FILE] [options]   (SCENE: a file or a built-in name; default cornell)";
     render_args a = {0};
-    a.pipeline.solver = "shooting"; /* solve's default, so that render and solve agree */
+    /* solve's default, so that render and solve agree */
+    a.pipeline.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
     a.pipeline.ff = "default";
     a.tonemap = "clamp";
     a.shading = "smooth";
@@ -107,7 +108,7 @@ int cmd_render(int argc, char **argv) {
     size_t count = 0;
     while (options[count].name) ++count;
     assert(count == OWN_OPTIONS);
-    cli_pipeline_options(&a.pipeline, "shooting", options + count);
+    cli_pipeline_options(&a.pipeline, RAD_SOLVER_SHOOTING, options + count);
     const char *positional[1];
     int positional_count;
     int status = cli_parse("render", synopsis, options, argc, argv, positional, 1, &positional_count);

@@ -94,10 +94,6 @@ static void on_trace(void *user, const rad_trace_event *event) {
     }
 }
 
-static int is_shooting(rad_solver_kind kind) {
-    return kind == RAD_SOLVER_SHOOTING || kind == RAD_SOLVER_IMPORTANCE;
-}
-
 static const char *stop_name(rad_solve_stop stop) {
     switch (stop) {
     case RAD_STOP_CONVERGED: return "converged";
@@ -112,7 +108,7 @@ static const char *stop_name(rad_solve_stop stop) {
 static void print_table(const rad_system *system, const rad_solve_options *options,
                         const rad_solve_report *report, long steps) {
     printf("%s: %ld %s, %s", rad_solver_kind_name(options->solver), steps,
-           is_shooting(options->solver) ? "shots" : "rounds",
+           cli_solver_shoots(options->solver) ? "shots" : "rounds",
            report->converged ? "converged" : "not converged");
     if (report->stop == RAD_STOP_TIME_BUDGET)
         printf(": time budget of %g s used up", options->time_budget);
@@ -156,6 +152,14 @@ static void print_json(const rad_system *system, const rad_solve_options *option
     printf("}\n");
 }
 
+/* "--overshoot is for the shooting and importance solvers" (those that take it). */
+static int overshoot_error(void) {
+    char names[200];
+    cli_solver_filter takes = {0, 0, "overshoot"};
+    return cli_error(EXIT_USAGE, "solve: --overshoot is for the %s solvers",
+                     cli_solver_names(names, sizeof names, &takes, ", ", " and "));
+}
+
 /* Usage checks that need no scene. Returns 0 or the exit status after printing the message. */
 static int check_args(solve_args *a, int kind) {
     if (!isnan(a->time_budget) && !(a->time_budget > 0))
@@ -169,8 +173,8 @@ static int check_args(solve_args *a, int kind) {
     }
     if (a->snapshot_every && !a->snapshots)
         return cli_error(EXIT_USAGE, "solve: --snapshot-every needs --snapshots DIR");
-    if (a->overshoot && kind >= 0 && !is_shooting((rad_solver_kind)kind))
-        return cli_error(EXIT_USAGE, "solve: --overshoot is for the shooting and importance solvers");
+    if (a->overshoot && kind >= 0 && !cli_solver_takes((rad_solver_kind)kind, "overshoot"))
+        return overshoot_error();
     if (a->compare && (a->resume || a->save || a->snapshots || a->trace))
         return cli_error(EXIT_USAGE, "solve: --compare-solvers takes no --resume, --save, "
                                      "--snapshots or --trace");
@@ -193,9 +197,18 @@ int cmd_solve(int argc, char **argv) {
     a.pipe.ff = "default";
     a.time_budget = NAN;
     cli_camera_args_init(&a.camera);
-    static const cli_option own[] = {
+    /* Help lines that name solvers, from the registry: those that take --overshoot and those
+     * that need a camera. */
+    static char overshoot_help[160], eye_help[160], width_help[160];
+    char viewers[120];
+    cli_solver_filter needs_camera = {RAD_SOLVER_NEEDS_CAMERA, 0, NULL};
+    cli_solver_names(viewers, sizeof viewers, &needs_camera, ", ", ", ");
+    cli_solver_option_help(overshoot_help, sizeof overshoot_help, "overshoot");
+    snprintf(eye_help, sizeof eye_help, "X,Y,Z  camera position (%s, snapshots)", viewers);
+    snprintf(width_help, sizeof width_help, "W  image width for %s and snapshots (256)", viewers);
+    const cli_option own[] = {
         {"--time-budget", CLI_DOUBLE, NULL, "S  stop after S seconds with the solution so far"},
-        {"--overshoot", CLI_FLAG, NULL, "shooting, importance: overshooting (Feda & Purgathofer 1992)"},
+        {"--overshoot", CLI_FLAG, NULL, overshoot_help},
         {"--trace", CLI_FLAG, NULL, "show every round or shot"},
         {"--json", CLI_FLAG, NULL, "print one JSON object"},
         {"--log", CLI_STRING, NULL, "FILE.csv  one row per round or shot"},
@@ -206,11 +219,11 @@ int cmd_solve(int argc, char **argv) {
         {"--snapshot-every", CLI_INT, NULL, "K  shots or rounds between snapshots (100; 1)"},
         {"--compare-solvers", CLI_FLAG, NULL,
          "run every solver and compare their convergence (table; chart with --plot)"},
-        {"--eye", CLI_VEC3, NULL, "X,Y,Z  camera position (importance, snapshots)"},
+        {"--eye", CLI_VEC3, NULL, eye_help},
         {"--look", CLI_VEC3, NULL, "X,Y,Z  point the camera looks at"},
         {"--up", CLI_VEC3, NULL, "X,Y,Z  camera up direction"},
         {"--fov", CLI_DOUBLE, NULL, "DEG  vertical field of view"},
-        {"--width", CLI_INT, NULL, "W  image width for importance and snapshots (256)"},
+        {"--width", CLI_INT, NULL, width_help},
         {"--height", CLI_INT, NULL, "H  image height (256)"},
         {"--exposure", CLI_DOUBLE, NULL, "EV  snapshot exposure in stops (0)"},
         {"--tonemap", CLI_STRING, NULL, "CURVE  snapshots: none|clamp|reinhard|aces (clamp)"},
@@ -222,8 +235,7 @@ int cmd_solve(int argc, char **argv) {
     enum { OWN = sizeof own / sizeof own[0] };
     /* The shared solver, form-factor and meshing options (cli/pipeline.h), then our own. */
     cli_option options[CLI_PIPELINE_OPTION_COUNT + OWN + 1];
-    cli_pipeline_options(&a.pipe, "shooting", options);
-    options[0].help = "NAME  direct|jacobi|gauss-seidel|shooting|importance (shooting)";
+    cli_pipeline_options(&a.pipe, RAD_SOLVER_SHOOTING, options);
     for (int i = 0; i < OWN; ++i) {
         options[CLI_PIPELINE_OPTION_COUNT + i] = own[i];
         options[CLI_PIPELINE_OPTION_COUNT + i].target = own_targets[i];
@@ -236,14 +248,10 @@ int cmd_solve(int argc, char **argv) {
     if (count != 1) return cli_error(EXIT_USAGE, "solve: which scene? (usage: radiosity solve %s)", synopsis);
     a.scene_name = positional[0];
     int solver_given = a.pipe.solver != NULL;
-    int kind = rad_solver_kind_parse(solver_given ? a.pipe.solver : "shooting");
-    if (kind < 0)
-        return cli_error(EXIT_USAGE, "solve: unknown solver '%s' (direct, jacobi, gauss-seidel, "
-                                     "shooting, importance)", a.pipe.solver);
+    int kind = solver_given ? rad_solver_kind_parse(a.pipe.solver) : (int)RAD_SOLVER_SHOOTING;
+    if (kind < 0) return cli_unknown_solver("solve", a.pipe.solver);
     int ff_method = cli_parse_ff_method(a.pipe.ff);
-    if (ff_method < 0)
-        return cli_error(EXIT_USAGE, "solve: unknown form-factor method '%s' (analytic, hemicube, "
-                                     "raycast, montecarlo)", a.pipe.ff);
+    if (ff_method < 0) return cli_unknown_ff_method("solve", a.pipe.ff);
     if (a.pipe.max_memory < 0) return cli_error(EXIT_USAGE, "solve: --max-memory must be positive");
     if (a.pipe.patch_size < 0 || a.pipe.element_size < 0)
         return cli_error(EXIT_USAGE, "solve: sizes must be positive");
@@ -284,22 +292,24 @@ int cmd_solve(int argc, char **argv) {
         rs = rad_system_load_solution(system, a.resume, &resumed);
         if (!rs) {
             if (!solver_given) kind = (int)resumed.solver;
-            if (!is_shooting(resumed.solver) && resumed.solver != RAD_SOLVER_DIRECT &&
-                is_shooting((rad_solver_kind)kind)) {
+            if (!rad_solver_can_resume((rad_solver_kind)kind, resumed.solver)) {
+                /* The iterative solvers that need no unshot light can go on from it. */
+                char names[200];
+                cli_solver_filter can = {RAD_SOLVER_ITERATIVE, RAD_SOLVER_NEEDS_UNSHOT, NULL};
                 exit_status = cli_error(EXIT_USAGE,
                                         "%s holds a %s solution, whose unshot light is unknown; go on "
-                                        "with --solver jacobi or gauss-seidel", a.resume,
-                                        rad_solver_kind_name(resumed.solver));
+                                        "with --solver %s", a.resume,
+                                        rad_solver_kind_name(resumed.solver),
+                                        cli_solver_names(names, sizeof names, &can, ", ", " or "));
                 goto done;
             }
-            if (a.overshoot && !is_shooting((rad_solver_kind)kind)) {
-                exit_status = cli_error(EXIT_USAGE, "solve: --overshoot is for the shooting and "
-                                                    "importance solvers");
+            if (a.overshoot && !cli_solver_takes((rad_solver_kind)kind, "overshoot")) {
+                exit_status = overshoot_error();
                 goto done;
             }
             if (!a.pipe.quiet)
                 fprintf(stderr, "radiosity: going on from %s (%ld %s by %s)\n", a.resume,
-                        resumed.steps, is_shooting(resumed.solver) ? "shots" : "rounds",
+                        resumed.steps, cli_solver_shoots(resumed.solver) ? "shots" : "rounds",
                         rad_solver_kind_name(resumed.solver));
         }
     }
@@ -307,7 +317,7 @@ int cmd_solve(int argc, char **argv) {
         exit_status = solve_snapshots_create(ctx, scene, system, &a, &camera, &snapshots);
     if (exit_status) goto done;
 
-    trace_log trace = {system, a.json, is_shooting((rad_solver_kind)kind), stdout, NULL, 0, 0};
+    trace_log trace = {system, a.json, cli_solver_shoots((rad_solver_kind)kind), stdout, NULL, 0, 0};
     if (!rs) {
         rad_solve_options solve = {0};
         solve.solver = (rad_solver_kind)kind;
@@ -329,7 +339,7 @@ int cmd_solve(int argc, char **argv) {
         solve_watch watch = {0};
         watch.system = system;
         watch.solver_name = rad_solver_kind_name(solve.solver);
-        watch.shooting = is_shooting(solve.solver);
+        watch.shooting = cli_solver_shoots(solve.solver);
         watch.step_offset = a.resume ? resumed.steps : 0;
         watch.tolerance = solve.tolerance > 0 ? solve.tolerance : 1e-6;
         watch.time_budget = solve.time_budget;

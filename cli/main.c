@@ -17,6 +17,7 @@ static const command commands[] = {
     {"compare", cmd_compare, "compare two images (RMSE, relative MSE, PSNR)"},
     {"bake", cmd_bake, "export the solution as a mesh with vertex colours"},
     {"scenes", cmd_scenes, "list the built-in scenes (or export one)"},
+    {"solvers", cmd_solvers, "list the solvers and form-factor methods, with their options"},
 };
 #define COMMAND_COUNT (sizeof commands / sizeof commands[0])
 

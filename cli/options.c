@@ -165,10 +165,3 @@ rad_status cli_load_scene(rad_context *ctx, const char *name, rad_scene **out) {
         cli_stage("scene", "%s%s, %.2f s", name, builtin ? " (built in)" : "", cli_seconds() - start);
     return status;
 }
-
-int cli_parse_ff_method(const char *name) {
-    static const char *const names[] = {"default", "analytic", "hemicube", "raycast", "montecarlo"};
-    for (int i = 0; i < 5; ++i)
-        if (strcmp(names[i], name) == 0) return i;
-    return -1;
-}

@@ -11,18 +11,22 @@ double cli_seconds(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-void cli_pipeline_options(cli_pipeline_args *a, const char *default_solver, cli_option *o) {
-    static char solver_help[128];
-    snprintf(solver_help, sizeof solver_help,
-             "NAME  direct|jacobi|gauss-seidel|shooting|importance (%s)", default_solver);
+void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, cli_option *o) {
+    /* The help lines that list or name solvers and methods, from the registries. */
+    static char solver_help[256], ff_help[160], ambient_help[160], names[200];
+    snprintf(solver_help, sizeof solver_help, "NAME  %s (%s)",
+             cli_solver_names(names, sizeof names, NULL, "|", "|"),
+             rad_solver_kind_name(default_solver));
+    snprintf(ff_help, sizeof ff_help, "METHOD  %s", cli_ff_method_names(names, sizeof names, "|"));
+    cli_solver_option_help(ambient_help, sizeof ambient_help, "ambient");
     const cli_option shared[CLI_PIPELINE_OPTION_COUNT] = {
         {"--solver", CLI_STRING, &a->solver, solver_help},
         {"--iterations", CLI_INT, &a->iterations, "N  stop after N rounds or shots"},
         {"--tolerance", CLI_DOUBLE, &a->tolerance,
          "T  gathering: largest relative change; shooting: unshot power fraction (1e-6)"},
         {"--omega", CLI_DOUBLE, &a->omega, "W  over-relaxation in (0, 2) (1)"},
-        {"--ambient", CLI_FLAG, &a->ambient, "shooting: add the ambient term"},
-        {"--ff", CLI_STRING, &a->ff, "METHOD  analytic|hemicube|raycast|montecarlo"},
+        {"--ambient", CLI_FLAG, &a->ambient, ambient_help},
+        {"--ff", CLI_STRING, &a->ff, ff_help},
         {"--ff-samples", CLI_INT, &a->ff_samples, "N  rays or point pairs per form factor"},
         {"--hemicube-res", CLI_INT, &a->hemicube_res, "N  hemicube top-face resolution"},
         {"--patch-size", CLI_DOUBLE, &a->patch_size, "S  longest patch edge (scene units)"},
@@ -39,13 +43,9 @@ void cli_pipeline_options(cli_pipeline_args *a, const char *default_solver, cli_
 int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solve_options *solve,
                        rad_mesh_options *mesh, rad_ff_options *ff) {
     int kind = rad_solver_kind_parse(a->solver);
-    if (kind < 0)
-        return cli_error(EXIT_USAGE, "%s: unknown solver '%s' (direct, jacobi, gauss-seidel, "
-                                     "shooting, importance)", command, a->solver);
+    if (kind < 0) return cli_unknown_solver(command, a->solver);
     int method = cli_parse_ff_method(a->ff);
-    if (method < 0)
-        return cli_error(EXIT_USAGE, "%s: unknown form-factor method '%s' (analytic, hemicube, "
-                                     "raycast, montecarlo)", command, a->ff);
+    if (method < 0) return cli_unknown_ff_method(command, a->ff);
     if (a->max_memory < 0) return cli_error(EXIT_USAGE, "%s: --max-memory must be positive", command);
     if (a->patch_size < 0 || a->element_size < 0)
         return cli_error(EXIT_USAGE, "%s: sizes must be positive", command);

@@ -18,8 +18,9 @@ typedef struct cli_pipeline_args {
 #define CLI_PIPELINE_OPTION_COUNT 15
 
 /* Writes the shared options (--solver ... --quiet) into `options`, which must have room for
- * CLI_PIPELINE_OPTION_COUNT entries; `default_solver` names the solver shown as the default. */
-void cli_pipeline_options(cli_pipeline_args *args, const char *default_solver, cli_option *options);
+ * CLI_PIPELINE_OPTION_COUNT entries; `default_solver` is the solver shown as the default. */
+void cli_pipeline_options(cli_pipeline_args *args, rad_solver_kind default_solver,
+                          cli_option *options);
 
 /* The library's option structs from the arguments, checked. Prints a usage error and returns
  * EXIT_USAGE, or 0. */

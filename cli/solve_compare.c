@@ -33,24 +33,6 @@ typedef struct compare_run {
     int overshoot;
 } compare_run;
 
-/* The reference solution, into reference[3 * element_count]. */
-static rad_status solve_reference(rad_system *system, double *reference, const char **how) {
-    rad_solve_options options = {0};
-    options.solver = RAD_SOLVER_GAUSS_SEIDEL;
-    options.tolerance = 1e-10;
-    *how = "gauss-seidel to 1e-10";
-    rad_status status = rad_solve(system, &options, NULL);
-    if (status == RAD_ERROR_MEMORY_BUDGET) {
-        options.solver = RAD_SOLVER_SHOOTING;
-        *how = "shooting to 1e-10";
-        status = rad_solve(system, &options, NULL);
-    }
-    if (status) return status;
-    for (size_t e = 0; e < rad_system_element_count(system); ++e)
-        rad_system_element_radiosity(system, e, reference + 3 * e);
-    return RAD_OK;
-}
-
 static void print_reached(double seconds, long steps, int shooting) {
     if (seconds < 0) printf("  %-22s", "not reached");
     else {
@@ -79,41 +61,46 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
         goto done;
     }
     if (!a->pipe.quiet) fprintf(stderr, "radiosity: computing the reference solution\n");
-    const char *how;
-    status = solve_reference(system, reference, &how);
+    rad_solver_kind used;
+    double tolerance;
+    status = rad_system_solve_reference(system, reference, &used, &tolerance);
     if (status) {
         exit_status = cli_fail(ctx, status);
         goto done;
     }
-    double norm = 0, view_norm = 0;
-    for (size_t e = 0; e < n; ++e)
-        norm += rad_system_element_area(system, e) *
-                (fabs(reference[3 * e]) + fabs(reference[3 * e + 1]) + fabs(reference[3 * e + 2]));
+    char how[64];
+    snprintf(how, sizeof how, "%s to %g", rad_solver_kind_name(used), tolerance);
     /* What the camera sees; patch systems have no geometry and no view. */
     int have_view = 1;
     status = rad_system_screen_share(system, camera, a->width, a->height, share);
     if (status) {
         have_view = 0;
-        if (!a->pipe.quiet)
-            fprintf(stderr, "radiosity: no view error and no importance solver: %s\n",
+        if (!a->pipe.quiet) {
+            char names[200];
+            cli_solver_filter viewers = {RAD_SOLVER_NEEDS_CAMERA, 0, NULL};
+            fprintf(stderr, "radiosity: no view error and no %s solver: %s\n",
+                    cli_solver_names(names, sizeof names, &viewers, ", ", " or "),
                     rad_context_error(ctx));
-    } else {
-        for (size_t e = 0; e < n; ++e)
-            view_norm += share[e] * (fabs(reference[3 * e]) + fabs(reference[3 * e + 1]) +
-                                     fabs(reference[3 * e + 2]));
-        if (!(view_norm > 0)) have_view = 0;
+        }
+    } else if (isnan(rad_system_solution_error(system, reference, share))) {
+        have_view = 0; /* the camera sees no light: no view error */
     }
 
-    double omega = a->pipe.omega > 0 ? a->pipe.omega : 1.1; /* measured best for the Cornell box */
+    /* The runs: every registered solver's comparison variants (rad_solver_info.variants);
+     * those that need a camera only when there is a view. */
     compare_run runs[8];
     int count = 0, series_count = 0;
-    runs[count++] = (compare_run){"jacobi", RAD_SOLVER_JACOBI, 1, 0};
-    runs[count++] = (compare_run){"gauss-seidel", RAD_SOLVER_GAUSS_SEIDEL, 1, 0};
-    runs[count] = (compare_run){"", RAD_SOLVER_GAUSS_SEIDEL, omega, 0};
-    snprintf(runs[count++].label, sizeof runs[0].label, "SOR, omega %g", omega);
-    runs[count++] = (compare_run){"shooting", RAD_SOLVER_SHOOTING, 1, 0};
-    runs[count++] = (compare_run){"overshooting", RAD_SOLVER_SHOOTING, 1, 1};
-    if (have_view) runs[count++] = (compare_run){"importance", RAD_SOLVER_IMPORTANCE, 1, 0};
+    for (size_t i = 0; i < rad_solver_count(); ++i) {
+        const rad_solver_info *info = rad_solver_at(i);
+        if ((info->capabilities & RAD_SOLVER_NEEDS_CAMERA) && !have_view) continue;
+        for (size_t v = 0; v < info->variant_count && count < 8; ++v) {
+            const rad_solver_variant *variant = &info->variants[v];
+            double omega = !variant->relaxed ? 1 : a->pipe.omega > 0 ? a->pipe.omega : info->best_omega;
+            compare_run *run = &runs[count++];
+            *run = (compare_run){"", (rad_solver_kind)(i + 1), omega, variant->overshoot};
+            snprintf(run->label, sizeof run->label, variant->label, omega);
+        }
+    }
 
     if (a->log) {
         log = open_memstream(&log_buffer, &log_size);
@@ -139,7 +126,7 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
             exit_status = cli_fail(ctx, status);
             goto done;
         }
-        int shooting = run->kind == RAD_SOLVER_SHOOTING || run->kind == RAD_SOLVER_IMPORTANCE;
+        int shooting = cli_solver_shoots(run->kind);
         /* The error, and for the shooting solvers the view error dashed in the same colour
          * (for gathering the two fall together). */
         plot_series *line = &series[series_count++], *view_line = NULL;
@@ -162,9 +149,7 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
         watch.series = line;
         watch.view_series = view_line;
         watch.reference = reference;
-        watch.reference_norm = norm;
         watch.view_share = have_view ? share : NULL;
-        watch.view_norm = view_norm;
         watch.stop_error = STOP_ERROR;
         watch.target = TARGET;
         watch.error_seconds = watch.view_error_seconds = -1;

@@ -9,19 +9,9 @@
 #include <string.h>
 
 void solve_watch_measure(solve_watch *w) {
-    const rad_system *s = w->system;
-    size_t n = rad_system_element_count(s);
-    double error = 0, view_error = 0;
-    for (size_t e = 0; e < n; ++e) {
-        double b[3];
-        rad_system_element_radiosity(s, e, b);
-        const double *r = w->reference + 3 * e;
-        double difference = fabs(b[0] - r[0]) + fabs(b[1] - r[1]) + fabs(b[2] - r[2]);
-        error += rad_system_element_area(s, e) * difference;
-        if (w->view_share) view_error += w->view_share[e] * difference;
-    }
-    w->last_error = w->reference_norm > 0 ? error / w->reference_norm : 0;
-    w->last_view_error = w->view_share && w->view_norm > 0 ? view_error / w->view_norm : NAN;
+    w->last_error = rad_system_solution_error(w->system, w->reference, NULL);
+    w->last_view_error =
+        w->view_share ? rad_system_solution_error(w->system, w->reference, w->view_share) : NAN;
 }
 
 /* Time left from the residual's recent rate of decay: ln(r / tolerance) / rate, where the rate

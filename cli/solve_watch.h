@@ -31,7 +31,6 @@ typedef struct solve_watch {
     /* Comparison: error against a reference solution, overall and as the camera sees it. */
     const double *reference;   /* 3 per element, or NULL */
     const double *view_share;  /* per element, or NULL */
-    double reference_norm, view_norm;
     double stop_error;         /* stop once the error is at most this (0: never) */
     double last_error, last_view_error;
     double error_seconds, view_error_seconds; /* first time at or under `target` (-1: never) */

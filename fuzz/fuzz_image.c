@@ -1,9 +1,9 @@
 /* fuzz_image.c - libFuzzer target for the linear image readers that `compare` uses
- * (src/io/image.c rad_image_read: .pfm and .hdr parsed there, .exr through OpenEXR's C API in
- * src/io/image_exr.c). The first byte picks the format (low two bits 2: EXR, else bit 0: HDR or
+ * (src/image/image.c rad_image_read: .pfm and .hdr parsed there, .exr through OpenEXR's C API in
+ * src/image/image_exr.c). The first byte picks the format (low two bits 2: EXR, else bit 0: HDR or
  * PFM); the rest is written to a temporary file, since the reader takes a path. */
 #include "input_file.h"
-#include "io/image.h"
+#include "image/image.h"
 
 #include <stdint.h>
 #include <stdio.h>

@@ -48,6 +48,13 @@ typedef enum rad_status {
 /* A short name for a status ("parse error"); static storage. */
 const char *rad_status_name(rad_status status);
 
+/* The version of this header; rad_version() gives the library's, the same when they match. */
+#define RAD_VERSION_MAJOR 0
+#define RAD_VERSION_MINOR 1
+#define RAD_VERSION_PATCH 0
+/* One number to compare: MAJOR * 10000 + MINOR * 100 + PATCH. */
+#define RAD_VERSION_NUMBER (RAD_VERSION_MAJOR * 10000 + RAD_VERSION_MINOR * 100 + RAD_VERSION_PATCH)
+
 /* The library version, "MAJOR.MINOR.PATCH"; static storage. */
 const char *rad_version(void);
 
@@ -60,6 +67,11 @@ typedef struct rad_context rad_context;
 typedef enum rad_log_level { RAD_LOG_INFO = 0, RAD_LOG_WARNING = 1 } rad_log_level;
 
 typedef void (*rad_log_fn)(void *user, rad_log_level level, const char *message);
+
+/* Called with every error the library records on the context, as it records it (the same
+ * message rad_context_error then gives): for callers that log or count errors where they
+ * happen. The failing call still returns its status. */
+typedef void (*rad_error_fn)(void *user, rad_status status, const char *message);
 
 /* Called now and then during long work. `phase` names the step ("form factors", "shooting");
  * done/total measure it in the phase's own unit. Return nonzero to cancel: the running call
@@ -83,6 +95,8 @@ typedef struct rad_context_options {
     int threads;          /* worker threads; zero: all cores */
     uint64_t seed;        /* seed for every random choice; the same seed gives the same result */
     uint64_t max_memory;  /* bytes a form-factor matrix or dense solve may take; zero: 2 GiB */
+    rad_error_fn on_error; /* zero: none */
+    void *error_user;
 } rad_context_options;
 
 rad_status rad_context_create(const rad_context_options *options, rad_context **out);
@@ -172,6 +186,10 @@ rad_status rad_system_create_dense(rad_context *context, const rad_patch_desc *p
 
 void rad_system_destroy(rad_system *system);
 
+/* The name of the form-factor method the system uses ("analytic", ..., "given" for a patch
+ * system's own matrix). Lives as long as the system. */
+const char *rad_system_ff_method(const rad_system *system);
+
 size_t rad_system_surface_count(const rad_system *system);
 size_t rad_system_patch_count(const rad_system *system);
 size_t rad_system_element_count(const rad_system *system);
@@ -207,15 +225,61 @@ void rad_system_reset(rad_system *system);
  * Solvers
  * ------------------------------------------------------------------------------------------- */
 
+/* The registered solvers, in registry order (src/solve/registry.c): a solver's kind is its
+ * position in the registry plus one, so solvers registered later have kinds past these names
+ * and are reached by rad_solver_kind_parse. Zero (a zeroed rad_solve_options) is the default. */
 typedef enum rad_solver_kind {
-    RAD_SOLVER_DIRECT = 0,  /* Gaussian elimination with partial pivoting (LAPACK dgesv) */
+    RAD_SOLVER_DEFAULT = 0, /* the default solver: shooting */
+    RAD_SOLVER_DIRECT,      /* Gaussian elimination with partial pivoting (LAPACK dgesv) */
     RAD_SOLVER_JACOBI,      /* gathering from the previous round */
     RAD_SOLVER_GAUSS_SEIDEL, /* gathering in place */
     RAD_SOLVER_SHOOTING,    /* progressive refinement, Cohen et al. 1988 */
     RAD_SOLVER_IMPORTANCE   /* shooting ordered by what the camera sees, Smits et al. 1992 */
 } rad_solver_kind;
 
-/* Parses "direct", "jacobi", "gauss-seidel", "shooting", "importance"; -1 when unknown. */
+/* What a solver does (rad_solver_info.capabilities). */
+#define RAD_SOLVER_SHOOTS 1u        /* one shot a step; without it, gathering rounds */
+#define RAD_SOLVER_ITERATIVE 2u     /* steps until converged; without it one step solves */
+#define RAD_SOLVER_NEEDS_MATRIX 4u  /* asks for the whole form-factor matrix at once */
+#define RAD_SOLVER_NEEDS_CAMERA 8u  /* needs rad_solve_options.camera */
+#define RAD_SOLVER_KEEPS_UNSHOT 16u /* its solutions carry a true unshot radiosity */
+#define RAD_SOLVER_NEEDS_UNSHOT 32u /* resumes only from solutions that carry one */
+
+/* One of a method's own options: its name (as the CLI spells it after "--") and what it does. */
+typedef struct rad_method_option {
+    const char *name;
+    const char *help;
+} rad_method_option;
+
+/* A setting of a solver worth running in a comparison (radiosity solve --compare-solvers). */
+typedef struct rad_solver_variant {
+    const char *label; /* with one %g for omega when `relaxed` */
+    int relaxed;       /* over-relaxed: the caller's omega, or the solver's best_omega */
+    int overshoot;
+} rad_solver_variant;
+
+/* A registered solver. Lives as long as the program. */
+typedef struct rad_solver_info {
+    const char *name;        /* "shooting" */
+    const char *description; /* one line */
+    unsigned capabilities;   /* RAD_SOLVER_SHOOTS | ... */
+    const rad_method_option *options; /* its own options, option_count of them */
+    size_t option_count;
+    const rad_solver_variant *variants; /* for comparisons; none: not compared */
+    size_t variant_count;
+    double best_omega;       /* the over-relaxation measured best, for relaxed variants */
+} rad_solver_info;
+
+/* The registry: rad_solver_count() solvers; rad_solver_at(i) is the solver of kind i + 1. */
+size_t rad_solver_count(void);
+const rad_solver_info *rad_solver_at(size_t index);
+/* The solver of a kind (RAD_SOLVER_DEFAULT gives the default's); NULL when unknown. */
+const rad_solver_info *rad_solver_get(rad_solver_kind kind);
+/* Nonzero when `solver` can go on from a solution saved by `saved_by`. */
+int rad_solver_can_resume(rad_solver_kind solver, rad_solver_kind saved_by);
+
+/* Parses a registered name ("direct", "jacobi", "gauss-seidel", "shooting", "importance",
+ * ...); -1 when unknown. */
 int rad_solver_kind_parse(const char *name);
 const char *rad_solver_kind_name(rad_solver_kind kind);
 
@@ -482,6 +546,20 @@ void rad_scene_get_camera(const rad_scene *scene, rad_camera_desc *out);
 rad_status rad_system_screen_share(rad_system *system, const rad_camera_desc *camera, int width,
                                    int height, double *share);
 
+/* A converged solution to measure others against (docs/solvers.md, "Comparing the solvers"):
+ * Gauss-Seidel to 1e-10, or shooting to 1e-10 when the matrix does not fit the memory budget.
+ * Solves the system from B = E and copies the radiosity into reference[3 * element_count];
+ * `used` (may be NULL) gets the solver, `tolerance` (may be NULL) the tolerance. */
+rad_status rad_system_solve_reference(rad_system *system, double *reference,
+                                      rad_solver_kind *used, double *tolerance);
+
+/* How far the system's solution is from a reference: sum_e w_e |B_e - B*_e| / sum_e w_e |B*_e|
+ * over elements, each summed over channels, with weights w_e the element areas (weights NULL:
+ * the fraction of the power that is wrong) or given (a screen share: the view error). Zero
+ * when the reference is zero with area weights; NaN with given weights that see nothing. */
+double rad_system_solution_error(const rad_system *system, const double *reference,
+                                 const double *weights);
+
 /* ---------------------------------------------------------------------------------------------
  * Images and path tracing: reference images and their comparison (docs/pathtracing.md,
  * docs/images.md). Cameras and image files are those of "Rendering" above.
@@ -542,6 +620,21 @@ rad_status rad_image_error_map(rad_context *context, const rad_image *test,
 /* The name of a method ("analytic", "hemicube", "raycast", "montecarlo"); RAD_FF_DEFAULT gives
  * the name of the method it stands for. NULL for an unknown value. Static storage. */
 const char *rad_ff_method_name(rad_ff_method method);
+
+/* A registered form-factor method (src/formfactor/factory.c). Lives as long as the program. */
+typedef struct rad_ff_method_info {
+    const char *name;        /* "analytic" */
+    const char *description; /* one line */
+    int default_samples;     /* rays or point pairs per form factor; zero: not sampled */
+    const rad_method_option *options; /* its own options, option_count of them */
+    size_t option_count;
+} rad_ff_method_info;
+
+/* The registry: rad_ff_method_count() methods; rad_ff_method_at(i) is method i + 1. */
+size_t rad_ff_method_count(void);
+const rad_ff_method_info *rad_ff_method_at(size_t index);
+/* Parses a registered name, or "default" (RAD_FF_DEFAULT); -1 when unknown. */
+int rad_ff_method_parse(const char *name);
 
 #ifdef __cplusplus
 }

@@ -8,9 +8,9 @@
 
 #include "io/bake.h"
 #include "mesh/mesh.h"
-#include "render/tonemap.h"
-#include "solve/system.h"
-#include "solve/vertex_radiosity.h"
+#include "image/tonemap.h"
+#include "system/system.h"
+#include "system/vertex_radiosity.h"
 
 #include <assimp/cimport.h>
 #include <assimp/scene.h>

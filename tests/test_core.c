@@ -4,6 +4,7 @@
 #include "radiosity.h"
 #include "test.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -248,6 +249,98 @@ static void test_memory_budget(void) {
     rad_context_destroy(small);
 }
 
+/* The registries: names parse back to their kinds, a zeroed options struct runs the default
+ * solver (shooting: same shots, same radiosity), the resume rule, the form-factor methods. */
+static void test_registries(void) {
+    CHECK(rad_solver_count() >= 5);
+    for (size_t i = 0; i < rad_solver_count(); ++i) {
+        const rad_solver_info *info = rad_solver_at(i);
+        CHECK(info && info->name && info->description && *info->description);
+        CHECK(rad_solver_kind_parse(info->name) == (int)i + 1);
+        CHECK(strcmp(rad_solver_kind_name((rad_solver_kind)(i + 1)), info->name) == 0);
+        CHECK(rad_solver_get((rad_solver_kind)(i + 1)) == info);
+    }
+    CHECK(rad_solver_at(rad_solver_count()) == NULL);
+    CHECK(rad_solver_kind_parse("no-such-solver") == -1 && rad_solver_kind_parse(NULL) == -1);
+    CHECK(rad_solver_get(RAD_SOLVER_DEFAULT) == rad_solver_get(RAD_SOLVER_SHOOTING));
+    CHECK(rad_solver_get((rad_solver_kind)(rad_solver_count() + 1)) == NULL);
+    CHECK(rad_solver_get(RAD_SOLVER_SHOOTING)->capabilities & RAD_SOLVER_SHOOTS);
+    CHECK(!(rad_solver_get(RAD_SOLVER_JACOBI)->capabilities & RAD_SOLVER_SHOOTS));
+    CHECK(rad_solver_get(RAD_SOLVER_IMPORTANCE)->capabilities & RAD_SOLVER_NEEDS_CAMERA);
+    CHECK(!rad_solver_can_resume(RAD_SOLVER_SHOOTING, RAD_SOLVER_JACOBI));
+    CHECK(rad_solver_can_resume(RAD_SOLVER_SHOOTING, RAD_SOLVER_DIRECT));
+    CHECK(rad_solver_can_resume(RAD_SOLVER_IMPORTANCE, RAD_SOLVER_SHOOTING));
+    CHECK(rad_solver_can_resume(RAD_SOLVER_GAUSS_SEIDEL, RAD_SOLVER_SHOOTING));
+    rad_system *system = load("four-walls");
+    rad_solve_options zeroed = {0}, shooting = {.solver = RAD_SOLVER_SHOOTING};
+    rad_solve_report a = {0}, b = {0};
+    CHECK(rad_solve(system, &zeroed, &a) == RAD_OK);
+    double floor_zeroed = radiosity_of(system, "floor");
+    CHECK(rad_solve(system, &shooting, &b) == RAD_OK);
+    CHECK(a.iterations == b.iterations && a.iterations > 1);
+    CHECK(floor_zeroed == radiosity_of(system, "floor"));
+    rad_system_destroy(system);
+    CHECK(rad_ff_method_count() >= 4);
+    for (size_t i = 0; i < rad_ff_method_count(); ++i) {
+        const rad_ff_method_info *info = rad_ff_method_at(i);
+        CHECK(info && rad_ff_method_parse(info->name) == (int)i + 1);
+        CHECK(strcmp(rad_ff_method_name((rad_ff_method)(i + 1)), info->name) == 0);
+    }
+    CHECK(rad_ff_method_parse("default") == RAD_FF_DEFAULT && rad_ff_method_parse("x") == -1);
+}
+
+/* The version macros agree with the library; the error callback sees each error as it is
+ * recorded, with the message rad_context_error gives. */
+typedef struct seen_errors {
+    int count;
+    rad_status status;
+    char message[256];
+} seen_errors;
+
+static void on_error(void *user, rad_status status, const char *message) {
+    seen_errors *seen = user;
+    seen->count++;
+    seen->status = status;
+    snprintf(seen->message, sizeof seen->message, "%s", message);
+}
+
+static void test_version_and_error_callback(void) {
+    char text[32];
+    snprintf(text, sizeof text, "%d.%d.%d", RAD_VERSION_MAJOR, RAD_VERSION_MINOR, RAD_VERSION_PATCH);
+    CHECK(strcmp(text, rad_version()) == 0);
+    CHECK(RAD_VERSION_NUMBER == RAD_VERSION_MAJOR * 10000 + RAD_VERSION_MINOR * 100 + RAD_VERSION_PATCH);
+    seen_errors seen = {0};
+    rad_context_options options = {.on_error = on_error, .error_user = &seen};
+    rad_context *context = NULL;
+    CHECK(rad_context_create(&options, &context) == RAD_OK);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_builtin(context, "no-such-scene", &scene) != RAD_OK);
+    CHECK(seen.count == 1 && seen.status != RAD_OK);
+    CHECK(strcmp(seen.message, rad_context_error(context)) == 0 && seen.message[0]);
+    rad_context_destroy(context);
+}
+
+/* The reference solution and the error measure of the solver comparison. */
+static void test_reference_error(void) {
+    rad_system *system = load("four-walls");
+    size_t n = rad_system_element_count(system);
+    double *reference = calloc(3 * n, sizeof *reference), *weights = calloc(n, sizeof *weights);
+    rad_solver_kind used = RAD_SOLVER_DEFAULT;
+    double tolerance = 0;
+    CHECK(rad_system_solve_reference(system, reference, &used, &tolerance) == RAD_OK);
+    CHECK(used == RAD_SOLVER_GAUSS_SEIDEL && tolerance == 1e-10);
+    CHECK(rad_system_solution_error(system, reference, NULL) == 0);
+    CHECK(isnan(rad_system_solution_error(system, reference, weights))); /* sees nothing */
+    rad_system_reset(system); /* B = E: the light of one bounce and more is missing */
+    double error = rad_system_solution_error(system, reference, NULL);
+    CHECK(error > 0.05 && error < 1);
+    for (size_t e = 0; e < n; ++e) weights[e] = rad_system_element_area(system, e);
+    CHECK(rad_system_solution_error(system, reference, weights) == error);
+    free(reference);
+    free(weights);
+    rad_system_destroy(system);
+}
+
 int main(void) {
     CHECK(rad_context_create(NULL, &ctx) == RAD_OK);
     test_jacobi_rounds();
@@ -257,6 +350,9 @@ int main(void) {
     test_enclosure();
     test_colour();
     test_memory_budget();
+    test_registries();
+    test_version_and_error_callback();
+    test_reference_error();
     rad_context_destroy(ctx);
     return test_finish();
 }

@@ -7,7 +7,7 @@
 #include "formfactor/geometric.h"
 #include "scene/rays.h"
 #include "scene/scene.h"
-#include "solve/system.h"
+#include "system/system.h"
 
 #include <stdlib.h>
 #include <string.h>

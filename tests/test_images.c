@@ -1,8 +1,8 @@
 /* test_images.c - image files: PFM, HDR and EXR (float and half) round trips, damaged EXR files, PFM row order and byte layout, PNG tone
  * mapping decoded with stb_image, unknown extensions and unwritable paths. */
-#include "io/image.h"
-#include "render/compare.h"
-#include "render/tonemap.h"
+#include "image/image.h"
+#include "image/compare.h"
+#include "image/tonemap.h"
 #include "test.h"
 
 #include <math.h>

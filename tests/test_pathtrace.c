@@ -8,7 +8,7 @@
  *   - cornell-mirror: the sphere is closed, faces out, and touches neither block;
  *   - a camera that sees nothing or sits inside a block is refused. */
 #include "formfactor/geometric.h"
-#include "io/image.h"
+#include "image/image.h"
 #include "render/pathtrace.h"
 #include "test.h"
 

@@ -5,7 +5,7 @@
 #include "radiosity.h"
 #include "test.h"
 
-#include "solve/system.h"
+#include "system/system.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -4,10 +4,10 @@
  * second pass through the mirror and the glass sphere, the same image for any thread count, and
  * refusals (sizes, cameras that see nothing or only back faces, patch systems). */
 #include "radiosity.h"
-#include "render/element_rays.h"
+#include "system/element_rays.h"
 #include "render/render.h"
 #include "scene/scene.h"
-#include "solve/system.h"
+#include "system/system.h"
 #include "test.h"
 
 #define RELMSE_SMOOTH 0.0015 /* measured 0.00098 (64 x 64, 64 samples per pixel) */

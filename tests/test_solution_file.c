@@ -6,7 +6,7 @@
 #include "test.h"
 
 #include "io/solution.h"
-#include "solve/system.h"
+#include "system/system.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -55,6 +55,8 @@ rad_status rad_context_create(const rad_context_options *options, rad_context **
     ctx->log_user = options->log_user;
     ctx->progress = options->progress;
     ctx->progress_user = options->progress_user;
+    ctx->on_error = options->on_error;
+    ctx->error_user = options->error_user;
     ctx->threads = options->threads;
     ctx->seed = options->seed;
     ctx->max_memory = options->max_memory ? options->max_memory : RAD_DEFAULT_MAX_MEMORY;
@@ -64,13 +66,16 @@ rad_status rad_context_create(const rad_context_options *options, rad_context **
 
 void rad_context_destroy(rad_context *ctx) {
     if (!ctx) return;
+    if (ctx->ray_device && ctx->release_ray_device) ctx->release_ray_device(ctx->ray_device);
     ctx->allocator.release(ctx->allocator.user, ctx);
 }
 
 const char *rad_context_error(const rad_context *ctx) { return ctx ? ctx->error : ""; }
 
 rad_status rad_failv(rad_context *ctx, rad_status status, const char *format, va_list args) {
-    if (ctx) vsnprintf(ctx->error, sizeof ctx->error, format, args);
+    if (!ctx) return status;
+    vsnprintf(ctx->error, sizeof ctx->error, format, args);
+    if (ctx->on_error) ctx->on_error(ctx->error_user, status, ctx->error);
     return status;
 }
 

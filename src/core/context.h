@@ -21,6 +21,12 @@ struct rad_context {
     uint64_t seed;
     uint64_t max_memory;
     char error[RAD_ERROR_MESSAGE_SIZE];
+    rad_error_fn on_error;
+    void *error_user;
+    /* The one Embree device of the context: every ray structure commits its scenes on it
+     * (scene/rays.c creates it on first use and sets the release); released with the context. */
+    void *ray_device;
+    void (*release_ray_device)(void *device);
 };
 
 #if defined(__GNUC__)

@@ -243,3 +243,13 @@ rad_status rad_ff_analytic_create(const rad_ff_context *context, rad_ff_provider
     *out = &common->base;
     return RAD_OK;
 }
+
+/* The registration (factory.c lists it). */
+static const rad_method_option analytic_options[] = {
+    {"ff-samples", "visibility rays per form factor (4)"},
+};
+const rad_ff_method_entry rad_ff_method_analytic = {
+    {"analytic", "point-to-polygon contour integral (Baum, Rushmeier & Winget 1989), ray-tested visibility", 4, analytic_options, sizeof analytic_options / sizeof analytic_options[0]},
+    0,
+    rad_ff_analytic_create,
+};

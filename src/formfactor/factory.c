@@ -6,20 +6,18 @@
 
 #include <string.h>
 
-rad_status rad_ff_analytic_create(const rad_ff_context *context, rad_ff_provider **out);
-rad_status rad_ff_hemicube_create(const rad_ff_context *context, rad_ff_provider **out);
-rad_status rad_ff_raycast_create(const rad_ff_context *context, rad_ff_provider **out);
-rad_status rad_ff_montecarlo_create(const rad_ff_context *context, rad_ff_provider **out);
 const rad_ff_provider *rad_ff_cache_inner(const rad_ff_provider *provider);
 
-/* Defaults (samples, hemicube resolution, the default method) chosen by measurement:
+/* The registry: one line per method, each defined in its own file as rad_ff_method_<name>. A
+ * method's rad_ff_method value is its position here plus one, so new methods go at the end.
+ * Defaults (samples, hemicube resolution, the default method) chosen by measurement:
  * docs/formfactors.md, "Choosing the default". */
-static const rad_ff_method_entry methods[] = {
-    {RAD_FF_ANALYTIC, "analytic", 4, 0, rad_ff_analytic_create},
-    {RAD_FF_HEMICUBE, "hemicube", 0, 256, rad_ff_hemicube_create},
-    {RAD_FF_RAYCAST, "raycast", 16, 0, rad_ff_raycast_create},
-    {RAD_FF_MONTECARLO, "montecarlo", 16, 0, rad_ff_montecarlo_create},
-};
+#define RAD_FF_METHODS(X) X(analytic) X(hemicube) X(raycast) X(montecarlo)
+
+#define RAD_FF_DECLARE(name) extern const rad_ff_method_entry rad_ff_method_##name;
+RAD_FF_METHODS(RAD_FF_DECLARE)
+#define RAD_FF_LIST(name) &rad_ff_method_##name,
+static const rad_ff_method_entry *const methods[] = {RAD_FF_METHODS(RAD_FF_LIST)};
 #define METHOD_COUNT (sizeof methods / sizeof methods[0])
 #define DEFAULT_METHOD RAD_FF_ANALYTIC
 
@@ -28,17 +26,27 @@ static const rad_ff_method_entry methods[] = {
 
 const rad_ff_method_entry *rad_ff_method_find(rad_ff_method method) {
     if (method == RAD_FF_DEFAULT) method = DEFAULT_METHOD;
-    for (size_t i = 0; i < METHOD_COUNT; ++i)
-        if (methods[i].method == method) return &methods[i];
-    return NULL;
+    if ((int)method < 1 || (size_t)method > METHOD_COUNT) return NULL;
+    return methods[method - 1];
 }
 
 const rad_ff_method_entry *rad_ff_method_by_name(const char *name) {
-    if (!name) return NULL;
-    if (strcmp(name, "default") == 0) return rad_ff_method_find(RAD_FF_DEFAULT);
+    int method = rad_ff_method_parse(name);
+    return method < 0 ? NULL : rad_ff_method_find((rad_ff_method)method);
+}
+
+size_t rad_ff_method_count(void) { return METHOD_COUNT; }
+
+const rad_ff_method_info *rad_ff_method_at(size_t index) {
+    return index < METHOD_COUNT ? &methods[index]->info : NULL;
+}
+
+int rad_ff_method_parse(const char *name) {
+    if (!name) return -1;
+    if (strcmp(name, "default") == 0) return RAD_FF_DEFAULT;
     for (size_t i = 0; i < METHOD_COUNT; ++i)
-        if (strcmp(methods[i].name, name) == 0) return &methods[i];
-    return NULL;
+        if (strcmp(methods[i]->info.name, name) == 0) return (int)i + 1;
+    return -1;
 }
 
 void rad_ff_context_release(rad_ff_context *context) {
@@ -70,8 +78,8 @@ rad_status rad_ff_context_build(rad_context *ctx, const rad_scene *scene, const 
     out->ctx = ctx;
     out->mesh = mesh;
     out->options = *options;
-    out->options.method = entry->method;
-    if (out->options.samples == 0) out->options.samples = entry->default_samples;
+    out->options.method = options->method == RAD_FF_DEFAULT ? DEFAULT_METHOD : options->method;
+    if (out->options.samples == 0) out->options.samples = entry->info.default_samples;
     if (out->options.samples == 0) out->options.samples = 1;
     if (out->options.hemicube_resolution == 0) {
         const rad_ff_method_entry *hemicube = rad_ff_method_find(RAD_FF_HEMICUBE);
@@ -155,7 +163,7 @@ rad_ff_stats rad_ff_provider_stats(const rad_ff_provider *provider) {
 
 const char *rad_ff_method_name(rad_ff_method method) {
     const rad_ff_method_entry *entry = rad_ff_method_find(method);
-    return entry ? entry->name : NULL;
+    return entry ? entry->info.name : NULL;
 }
 
 void rad_ff_row_begin(rad_ff_common *common, size_t patch, rad_ff_row *row) {

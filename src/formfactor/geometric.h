@@ -77,10 +77,11 @@ void rad_ff_common_destroy(rad_ff_common *common);
  * for providers that keep none. */
 rad_ff_stats rad_ff_provider_stats(const rad_ff_provider *provider);
 
+/* A method's registration: what the public registry shows (rad_ff_method_info), its defaults
+ * and its constructor. Each method file defines one, `rad_ff_method_<name>`, and factory.c
+ * lists it in RAD_FF_METHODS: a new method is one file plus that one line. */
 typedef struct rad_ff_method_entry {
-    rad_ff_method method;
-    const char *name;
-    int default_samples;
+    rad_ff_method_info info;
     int default_resolution;
     rad_status (*create)(const rad_ff_context *context, rad_ff_provider **out);
 } rad_ff_method_entry;

@@ -433,3 +433,13 @@ rad_status rad_ff_hemicube_create(const rad_ff_context *context, rad_ff_provider
     *out = &h->common.base;
     return RAD_OK;
 }
+
+/* The registration (factory.c lists it). */
+static const rad_method_option hemicube_options[] = {
+    {"hemicube-res", "pixels along the top face (256)"},
+};
+const rad_ff_method_entry rad_ff_method_hemicube = {
+    {"hemicube", "projection onto a hemicube of z-buffered faces (Cohen & Greenberg 1985)", 0, hemicube_options, sizeof hemicube_options / sizeof hemicube_options[0]},
+    256,
+    rad_ff_hemicube_create,
+};

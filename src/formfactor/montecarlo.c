@@ -87,3 +87,13 @@ rad_status rad_ff_montecarlo_create(const rad_ff_context *context, rad_ff_provid
     *out = &common->base;
     return RAD_OK;
 }
+
+/* The registration (factory.c lists it). */
+static const rad_method_option montecarlo_options[] = {
+    {"ff-samples", "point pairs per form factor (16)"},
+};
+const rad_ff_method_entry rad_ff_method_montecarlo = {
+    {"montecarlo", "area to area, random point pairs with visibility", 16, montecarlo_options, sizeof montecarlo_options / sizeof montecarlo_options[0]},
+    0,
+    rad_ff_montecarlo_create,
+};

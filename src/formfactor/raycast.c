@@ -105,3 +105,13 @@ rad_status rad_ff_raycast_create(const rad_ff_context *context, rad_ff_provider 
     *out = &common->base;
     return RAD_OK;
 }
+
+/* The registration (factory.c lists it). */
+static const rad_method_option raycast_options[] = {
+    {"ff-samples", "discs on the source per receiver, one ray each (16)"},
+};
+const rad_ff_method_entry rad_ff_method_raycast = {
+    {"raycast", "rays from the receivers to points on the source (Wallace, Elmquist & Haines 1989)", 16, raycast_options, sizeof raycast_options / sizeof raycast_options[0]},
+    0,
+    rad_ff_raycast_create,
+};

@@ -4,10 +4,10 @@
 
 #include "core/atomic_file.h"
 #include "mesh/mesh.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
-#include "solve/system.h"
-#include "solve/vertex_radiosity.h"
+#include "system/system.h"
+#include "system/vertex_radiosity.h"
 
 #include <ctype.h>
 #include <math.h>

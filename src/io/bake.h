@@ -15,7 +15,7 @@
 #define RAD_IO_BAKE_H
 
 #include "core/context.h"
-#include "render/tonemap.h"
+#include "image/tonemap.h"
 
 #include <stdint.h>
 

@@ -16,6 +16,7 @@
 
 #include "core/atomic_file.h"
 #include "mesh/mesh.h"
+#include "solve/solver.h"
 
 #include <errno.h>
 #include <math.h>
@@ -170,7 +171,7 @@ rad_status rad_system_save_solution(rad_system *s, const char *path, const rad_s
     if (!bytes) return RAD_ERROR_NO_MEMORY;
     memcpy(bytes, RAD_SOLUTION_MAGIC, 8);
     put_u32(bytes + 8, RAD_SOLUTION_VERSION);
-    put_u32(bytes + 12, info ? (uint32_t)info->solver : 0u);
+    put_u32(bytes + 12, info ? rad_solver_file_code(info->solver) : 0u);
     put_u64(bytes + 16, info && info->steps > 0 ? (uint64_t)info->steps : 0u);
     put_u64(bytes + 24, s->element_count);
     put_u64(bytes + 32, s->patch_count);
@@ -251,7 +252,7 @@ static rad_status check_file(rad_system *s, const char *path, const unsigned cha
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED,
                         "%s: solution file version %u; this build reads version %u", path, version,
                         RAD_SOLUTION_VERSION);
-    if (get_u32(bytes + 12) > (uint32_t)RAD_SOLVER_IMPORTANCE)
+    if (rad_solver_from_file_code(get_u32(bytes + 12)) < 0)
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "%s: made by an unknown solver (%u)", path,
                         get_u32(bytes + 12));
     uint64_t elements = get_u64(bytes + 24), patches = get_u64(bytes + 32);
@@ -304,7 +305,7 @@ rad_status rad_system_load_solution(rad_system *s, const char *path, rad_solutio
                 s->unshot[e][c] = get_f64(p + 24 + 8 * c);
             }
         if (info) {
-            info->solver = (rad_solver_kind)get_u32(bytes + 12);
+            info->solver = (rad_solver_kind)rad_solver_from_file_code(get_u32(bytes + 12));
             info->steps = (long)get_u64(bytes + 16);
         }
     }

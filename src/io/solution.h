@@ -5,7 +5,7 @@
 #ifndef RAD_IO_SOLUTION_H
 #define RAD_IO_SOLUTION_H
 
-#include "solve/system.h"
+#include "system/system.h"
 
 #include <stdint.h>
 

@@ -13,7 +13,7 @@
  * does not depend on the thread count. */
 #include "render/pathtrace.h"
 
-#include "io/image.h"
+#include "image/image.h"
 
 #include <omp.h>
 #include <string.h>

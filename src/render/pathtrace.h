@@ -9,7 +9,7 @@
 #include "core/sampler.h"
 #include "light/emitters.h"
 #include "render/bsdf.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "scene/rays.h"
 
 /* Everything the path tracer looks up per hit, precomputed once. */

@@ -19,7 +19,7 @@
  * emitted radiance plus the reflected one. */
 #include "render/render.h"
 
-#include "solve/vertex_radiosity.h"
+#include "system/vertex_radiosity.h"
 
 #include <string.h>
 

@@ -7,7 +7,7 @@
  * the order rows are handed out. */
 #include "render/render.h"
 
-#include "io/image.h"
+#include "image/image.h"
 
 #include <omp.h>
 #include <string.h>
@@ -128,14 +128,8 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
     rad_render_settings settings;
     rad_status status = settings_from(ctx, options, &settings);
     if (status) return status;
-    rad_camera camera;
-    if (options && options->camera) {
-        const rad_camera_desc *d = options->camera;
-        camera.eye = v3(d->eye[0], d->eye[1], d->eye[2]);
-        camera.look = v3(d->look[0], d->look[1], d->look[2]);
-        camera.up = v3(d->up[0], d->up[1], d->up[2]);
-        camera.fov_degrees = d->fov_degrees;
-    } else camera = rad_scene_camera(scene);
+    rad_camera camera =
+        options && options->camera ? rad_camera_from_desc(options->camera) : rad_scene_camera(scene);
     rad_view view;
     status = rad_view_make(ctx, &camera, settings.width, settings.height, &view);
     if (status) return status;

@@ -1,6 +1,6 @@
 /* render.h - pictures of a radiosity solution (docs/rendering.md).
  *
- * The renderer shoots camera rays at the element mesh (render/element_rays.h) and turns what
+ * The renderer shoots camera rays at the element mesh (system/element_rays.h) and turns what
  * they hit into radiance:
  *   reconstruct.c   radiance from the solution at a point: B / pi interpolated from the element
  *                   vertices (smooth) or constant per element (flat), Cohen et al. 1986
@@ -17,10 +17,10 @@
 
 #include "core/sampler.h"
 #include "light/emitters.h"
-#include "render/camera.h"
-#include "render/element_rays.h"
+#include "scene/camera.h"
+#include "system/element_rays.h"
 #include "scene/scene.h"
-#include "solve/system.h"
+#include "system/system.h"
 
 typedef struct rad_render_settings {
     int width, height, samples_per_pixel;

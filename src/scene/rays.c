@@ -10,13 +10,23 @@ static void embree_error(void *user, enum RTCError code, const char *message) {
     rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree error %d: %s", (int)code, message ? message : "");
 }
 
+static void release_device(void *device) { rtcReleaseDevice((RTCDevice)device); }
+
 rad_status rad_embree_open(rad_context *ctx, RTCDevice *device, RTCScene *scene) {
-    char config[64];
-    snprintf(config, sizeof config, "threads=%d", rad_thread_count(ctx));
     *scene = NULL;
-    *device = rtcNewDevice(config);
-    if (!*device) return rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree: cannot create a device");
-    rtcSetDeviceErrorFunction(*device, embree_error, ctx);
+    *device = NULL;
+    /* One device per context, made on first use; each structure holds a reference. */
+    if (!ctx->ray_device) {
+        char config[64];
+        snprintf(config, sizeof config, "threads=%d", rad_thread_count(ctx));
+        RTCDevice made = rtcNewDevice(config);
+        if (!made) return rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree: cannot create a device");
+        rtcSetDeviceErrorFunction(made, embree_error, ctx);
+        ctx->ray_device = made;
+        ctx->release_ray_device = release_device;
+    }
+    *device = (RTCDevice)ctx->ray_device;
+    rtcRetainDevice(*device);
     *scene = rtcNewScene(*device);
     if (!*scene) return rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree: cannot create a scene");
     /* Robust traversal: no ray slips through an edge shared by two triangles or elements. */

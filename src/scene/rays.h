@@ -19,8 +19,9 @@ typedef struct rad_rays {
 
 rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **out);
 
-/* An Embree device using the context's threads, whose errors land on the context, and an empty
- * robust, high-quality scene on it: what every ray structure of the project starts from. */
+/* The context's Embree device (made on first use with the context's threads; its errors land
+ * on the context), retained for the caller to release, and an empty robust, high-quality scene
+ * on it: what every ray structure of the project starts from. */
 rad_status rad_embree_open(rad_context *ctx, RTCDevice *device, RTCScene *scene);
 void rad_rays_destroy(rad_rays *rays);
 

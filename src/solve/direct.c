@@ -113,5 +113,7 @@ static void direct_end(rad_solver_run *run) {
 }
 
 const rad_solver_impl rad_solver_direct = {
-    RAD_SOLVER_DIRECT, "direct", 0, 0, direct_begin, direct_step, direct_end,
+    {"direct", "Gaussian elimination with partial pivoting on the patch system (LAPACK dgesv)",
+     RAD_SOLVER_NEEDS_MATRIX | RAD_SOLVER_KEEPS_UNSHOT, NULL, 0, NULL, 0, 0},
+    direct_begin, direct_step, direct_end,
 };

@@ -8,7 +8,7 @@
  *
  * where the emitted importance R_i = (share of the screen element i covers) / A_i, so that
  * sum_i A_i R_i dB_i is the change of the image's mean radiosity when element i changes by dB_i
- * (render/element_rays.h traces one ray per pixel, screen_share.c).
+ * (system/element_rays.h traces one ray per pixel, screen_share.c).
  *
  * 1. Emitted importance from the camera (begin).
  * 2. Spread it with the same form-factor rows as light: a shooting pass of Z = rho Y, where
@@ -32,7 +32,7 @@
  *
  * Importance depends only on the camera and the form factors, so a resumed run recomputes the
  * same importance and takes the same shots as one that never stopped. */
-#include "solve/screen_share.h"
+#include "system/screen_share.h"
 #include "solve/shooting.h"
 
 #include <math.h>
@@ -230,6 +230,15 @@ static void importance_end(rad_solver_run *run) {
     run->state = NULL;
 }
 
+static const rad_method_option importance_options[] = {
+    {"overshoot", "overshooting (Feda & Purgathofer 1992)"},
+};
+static const rad_solver_variant importance_variants[] = {{"importance", 0, 0}};
+
 const rad_solver_impl rad_solver_importance = {
-    RAD_SOLVER_IMPORTANCE, "importance", 1, 1, importance_begin, importance_step, importance_end,
+    {"importance", "shooting ordered by what the camera sees (Smits, Arvo & Salesin 1992)",
+     RAD_SOLVER_SHOOTS | RAD_SOLVER_ITERATIVE | RAD_SOLVER_NEEDS_CAMERA | RAD_SOLVER_KEEPS_UNSHOT |
+         RAD_SOLVER_NEEDS_UNSHOT,
+     importance_options, 1, importance_variants, 1, 0},
+    importance_begin, importance_step, importance_end,
 };

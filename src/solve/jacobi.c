@@ -53,6 +53,10 @@ static void jacobi_end(rad_solver_run *run) {
     run->state = NULL;
 }
 
+static const rad_solver_variant jacobi_variants[] = {{"jacobi", 0, 0}};
+
 const rad_solver_impl rad_solver_jacobi = {
-    RAD_SOLVER_JACOBI, "jacobi", 1, 0, jacobi_begin, jacobi_step, jacobi_end,
+    {"jacobi", "gathering, each round from the previous round's radiosity (Goral et al. 1984)",
+     RAD_SOLVER_ITERATIVE | RAD_SOLVER_NEEDS_MATRIX, NULL, 0, jacobi_variants, 1, 0},
+    jacobi_begin, jacobi_step, jacobi_end,
 };

@@ -199,6 +199,18 @@ static void shooting_end(rad_solver_run *run) {
     run->state = NULL;
 }
 
+static const rad_method_option shooting_options[] = {
+    {"overshoot", "overshooting (Feda & Purgathofer 1992)"},
+    {"ambient", "add the ambient term"},
+};
+static const rad_solver_variant shooting_variants[] = {
+    {"shooting", 0, 0},
+    {"overshooting", 0, 1},
+};
+
 const rad_solver_impl rad_solver_shooting = {
-    RAD_SOLVER_SHOOTING, "shooting", 1, 1, shooting_begin, shooting_step, shooting_end,
+    {"shooting", "progressive refinement: shoot the most unshot power (Cohen et al. 1988)",
+     RAD_SOLVER_SHOOTS | RAD_SOLVER_ITERATIVE | RAD_SOLVER_KEEPS_UNSHOT | RAD_SOLVER_NEEDS_UNSHOT,
+     shooting_options, 2, shooting_variants, 2, 0},
+    shooting_begin, shooting_step, shooting_end,
 };

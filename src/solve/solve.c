@@ -10,25 +10,6 @@
 #define RAD_DEFAULT_TOLERANCE 1e-6
 #define RAD_GATHER_ROUND_CAP 100000
 
-static const rad_solver_impl *const solvers[] = {
-    &rad_solver_direct,   &rad_solver_jacobi,     &rad_solver_gauss_seidel,
-    &rad_solver_shooting, &rad_solver_importance,
-};
-#define SOLVER_COUNT (sizeof solvers / sizeof solvers[0])
-
-int rad_solver_kind_parse(const char *name) {
-    if (!name) return -1;
-    for (size_t i = 0; i < SOLVER_COUNT; ++i)
-        if (strcmp(solvers[i]->name, name) == 0) return (int)solvers[i]->kind;
-    return -1;
-}
-
-const char *rad_solver_kind_name(rad_solver_kind kind) {
-    for (size_t i = 0; i < SOLVER_COUNT; ++i)
-        if (solvers[i]->kind == kind) return solvers[i]->name;
-    return "unknown";
-}
-
 /* Per-surface means of the step's per-element values, handed to the trace callback. */
 static rad_status emit_trace(rad_solver_run *run, int iteration, int shooting) {
     rad_system *s = run->system;
@@ -59,7 +40,7 @@ static int emit_iteration(const rad_solver_run *run, const rad_solver_impl *impl
                           double residual, double start, double *callback_seconds) {
     const rad_solve_options *o = run->options;
     double now = rad_seconds();
-    int shooting = impl->default_is_power;
+    int shooting = (impl->info.capabilities & RAD_SOLVER_SHOOTS) != 0;
     rad_iteration_event event = {
         .iteration = iteration,
         .seconds = now - start - *callback_seconds,
@@ -78,9 +59,7 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                      rad_solve_report *report) {
     if (!system || !options) return RAD_ERROR_INVALID_ARGUMENT;
     rad_context *ctx = system->ctx;
-    const rad_solver_impl *impl = NULL;
-    for (size_t i = 0; i < SOLVER_COUNT; ++i)
-        if (solvers[i]->kind == options->solver) impl = solvers[i];
+    const rad_solver_impl *impl = rad_solver_impl_get(options->solver);
     if (!impl) return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "unknown solver %d", options->solver);
     if (options->max_iterations < 0)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "iterations must not be negative");
@@ -117,14 +96,16 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
         begun = 1;
         status = impl->begin(&run);
     }
+    const int shooting = (impl->info.capabilities & RAD_SOLVER_SHOOTS) != 0;
+    const int iterative = (impl->info.capabilities & RAD_SOLVER_ITERATIVE) != 0;
     if (!status) {
         double tolerance = options->tolerance > 0 ? options->tolerance : RAD_DEFAULT_TOLERANCE;
         int cap = options->max_iterations;
         if (cap == 0) {
             double shots = 1000.0 * (double)system->patch_count;
-            cap = impl->default_is_power ? (int)fmin(shots, 1e8) : RAD_GATHER_ROUND_CAP;
+            cap = shooting ? (int)fmin(shots, 1e8) : RAD_GATHER_ROUND_CAP;
         }
-        if (!impl->iterative) cap = 1;
+        if (!iterative) cap = 1;
         double residual = INFINITY;
         local.stop = RAD_STOP_ITERATIONS;
         /* One loop for every solver: step, report, then decide whether to go on. */
@@ -132,11 +113,11 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
             status = impl->step(&run, iteration, &residual);
             if (status) break;
             local.iterations = iteration;
-            if (run.tracing && (status = emit_trace(&run, iteration, impl->default_is_power)))
+            if (run.tracing && (status = emit_trace(&run, iteration, shooting)))
                 break;
             int asked_to_stop = options->on_iteration &&
                 emit_iteration(&run, impl, iteration, residual, start, &callback_seconds);
-            if (residual <= tolerance || !impl->iterative) {
+            if (residual <= tolerance || !iterative) {
                 local.converged = 1;
                 local.stop = RAD_STOP_CONVERGED;
                 break;
@@ -152,7 +133,7 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
             /* The iteration callback, when there is one, replaces the progress reports of
              * the loop: it sees more and can stop the solve itself. */
             if (!options->on_iteration &&
-                rad_progress(ctx, impl->name, (double)iteration, (double)cap)) {
+                rad_progress(ctx, impl->info.name, (double)iteration, (double)cap)) {
                 status = rad_fail(ctx, RAD_ERROR_CANCELLED, "cancelled after %d iterations",
                                   iteration);
                 break;

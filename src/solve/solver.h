@@ -1,10 +1,11 @@
-/* solver.h - the internal shape of a solver: begin, one step (a gathering round or a shot),
- * end. The driver in solve.c owns the loop, stopping, cancelling, timing and tracing, so a new
- * solver is one new file plus one line in the table in solve.c. */
+/* solver.h - the internal shape of a solver: its registration (name, description,
+ * capabilities, own options), begin, one step (a gathering round or a shot), end. The driver
+ * in solve.c owns the loop, stopping, cancelling, timing and tracing, so a new solver is one
+ * new file defining rad_solver_<name> plus one line in RAD_SOLVERS (registry.c). */
 #ifndef RAD_SOLVE_SOLVER_H
 #define RAD_SOLVE_SOLVER_H
 
-#include "solve/system.h"
+#include "system/system.h"
 
 typedef struct rad_solver_run {
     rad_system *system;
@@ -22,21 +23,20 @@ typedef struct rad_solver_run {
 } rad_solver_run;
 
 typedef struct rad_solver_impl {
-    rad_solver_kind kind;
-    const char *name;
-    int iterative;        /* zero: one step solves it (direct) */
-    int default_is_power; /* the stopping measure is unshot power (shooting) */
+    rad_solver_info info; /* what the public registry shows (rad_solver_at) */
     rad_status (*begin)(rad_solver_run *run);
     /* One round or shot; *residual is the stopping measure after it. */
     rad_status (*step)(rad_solver_run *run, int iteration, double *residual);
     void (*end)(rad_solver_run *run);
 } rad_solver_impl;
 
-extern const rad_solver_impl rad_solver_direct;
-extern const rad_solver_impl rad_solver_jacobi;
-extern const rad_solver_impl rad_solver_gauss_seidel;
-extern const rad_solver_impl rad_solver_shooting;
-extern const rad_solver_impl rad_solver_importance;
+/* The registered solver of a kind (RAD_SOLVER_DEFAULT: the default's), or NULL (registry.c). */
+const rad_solver_impl *rad_solver_impl_get(rad_solver_kind kind);
+
+/* The number a solution file stores for a solver, and back (-1 when unknown): its position in
+ * the registry, which never changes for a registered solver. */
+uint32_t rad_solver_file_code(rad_solver_kind kind);
+int rad_solver_from_file_code(uint32_t code);
 
 /* The gathering matrix, stored in float32 when it fits the memory budget:
  * G[e * patch_count + p] = A_p F_pe / A_e, so that element e gathers sum_p G_ep B_p. */

@@ -1,5 +1,5 @@
 /* camera.c - pinhole cameras (see camera.h). */
-#include "render/camera.h"
+#include "scene/camera.h"
 
 rad_camera rad_camera_framing(const rad_scene *scene) {
     rad_vec3 lo, hi;
@@ -49,4 +49,32 @@ rad_status rad_view_make(rad_context *ctx, const rad_camera *camera, int width, 
     out->width = width;
     out->height = height;
     return RAD_OK;
+}
+
+/* ---- the public camera description ---------------------------------------------------- */
+
+void rad_scene_get_camera(const rad_scene *scene, rad_camera_desc *out) {
+    rad_camera camera = rad_scene_camera(scene);
+    rad_camera_to_desc(&camera, out);
+}
+
+void rad_camera_to_desc(const rad_camera *camera, rad_camera_desc *out) {
+    const rad_vec3 v[3] = {camera->eye, camera->look, camera->up};
+    double *d[3] = {out->eye, out->look, out->up};
+    for (int k = 0; k < 3; ++k) {
+        d[k][0] = v[k].x;
+        d[k][1] = v[k].y;
+        d[k][2] = v[k].z;
+    }
+    out->fov_degrees = camera->fov_degrees;
+}
+
+rad_camera rad_camera_from_desc(const rad_camera_desc *desc) {
+    rad_camera camera = {
+        v3(desc->eye[0], desc->eye[1], desc->eye[2]),
+        v3(desc->look[0], desc->look[1], desc->look[2]),
+        v3(desc->up[0], desc->up[1], desc->up[2]),
+        desc->fov_degrees,
+    };
+    return camera;
 }

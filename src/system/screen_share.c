@@ -1,42 +1,16 @@
 /* screen_share.c - what a camera sees of a system: the share of the image each element covers.
  * One ray through the centre of every pixel, traced against the element mesh
- * (render/element_rays.h) so a hit names its element directly; only front sides count, since
+ * (system/element_rays.h) so a hit names its element directly; only front sides count, since
  * the solution lives on the front. This is the emitted importance of Smits, Arvo & Salesin 1992
  * (importance.c) and the weight of the view error (docs/solvers.md, "Importance"). */
-#include "solve/screen_share.h"
+#include "system/screen_share.h"
 
-#include "render/camera.h"
-#include "render/element_rays.h"
+#include "scene/camera.h"
+#include "system/element_rays.h"
 #include "mesh/mesh.h"
 #include "scene/scene.h"
 
 #include <string.h>
-
-void rad_scene_get_camera(const rad_scene *scene, rad_camera_desc *out) {
-    rad_camera camera = rad_scene_camera(scene);
-    rad_camera_to_desc(&camera, out);
-}
-
-void rad_camera_to_desc(const rad_camera *camera, rad_camera_desc *out) {
-    const rad_vec3 v[3] = {camera->eye, camera->look, camera->up};
-    double *d[3] = {out->eye, out->look, out->up};
-    for (int k = 0; k < 3; ++k) {
-        d[k][0] = v[k].x;
-        d[k][1] = v[k].y;
-        d[k][2] = v[k].z;
-    }
-    out->fov_degrees = camera->fov_degrees;
-}
-
-rad_camera rad_camera_from_desc(const rad_camera_desc *desc) {
-    rad_camera camera = {
-        v3(desc->eye[0], desc->eye[1], desc->eye[2]),
-        v3(desc->look[0], desc->look[1], desc->look[2]),
-        v3(desc->up[0], desc->up[1], desc->up[2]),
-        desc->fov_degrees,
-    };
-    return camera;
-}
 
 rad_status rad_system_screen_share(rad_system *s, const rad_camera_desc *desc, int width,
                                    int height, double *share) {

@@ -1,10 +1,10 @@
 /* image_exr.h - OpenEXR images through OpenEXR's C API (OpenEXRCore, <OpenEXR/openexr.h>):
  * written as one scanline part with R, G, B channels (32-bit float, or half when asked), ZIP
  * compressed, linear; read back from any scanline part that has R, G, B or a Y channel. */
-#ifndef RAD_IO_IMAGE_EXR_H
-#define RAD_IO_IMAGE_EXR_H
+#ifndef RAD_IMAGE_IMAGE_EXR_H
+#define RAD_IMAGE_IMAGE_EXR_H
 
-#include "io/image.h"
+#include "image/image.h"
 
 #include <stdio.h>
 

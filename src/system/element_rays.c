@@ -1,5 +1,5 @@
 /* element_rays.c - Embree scene of the element mesh (see element_rays.h). */
-#include "render/element_rays.h"
+#include "system/element_rays.h"
 
 #include "scene/rays.h"
 

@@ -1,6 +1,6 @@
 /* image.c - float RGB images and their files (see image.h).
  *
- *   .png  exposure, tone curve and sRGB (render/tonemap.h), 8 bit, through stb_image_write.
+ *   .png  exposure, tone curve and sRGB (image/tonemap.h), 8 bit, through stb_image_write.
  *   .hdr  Radiance RGBE (Ward 1991), run-length encoded, through stb_image_write; read by
  *         read_hdr below (stb_image's reader hangs on truncated run-length scanlines).
  *   .exr  OpenEXR, 32-bit float (or half) linear RGB, ZIP compressed: image_exr.c.
@@ -9,10 +9,10 @@
  *         read here.
  *
  * Every write goes through rad_atomic_open/commit: a failure never leaves a half-written file. */
-#include "io/image.h"
+#include "image/image.h"
 
 #include "core/atomic_file.h"
-#include "io/image_exr.h"
+#include "image/image_exr.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -1,5 +1,5 @@
 /* tonemap.c - exposure, tone curves and sRGB encoding (see tonemap.h). */
-#include "render/tonemap.h"
+#include "image/tonemap.h"
 
 #include <math.h>
 #include <string.h>

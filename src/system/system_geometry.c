@@ -1,6 +1,6 @@
 /* system_geometry.c - a geometric scene becomes a system: mesh it, take each element's material
  * (emission as radiosity B = pi L), and set up the form-factor provider. */
-#include "solve/system.h"
+#include "system/system.h"
 
 #include "formfactor/geometric.h"
 #include "scene/scene.h"

@@ -4,7 +4,7 @@
 #ifndef RAD_SOLVE_VERTEX_RADIOSITY_H
 #define RAD_SOLVE_VERTEX_RADIOSITY_H
 
-#include "solve/system.h"
+#include "system/system.h"
 
 /* B_e, plus rho_e * ambient when with_ambient. */
 void rad_system_display_radiosity(const rad_system *system, size_t element, int with_ambient,

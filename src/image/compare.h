@@ -4,7 +4,7 @@
 #ifndef RAD_RENDER_COMPARE_H
 #define RAD_RENDER_COMPARE_H
 
-#include "io/image.h"
+#include "image/image.h"
 
 /* The false-colour scale: 0 black, through blue, magenta and orange, to pale yellow at 1; linear
  * RGB (sRGB-encoded by the PNG writer back to the scale's colours). */

@@ -1,7 +1,7 @@
 /* vertex_radiosity.c - radiosity at mesh vertices, for smooth shading and baking: each vertex
  * takes the area-weighted mean of the elements around it. Vertices are shared only inside a
  * surface and across gentle bends (src/mesh/mesh.c), so corners keep one value per side. */
-#include "solve/vertex_radiosity.h"
+#include "system/vertex_radiosity.h"
 
 #include "mesh/mesh.h"
 

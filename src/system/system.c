@@ -1,5 +1,5 @@
 /* system.c - building systems, their bookkeeping and the public getters. */
-#include "solve/system.h"
+#include "system/system.h"
 
 #include "scene/scene.h"
 
@@ -220,4 +220,8 @@ rad_status rad_system_surface_form_factors(rad_system *s, double *matrix) {
     rad_free(s->ctx, row);
     rad_free(s->ctx, patch_to_surface);
     return status;
+}
+
+const char *rad_system_ff_method(const rad_system *system) {
+    return system && system->ff ? system->ff->method : NULL;
 }

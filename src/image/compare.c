@@ -1,7 +1,7 @@
 /* compare.c - how far an image is from a reference (docs/images.md, "Comparing images"):
  * RMSE, relative MSE as pbrt's imgtool computes it, PSNR, the ratio of the means, and a
  * false-colour map of the per-pixel error. */
-#include "render/compare.h"
+#include "image/compare.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -5,7 +5,7 @@
 #define RAD_IO_IMAGE_H
 
 #include "core/context.h"
-#include "render/tonemap.h"
+#include "image/tonemap.h"
 
 typedef struct rad_image {
     rad_context *ctx;

@@ -9,7 +9,7 @@
  * Reading: the whole file is read into memory (bounded by its length) and handed to OpenEXR
  * through read and size callbacks; every chunk is decoded straight into the image as floats.
  * OpenEXR's own error text is kept (through its error handler) and becomes the one line. */
-#include "io/image_exr.h"
+#include "image/image_exr.h"
 
 #include <errno.h>
 #include <limits.h>

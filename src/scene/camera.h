@@ -26,6 +26,10 @@ rad_camera rad_scene_camera(const rad_scene *scene);
 rad_status rad_view_make(rad_context *ctx, const rad_camera *camera, int width, int height,
                          rad_view *out);
 
+/* The public camera description and the internal camera, both ways (the one conversion). */
+void rad_camera_to_desc(const rad_camera *camera, rad_camera_desc *out);
+rad_camera rad_camera_from_desc(const rad_camera_desc *desc);
+
 /* Unit direction through the image point (px, py) in pixels: (0, 0) top-left corner,
  * (width, height) bottom-right. */
 static inline rad_vec3 rad_view_direction(const rad_view *view, double px, double py) {
