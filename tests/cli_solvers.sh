@@ -25,7 +25,7 @@ expect_exit 2 "overshoot is for the shooting and importance solvers" -- \
 check "solve --help lists the solvers" \
     grep -q -- "--solver .*NAME  direct|jacobi|gauss-seidel|shooting|importance (shooting)" "$work/help"
 "$radiosity" render --help >"$work/help"
-check "render's default is gauss-seidel" grep -q -- "importance (gauss-seidel)" "$work/help"
+check "render's default is shooting, as solve's" grep -q -- "importance (shooting)" "$work/help"
 check "--ff lists the methods" grep -q -- "METHOD  analytic|hemicube|raycast|montecarlo" "$work/help"
 expect_exit 2 "unexpected argument" -- "$radiosity" solvers extra
 finish
