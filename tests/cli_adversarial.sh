@@ -81,7 +81,17 @@ for command in "solve cornell" "render cornell -o x.png" "pathtrace cornell -o x
         expect 2 "${bad%% *} wants" -- "$radiosity" $command $bad
     done
 done
+expect 2 "solve: --tolerance must be positive" -- "$radiosity" solve four-walls --tolerance -1
+expect 2 "solve: --omega must be in (0, 2), not 2" -- "$radiosity" solve four-walls --omega 2
+expect 2 "render: --omega must be in (0, 2), not 2" -- "$radiosity" render cornell --omega 2 -o x.png
 nothing_left "option values"
+
+# The built-in geometric scenes render with their own cameras.
+for scene in two-squares unit-cube; do
+    expect 0 '' -- "$radiosity" render "$scene" --quiet --threads 1 --width 16 --height 16 \
+        --elements 50 -o "keep-$scene.pfm"
+    check "$scene rendered" test -s "keep-$scene.pfm"
+done
 
 # 5. Finite inputs whose products are not.
 printf 'patch a area 1e200 reflectance 0.5 emission 1e200\npatch b area 1 reflectance 0.5 emission 0\nff a b 0.5\nff b a 0.5\n' >keep-power.ffm
@@ -90,6 +100,10 @@ expect 1 "keep-power.ffm: surface 'a': its emitted power (area 1e+200 times its 
 printf 'v 0 0 0\nv 1e160 0 0\nv 0 1e160 0\nf 1 2 3\n' >keep-float.obj
 expect 1 "not a finite number in single precision" -- "$radiosity" solve keep-float.obj
 nothing_left "overflowing products"
+
+expect 1 "bake: a scale of 1e+308 makes the mesh's coordinates" -- \
+    "$radiosity" bake unit-cube --elements 24 --scale 1e308 -o x.gltf
+nothing_left "bake --scale 1e308"
 
 # 6. Standard output that cannot be written: an error, not exit 0.
 timeout 60 "$radiosity" solve four-walls --json >&- 2>err
