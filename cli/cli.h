@@ -8,6 +8,8 @@
 #include <stdio.h>
 
 #define EXIT_USAGE 2
+/* The most worker threads --threads may ask for (libgomp crashes on a million). */
+#define CLI_MAX_THREADS 4096
 
 typedef enum cli_option_kind {
     CLI_FLAG,    /* int, set to 1 */

@@ -81,7 +81,7 @@ int cmd_compare(int argc, char **argv) {
         printf("rmse          %.6g\n", c.rmse);
         printf("relative mse  %.6g\n", c.relative_mse);
         if (isinf(c.psnr)) printf("psnr          inf (identical)\n");
-        else printf("psnr          %.4g dB\n", c.psnr);
+        else printf("psnr          %.4g dB (peak 1)\n", c.psnr);
         printf("mean          %.6g (test) / %.6g (reference) = %.6g\n", c.mean_test,
                c.mean_reference, c.mean_ratio);
         if (a.diff) printf("diff          %s (relative error 0 .. %.3g)\n", a.diff, scale);

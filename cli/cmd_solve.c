@@ -252,10 +252,8 @@ int cmd_solve(int argc, char **argv) {
     if (kind < 0) return cli_unknown_solver("solve", a.pipe.solver);
     int ff_method = cli_parse_ff_method(a.pipe.ff);
     if (ff_method < 0) return cli_unknown_ff_method("solve", a.pipe.ff);
-    if (a.pipe.max_memory < 0) return cli_error(EXIT_USAGE, "solve: --max-memory must be positive");
-    if (a.pipe.patch_size < 0 || a.pipe.element_size < 0)
-        return cli_error(EXIT_USAGE, "solve: sizes must be positive");
-    /* --omega and --tolerance are checked by the library (exit status 1). */
+    /* The same rule as render's: a bad value is a usage error (2). */
+    if ((status = cli_pipeline_check_values("solve", &a.pipe))) return status;
     rad_mesh_options mesh = {a.pipe.patch_size, a.pipe.element_size, a.pipe.elements};
     rad_ff_options ff = {(rad_ff_method)ff_method, a.pipe.ff_samples, a.pipe.hemicube_res};
     if ((status = check_args(&a, solver_given || !a.resume ? kind : -1))) return status;

@@ -1,6 +1,7 @@
 /* main.c - the radiosity command-line tool: dispatch to commands. */
 #include "cli.h"
 
+#include <errno.h>
 #include <string.h>
 
 typedef struct command {
@@ -30,7 +31,22 @@ static void usage(FILE *out) {
                  "version.\n");
 }
 
-int main(int argc, char **argv) {
+/* Every command's output to stdout is checked once, here: a full disk or a closed pipe
+ * (`solve --json > /dev/full`) is an error, not exit 0. */
+static int finish(int status) {
+    int failed = fflush(stdout) != 0 || ferror(stdout);
+    int error = errno;
+    if (fclose(stdout) != 0 && !failed) {
+        failed = 1;
+        error = errno;
+    }
+    if (failed && status == 0)
+        return cli_error(1, "cannot write to standard output: %s",
+                         error ? strerror(error) : "write error");
+    return status;
+}
+
+static int run(int argc, char **argv) {
     if (argc < 2) {
         usage(stderr);
         return EXIT_USAGE;
@@ -48,3 +64,5 @@ int main(int argc, char **argv) {
         if (strcmp(commands[i].name, name) == 0) return commands[i].run(argc - 2, argv + 2);
     return cli_error(EXIT_USAGE, "unknown command '%s' (radiosity --help lists them)", name);
 }
+
+int main(int argc, char **argv) { return finish(run(argc, argv)); }

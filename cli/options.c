@@ -75,6 +75,20 @@ static int parse_value(const char *command, const cli_option *o, const char *tex
     return 0;
 }
 
+/* Bounds of the options every command shares (docs/errors.md, "Limits"): given explicitly,
+ * --threads is 1 to 4096 and --max-memory at least 1 MiB (left out, both take their defaults). */
+static int check_shared_option(const char *command, const cli_option *o) {
+    if (strcmp(o->name, "--threads") == 0 && o->kind == CLI_INT &&
+        (*(int *)o->target < 1 || *(int *)o->target > CLI_MAX_THREADS))
+        return cli_error(EXIT_USAGE, "%s: --threads wants a whole number from 1 to %d, not %d",
+                         command, CLI_MAX_THREADS, *(int *)o->target);
+    if (strcmp(o->name, "--max-memory") == 0 && o->kind == CLI_DOUBLE &&
+        !(*(double *)o->target >= 1 && *(double *)o->target <= 1073741824.0))
+        return cli_error(EXIT_USAGE, "%s: --max-memory wants MiB from 1 to 1073741824 (1 PiB), "
+                         "not %g", command, *(double *)o->target);
+    return 0;
+}
+
 int cli_parse(const char *command, const char *synopsis, const cli_option *options, int argc,
               char **argv, const char **positional, int max_positional, int *positional_count) {
     *positional_count = 0;
@@ -102,6 +116,7 @@ int cli_parse(const char *command, const char *synopsis, const cli_option *optio
             const char *value = equals ? equals + 1 : (i + 1 < argc ? argv[++i] : NULL);
             if (!value) return cli_error(EXIT_USAGE, "%s: %s needs a value", command, found->name);
             int status = parse_value(command, found, value);
+            if (!status) status = check_shared_option(command, found);
             if (status) return status;
             continue;
         }

@@ -40,18 +40,24 @@ void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, 
     for (int i = 0; i < CLI_PIPELINE_OPTION_COUNT; ++i) o[i] = shared[i];
 }
 
-int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solve_options *solve,
-                       rad_mesh_options *mesh, rad_ff_options *ff) {
-    int kind = rad_solver_kind_parse(a->solver);
-    if (kind < 0) return cli_unknown_solver(command, a->solver);
-    int method = cli_parse_ff_method(a->ff);
-    if (method < 0) return cli_unknown_ff_method(command, a->ff);
+int cli_pipeline_check_values(const char *command, const cli_pipeline_args *a) {
     if (a->max_memory < 0) return cli_error(EXIT_USAGE, "%s: --max-memory must be positive", command);
     if (a->patch_size < 0 || a->element_size < 0)
         return cli_error(EXIT_USAGE, "%s: sizes must be positive", command);
     if (a->tolerance < 0) return cli_error(EXIT_USAGE, "%s: --tolerance must be positive", command);
     if (a->omega != 0 && !(a->omega > 0 && a->omega < 2))
         return cli_error(EXIT_USAGE, "%s: --omega must be in (0, 2), not %g", command, a->omega);
+    return 0;
+}
+
+int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solve_options *solve,
+                       rad_mesh_options *mesh, rad_ff_options *ff) {
+    int kind = rad_solver_kind_parse(a->solver);
+    if (kind < 0) return cli_unknown_solver(command, a->solver);
+    int method = cli_parse_ff_method(a->ff);
+    if (method < 0) return cli_unknown_ff_method(command, a->ff);
+    int status = cli_pipeline_check_values(command, a);
+    if (status) return status;
     rad_solve_options s = {0};
     s.solver = (rad_solver_kind)kind;
     s.max_iterations = a->iterations;

@@ -22,6 +22,10 @@ typedef struct cli_pipeline_args {
 void cli_pipeline_options(cli_pipeline_args *args, rad_solver_kind default_solver,
                           cli_option *options);
 
+/* The value checks of cli_pipeline_check alone (sizes, budget, --tolerance, --omega): a usage
+ * error (EXIT_USAGE, message printed) or 0. */
+int cli_pipeline_check_values(const char *command, const cli_pipeline_args *args);
+
 /* The library's option structs from the arguments, checked. Prints a usage error and returns
  * EXIT_USAGE, or 0. */
 int cli_pipeline_check(const char *command, const cli_pipeline_args *args, rad_solve_options *solve,

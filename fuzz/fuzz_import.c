@@ -2,9 +2,12 @@
  * the header checks of src/scene/import_check.c, and assimp behind them): whatever a file
  * holds, loading it gives a scene or an error, in bounded time and memory. The first byte picks
  * the extension (.ply, .glb, .obj, .gltf); the rest is written to a temporary file. (Meshing
- * is left to the other tests: building Embree scenes would cut the rate by ten.) */
+ * is left to the other tests: building Embree scenes would cut the rate by ten.) The import runs
+ * in this process (rad_scene_import_here), not in the child process rad_scene_load starts, so
+ * the fuzzer sees what assimp and the project's own walk do. */
 #include "input_file.h"
 #include "radiosity.h"
+#include "scene/scene.h"
 
 #include <stdint.h>
 #include <stdio.h>
@@ -25,7 +28,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     rad_context *ctx = NULL;
     if (rad_context_create(&options, &ctx)) return 0;
     rad_scene *scene = NULL;
-    if (rad_scene_load(ctx, path, &scene) == RAD_OK) {
+    if (rad_scene_import_here(ctx, path, &scene) == RAD_OK) {
         rad_camera_desc camera;
         rad_scene_get_camera(scene, &camera);
     }

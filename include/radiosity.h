@@ -596,8 +596,9 @@ rad_status rad_pathtrace(rad_context *context, const rad_scene *scene,
 typedef struct rad_image_comparison {
     double rmse;         /* sqrt(mean (t - r)^2) */
     double relative_mse; /* mean (t - r)^2 / (r^2 + 0.01), as pbrt's imgtool computes it */
-    double psnr;         /* dB, 10 log10(peak^2 / MSE), peak = the reference's largest value;
-                            infinite for identical images */
+    double psnr;         /* dB, 10 log10(peak^2 / MSE), peak = 1 (white of a display-referred
+                            image; linear values above 1 count as they are); infinite for
+                            identical images */
     double mean_test, mean_reference;
     double mean_ratio;   /* mean_test / mean_reference */
 } rad_image_comparison;

@@ -32,7 +32,7 @@ check "hdr written" grep -aq '#?RADIANCE' "$work/c.hdr"
 check "flat + final gather + aces" test -s "$work/flat.png"
 "$radiosity" render cornell-mirror "${small[@]}" -o "$work/mirror.png"
 check "cornell-mirror renders" test -s "$work/mirror.png"
-# A scene without a camera gets one that frames it.
+# Camera flags override the scene's own camera.
 "$radiosity" render unit-cube "${small[@]}" --eye 0.5,0.5,0.5 --look 0.5,0.5,2 --fov 120 \
     -o "$work/cube.pfm"
 check "camera flags inside the unit cube" test -s "$work/cube.pfm"

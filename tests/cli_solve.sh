@@ -41,7 +41,7 @@ expect_exit 1 'empty file' -- "$radiosity" solve "$work/empty.ffm"
 head -c 300 /dev/urandom >"$work/garbage.ffm"
 "$radiosity" solve "$work/garbage.ffm" >/dev/null 2>&1
 check "garbage exits 1" test $? -eq 1
-expect_exit 1 'omega' -- "$radiosity" solve four-walls --omega 2.5
+expect_exit 2 'omega' -- "$radiosity" solve four-walls --omega 2.5
 printf 'patch a area 1 reflectance 0.5\n' >"$work/dark.ffm"
 "$radiosity" solve "$work/dark.ffm" >"$work/out" 2>"$work/err"
 check "no emitter is a warning" test $? -eq 0

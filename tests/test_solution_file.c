@@ -171,6 +171,21 @@ static void test_refusals(void) {
     bytes[8] = 1;
     write_file(bad, bytes, size);
     CHECK(rad_system_load_solution(target, bad, NULL) == RAD_OK); /* intact again */
+    /* A negative radiosity with the checksum made to match: refused all the same. */
+    {
+        unsigned char *forged = malloc(size);
+        memcpy(forged, bytes, size);
+        double minus_one = -1.0;
+        uint64_t raw;
+        memcpy(&raw, &minus_one, 8);
+        unsigned char *value = forged + RAD_SOLUTION_HEADER_SIZE + 48 * 5 + 8; /* element 5, G */
+        for (int k = 0; k < 8; ++k) value[k] = (unsigned char)(raw >> (8 * k));
+        uint64_t sum = rad_fnv1a(RAD_FNV1A_START, forged, size - 8);
+        for (int k = 0; k < 8; ++k) forged[size - 8 + k] = (unsigned char)(sum >> (8 * k));
+        write_file(bad, forged, size);
+        check_refused(target, bad, RAD_ERROR_PARSE, "element 5 has a negative radiosity, -1");
+        free(forged);
+    }
     check_refused(target, path_of("missing.sol"), RAD_ERROR_IO, "cannot read");
     check_refused(target, "/", RAD_ERROR_IO, "/");
 

@@ -33,25 +33,27 @@ static rad_status check_pair(rad_context *ctx, const rad_image *test, const rad_
     return RAD_OK;
 }
 
+#define RAD_PSNR_PEAK 1.0
+
 rad_status rad_image_compare(rad_context *ctx, const rad_image *test, const rad_image *reference,
                              rad_image_comparison *out) {
     rad_status status = check_pair(ctx, test, reference);
     if (status) return status;
     size_t count = (size_t)test->width * (size_t)test->height * 3;
-    double squared = 0, relative = 0, sum_test = 0, sum_reference = 0, peak = 0;
+    double squared = 0, relative = 0, sum_test = 0, sum_reference = 0;
     for (size_t i = 0; i < count; ++i) {
         double t = test->pixels[i], r = reference->pixels[i], d = t - r;
         squared += d * d;
         relative += d * d / (r * r + RELATIVE_EPSILON);
         sum_test += t;
         sum_reference += r;
-        if (r > peak) peak = r;
     }
     double mse = squared / (double)count;
     out->rmse = sqrt(mse);
     out->relative_mse = relative / (double)count;
-    if (!(peak > 0)) peak = 1;
-    out->psnr = mse > 0 ? 10 * log10(peak * peak / mse) : INFINITY;
+    /* The usual definition, with the peak of display-referred images: 1 (white). Not the
+     * brightest reference pixel, which in a render is the lamp and flatters every error. */
+    out->psnr = mse > 0 ? 10 * log10(RAD_PSNR_PEAK * RAD_PSNR_PEAK / mse) : INFINITY;
     out->mean_test = sum_test / (double)count;
     out->mean_reference = sum_reference / (double)count;
     out->mean_ratio = out->mean_reference != 0 ? out->mean_test / out->mean_reference

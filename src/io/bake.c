@@ -10,6 +10,7 @@
 #include "system/vertex_radiosity.h"
 
 #include <ctype.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -213,6 +214,16 @@ static rad_status build(const rad_system *s, const rad_bake_options *o, int tone
     const rad_mesh *mesh = s->mesh;
     size_t nv = mesh->vertex_count, ne = mesh->element_count, ns = s->surface_count;
     double scale = o->scale > 0 ? o->scale : 1;
+    /* Positions (and the camera's far plane, twice the farthest distance) are written as
+     * floats: a scale that overflows them would write inf, which no mesh format takes. */
+    double largest = 0;
+    for (size_t v = 0; v < nv; ++v)
+        largest = fmax(largest, fmax(fabs(mesh->vertices[v].x),
+                                     fmax(fabs(mesh->vertices[v].y), fabs(mesh->vertices[v].z))));
+    if (!(4 * largest * scale < FLT_MAX))
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "bake: a scale of %g makes the mesh's "
+                        "coordinates (up to %g) overflow single precision (3.4e38)", scale,
+                        largest);
     memset(b, 0, sizeof *b);
     b->ctx = ctx;
     b->exposure = o->exposure;

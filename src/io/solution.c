@@ -286,6 +286,17 @@ static rad_status check_file(rad_system *s, const char *path, const unsigned cha
         if (!isfinite(get_f64(bytes + i)))
             return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (a value is not finite)",
                             path);
+    /* Radiosity is never negative: an iteration may leave rounding below zero (a millionth of
+     * the largest), no more. Unshot radiosity may be negative (overshooting). */
+    double largest = 0;
+    for (size_t i = 72; i < expected - 8; i += 8) largest = fmax(largest, fabs(get_f64(bytes + i)));
+    for (size_t e = 0; e < s->element_count; ++e)
+        for (int c = 0; c < 3; ++c) {
+            double radiosity = get_f64(bytes + RAD_SOLUTION_HEADER_SIZE + 48 * e + 8 * c);
+            if (radiosity < -1e-6 * largest)
+                return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (element %zu "
+                                "has a negative radiosity, %g)", path, e, radiosity);
+        }
     return RAD_OK;
 }
 

@@ -116,6 +116,9 @@ static rad_status build_two_squares(rad_scene *scene) {
     rad_status status = rad_scene_add_material(scene, &grey, NULL);
     if (!status) status = rad_scene_add_material(scene, &glowing, NULL);
     if (!status) status = add_quads(scene, quads, 2, first_material);
+    /* From the side, half a unit above the emitter: both fronts in view. */
+    scene->has_camera = 1;
+    scene->camera = (rad_camera){v3(0.5, -1.2, 0.5), v3(0.5, 0.5, 0.5), v3(0, 0, 1), 60};
     return status;
 }
 
@@ -136,6 +139,9 @@ static rad_status build_unit_cube(rad_scene *scene) {
     rad_status status = rad_scene_add_material(scene, &grey, NULL);
     if (!status) status = rad_scene_add_material(scene, &glowing, NULL);
     if (!status) status = add_quads(scene, quads, 6, first_material);
+    /* Inside, just under the emitting top, looking down at the bottom. */
+    scene->has_camera = 1;
+    scene->camera = (rad_camera){v3(0.5, 0.5, 0.98), v3(0.5, 0.5, 0), v3(0, 1, 0), 90};
     return status;
 }
 

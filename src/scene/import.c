@@ -587,6 +587,7 @@ static const char *object_label(importer *im, const struct aiNode *node,
 
 static rad_status read_mesh(importer *im, const struct aiNode *node, const struct aiMesh *mesh,
                             const transform *world) {
+    if (!mesh->mFaces || !mesh->mVertices) return RAD_OK; /* nothing to read */
     size_t largest = 3;
     for (unsigned i = 0; i < mesh->mNumFaces; ++i)
         if (mesh->mFaces[i].mNumIndices > largest) largest = mesh->mFaces[i].mNumIndices;
@@ -615,9 +616,15 @@ static rad_status read_mesh(importer *im, const struct aiNode *node, const struc
                                 object_label(im, node, mesh), i, index, mesh->mNumVertices);
             const struct aiVector3D *a = &mesh->mVertices[index];
             rad_vec3 p = transform_point(world, v3(a->x, a->y, a->z));
+            if (!finite3(p) && finite3(v3(a->x, a->y, a->z)))
+                return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: object '%s': vertex %u (%g %g "
+                                "%g) is not finite once its node's transform is applied",
+                                im->path, object_label(im, node, mesh), index, (double)a->x,
+                                (double)a->y, (double)a->z);
             if (!finite3(p))
                 return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: object '%s': vertex %u has a "
-                                "coordinate that is not a finite number (%g %g %g)", im->path,
+                                "coordinate that is not a finite number in single precision "
+                                "(%g %g %g; assimp reads beyond 3.4e38 as inf)", im->path,
                                 object_label(im, node, mesh), index, (double)a->x,
                                 (double)a->y, (double)a->z);
             /* Repeated corners (consecutive, or the last one again) add nothing. */
@@ -636,6 +643,7 @@ static rad_status read_mesh(importer *im, const struct aiNode *node, const struc
 
 static rad_status read_node(importer *im, const struct aiNode *node, const transform *parent,
                             int depth) {
+    if (!node) return RAD_OK; /* assimp's RAW reader leaves empty child slots */
     if (depth > 1000)
         return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: the node tree is too deep", im->path);
     transform local = transform_from(&node->mTransformation);
@@ -646,6 +654,7 @@ static rad_status read_node(importer *im, const struct aiNode *node, const trans
         if (index >= im->ai->mNumMeshes)
             return rad_fail(im->ctx, RAD_ERROR_PARSE, "%s: node '%s' uses mesh %u of %u",
                             im->path, node->mName.data, index, im->ai->mNumMeshes);
+        if (!im->ai->mMeshes[index]) continue;
         status = read_mesh(im, node, im->ai->mMeshes[index], &world);
     }
     for (unsigned i = 0; i < node->mNumChildren && !status; ++i)
@@ -656,6 +665,7 @@ static rad_status read_node(importer *im, const struct aiNode *node, const trans
 /* The world transform of the node called `name`; returns 0 when there is none. */
 static int find_node(const struct aiNode *node, const char *name, const transform *parent,
                      transform *out, int depth) {
+    if (!node) return 0;
     transform local = transform_from(&node->mTransformation);
     transform world = transform_multiply(parent, &local);
     if (strcmp(node->mName.data, name) == 0) {
@@ -730,7 +740,7 @@ static int has_extension(const char *path, const char *extension) {
     return 1;
 }
 
-rad_status rad_scene_import(rad_context *ctx, const char *path, rad_scene **out) {
+rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene **out) {
     *out = NULL;
     /* A clear message for a file that is not there, before assimp's own. */
     FILE *probe = fopen(path, "rb");

@@ -4,8 +4,11 @@
 #include "scene/mgf.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 static const char four_walls_ffm[] =
     "# The four-surface room of the lecture notes, seen in cross-section.\n"
@@ -66,10 +69,27 @@ static int has_extension(const char *path, const char *extension) {
     return 1;
 }
 
-/* Reads a whole file into memory (NUL-terminated). */
+/* Reads a whole file into memory (NUL-terminated), once, so a pipe or a device will do. It is
+ * opened without blocking (a FIFO with no writer reads as empty instead of waiting for one). */
 static rad_status read_file(rad_context *ctx, const char *path, char **text, size_t *length) {
-    FILE *file = fopen(path, "rb");
-    if (!file) return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(errno));
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat info;
+    if (fd < 0 || fstat(fd, &info) != 0) {
+        int error = errno;
+        if (fd >= 0) close(fd);
+        return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(error));
+    }
+    if (S_ISDIR(info.st_mode)) {
+        close(fd);
+        return rad_fail(ctx, RAD_ERROR_IO, "%s: is a directory, not a file", path);
+    }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    FILE *file = fdopen(fd, "rb");
+    if (!file) {
+        int error = errno;
+        close(fd);
+        return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(error));
+    }
     size_t capacity = 4096, used = 0;
     char *buffer = rad_alloc(ctx, capacity, 1);
     if (!buffer) {
@@ -110,11 +130,39 @@ static rad_status read_file(rad_context *ctx, const char *path, char **text, siz
     return RAD_OK;
 }
 
+/* Scene files are read more than once (the import checks, assimp, its .mtl and .bin), so only
+ * regular files are taken: a FIFO, a device (/dev/zero) or a directory is refused with one
+ * line. The file is opened without blocking (a FIFO with no writer would wait forever). */
+static rad_status check_regular(rad_context *ctx, const char *path) {
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(errno));
+    struct stat info;
+    int failed = fstat(fd, &info);
+    int error = errno;
+    close(fd);
+    if (failed) return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(error));
+    if (S_ISREG(info.st_mode)) return RAD_OK;
+    const char *kind = S_ISDIR(info.st_mode)    ? "a directory"
+                       : S_ISFIFO(info.st_mode) ? "a FIFO (pipe)"
+                       : S_ISCHR(info.st_mode)  ? "a character device"
+                       : S_ISBLK(info.st_mode)  ? "a block device"
+                       : S_ISSOCK(info.st_mode) ? "a socket"
+                                                : "something else";
+    return rad_fail(ctx, RAD_ERROR_IO, "%s: is %s, not a regular file; scenes are read from "
+                    "files (save it to one first)", path, kind);
+}
+
 rad_status rad_scene_load(rad_context *ctx, const char *path, rad_scene **out) {
     if (!ctx || !path || !out) return RAD_ERROR_INVALID_ARGUMENT;
     *out = NULL;
-    if (has_extension(path, ".mgf")) return rad_scene_load_mgf(ctx, path, out);
-    if (!has_extension(path, ".ffm")) return rad_scene_import(ctx, path, out);
+    if (has_extension(path, ".mgf")) {
+        rad_status regular = check_regular(ctx, path);
+        return regular ? regular : rad_scene_load_mgf(ctx, path, out);
+    }
+    if (!has_extension(path, ".ffm")) {
+        rad_status regular = check_regular(ctx, path);
+        return regular ? regular : rad_scene_import(ctx, path, out);
+    }
     char *text = NULL;
     size_t length = 0;
     rad_status status = read_file(ctx, path, &text, &length);

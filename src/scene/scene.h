@@ -101,7 +101,10 @@ void rad_scene_bounds(const rad_scene *scene, rad_vec3 *lo, rad_vec3 *hi);
 /* Built-in geometric scenes (src/scene/builtin_*.c). */
 rad_status rad_builtin_geometry(rad_context *ctx, const char *name, rad_scene **out);
 
-/* Import through assimp (src/scene/import.c). */
+/* Import through assimp in a child process (src/scene/import_child.c): a crash, a hang or a
+ * memory overrun inside assimp becomes an error. */
 rad_status rad_scene_import(rad_context *ctx, const char *path, rad_scene **out);
+/* The same import in this process (src/scene/import.c); what the child runs. */
+rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene **out);
 
 #endif

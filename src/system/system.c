@@ -3,6 +3,7 @@
 
 #include "scene/scene.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -70,6 +71,31 @@ void rad_system_finish_areas(rad_system *s) {
     for (size_t e = 0; e < s->element_count; ++e) s->surface_area[s->element_surface[e]] += s->area[e];
 }
 
+rad_status rad_system_check_finite(rad_system *s, const char *source) {
+    double total = 0;
+    for (size_t i = 0; i < s->surface_count; ++i) total += s->surface_area[i];
+    if (!isfinite(total))
+        return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT, "%s: the total area (%g) is not a "
+                        "finite number; scale the scene down", source, total);
+    double *power = rad_alloc_zero(s->ctx, s->surface_count, sizeof *power);
+    if (!power) return RAD_ERROR_NO_MEMORY;
+    for (size_t e = 0; e < s->element_count; ++e)
+        for (int c = 0; c < 3; ++c) power[s->element_surface[e]] += s->area[e] * s->emission[e][c];
+    rad_status status = RAD_OK;
+    total = 0;
+    for (size_t i = 0; i < s->surface_count && !status; ++i) {
+        total += power[i];
+        if (!isfinite(power[i]) || !isfinite(total))
+            status = rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT, "%s: surface '%s': its emitted "
+                              "power (area %g times its emission) is not a finite number, and "
+                              "no radiosity would be; scale the scene or its emission down",
+                              source, s->surface_name[i] ? s->surface_name[i] : "?",
+                              s->surface_area[i]);
+    }
+    rad_free(s->ctx, power);
+    return status;
+}
+
 void rad_system_patch_mean(const rad_system *s, const rad_rgb *per_element, size_t patch,
                            double out[3]) {
     double sum[3] = {0, 0, 0};
@@ -95,8 +121,9 @@ void rad_system_reset(rad_system *s) {
 }
 
 /* A patch system: one patch, one element and one surface per .ffm patch. */
-static rad_status system_from_patches(rad_context *ctx, const rad_patch_desc *patches, size_t n,
-                                      const double *ff, const float *ff_float, rad_system **out) {
+static rad_status system_from_patches(rad_context *ctx, const char *source,
+                                      const rad_patch_desc *patches, size_t n, const double *ff,
+                                      const float *ff_float, rad_system **out) {
     rad_system *s;
     rad_status status = rad_system_alloc(ctx, n, n, n, &s);
     if (status) return status;
@@ -123,7 +150,8 @@ static rad_status system_from_patches(rad_context *ctx, const rad_patch_desc *pa
     }
     s->patch_first[n] = n;
     rad_system_finish_areas(s);
-    status = rad_ff_given_create(ctx, n, ff, ff_float, &s->ff);
+    status = rad_system_check_finite(s, source);
+    if (!status) status = rad_ff_given_create(ctx, n, ff, ff_float, &s->ff);
     if (status) {
         rad_system_destroy(s);
         return status;
@@ -136,7 +164,7 @@ static rad_status system_from_patches(rad_context *ctx, const rad_patch_desc *pa
 rad_status rad_system_create_dense(rad_context *ctx, const rad_patch_desc *patches, size_t count,
                                    const float *form_factors, rad_system **out) {
     if (!ctx || !patches || !form_factors || !out || count == 0) return RAD_ERROR_INVALID_ARGUMENT;
-    return system_from_patches(ctx, patches, count, NULL, form_factors, out);
+    return system_from_patches(ctx, "the patch system", patches, count, NULL, form_factors, out);
 }
 
 rad_status rad_system_create(rad_context *ctx, const rad_scene *scene, const rad_mesh_options *mesh,
@@ -158,7 +186,7 @@ rad_status rad_system_create(rad_context *ctx, const rad_scene *scene, const rad
         memcpy(patches[i].reflectance, scene->patches[i].reflectance, sizeof patches[i].reflectance);
         memcpy(patches[i].emission, scene->patches[i].emission, sizeof patches[i].emission);
     }
-    rad_status status = system_from_patches(ctx, patches, n, scene->form_factors, NULL, out);
+    rad_status status = system_from_patches(ctx, scene->source, patches, n, scene->form_factors, NULL, out);
     rad_free(ctx, patches);
     return status;
 }

@@ -50,6 +50,11 @@ rad_status rad_system_alloc(rad_context *ctx, size_t elements, size_t patches, s
 /* Derives patch_area and surface_area from element areas; call after filling elements. */
 void rad_system_finish_areas(rad_system *system);
 
+/* RAD_OK when every surface's area and emitted power, and their sums, are finite numbers
+ * (finite inputs may overflow: an area of 1e200 emitting 1e200); otherwise an error naming the
+ * first surface that overflows. `source` names the scene. Call after rad_system_finish_areas. */
+rad_status rad_system_check_finite(rad_system *system, const char *source);
+
 /* Patch means of a per-element quantity (area-weighted). */
 void rad_system_patch_mean(const rad_system *system, const rad_rgb *per_element, size_t patch,
                            double out[3]);

@@ -18,7 +18,11 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
                 return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                                 "%s: material '%s' has reflectance %g, outside [0, 1]",
                                 scene->source, m->name, m->reflectance[c]);
-            if (!isfinite(m->emission[c]) || m->emission[c] < 0)
+            if (!isfinite(m->emission[c]))
+                return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                                "%s: material '%s' has emission %g; it must be a finite number",
+                                scene->source, m->name, m->emission[c]);
+            if (m->emission[c] < 0)
                 return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                                 "%s: material '%s' has emission %g; it must be >= 0",
                                 scene->source, m->name, m->emission[c]);
@@ -50,6 +54,7 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
     for (size_t i = 0; i < scene->surface_count && !status; ++i)
         if (!(s->surface_name[i] = rad_strdup(ctx, scene->surfaces[i].name))) status = RAD_ERROR_NO_MEMORY;
     rad_system_finish_areas(s);
+    if (!status) status = rad_system_check_finite(s, scene->source);
     if (!status) status = rad_ff_create(ctx, scene, mesh, ff_options, &s->ff);
     if (status) {
         rad_system_destroy(s);

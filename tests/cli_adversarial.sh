@@ -1,0 +1,115 @@
+#!/usr/bin/env bash
+# cli_adversarial.sh - hostile files, special files and option values (docs/errors.md): each gets
+# the documented exit status and one line on stderr, in bounded time, and leaves nothing
+# behind (no output, no temporary, no core file) and replaces nothing.
+# tests/assimp-sample/ holds small files from assimp's test/models (BSD licence,
+# LICENSE.assimp) that crash assimp 5.2.5; the import runs in a child process, so each is one
+# line. scripts/assimp-corpus.sh runs the whole assimp corpus by hand.
+# Special files are made here (FIFOs with mkfifo, symlinks); the only device read is /dev/zero.
+# Usage: cli_adversarial.sh RADIOSITY SOURCE_DIR
+source "$(dirname "$0")/lib_cli.sh" "$@"
+cd "$work" || exit 1
+sample=$source_dir/tests/assimp-sample
+
+# expect STATUS PATTERN -- COMMAND...: lib_cli.sh's expect_exit under a time limit; warnings
+# ('radiosity: warning:') aside, one line.
+expect() {
+    local want=$1 pattern=$2; shift 3
+    timeout -k 5 60 "$@" >out 2>err
+    local got=$?
+    check "exit $want (got $got) from $*" test "$got" -eq "$want"
+    [[ -z $pattern ]] || check "message /$pattern/ from $*" grep -q -- "$pattern" err
+    check "one line on stderr from $*" test "$(grep -vEc '^radiosity: (warning:|\[)' err)" -le 1
+    grep -q -- "$pattern" err || sed 's/^/    stderr: /' err | head -n 5 >&2
+    rm -f out err
+}
+# Nothing in the working directory but what the test made (keep.*).
+nothing_left() { check "nothing left behind after $1" test -z "$(ls | grep -v '^keep')"; }
+
+# 1. Files that crash assimp: one line naming the signal, no core file.
+for file in "$sample"/*; do
+    case $(basename "$file") in
+    LICENSE*) continue ;;
+    ok-*) expect 0 '' -- "$radiosity" solve "$file" --quiet --threads 1 --elements 100 ;;
+    *) expect 1 "assimp could not read it (it crashed: SIG" -- \
+           "$radiosity" solve "$file" --quiet --threads 1 ;;
+    esac
+    nothing_left "$(basename "$file")"
+done
+
+# 2. Memory: counts that claim far more than the file holds (the import child's address-space
+# limit, not a pre-check, stops them).
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n200000000 0 1 2\n' >keep-face.ply
+printf 'OFF\n350000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >keep-huge.off
+# (Not under ASan: it maps terabytes of shadow memory, so the child gets no address-space limit.)
+if ! nm -D "$radiosity" 2>/dev/null | grep -q __asan_init; then
+    expect 1 "exceeded the memory budget of 8.0 MiB" -- "$radiosity" solve keep-face.ply --max-memory 8
+    expect 1 "exceeded the memory budget of 2048.0 MiB" -- "$radiosity" solve keep-huge.off
+fi
+nothing_left "budget overruns"
+
+# 3. Special files as scenes: refused before they are read, without blocking.
+mkfifo keep-fifo.obj
+expect 1 "keep-fifo.obj: is a FIFO (pipe), not a regular file" -- "$radiosity" solve keep-fifo.obj
+# A patch system is read once, so a FIFO will do; with no writer it reads as empty at once.
+mkfifo keep-fifo.ffm
+expect 1 "keep-fifo.ffm: empty file" -- "$radiosity" render keep-fifo.ffm -o x.png
+mkfifo keep-fed.ffm
+(printf 'patch a area 1 reflectance 0.5 emission 1\n' >keep-fed.ffm &)
+expect 0 '' -- "$radiosity" solve keep-fed.ffm --quiet
+mkdir keep-dir.ffm
+expect 1 "keep-dir.ffm: is a directory" -- "$radiosity" solve keep-dir.ffm
+ln -s /dev/zero keep-zero.glb
+ln -s /dev/zero keep-zero.gltf
+ln -s /dev/zero keep-zero.obj
+for name in keep-zero.glb keep-zero.gltf keep-zero.obj; do
+    expect 1 "$name: is a character device, not a regular file" -- "$radiosity" solve "$name"
+done
+mkdir keep-dir.obj
+expect 1 "keep-dir.obj: is a directory, not a regular file" -- "$radiosity" solve keep-dir.obj
+ln -s "$source_dir/scenes/room.obj" keep-link.obj
+expect 0 '' -- "$radiosity" solve keep-link.obj --quiet --threads 1 --elements 100
+nothing_left "special files"
+check "the FIFO is still a FIFO" test -p keep-fifo.obj
+
+# 4. Option values: one rule, a usage error (2), in every command.
+for command in "solve cornell" "render cornell -o x.png" "pathtrace cornell -o x.png" \
+               "formfactors cornell" "bake cornell -o x.ply"; do
+    for bad in "--threads 0" "--threads 1000000" "--threads 1000000000" "--max-memory 0" \
+               "--max-memory 1e-9"; do
+        # shellcheck disable=SC2086
+        expect 2 "${bad%% *} wants" -- "$radiosity" $command $bad
+    done
+done
+expect 2 "solve: --tolerance must be positive" -- "$radiosity" solve four-walls --tolerance -1
+expect 2 "solve: --omega must be in (0, 2), not 2" -- "$radiosity" solve four-walls --omega 2
+expect 2 "render: --omega must be in (0, 2), not 2" -- "$radiosity" render cornell --omega 2 -o x.png
+nothing_left "option values"
+
+# The built-in geometric scenes render with their own cameras.
+for scene in two-squares unit-cube; do
+    expect 0 '' -- "$radiosity" render "$scene" --quiet --threads 1 --width 16 --height 16 \
+        --elements 50 -o "keep-$scene.pfm"
+    check "$scene rendered" test -s "keep-$scene.pfm"
+done
+
+# 5. Finite inputs whose products are not.
+printf 'patch a area 1e200 reflectance 0.5 emission 1e200\npatch b area 1 reflectance 0.5 emission 0\nff a b 0.5\nff b a 0.5\n' >keep-power.ffm
+expect 1 "keep-power.ffm: surface 'a': its emitted power (area 1e+200 times its emission) is not a finite number" -- \
+    "$radiosity" solve keep-power.ffm
+printf 'v 0 0 0\nv 1e160 0 0\nv 0 1e160 0\nf 1 2 3\n' >keep-float.obj
+expect 1 "not a finite number in single precision" -- "$radiosity" solve keep-float.obj
+nothing_left "overflowing products"
+
+expect 1 "bake: a scale of 1e+308 makes the mesh's coordinates" -- \
+    "$radiosity" bake unit-cube --elements 24 --scale 1e308 -o x.gltf
+nothing_left "bake --scale 1e308"
+
+# 6. Standard output that cannot be written: an error, not exit 0.
+timeout 60 "$radiosity" solve four-walls --json >&- 2>err
+check "closed stdout: exit 1" test $? -eq 1
+check "closed stdout: message" grep -q "cannot write to standard output" err
+rm -f err
+nothing_left "closed stdout"
+
+finish
