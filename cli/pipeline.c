@@ -1,6 +1,8 @@
 /* pipeline.c - the shared load, mesh and solve steps of the commands (see pipeline.h). */
 #include "pipeline.h"
 
+#include <math.h>
+#include <stdlib.h>
 #include <time.h>
 
 double cli_seconds(void) {
@@ -12,7 +14,7 @@ double cli_seconds(void) {
 void cli_pipeline_options(cli_pipeline_args *a, const char *default_solver, cli_option *o) {
     static char solver_help[128];
     snprintf(solver_help, sizeof solver_help,
-             "NAME  direct|jacobi|gauss-seidel|shooting|importance (%s)", default_solver);
+             "NAME  direct|jacobi|gauss-seidel|shooting|importance|hierarchical (%s)", default_solver);
     const cli_option shared[CLI_PIPELINE_OPTION_COUNT] = {
         {"--solver", CLI_STRING, &a->solver, solver_help},
         {"--iterations", CLI_INT, &a->iterations, "N  stop after N rounds or shots"},
@@ -30,6 +32,8 @@ void cli_pipeline_options(cli_pipeline_args *a, const char *default_solver, cli_
         {"--threads", CLI_INT, &a->threads, "N  worker threads (all cores)"},
         {"--seed", CLI_SIZE, &a->seed, "S  random seed (0)"},
         {"--quiet", CLI_FLAG, &a->quiet, "no notes or progress on stderr"},
+        {"--link-error", CLI_STRING, &a->link_error,
+         "E  hierarchical: the oracle's threshold, relative to the brightest emitter (1e-3)"},
     };
     for (int i = 0; i < CLI_PIPELINE_OPTION_COUNT; ++i) o[i] = shared[i];
 }
@@ -39,7 +43,7 @@ int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solv
     int kind = rad_solver_kind_parse(a->solver);
     if (kind < 0)
         return cli_error(EXIT_USAGE, "%s: unknown solver '%s' (direct, jacobi, gauss-seidel, "
-                                     "shooting, importance)", command, a->solver);
+                                     "shooting, importance, hierarchical)", command, a->solver);
     int method = cli_parse_ff_method(a->ff);
     if (method < 0)
         return cli_error(EXIT_USAGE, "%s: unknown form-factor method '%s' (analytic, hemicube, "
@@ -51,6 +55,8 @@ int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solv
     if (a->omega != 0 && !(a->omega > 0 && a->omega < 2))
         return cli_error(EXIT_USAGE, "%s: --omega must be in (0, 2), not %g", command, a->omega);
     rad_solve_options s = {0};
+    int status = cli_pipeline_link_error(command, a, &s.link_error);
+    if (status) return status;
     s.solver = (rad_solver_kind)kind;
     s.max_iterations = a->iterations;
     s.tolerance = a->tolerance;
@@ -59,6 +65,18 @@ int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solv
     *solve = s;
     *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements};
     *ff = (rad_ff_options){(rad_ff_method)method, a->ff_samples, a->hemicube_res};
+    return 0;
+}
+
+int cli_pipeline_link_error(const char *command, const cli_pipeline_args *a, double *out) {
+    *out = 0;
+    if (!a->link_error) return 0;
+    char *end;
+    double value = strtod(a->link_error, &end);
+    if (end == a->link_error || *end || !(value > 0) || !isfinite(value))
+        return cli_error(EXIT_USAGE, "%s: --link-error must be a positive number, not '%s'",
+                         command, a->link_error);
+    *out = value;
     return 0;
 }
 

@@ -212,10 +212,12 @@ typedef enum rad_solver_kind {
     RAD_SOLVER_JACOBI,      /* gathering from the previous round */
     RAD_SOLVER_GAUSS_SEIDEL, /* gathering in place */
     RAD_SOLVER_SHOOTING,    /* progressive refinement, Cohen et al. 1988 */
-    RAD_SOLVER_IMPORTANCE   /* shooting ordered by what the camera sees, Smits et al. 1992 */
+    RAD_SOLVER_IMPORTANCE,  /* shooting ordered by what the camera sees, Smits et al. 1992 */
+    RAD_SOLVER_HIERARCHICAL /* quadtrees and links, Hanrahan et al. 1991 (docs/hierarchical.md) */
 } rad_solver_kind;
 
-/* Parses "direct", "jacobi", "gauss-seidel", "shooting", "importance"; -1 when unknown. */
+/* Parses "direct", "jacobi", "gauss-seidel", "shooting", "importance", "hierarchical"; -1 when
+ * unknown. */
 int rad_solver_kind_parse(const char *name);
 const char *rad_solver_kind_name(rad_solver_kind kind);
 
@@ -274,6 +276,8 @@ typedef struct rad_solve_options {
     void *iteration_user;
     const rad_camera_desc *camera; /* importance: the camera whose image matters (required) */
     int view_width, view_height;   /* importance: the image's size; zero: 256 x 256 */
+    double link_error;    /* hierarchical: the oracle's threshold on rho B dF relative to the
+                             brightest emitter; zero: the tolerance when given, else 1e-3 */
 } rad_solve_options;
 
 typedef enum rad_solve_stop {

@@ -251,7 +251,7 @@ static rad_status check_file(rad_system *s, const char *path, const unsigned cha
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED,
                         "%s: solution file version %u; this build reads version %u", path, version,
                         RAD_SOLUTION_VERSION);
-    if (get_u32(bytes + 12) > (uint32_t)RAD_SOLVER_IMPORTANCE)
+    if (get_u32(bytes + 12) > (uint32_t)RAD_SOLVER_HIERARCHICAL)
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "%s: made by an unknown solver (%u)", path,
                         get_u32(bytes + 12));
     uint64_t elements = get_u64(bytes + 24), patches = get_u64(bytes + 32);

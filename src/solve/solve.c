@@ -13,6 +13,7 @@
 static const rad_solver_impl *const solvers[] = {
     &rad_solver_direct,   &rad_solver_jacobi,     &rad_solver_gauss_seidel,
     &rad_solver_shooting, &rad_solver_importance,
+    &rad_solver_hierarchical,
 };
 #define SOLVER_COUNT (sizeof solvers / sizeof solvers[0])
 

@@ -37,6 +37,7 @@ extern const rad_solver_impl rad_solver_jacobi;
 extern const rad_solver_impl rad_solver_gauss_seidel;
 extern const rad_solver_impl rad_solver_shooting;
 extern const rad_solver_impl rad_solver_importance;
+extern const rad_solver_impl rad_solver_hierarchical;
 
 /* The gathering matrix, stored in float32 when it fits the memory budget:
  * G[e * patch_count + p] = A_p F_pe / A_e, so that element e gathers sum_p G_ep B_p. */
