@@ -202,7 +202,7 @@ static void test_shadow_edges(void) {
     rad_context *ctx = context(2);
     rad_scene *scene = NULL;
     CHECK(rad_builtin_geometry(ctx, "cornell", &scene) == RAD_OK);
-    rad_hier *h = solve_hierarchy(ctx, scene, 1e-4);
+    rad_hier *h = solve_hierarchy(ctx, scene, 3e-5);
     /* The blocks' floor outlines (src/scene/builtin_geometry.c), clockwise seen from above. */
     const double blocks[2][4][2] = {{{130, 65}, {82, 225}, {240, 272}, {290, 114}},
                                     {{423, 247}, {265, 296}, {314, 456}, {472, 406}}};
@@ -304,7 +304,71 @@ static void test_solver(void) {
     rad_context_destroy(ctx);
 }
 
+/* Mean of channel sums over the 8 x 8 block (bx, by) of a square image. */
+static double block_mean(const rad_image *image, int bx, int by) {
+    int w = rad_image_width(image);
+    const float *p = rad_image_pixels(image);
+    double sum = 0;
+    for (int y = 8 * by; y < 8 * by + 8; ++y)
+        for (int x = 8 * bx; x < 8 * bx + 8; ++x)
+            for (int c = 0; c < 3; ++c) sum += p[3 * (y * w + x) + c];
+    return sum / 64;
+}
+
+/* The Cornell box solved hierarchically and rendered (interpolated, and with the final gather)
+ * against the project's path tracer, in 8 x 8 blocks: the mean and every block that is not
+ * mostly the lamp within stated bounds. */
+static void test_image(void) {
+    rad_context *ctx = context(2);
+    rad_scene *scene = NULL;
+    CHECK(rad_builtin_geometry(ctx, "cornell", &scene) == RAD_OK);
+    rad_system *system = NULL;
+    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
+    rad_solve_options solve = {0};
+    solve.solver = RAD_SOLVER_HIERARCHICAL;
+    solve.link_error = 1e-4;
+    CHECK(rad_solve(system, &solve, NULL) == RAD_OK);
+    const int size = 48;
+    rad_pathtrace_options trace = {0};
+    trace.width = trace.height = size;
+    trace.samples_per_pixel = 1024;
+    rad_image *reference = NULL, *smooth = NULL, *gathered = NULL;
+    CHECK(rad_pathtrace(ctx, scene, &trace, &reference, NULL) == RAD_OK);
+    rad_render_options options = {0};
+    options.width = options.height = size;
+    options.samples_per_pixel = 16;
+    CHECK(rad_render(scene, system, &options, &smooth) == RAD_OK);
+    options.final_gather = 16;
+    CHECK(rad_render(scene, system, &options, &gathered) == RAD_OK);
+    if (reference && smooth && gathered) {
+        const rad_image *images[2] = {smooth, gathered};
+        const double mean_bound[2] = {0.04, 0.03}, block_bound[2] = {0.30, 0.15};
+        for (int k = 0; k < 2; ++k) {
+            double test = 0, ref = 0, worst = 0;
+            for (int by = 0; by < size / 8; ++by)
+                for (int bx = 0; bx < size / 8; ++bx) {
+                    double t = block_mean(images[k], bx, by), r = block_mean(reference, bx, by);
+                    test += t;
+                    ref += r;
+                    if (r > 0.05 && r < 3) worst = fmax(worst, fabs(t / r - 1));
+                }
+            printf("%s: mean ratio %.4f, worst 8x8 block %.3f off (bounds %.2f, %.2f)\n",
+                   k ? "final gather 16" : "interpolated", test / ref, worst, mean_bound[k],
+                   block_bound[k]);
+            CHECK_NEAR(test / ref, 1, mean_bound[k]);
+            CHECK(worst < block_bound[k]);
+        }
+    }
+    rad_image_destroy(reference);
+    rad_image_destroy(smooth);
+    rad_image_destroy(gathered);
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
 int main(void) {
+    test_image();
     test_closed_forms();
     test_furnace();
     test_shadow_edges();

@@ -185,7 +185,7 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
      * error, so the oracle refines it where it matters. */
     double fraction = (double)visible / count;
     int partial = visible < count;
-    double error = (hi - lo) * fraction + (partial ? form_factor : 0);
+    double error = 0.25 * (hi - lo) * fraction + (partial ? form_factor : 0);
     out->receiver = receiver;
     out->source = source;
     out->form_factor = (float)(form_factor * fraction);
@@ -213,7 +213,7 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
     /* The receiver is split first: that is what puts leaves at shadow edges and contacts.
      * A receiver already much smaller than its source passes a partly hidden link to the
      * source's children instead (the penumbra is the source's to resolve). */
-    if (split_r && !(partial && split_s && s->area > 16 * r->area)) return 1;
+    if (split_r && !(partial && split_s && s->area > r->area)) return 1;
     if (partial && split_s) return 2;
     return 0;
 }
