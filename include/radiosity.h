@@ -353,6 +353,11 @@ rad_status rad_bake(const rad_system *system, const char *path, const rad_bake_o
  * has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
 rad_status rad_scene_export_obj(rad_context *context, const rad_scene *scene, const char *path);
 
+/* A generated open-plan office of about `triangles` triangles (quads count two): 3 m cells, each
+ * with a desk, a chair and an emitting ceiling lamp, rooms of 4 x 4 cells with doorways, outer
+ * walls; deterministic (src/scene/generate_office.c). At least 123 triangles. */
+rad_status rad_scene_generate_office(rad_context *context, size_t triangles, rad_scene **out);
+
 /* ---------------------------------------------------------------------------------------------
  * Rendering: pictures of the solution and the ray-traced second pass (docs/rendering.md)
  *
