@@ -19,6 +19,11 @@ check "renders" test -s "$work/h.pfm"
 "$radiosity" bake cornell --solver hierarchical -o "$work/h.ply" --quiet
 check "bakes" test -s "$work/h.ply"
 
+# The memory budget reached while refining: a warning naming the links, the solution so far.
+"$radiosity" solve cornell --solver hierarchical --link-error 1e-5 --max-memory 2 >"$work/small" 2>"$work/warn"
+check "budget: still solved" grep -Eq '^floor +[0-9]+ +0\.[0-9]' "$work/small"
+check "budget: says so" grep -q 'links and [0-9]* nodes needs .* refinement stops at [0-9]* links' "$work/warn"
+
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error 0
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error -1
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" render cornell --solver hierarchical --link-error nan -o "$work/x.png"

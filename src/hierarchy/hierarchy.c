@@ -311,6 +311,15 @@ rad_status rad_hier_refine(rad_hier *h) {
         return RAD_OK;
     }
     rad_status status = check_memory(h, n + 3 * splits, h->node_count + 4 * splits);
+    if (status == RAD_ERROR_MEMORY_BUDGET) {
+        /* Keep the solution so far: say why refinement stopped, then stop refining. */
+        rad_warn(ctx, "%s; refinement stops at %zu links, keeping the solution so far",
+                 rad_context_error(ctx), n);
+        h->stats.refined = 0;
+        h->stats.budget_reached = 1;
+        rad_free(ctx, decision);
+        return RAD_OK;
+    }
     rad_hier_link *next = NULL;
     uint8_t *made = NULL;
     if (!status) {

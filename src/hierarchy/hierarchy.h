@@ -57,6 +57,7 @@ typedef struct rad_hier_stats {
     size_t refined;        /* links refined by the last call of rad_hier_refine */
     double largest_error;  /* the oracle's largest error over the links, relative to threshold */
     int solve_rounds;      /* gathering rounds of the last rad_hier_solve */
+    int budget_reached;    /* refinement stopped at the memory budget (a warning said so) */
 } rad_hier_stats;
 
 typedef struct rad_hier rad_hier;
@@ -72,7 +73,9 @@ void rad_hier_destroy(rad_hier *hier);
 rad_status rad_hier_link_roots(rad_hier *hier);
 
 /* One pass of the oracle over every link: refines those over the threshold (subdividing nodes
- * as needed) and computes the new links' form factors. stats.refined says how many. */
+ * as needed) and computes the new links' form factors. stats.refined says how many. When the
+ * new links would pass the memory budget nothing is refined, a warning names the link count
+ * and stats.budget_reached is set: the solution so far stands. */
 rad_status rad_hier_refine(rad_hier *hier);
 
 /* Gathers over the links and push-pulls until the largest change of a leaf's radiosity falls
