@@ -48,6 +48,7 @@ memcheck pathtrace 0 pathtrace cornell --width 24 --height 24 --spp 2 --threads 
     -o pathtrace.pfm
 memcheck compare 0 compare render.pfm pathtrace.pfm --diff diff.png
 memcheck bake 0 bake unit-cube --elements 24 --threads 2 --quiet -o cube.ply
+memcheck hierarchical 0 solve cornell --elements 150 --solver hierarchical --threads 2 --quiet
 memcheck missing-file 1 solve missing.ffm
 printf 'patch a area 1 reflectance 0.5 emission 1\nff a b 0.5\n' >bad.ffm
 memcheck parse-error 1 solve bad.ffm
