@@ -257,6 +257,8 @@ int cmd_solve(int argc, char **argv) {
     rad_mesh_options mesh = {a.pipe.patch_size, a.pipe.element_size, a.pipe.elements};
     rad_ff_options ff = {(rad_ff_method)ff_method, a.pipe.ff_samples, a.pipe.hemicube_res};
     if ((status = check_args(&a, solver_given || !a.resume ? kind : -1))) return status;
+    double link_error;
+    if ((status = cli_pipeline_link_error("solve", &a.pipe, &link_error))) return status;
     if ((status = check_outputs(&a))) return status;
     /* No output may be the scene; --save may be --resume (read whole, then replaced whole). */
     const char *inputs[] = {positional[0], a.resume};
@@ -329,6 +331,7 @@ int cmd_solve(int argc, char **argv) {
         solve.camera = &camera;
         solve.view_width = a.width;
         solve.view_height = a.height;
+        solve.link_error = link_error;
         if (a.trace) {
             solve.trace = on_trace;
             solve.trace_user = &trace;

@@ -3,6 +3,8 @@
 
 #include "progress.h"
 
+#include <math.h>
+#include <stdlib.h>
 #include <time.h>
 
 double cli_seconds(void) {
@@ -36,6 +38,8 @@ void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, 
         {"--threads", CLI_INT, &a->threads, "N  worker threads (all cores)"},
         {"--seed", CLI_SIZE, &a->seed, "S  random seed (0)"},
         {"--quiet", CLI_FLAG, &a->quiet, "no notes or progress on stderr"},
+        {"--link-error", CLI_STRING, &a->link_error,
+         "E  hierarchical: the oracle's threshold, relative to the brightest emitter (1e-3)"},
     };
     for (int i = 0; i < CLI_PIPELINE_OPTION_COUNT; ++i) o[i] = shared[i];
 }
@@ -59,6 +63,8 @@ int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solv
     int status = cli_pipeline_check_values(command, a);
     if (status) return status;
     rad_solve_options s = {0};
+    status = cli_pipeline_link_error(command, a, &s.link_error);
+    if (status) return status;
     s.solver = (rad_solver_kind)kind;
     s.max_iterations = a->iterations;
     s.tolerance = a->tolerance;
@@ -67,6 +73,18 @@ int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solv
     *solve = s;
     *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements};
     *ff = (rad_ff_options){(rad_ff_method)method, a->ff_samples, a->hemicube_res};
+    return 0;
+}
+
+int cli_pipeline_link_error(const char *command, const cli_pipeline_args *a, double *out) {
+    *out = 0;
+    if (!a->link_error) return 0;
+    char *end;
+    double value = strtod(a->link_error, &end);
+    if (end == a->link_error || *end || !(value > 0) || !isfinite(value))
+        return cli_error(EXIT_USAGE, "%s: --link-error must be a positive number, not '%s'",
+                         command, a->link_error);
+    *out = value;
     return 0;
 }
 

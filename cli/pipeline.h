@@ -7,7 +7,7 @@
 #include "cli.h"
 
 typedef struct cli_pipeline_args {
-    const char *solver, *ff;
+    const char *solver, *ff, *link_error;
     int iterations, ambient, threads, quiet, ff_samples, hemicube_res;
     double tolerance, omega, max_memory, patch_size, element_size;
     size_t elements;
@@ -15,7 +15,7 @@ typedef struct cli_pipeline_args {
 } cli_pipeline_args;
 
 /* How many entries cli_pipeline_options writes. */
-#define CLI_PIPELINE_OPTION_COUNT 15
+#define CLI_PIPELINE_OPTION_COUNT 16
 
 /* Writes the shared options (--solver ... --quiet) into `options`, which must have room for
  * CLI_PIPELINE_OPTION_COUNT entries; `default_solver` is the solver shown as the default. */
@@ -30,6 +30,10 @@ int cli_pipeline_check_values(const char *command, const cli_pipeline_args *args
  * EXIT_USAGE, or 0. */
 int cli_pipeline_check(const char *command, const cli_pipeline_args *args, rad_solve_options *solve,
                        rad_mesh_options *mesh, rad_ff_options *ff);
+
+/* --link-error, checked (a positive number; zero when not given). Prints a usage error and
+ * returns EXIT_USAGE, or 0. */
+int cli_pipeline_link_error(const char *command, const cli_pipeline_args *args, double *out);
 
 /* Seconds spent in each step, for --stats. */
 typedef struct cli_timings {

@@ -234,7 +234,8 @@ typedef enum rad_solver_kind {
     RAD_SOLVER_JACOBI,      /* gathering from the previous round */
     RAD_SOLVER_GAUSS_SEIDEL, /* gathering in place */
     RAD_SOLVER_SHOOTING,    /* progressive refinement, Cohen et al. 1988 */
-    RAD_SOLVER_IMPORTANCE   /* shooting ordered by what the camera sees, Smits et al. 1992 */
+    RAD_SOLVER_IMPORTANCE,  /* shooting ordered by what the camera sees, Smits et al. 1992 */
+    RAD_SOLVER_HIERARCHICAL /* quadtrees and links, Hanrahan et al. 1991 (docs/hierarchical.md) */
 } rad_solver_kind;
 
 /* What a solver does (rad_solver_info.capabilities). */
@@ -338,6 +339,8 @@ typedef struct rad_solve_options {
     void *iteration_user;
     const rad_camera_desc *camera; /* importance: the camera whose image matters (required) */
     int view_width, view_height;   /* importance: the image's size; zero: 256 x 256 */
+    double link_error;    /* hierarchical: the oracle's threshold on rho B dF relative to the
+                             brightest emitter; zero: the tolerance when given, else 1e-3 */
 } rad_solve_options;
 
 typedef enum rad_solve_stop {
@@ -429,6 +432,11 @@ rad_status rad_bake(const rad_system *system, const char *path, const rad_bake_o
  * hints (illum, Ks, Ns, Ni, Tf). Both files appear whole or not at all. A patch system (.ffm)
  * has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
 rad_status rad_scene_export_obj(rad_context *context, const rad_scene *scene, const char *path);
+
+/* A generated open-plan office of about `triangles` triangles (quads count two): 3 m cells, each
+ * with a desk, a chair and an emitting ceiling lamp, rooms of 4 x 4 cells with doorways, outer
+ * walls; deterministic (src/scene/generate_office.c). At least 123 triangles. */
+rad_status rad_scene_generate_office(rad_context *context, size_t triangles, rad_scene **out);
 
 /* ---------------------------------------------------------------------------------------------
  * Rendering: pictures of the solution and the ray-traced second pass (docs/rendering.md)

@@ -58,6 +58,7 @@ memcheck bake 0 bake unit-cube --elements 24 --threads 2 --quiet -o cube.ply
 # --trace-children needed for a fork); the child leaves with _exit, so only the parent's
 # memory is checked for leaks at its exit, and the child's own errors still show.
 memcheck import 0 solve "$source_dir/tests/assimp-sample/ok-Cube.off" --elements 24 --threads 2 --quiet
+memcheck hierarchical 0 solve cornell --elements 150 --solver hierarchical --threads 2 --quiet
 memcheck missing-file 1 solve missing.ffm
 printf 'patch a area 1 reflectance 0.5 emission 1\nff a b 0.5\n' >bad.ffm
 memcheck parse-error 1 solve bad.ffm

@@ -75,6 +75,7 @@ typedef struct scene_job {
     rad_mesh_options mesh;
     rad_ff_method method;
     int solve;        /* 0: stop after the system is built */
+    int hierarchical; /* also the hierarchical solver */
 } scene_job;
 
 static rad_status run_scene(rad_context *ctx, const void *arg, double *result) {
@@ -87,6 +88,17 @@ static rad_status run_scene(rad_context *ctx, const void *arg, double *result) {
     if (!status) status = rad_system_create(ctx, scene, &job->mesh, &ff, &system);
     rad_scene_destroy(scene); /* the system keeps what it needs */
     if (!status && job->solve) status = solve_all(system, 1, result);
+    if (!status && job->hierarchical) {
+        rad_solve_options options = {0};
+        options.solver = RAD_SOLVER_HIERARCHICAL;
+        options.link_error = 1e-2;
+        status = rad_solve(system, &options, NULL);
+        for (size_t i = 0; !status && i < rad_system_surface_count(system); ++i) {
+            rad_surface_info info;
+            rad_system_surface(system, i, &info);
+            *result += info.radiosity[0] + info.radiosity[1] + info.radiosity[2];
+        }
+    }
     if (!status) {
         size_t n = rad_system_surface_count(system);
         double *matrix = calloc(n * n, sizeof *matrix);
@@ -339,20 +351,22 @@ int main(void) {
     check_scenario("parse a larger .ffm", run_parse, many, 1);
     check_scenario("dense system, every solver", run_dense, NULL, 1);
 
-    scene_job four_walls = {"four-walls", 0, {0, 0, 0}, RAD_FF_DEFAULT, 1};
+    scene_job four_walls = {"four-walls", 0, {0, 0, 0}, RAD_FF_DEFAULT, 1, 0};
     check_scenario("four-walls, every solver", run_scene, &four_walls, 1);
-    scene_job file = {RAD_SOURCE_DIR "/scenes/four-walls.ffm", 1, {0, 0, 0}, RAD_FF_DEFAULT, 0};
+    scene_job file = {RAD_SOURCE_DIR "/scenes/four-walls.ffm", 1, {0, 0, 0}, RAD_FF_DEFAULT, 0, 0};
     check_scenario("four-walls.ffm from its file", run_scene, &file, 1);
 
     /* A small geometric scene: meshing, Embree, form factors, every solver. */
-    scene_job cube = {"unit-cube", 0, {0, 0, 24}, RAD_FF_ANALYTIC, 1};
+    scene_job cube = {"unit-cube", 0, {0, 0, 24}, RAD_FF_ANALYTIC, 1, 0};
     check_scenario("unit-cube, 24 elements, every solver", run_scene, &cube, 7);
+    scene_job hierarchy = {"unit-cube", 0, {0, 0, 24}, RAD_FF_ANALYTIC, 0, 1};
+    check_scenario("unit-cube, hierarchical", run_scene, &hierarchy, 3);
     static const rad_ff_method methods[] = {RAD_FF_HEMICUBE, RAD_FF_RAYCAST, RAD_FF_MONTECARLO};
     static const char *const method_labels[] = {"unit-cube, hemicube form factors",
                                                 "unit-cube, ray-cast form factors",
                                                 "unit-cube, Monte Carlo form factors"};
     for (int m = 0; m < 3; ++m) {
-        scene_job job = {"unit-cube", 0, {0, 0, 24}, methods[m], 1};
+        scene_job job = {"unit-cube", 0, {0, 0, 24}, methods[m], 1, 0};
         check_scenario(method_labels[m], run_scene, &job, 7);
     }
 

@@ -6,7 +6,8 @@
 
 #include <string.h>
 
-#define RAD_SOLVERS(X) X(direct) X(jacobi) X(gauss_seidel) X(shooting) X(importance)
+#define RAD_SOLVERS(X) X(direct) X(jacobi) X(gauss_seidel) X(shooting) X(importance) \
+    X(hierarchical)
 
 #define RAD_SOLVER_DECLARE(name) extern const rad_solver_impl rad_solver_##name;
 RAD_SOLVERS(RAD_SOLVER_DECLARE)

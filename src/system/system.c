@@ -45,6 +45,7 @@ void rad_system_destroy(rad_system *s) {
     rad_context *ctx = s->ctx;
     rad_ff_provider_destroy(s->ff);
     rad_mesh_destroy(s->mesh);
+    rad_scene_destroy(s->geometry);
     if (s->surface_name)
         for (size_t i = 0; i < s->surface_count; ++i) rad_free(ctx, s->surface_name[i]);
     rad_free(ctx, s->area);

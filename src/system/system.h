@@ -41,6 +41,8 @@ struct rad_system {
 
     rad_ff_provider *ff;
     struct rad_mesh *mesh; /* geometric scenes only; owned */
+    struct rad_scene *geometry; /* geometric scenes only: a copy of the input polygons for the
+                                   hierarchical solver (src/hierarchy); owned */
 };
 
 /* Allocates the arrays of a system with the given counts (zeroed). */

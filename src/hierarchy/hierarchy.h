@@ -1,0 +1,105 @@
+/* hierarchy.h - hierarchical radiosity (Hanrahan, Salzman & Aupperle 1991).
+ *
+ * Every input polygon (fanned into triangles when it has more than four corners) is the root of
+ * a quadtree: a quad splits into four quads at its edge midpoints and centre, a triangle into
+ * four at its edge midpoints. Nodes are made lazily, when a link asks for them. A link carries
+ * light from a source node to a receiver node at any level of either tree; its form factor is
+ * the point-to-polygon factor (Lambert's contour integral) averaged over the receiver's quadrature
+ * points, times the visible fraction of rays between the two nodes (Embree).
+ *
+ * The oracle: a link's error is rho_r B_s (dF + partial F), the radiosity it carries times its
+ * form-factor error bound, where dF is the spread of the point factor over the receiver's
+ * quadrature points and partial visibility counts its whole factor. A link whose error exceeds
+ * the threshold is replaced by links to the four children of its receiver (or, when the
+ * visibility is partial and the source is larger, of its source).
+ *
+ * Solving: Jacobi gathering over the links into each node's irradiance, then push-pull through
+ * the trees (Hanrahan et al. 1991, section 4): irradiance is pushed down to the leaves, the
+ * leaves' radiosity is pulled up as area-weighted means. Receivers are processed in parallel,
+ * each summing its links in a fixed order, so results do not depend on the thread count. */
+#ifndef RAD_HIERARCHY_HIERARCHY_H
+#define RAD_HIERARCHY_HIERARCHY_H
+
+#include "core/context.h"
+#include "core/vec3.h"
+
+#include <stdint.h>
+
+struct rad_scene;
+
+#define RAD_HIER_NO_NODE UINT32_MAX
+
+typedef struct rad_hier_node {
+    rad_vec3 corner[4]; /* counter-clockwise seen from the front */
+    double area;
+    double radiosity[3];
+    double irradiance[3]; /* gathered over the node's own links in the last round */
+    uint32_t polygon;     /* the input polygon */
+    uint32_t root;        /* the root of its tree */
+    uint32_t first_child; /* four contiguous children, or RAD_HIER_NO_NODE for a leaf */
+    uint8_t corner_count; /* 3 or 4 */
+    uint8_t depth;
+} rad_hier_node;
+
+typedef struct rad_hier_link {
+    uint32_t receiver, source;
+    float form_factor; /* F(receiver -> source), visibility included */
+    float error;       /* the form-factor error bound: spread plus partial visibility */
+} rad_hier_link;
+
+typedef struct rad_hier_options {
+    double link_error; /* threshold on rho B dF, relative to the brightest emitter; zero: 1e-3 */
+    double min_area;   /* nodes this small (relative to the scene's area) are not split; zero: 1e-6 */
+} rad_hier_options;
+
+typedef struct rad_hier_stats {
+    size_t nodes, leaves, links, roots;
+    size_t refined;        /* links refined by the last call of rad_hier_refine */
+    double largest_error;  /* the oracle's largest error over the links, relative to threshold */
+    int solve_rounds;      /* gathering rounds of the last rad_hier_solve */
+    int budget_reached;    /* refinement stopped at the memory budget (a warning said so) */
+} rad_hier_stats;
+
+typedef struct rad_hier rad_hier;
+
+/* Builds the roots (one per input polygon, fanned when larger than a quad) and Embree's rays for
+ * `scene`, which must outlive the hierarchy. Degenerate polygons get no root. */
+rad_status rad_hier_create(rad_context *ctx, const struct rad_scene *scene,
+                           const rad_hier_options *options, rad_hier **out);
+void rad_hier_destroy(rad_hier *hier);
+
+/* The initial links: between every pair of roots that can see each other. Refused through the
+ * context's memory budget when the pairs would not fit. */
+rad_status rad_hier_link_roots(rad_hier *hier);
+
+/* One pass of the oracle over every link: refines those over the threshold (subdividing nodes
+ * as needed) and computes the new links' form factors. stats.refined says how many. When the
+ * new links would pass the memory budget nothing is refined, a warning names the link count
+ * and stats.budget_reached is set: the solution so far stands. */
+rad_status rad_hier_refine(rad_hier *hier);
+
+/* Gathers over the links and push-pulls until the largest change of a leaf's radiosity falls
+ * under `tolerance` times the brightest emitter (or `max_rounds`). */
+rad_status rad_hier_solve(rad_hier *hier, double tolerance, int max_rounds);
+
+rad_hier_stats rad_hier_get_stats(const rad_hier *hier);
+
+/* The nodes and links, for tests and outputs; valid until the next refine. */
+const rad_hier_node *rad_hier_nodes(const rad_hier *hier, size_t *count);
+const rad_hier_link *rad_hier_links(const rad_hier *hier, size_t *count);
+
+/* The root node of polygon `polygon`'s first (or only) fan triangle and how many roots it has. */
+uint32_t rad_hier_polygon_roots(const rad_hier *hier, uint32_t polygon, uint32_t *count);
+
+/* The radiosity of the leaf under point x (on polygon `polygon`). */
+void rad_hier_radiosity_at(const rad_hier *hier, uint32_t polygon, rad_vec3 x, double out[3]);
+
+/* The root a node belongs to. */
+uint32_t rad_hier_root_of(const rad_hier *hier, uint32_t node);
+
+/* A copy of a geometric scene's geometry and materials (names included), for solvers that need
+ * the input polygons after the scene itself is gone. */
+rad_status rad_hier_scene_copy(rad_context *ctx, const struct rad_scene *scene,
+                               struct rad_scene **out);
+
+#endif

@@ -1,0 +1,48 @@
+/* scene_copy.c - a private copy of a geometric scene's geometry and materials, kept by the
+ * system so that the hierarchical solver can build its quadtrees and rays from the input
+ * polygons after the caller has destroyed the scene. */
+#include "hierarchy/hierarchy.h"
+
+#include "scene/scene.h"
+
+#include <string.h>
+
+/* A copy of `count` items of `size` bytes, or NULL (also for count 0, when *ok stays set). */
+static void *copy_array(rad_context *ctx, const void *items, size_t count, size_t size, int *ok) {
+    if (!count) return NULL;
+    void *copy = rad_alloc(ctx, count, size);
+    if (!copy) {
+        *ok = 0;
+        return NULL;
+    }
+    memcpy(copy, items, count * size);
+    return copy;
+}
+
+rad_status rad_hier_scene_copy(rad_context *ctx, const rad_scene *scene, rad_scene **out) {
+    *out = NULL;
+    rad_scene *copy = NULL;
+    rad_status status = rad_scene_new(ctx, 1, scene->source, &copy);
+    if (status) return status;
+    int ok = 1;
+    copy->vertices = copy_array(ctx, scene->vertices, scene->vertex_count, sizeof *scene->vertices, &ok);
+    copy->vertex_count = copy->vertex_capacity = ok ? scene->vertex_count : 0;
+    copy->polygon_vertices = copy_array(ctx, scene->polygon_vertices, scene->polygon_vertex_count,
+                                        sizeof *scene->polygon_vertices, &ok);
+    copy->polygon_vertex_count = copy->polygon_vertex_capacity = ok ? scene->polygon_vertex_count : 0;
+    copy->polygons = copy_array(ctx, scene->polygons, scene->polygon_count, sizeof *scene->polygons, &ok);
+    copy->polygon_count = copy->polygon_capacity = ok ? scene->polygon_count : 0;
+    for (size_t i = 0; i < scene->material_count && ok; ++i)
+        ok = rad_scene_add_material(copy, &scene->materials[i], NULL) == RAD_OK;
+    for (size_t i = 0; i < scene->surface_count && ok; ++i)
+        ok = rad_scene_add_surface(copy, scene->surfaces[i].name, scene->surfaces[i].material,
+                                   NULL) == RAD_OK;
+    copy->has_camera = scene->has_camera;
+    copy->camera = scene->camera;
+    if (!ok) {
+        rad_scene_destroy(copy);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    *out = copy;
+    return RAD_OK;
+}

@@ -1,0 +1,95 @@
+/* hierarchical.c - the hierarchical solver (Hanrahan, Salzman & Aupperle 1991; src/hierarchy):
+ * begin builds the quadtree roots over the input polygons, links every pair of roots and
+ * solves; each step is one pass of the oracle over the links followed by a new solve, until no
+ * link is refined (the stopping measure is the number of links the step refined). After every
+ * step the hierarchy is evaluated at the system's elements (the mean of the leaves under five
+ * points of each element), so rendering, baking and solution files read it like any other
+ * solution. */
+#include "solve/solver.h"
+
+#include "hierarchy/hierarchy.h"
+#include "mesh/mesh.h"
+
+#include <math.h>
+#include <string.h>
+
+#define INNER_TOLERANCE 1e-5 /* gathering rounds stop when no leaf changes by more (relative) */
+#define INNER_ROUNDS 1000
+
+/* Each element's radiosity: the mean over its centroid and the points halfway to its corners. */
+static void evaluate(rad_system *s, const rad_hier *hier) {
+    const rad_mesh *mesh = s->mesh;
+#pragma omp parallel for schedule(static) num_threads(rad_thread_count(s->ctx)) \
+    if (s->element_count >= 1024)
+    for (long e = 0; e < (long)s->element_count; ++e) {
+        rad_vec3 centre = mesh->element_centroid[e];
+        int corners = rad_mesh_corner_count(mesh, (size_t)e);
+        double sum[3], b[3];
+        rad_hier_radiosity_at(hier, mesh->element_polygon[e], centre, sum);
+        for (int k = 0; k < corners; ++k) {
+            rad_vec3 corner = mesh->vertices[mesh->element_vertices[e][k]];
+            rad_hier_radiosity_at(hier, mesh->element_polygon[e], v3_lerp(centre, corner, 0.5), b);
+            for (int c = 0; c < 3; ++c) sum[c] += b[c];
+        }
+        for (int c = 0; c < 3; ++c) {
+            s->radiosity[e][c] = sum[c] / (corners + 1);
+            s->unshot[e][c] = 0;
+        }
+    }
+}
+
+static rad_status hierarchical_begin(rad_solver_run *run) {
+    rad_system *s = run->system;
+    const rad_solve_options *o = run->options;
+    if (!s->geometry || !s->mesh)
+        return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "the hierarchical solver needs geometry; a patch system (.ffm) has only "
+                        "its given form factors");
+    if (o->link_error < 0 || isnan(o->link_error))
+        return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "the link error must be a positive number, not %g", o->link_error);
+    if (o->resume) rad_warn(s->ctx, "the hierarchical solver starts over; it does not resume");
+    rad_hier_options options = {0};
+    options.link_error = o->link_error > 0 ? o->link_error : o->tolerance;
+    rad_hier *hier = NULL;
+    rad_status status = rad_hier_create(s->ctx, s->geometry, &options, &hier);
+    if (!status) status = rad_hier_link_roots(hier);
+    if (!status) status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
+    if (status) {
+        rad_hier_destroy(hier);
+        return status;
+    }
+    evaluate(s, hier);
+    run->state = hier;
+    return RAD_OK;
+}
+
+static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *residual) {
+    (void)iteration;
+    rad_hier *hier = run->state;
+    rad_status status = rad_hier_refine(hier);
+    if (status) return status;
+    rad_hier_stats stats = rad_hier_get_stats(hier);
+    *residual = (double)stats.refined;
+    if (stats.refined == 0) return RAD_OK;
+    status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
+    if (!status) evaluate(run->system, hier);
+    return status;
+}
+
+static void hierarchical_end(rad_solver_run *run) {
+    rad_hier_destroy(run->state);
+    run->state = NULL;
+}
+
+static const rad_method_option hierarchical_options[] = {
+    {"link-error", "E  the oracle's threshold on a link's error, relative to the emitted power "
+                   "(1e-3, or --tolerance)"},
+};
+
+const rad_solver_impl rad_solver_hierarchical = {
+    {"hierarchical", "quadtrees over the input polygons and links refined by an oracle "
+                     "(Hanrahan, Salzman & Aupperle 1991)",
+     RAD_SOLVER_ITERATIVE, hierarchical_options, 1, NULL, 0, 0},
+    hierarchical_begin, hierarchical_step, hierarchical_end,
+};

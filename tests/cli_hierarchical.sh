@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# cli_hierarchical.sh - `--solver hierarchical` through solve, render and bake: it converges,
+# its solution renders, bakes and saves like any other; bad --link-error values and patch
+# systems are refused with one line.
+# Usage: cli_hierarchical.sh RADIOSITY SOURCE_DIR
+source "$(dirname "$0")/lib_cli.sh" "$@"
+
+"$radiosity" solve cornell --solver hierarchical --quiet >"$work/table"
+check "converges" grep -Eq '^hierarchical: [0-9]+ rounds, converged' "$work/table"
+check "the floor is lit" grep -Eq '^floor +[0-9]+ +0\.3[0-9]+ ' "$work/table"
+"$radiosity" solve two-squares --solver hierarchical --link-error 1e-4 --json >"$work/json"
+check "json solver" grep -q '"solver": "hierarchical", "iterations": [0-9]*, "converged": true' "$work/json"
+"$radiosity" solve cornell --solver hierarchical --save "$work/s.rad" --quiet >/dev/null
+check "saved" test -s "$work/s.rad"
+"$radiosity" render cornell --solution "$work/s.rad" -o "$work/saved.pfm" --width 16 --height 16 --spp 1 --final-gather 0 --quiet
+check "renders the saved solution" test -s "$work/saved.pfm"
+"$radiosity" render cornell --solver hierarchical -o "$work/h.pfm" --width 24 --height 24 --spp 2 --final-gather 0 --quiet
+check "renders" test -s "$work/h.pfm"
+"$radiosity" bake cornell --solver hierarchical -o "$work/h.ply" --quiet
+check "bakes" test -s "$work/h.ply"
+
+# The memory budget reached while refining: a warning naming the links, the solution so far.
+"$radiosity" solve cornell --solver hierarchical --link-error 1e-5 --max-memory 2 >"$work/small" 2>"$work/warn"
+check "budget: still solved" grep -Eq '^floor +[0-9]+ +0\.[0-9]' "$work/small"
+check "budget: says so" grep -q 'links and [0-9]* nodes needs .* refinement stops at [0-9]* links' "$work/warn"
+
+expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error 0
+expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error -1
+expect_exit 2 'link-error must be a positive number' -- "$radiosity" render cornell --solver hierarchical --link-error nan -o "$work/x.png"
+expect_exit 1 'needs geometry' -- "$radiosity" solve four-walls --solver hierarchical
+check "nothing written" test ! -e "$work/x.png"
+finish

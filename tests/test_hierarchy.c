@@ -1,0 +1,378 @@
+/* test_hierarchy.c - hierarchical radiosity (src/hierarchy, src/solve/hierarchical.c): form
+ * factors summed over the links against closed forms, a furnace, energy balance, refinement at
+ * shadow edges, determinism across thread counts, and the solver's refusal of patch systems. */
+#include "test.h"
+
+#include "hierarchy/hierarchy.h"
+#include "radiosity.h"
+#include "scene/scene.h"
+#include "system/system.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static rad_context *context(int threads) {
+    rad_context_options options = {0};
+    options.threads = threads;
+    rad_context *ctx = NULL;
+    CHECK(rad_context_create(&options, &ctx) == RAD_OK);
+    return ctx;
+}
+
+/* A surface of its own material: reflectance rho, emitted radiosity b (B = pi L). */
+static uint32_t add_surface(rad_scene *scene, const char *name, double rho, double b) {
+    rad_material m = {0};
+    m.name = (char *)name;
+    for (int c = 0; c < 3; ++c) {
+        m.reflectance[c] = rho;
+        m.emission[c] = b / RAD_PI;
+    }
+    uint32_t material, surface;
+    CHECK(rad_scene_add_material(scene, &m, &material) == RAD_OK);
+    CHECK(rad_scene_add_surface(scene, name, material, &surface) == RAD_OK);
+    return surface;
+}
+
+static void add_quad(rad_scene *scene, uint32_t surface, rad_vec3 a, rad_vec3 b, rad_vec3 c,
+                     rad_vec3 d) {
+    rad_vec3 p[4] = {a, b, c, d};
+    CHECK(rad_scene_add_polygon_points(scene, surface, p, 4) == RAD_OK);
+}
+
+/* Refines and solves until no link refines. */
+static rad_hier *solve_hierarchy(rad_context *ctx, const rad_scene *scene, double link_error) {
+    rad_hier_options options = {link_error, 0};
+    rad_hier *h = NULL;
+    CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
+    if (!h) return NULL;
+    CHECK(rad_hier_link_roots(h) == RAD_OK);
+    CHECK(rad_hier_solve(h, 1e-7, 1000) == RAD_OK);
+    int rounds = 0;
+    for (; rounds < 60; ++rounds) {
+        CHECK(rad_hier_refine(h) == RAD_OK);
+        if (rad_hier_get_stats(h).refined == 0) break;
+        CHECK(rad_hier_solve(h, 1e-7, 1000) == RAD_OK);
+    }
+    CHECK(rounds < 60);
+    return h;
+}
+
+/* F(polygon a -> polygon b) from the links: sum over links with receiver under a and source
+ * under b of A_r F_rs, over the area of a. */
+static double linked_form_factor(const rad_hier *h, uint32_t a, uint32_t b) {
+    size_t node_count, link_count;
+    const rad_hier_node *nodes = rad_hier_nodes(h, &node_count);
+    const rad_hier_link *links = rad_hier_links(h, &link_count);
+    double sum = 0, area = 0;
+    for (size_t i = 0; i < node_count; ++i)
+        if (nodes[i].polygon == a && nodes[i].depth == 0) area += nodes[i].area;
+    for (size_t i = 0; i < link_count; ++i)
+        if (nodes[links[i].receiver].polygon == a && nodes[links[i].source].polygon == b)
+            sum += nodes[links[i].receiver].area * links[i].form_factor;
+    return sum / area;
+}
+
+/* Two opposed unit squares one unit apart (F = 0.19982, Howell's catalogue C-11) and two unit
+ * squares at right angles sharing an edge (F = 0.20004, C-14). */
+static void test_closed_forms(void) {
+    rad_context *ctx = context(2);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_new(ctx, 1, "parallel", &scene) == RAD_OK);
+    uint32_t lit = add_surface(scene, "receiver", 0.5, 0);
+    uint32_t lamp = add_surface(scene, "emitter", 0.5, 1);
+    add_quad(scene, lit, v3(0, 0, 1), v3(0, 1, 1), v3(1, 1, 1), v3(1, 0, 1));
+    add_quad(scene, lamp, v3(0, 0, 0), v3(1, 0, 0), v3(1, 1, 0), v3(0, 1, 0));
+    rad_hier *h = solve_hierarchy(ctx, scene, 1e-4);
+    double f = linked_form_factor(h, 0, 1);
+    CHECK_NEAR(f, 0.199825, 0.01 * 0.199825);
+    CHECK(rad_hier_get_stats(h).leaves > 2); /* it did refine */
+    rad_hier_destroy(h);
+    rad_scene_destroy(scene);
+
+    CHECK(rad_scene_new(ctx, 1, "perpendicular", &scene) == RAD_OK);
+    lit = add_surface(scene, "receiver", 0.5, 0);
+    lamp = add_surface(scene, "emitter", 0.5, 1);
+    add_quad(scene, lit, v3(0, 0, 0), v3(1, 0, 0), v3(1, 1, 0), v3(0, 1, 0));   /* z = 0, up */
+    add_quad(scene, lamp, v3(0, 0, 0), v3(0, 0, 1), v3(1, 0, 1), v3(1, 0, 0));  /* y = 0, +y */
+    h = solve_hierarchy(ctx, scene, 1e-4);
+    f = linked_form_factor(h, 0, 1);
+    CHECK_NEAR(f, 0.200044, 0.01 * 0.200044);
+    rad_hier_destroy(h);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+/* A closed unit cube facing inwards, six faces (the top as two triangles, so both kinds of
+ * tree are in it). */
+static rad_scene *cube(rad_context *ctx, double rho, double walls_emit, double top_emits) {
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_new(ctx, 1, "cube", &scene) == RAD_OK);
+    uint32_t walls = add_surface(scene, "walls", rho, walls_emit);
+    uint32_t top = add_surface(scene, "top", rho, top_emits);
+    add_quad(scene, walls, v3(0, 0, 0), v3(1, 0, 0), v3(1, 1, 0), v3(0, 1, 0));
+    add_quad(scene, walls, v3(0, 0, 0), v3(0, 0, 1), v3(1, 0, 1), v3(1, 0, 0));
+    add_quad(scene, walls, v3(0, 1, 0), v3(1, 1, 0), v3(1, 1, 1), v3(0, 1, 1));
+    add_quad(scene, walls, v3(0, 0, 0), v3(0, 1, 0), v3(0, 1, 1), v3(0, 0, 1));
+    add_quad(scene, walls, v3(1, 0, 0), v3(1, 0, 1), v3(1, 1, 1), v3(1, 1, 0));
+    rad_vec3 t1[3] = {v3(0, 0, 1), v3(0, 1, 1), v3(1, 1, 1)};
+    rad_vec3 t2[3] = {v3(0, 0, 1), v3(1, 1, 1), v3(1, 0, 1)};
+    CHECK(rad_scene_add_polygon_points(scene, top, t1, 3) == RAD_OK);
+    CHECK(rad_scene_add_polygon_points(scene, top, t2, 3) == RAD_OK);
+    return scene;
+}
+
+/* Furnace: every face emits E = 1 and reflects rho = 0.5, so B = E / (1 - rho) = 2 on every
+ * leaf, within the oracle's own bound for that leaf: the errors rho B_s dF of the links it
+ * left on the leaf and its ancestors, times 1 / (1 - rho) for the bounces. The mean error is
+ * also small. Energy: with only the top emitting, what is absorbed, sum (1 - rho) H A with
+ * H = (B - E) / rho, equals what is emitted. */
+static void test_furnace(void) {
+    rad_context *ctx = context(2);
+    rad_scene *scene = cube(ctx, 0.5, 1, 1);
+    rad_hier *h = solve_hierarchy(ctx, scene, 1e-4);
+    size_t count, link_count;
+    const rad_hier_node *nodes = rad_hier_nodes(h, &count);
+    const rad_hier_link *links = rad_hier_links(h, &link_count);
+    uint32_t *parent = malloc(count * sizeof *parent);
+    double *bound = calloc(count, sizeof *bound);
+    for (size_t i = 0; i < count; ++i) parent[i] = RAD_HIER_NO_NODE;
+    for (size_t i = 0; i < count; ++i)
+        if (nodes[i].first_child != RAD_HIER_NO_NODE)
+            for (uint32_t k = 0; k < 4; ++k) parent[nodes[i].first_child + k] = (uint32_t)i;
+    for (size_t l = 0; l < link_count; ++l)
+        bound[links[l].receiver] += 0.5 * nodes[links[l].source].radiosity[0] * fabs(links[l].error);
+    size_t leaves = 0, within = 0;
+    double mean = 0, area = 0, worst = 0;
+    for (size_t i = 0; i < count; ++i) {
+        if (nodes[i].first_child != RAD_HIER_NO_NODE) continue;
+        double b = 0;
+        for (uint32_t n = (uint32_t)i; n != RAD_HIER_NO_NODE; n = parent[n]) b += bound[n];
+        double error = fabs(nodes[i].radiosity[0] - 2);
+        within += error <= b / (1 - 0.5);
+        worst = fmax(worst, error);
+        mean += error * nodes[i].area;
+        area += nodes[i].area;
+        ++leaves;
+    }
+    printf("furnace: %zu leaves, %zu within their bound, mean error %.3g, worst %.3g\n", leaves,
+           within, mean / area, worst);
+    CHECK(leaves > 7);
+    CHECK(within == leaves);
+    CHECK_NEAR(mean / area, 0, 0.01 * 2);
+    free(parent);
+    free(bound);
+    rad_hier_destroy(h);
+    rad_scene_destroy(scene);
+
+    scene = cube(ctx, 0.5, 0, 1);
+    h = solve_hierarchy(ctx, scene, 1e-4);
+    nodes = rad_hier_nodes(h, &count);
+    double absorbed = 0, emitted = 0;
+    for (size_t i = 0; i < count; ++i)
+        if (nodes[i].first_child == RAD_HIER_NO_NODE) {
+            double e = scene->surfaces[scene->polygons[nodes[i].polygon].surface].material == 1;
+            absorbed += (1 - 0.5) * (nodes[i].radiosity[0] - e) / 0.5 * nodes[i].area;
+            emitted += e * nodes[i].area;
+        }
+    CHECK_NEAR(emitted, 1, 1e-9);
+    CHECK_NEAR(absorbed, emitted, 0.01 * emitted);
+    rad_hier_destroy(h);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+/* Distance in the floor plane (x, z) from p to the convex outline q (4 corners); 0 inside. */
+static double footprint_distance(rad_vec3 p, const double q[4][2]) {
+    double best = INFINITY;
+    int inside = 1;
+    for (int k = 0; k < 4; ++k) {
+        const double *a = q[k], *b = q[(k + 1) % 4];
+        double ex = b[0] - a[0], ez = b[1] - a[1], px = p.x - a[0], pz = p.z - a[1];
+        double t = fmax(0, fmin(1, (px * ex + pz * ez) / (ex * ex + ez * ez)));
+        best = fmin(best, hypot(px - t * ex, pz - t * ez));
+        if (ex * pz - ez * px > 0) inside = 0;
+    }
+    return inside ? 0 : best;
+}
+
+/* Refinement goes where the light changes: leaves per unit area on the Cornell box floor
+ * within 50 mm around the blocks' footprints (contact and shadow edges) against the open
+ * floor more than 100 mm from both and from the walls. */
+static void test_shadow_edges(void) {
+    rad_context *ctx = context(2);
+    rad_scene *scene = NULL;
+    CHECK(rad_builtin_geometry(ctx, "cornell", &scene) == RAD_OK);
+    rad_hier *h = solve_hierarchy(ctx, scene, 3e-5);
+    /* The blocks' floor outlines (src/scene/builtin_geometry.c), clockwise seen from above. */
+    const double blocks[2][4][2] = {{{130, 65}, {82, 225}, {240, 272}, {290, 114}},
+                                    {{423, 247}, {265, 296}, {314, 456}, {472, 406}}};
+    size_t count;
+    const rad_hier_node *nodes = rad_hier_nodes(h, &count);
+    double band_area = 0, open_area = 0;
+    size_t band = 0, open = 0;
+    for (size_t i = 0; i < count; ++i) {
+        if (nodes[i].polygon != 0 || nodes[i].first_child != RAD_HIER_NO_NODE) continue;
+        rad_vec3 c = v3_scale(v3_add(v3_add(nodes[i].corner[0], nodes[i].corner[1]),
+                                     v3_add(nodes[i].corner[2], nodes[i].corner[3])), 0.25);
+        double d = fmin(footprint_distance(c, blocks[0]), footprint_distance(c, blocks[1]));
+        if (d > 0 && d < 50) band++, band_area += nodes[i].area;
+        int central = c.x > 100 && c.x < 450 && c.z > 100 && c.z < 460; /* off the walls */
+        if (d > 100 && central) open++, open_area += nodes[i].area;
+    }
+    CHECK(band > 0 && open > 0);
+    double band_density = band / fmax(band_area, 1e-9), open_density = open / fmax(open_area, 1e-9);
+    printf("floor leaves: %zu near the blocks (%.3g per m^2), %zu on open floor (%.3g per m^2)\n",
+           band, band_density * 1e6, open, open_density * 1e6);
+    CHECK(band_density > 2 * open_density);
+    rad_hier_destroy(h);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+/* The same bits for one and two threads, through the public solver. */
+static void solve_cornell(int threads, rad_rgb **radiosity, size_t *count, int *rounds) {
+    rad_context *ctx = context(threads);
+    rad_scene *scene = NULL;
+    CHECK(rad_builtin_geometry(ctx, "cornell", &scene) == RAD_OK);
+    rad_system *system = NULL;
+    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
+    rad_scene_destroy(scene);
+    rad_solve_options options = {0};
+    options.solver = RAD_SOLVER_HIERARCHICAL;
+    options.link_error = 3e-4;
+    rad_solve_report report;
+    CHECK(rad_solve(system, &options, &report) == RAD_OK);
+    CHECK(report.converged);
+    *rounds = report.iterations;
+    *count = system->element_count;
+    *radiosity = malloc(*count * sizeof **radiosity);
+    memcpy(*radiosity, system->radiosity, *count * sizeof **radiosity);
+    rad_system_destroy(system);
+    rad_context_destroy(ctx);
+}
+
+static void test_determinism(void) {
+    rad_rgb *one, *two;
+    size_t n1, n2;
+    int r1, r2;
+    solve_cornell(1, &one, &n1, &r1);
+    solve_cornell(2, &two, &n2, &r2);
+    CHECK(n1 == n2 && r1 == r2);
+    CHECK(n1 == n2 && memcmp(one, two, n1 * sizeof *one) == 0);
+    /* and it lit the box: the floor is neither black nor the lamp */
+    double mean = 0;
+    for (size_t i = 0; i < n1; ++i) mean += one[i][0] / n1;
+    CHECK(mean > 0.1 && mean < 5);
+    free(one);
+    free(two);
+}
+
+/* Through rad_solve on the built-in two squares: the receiver's element mean is rho E F. */
+static void test_solver(void) {
+    rad_context *ctx = context(2);
+    rad_scene *scene = NULL;
+    CHECK(rad_builtin_geometry(ctx, "two-squares", &scene) == RAD_OK);
+    rad_system *system = NULL;
+    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
+    rad_solve_options options = {0};
+    options.solver = RAD_SOLVER_HIERARCHICAL;
+    options.link_error = 1e-4;
+    CHECK(rad_solve(system, &options, NULL) == RAD_OK);
+    rad_surface_info emitter, receiver;
+    CHECK(rad_system_surface(system, 0, &emitter) == RAD_OK);
+    CHECK(rad_system_surface(system, 1, &receiver) == RAD_OK);
+    double rho = receiver.reflectance[0], e = emitter.emission[0];
+    /* one bounce each way is within 0.2%: the emitter's own reflected light is rho F^2 E */
+    double expected = rho * 0.199825 * (emitter.radiosity[0]);
+    CHECK_NEAR(receiver.radiosity[0], expected, 0.015 * expected);
+    CHECK(e > 0);
+    options.link_error = -1;
+    CHECK(rad_solve(system, &options, NULL) == RAD_ERROR_INVALID_ARGUMENT);
+    options.link_error = NAN;
+    CHECK(rad_solve(system, &options, NULL) == RAD_ERROR_INVALID_ARGUMENT);
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+
+    /* A patch system has no geometry: refused with a message. */
+    rad_patch_desc patches[2] = {{"a", 1, {0.5, 0.5, 0.5}, {1, 1, 1}}, {"b", 1, {0.5, 0.5, 0.5}, {0, 0, 0}}};
+    const float ff[4] = {0, 0.5f, 0.5f, 0};
+    CHECK(rad_system_create_dense(ctx, patches, 2, ff, &system) == RAD_OK);
+    options.link_error = 0;
+    CHECK(rad_solve(system, &options, NULL) == RAD_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(rad_context_error(ctx), "geometry") != NULL);
+    rad_system_destroy(system);
+    rad_context_destroy(ctx);
+}
+
+/* Mean of channel sums over the 8 x 8 block (bx, by) of a square image. */
+static double block_mean(const rad_image *image, int bx, int by) {
+    int w = rad_image_width(image);
+    const float *p = rad_image_pixels(image);
+    double sum = 0;
+    for (int y = 8 * by; y < 8 * by + 8; ++y)
+        for (int x = 8 * bx; x < 8 * bx + 8; ++x)
+            for (int c = 0; c < 3; ++c) sum += p[3 * (y * w + x) + c];
+    return sum / 64;
+}
+
+/* The Cornell box solved hierarchically and rendered (interpolated, and with the final gather)
+ * against the project's path tracer, in 8 x 8 blocks: the mean and every block that is not
+ * mostly the lamp within stated bounds. */
+static void test_image(void) {
+    rad_context *ctx = context(2);
+    rad_scene *scene = NULL;
+    CHECK(rad_builtin_geometry(ctx, "cornell", &scene) == RAD_OK);
+    rad_system *system = NULL;
+    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
+    rad_solve_options solve = {0};
+    solve.solver = RAD_SOLVER_HIERARCHICAL;
+    solve.link_error = 1e-4;
+    CHECK(rad_solve(system, &solve, NULL) == RAD_OK);
+    const int size = 48;
+    rad_pathtrace_options trace = {0};
+    trace.width = trace.height = size;
+    trace.samples_per_pixel = 1024;
+    rad_image *reference = NULL, *smooth = NULL, *gathered = NULL;
+    CHECK(rad_pathtrace(ctx, scene, &trace, &reference, NULL) == RAD_OK);
+    rad_render_options options = {0};
+    options.width = options.height = size;
+    options.samples_per_pixel = 16;
+    CHECK(rad_render(scene, system, &options, &smooth) == RAD_OK);
+    options.final_gather = 16;
+    CHECK(rad_render(scene, system, &options, &gathered) == RAD_OK);
+    if (reference && smooth && gathered) {
+        const rad_image *images[2] = {smooth, gathered};
+        const double mean_bound[2] = {0.04, 0.03}, block_bound[2] = {0.30, 0.15};
+        for (int k = 0; k < 2; ++k) {
+            double test = 0, ref = 0, worst = 0;
+            for (int by = 0; by < size / 8; ++by)
+                for (int bx = 0; bx < size / 8; ++bx) {
+                    double t = block_mean(images[k], bx, by), r = block_mean(reference, bx, by);
+                    test += t;
+                    ref += r;
+                    if (r > 0.05 && r < 3) worst = fmax(worst, fabs(t / r - 1));
+                }
+            printf("%s: mean ratio %.4f, worst 8x8 block %.3f off (bounds %.2f, %.2f)\n",
+                   k ? "final gather 16" : "interpolated", test / ref, worst, mean_bound[k],
+                   block_bound[k]);
+            CHECK_NEAR(test / ref, 1, mean_bound[k]);
+            CHECK(worst < block_bound[k]);
+        }
+    }
+    rad_image_destroy(reference);
+    rad_image_destroy(smooth);
+    rad_image_destroy(gathered);
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+int main(void) {
+    test_image();
+    test_closed_forms();
+    test_furnace();
+    test_shadow_edges();
+    test_determinism();
+    test_solver();
+    return test_finish();
+}
