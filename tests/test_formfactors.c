@@ -280,8 +280,10 @@ static void test_occluders(rad_context *ctx) {
     quad covered[3] = {opposed[0], opposed[1],
                        {"screen", {{-0.25, -0.25, 0.5}, {1.25, -0.25, 0.5}, {1.25, 1.25, 0.5},
                                    {-0.25, 1.25, 0.5}}, 0}};
+    /* The wall stops 10^-3 short of both squares: touching them, the contact cuts
+     * (src/mesh/contact.h) would cut the squares along it and no patch would straddle it. */
     quad walled[3] = {opposed[0], opposed[1],
-                      {"wall", {{0.5, -0.5, 0}, {0.5, 1.5, 0}, {0.5, 1.5, 1}, {0.5, -0.5, 1}}, 0}};
+                      {"wall", {{0.5, -0.5, 0.001}, {0.5, 1.5, 0.001}, {0.5, 1.5, 0.999}, {0.5, -0.5, 0.999}}, 0}};
     rad_scene *screen = quad_scene(ctx, covered, 3), *wall = quad_scene(ctx, walled, 3);
     double expected = parallel_rectangles(0.5, 1, 1);
     for (int m = 0; m < 4; ++m) {
@@ -505,8 +507,10 @@ static void test_patch_facing(rad_context *ctx) {
  * occluders the tables allow) is a few occluders, so culling stays on, and the wall hides
  * exactly what the same wall as one quad does. */
 static void test_triangulated_occluder(rad_context *ctx) {
+    /* The wall stops 10^-3 short of both squares: touching them, the contact cuts
+     * (src/mesh/contact.h) would cut the squares along it and no patch would straddle it. */
     quad walled[3] = {opposed[0], opposed[1],
-                      {"wall", {{0.5, -0.5, 0}, {0.5, 1.5, 0}, {0.5, 1.5, 1}, {0.5, -0.5, 1}}, 0}};
+                      {"wall", {{0.5, -0.5, 0.001}, {0.5, 1.5, 0.001}, {0.5, 1.5, 0.999}, {0.5, -0.5, 0.999}}, 0}};
     rad_scene *whole = quad_scene(ctx, walled, 3), *cut = quad_scene(ctx, opposed, 2);
     uint32_t surface;
     rad_status status = rad_scene_add_surface(cut, "wall", 0, &surface);

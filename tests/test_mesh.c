@@ -15,7 +15,9 @@
  *   - triangles are cut to their own side counts: a surface of triangles of many sizes gets an
  *     element count proportional to its area (the old shared count gave 17 times as many);
  *   - vertices are never shared across a crease or between surfaces. */
+#include "mesh/contact.h"
 #include "mesh/mesh.h"
+#include "mesh/ngon.h"
 #include "scene/scene.h"
 #include "test.h"
 
@@ -188,44 +190,85 @@ static int compare_edges(const void *x, const void *y) {
     return 0;
 }
 
-/* Is the segment ab on the boundary of polygon `polygon` (both ends on one of its edges)? */
-static int on_polygon_boundary(const rad_scene *scene, uint32_t polygon, rad_vec3 a, rad_vec3 b,
+/* Is the segment ab on the boundary of a piece of polygon `polygon` left by the contact cuts
+ * (contact.h: an uncut polygon is its one piece; both ends on one of its edges)? */
+static int on_polygon_boundary(const rad_contact_cut *cut, uint32_t polygon, rad_vec3 a, rad_vec3 b,
                                double scale) {
-    const rad_polygon *p = &scene->polygons[polygon];
-    for (uint32_t k = 0; k < p->count; ++k) {
-        rad_vec3 c = rad_polygon_vertex(scene, p, k), d = rad_polygon_vertex(scene, p, (k + 1) % p->count);
-        double t;
-        if (segment_distance(a, c, d, &t) < 1e-9 * scale && segment_distance(b, c, d, &t) < 1e-9 * scale)
-            return 1;
+    for (size_t i = 0; i < cut->piece_count; ++i) {
+        const rad_contact_piece *p = &cut->pieces[i];
+        if (p->polygon != polygon) continue;
+        for (uint32_t k = 0; k < p->count; ++k) {
+            rad_vec3 c = cut->points[p->first + k], d = cut->points[p->first + (k + 1) % p->count];
+            double t;
+            if (segment_distance(a, c, d, &t) < 1e-9 * scale && segment_distance(b, c, d, &t) < 1e-9 * scale)
+                return 1;
+        }
     }
     return 0;
 }
 
-/* The angle at corner o of the corners a, o, b. */
 static double corner_angle(rad_vec3 a, rad_vec3 o, rad_vec3 b) {
     rad_vec3 u = v3_sub(a, o), w = v3_sub(b, o);
     return atan2(v3_length(v3_cross(u, w)), v3_dot(u, w));
 }
 
-/* The smallest angle of the cells the mesher cuts a polygon into: the polygon itself up to four
- * corners, else the triangles of its fan from corner 0. */
-static double polygon_smallest_angle(const rad_scene *scene, const rad_polygon *polygon) {
+/* The smallest angle of the cells the mesher cuts a convex piece into: the piece itself up to
+ * four corners, else the triangles of its rings and fan (ngon.h). */
+static double piece_smallest_angle(const rad_vec3 *corners, uint32_t n, rad_vec3 normal) {
     double smallest = RAD_PI;
-    uint32_t n = polygon->count;
     if (n <= 4) {
         for (uint32_t k = 0; k < n; ++k)
-            smallest = fmin(smallest, corner_angle(rad_polygon_vertex(scene, polygon, (k + n - 1) % n),
-                                                   rad_polygon_vertex(scene, polygon, k),
-                                                   rad_polygon_vertex(scene, polygon, (k + 1) % n)));
+            smallest = fmin(smallest, corner_angle(corners[(k + n - 1) % n], corners[k], corners[(k + 1) % n]));
         return smallest;
     }
-    for (uint32_t k = 1; k + 1 < n; ++k) {
-        rad_vec3 p[3] = {rad_polygon_vertex(scene, polygon, 0), rad_polygon_vertex(scene, polygon, k),
-                         rad_polygon_vertex(scene, polygon, k + 1)};
+    rad_vec3 *points = malloc((n + ngon_max_points(n)) * sizeof *points);
+    uint32_t (*triangles)[3] = malloc(ngon_max_triangles(n) * sizeof *triangles);
+    uint32_t *ring = malloc(n * sizeof *ring);
+    if (!points || !triangles || !ring) exit(1);
+    memcpy(points, corners, n * sizeof *points);
+    size_t extra = 0;
+    size_t count = ngon_cut(points, n, normal, points + n, &extra, triangles, ring);
+    for (size_t t = 0; t < count; ++t) {
+        rad_vec3 p[3] = {points[triangles[t][0]], points[triangles[t][1]], points[triangles[t][2]]};
         for (int c = 0; c < 3; ++c)
             smallest = fmin(smallest, corner_angle(p[(c + 2) % 3], p[c], p[(c + 1) % 3]));
     }
+    free(points);
+    free(triangles);
+    free(ring);
     return smallest;
+}
+
+/* The same over the pieces of a polygon after the contact cuts. */
+static double polygon_smallest_angle(const rad_scene *scene, const rad_contact_cut *cut, uint32_t polygon) {
+    double smallest = RAD_PI;
+    rad_vec3 normal = rad_polygon_normal(scene, &scene->polygons[polygon]);
+    for (size_t i = 0; i < cut->piece_count; ++i)
+        if (cut->pieces[i].polygon == polygon)
+            smallest = fmin(smallest, piece_smallest_angle(cut->points + cut->pieces[i].first,
+                                                           cut->pieces[i].count, normal));
+    return smallest;
+}
+
+/* The area of the pieces of each polygon the contact cuts keep (polygon_count entries). */
+static double *kept_areas(const rad_scene *scene, const rad_contact_cut *cut) {
+    double *area = calloc(scene->polygon_count + 1, sizeof *area);
+    if (!area) exit(1);
+    for (size_t i = 0; i < cut->piece_count; ++i) {
+        const rad_contact_piece *p = &cut->pieces[i];
+        rad_vec3 sum = v3(0, 0, 0);
+        for (uint32_t k = 0; k < p->count; ++k)
+            sum = v3_add(sum, v3_cross(cut->points[p->first + k], cut->points[p->first + (k + 1) % p->count]));
+        area[p->polygon] += 0.5 * v3_length(sum);
+    }
+    return area;
+}
+
+/* Is polygon `polygon` one piece, uncut? */
+static int uncut(const rad_contact_cut *cut, uint32_t polygon) {
+    size_t pieces = 0;
+    for (size_t i = 0; i < cut->piece_count; ++i) pieces += cut->pieces[i].polygon == polygon;
+    return pieces == 1;
 }
 
 typedef struct point2 {
@@ -266,6 +309,13 @@ static mesh_report check_mesh(const char *label, const rad_scene *scene, const r
     mesh_report report = {0};
     report.sharpest = INFINITY;
     int failed_before = test_failed;
+    uint32_t smallest_of = UINT32_MAX; /* elements of a polygon are contiguous */
+    double smallest = 0;
+    rad_contact_cut *cut = NULL;
+    if (rad_contact_cut_create(ctx, scene, &cut)) {
+        CHECK(0);
+        return report;
+    }
     rad_vec3 lo, hi;
     rad_scene_bounds(scene, &lo, &hi);
     double scale = v3_length(v3_sub(hi, lo));
@@ -277,7 +327,10 @@ static mesh_report check_mesh(const char *label, const rad_scene *scene, const r
         for (int k = 0; k < n; ++k) {
             uint32_t v = mesh->element_vertices[e][k];
             CHECK(v < mesh->vertex_count);
-            if (v >= mesh->vertex_count) return report;
+            if (v >= mesh->vertex_count) {
+                rad_contact_cut_destroy(ctx, cut);
+                return report;
+            }
             CHECK(mesh->vertex_surface[v] == mesh->element_surface[e]);
             normal = v3_add(normal, v3_cross(vertex(mesh, e, k), vertex(mesh, e, (k + 1) % n)));
         }
@@ -291,7 +344,11 @@ static mesh_report check_mesh(const char *label, const rad_scene *scene, const r
         CHECK(v3_dot(mesh->element_normal[e], v3_normalize(normal)) > 1 - 1e-9);
         /* Shape: convex, and no corner sharper than a quarter of its polygon's sharpest. */
         if (planar) {
-            double smallest = polygon_smallest_angle(scene, &scene->polygons[mesh->element_polygon[e]]);
+            uint32_t polygon = mesh->element_polygon[e];
+            if (polygon != smallest_of) {
+                smallest_of = polygon;
+                smallest = polygon_smallest_angle(scene, cut, polygon);
+            }
             for (int c = 0; c < n; ++c) {
                 rad_vec3 prev = vertex(mesh, e, (c + n - 1) % n), here = vertex(mesh, e, c),
                          next = vertex(mesh, e, (c + 1) % n);
@@ -303,18 +360,20 @@ static mesh_report check_mesh(const char *label, const rad_scene *scene, const r
         }
     }
 
-    /* Areas: each polygon's elements add up to the polygon. */
+    /* Areas: each polygon's elements add up to the polygon, less what the contact cuts hid. */
+    double *kept = kept_areas(scene, cut);
     double *area = calloc(scene->polygon_count + 1, sizeof *area);
     for (size_t e = 0; e < mesh->element_count; ++e) area[mesh->element_polygon[e]] += mesh->element_area[e];
     double total_polygons = 0, total_elements = 0;
     for (size_t i = 0; i < scene->polygon_count; ++i) {
-        double expected = rad_polygon_area(scene, &scene->polygons[i]);
-        if (!(expected > 0) || !isfinite(expected)) continue;
+        double expected = kept[i];
+        if (!(rad_polygon_area(scene, &scene->polygons[i]) > 0) || !isfinite(expected)) continue;
         report.area_error = fmax(report.area_error, fabs(area[i] - expected) / expected);
         total_polygons += expected;
         total_elements += area[i];
     }
     free(area);
+    free(kept);
     CHECK(report.area_error < (planar ? 1e-9 : 1e-3));
     CHECK_NEAR(total_elements, total_polygons, (planar ? 1e-9 : 1e-3) * total_polygons);
 
@@ -343,7 +402,8 @@ static mesh_report check_mesh(const char *label, const rad_scene *scene, const r
         double block = k * mesh->element_size, area = 0;
         for (size_t e = first; e < end; ++e) area += mesh->element_area[e];
         CHECK(area <= block * block * (1 + 1e-9));
-        if (polygon->count == 4) CHECK(quads <= (size_t)k * k && triangles == 0);
+        if (polygon->count == 4 && uncut(cut, mesh->element_polygon[first]))
+            CHECK(quads <= (size_t)k * k && triangles == 0);
         report.widest_patch = fmax(report.widest_patch, diameter / mesh->patch_size);
         /* Convex: the hull of its corners (in its polygon's plane) has the patch's area. */
         if (planar) {
@@ -415,7 +475,7 @@ static mesh_report check_mesh(const char *label, const rad_scene *scene, const r
             edge_count *found = bsearch(&key, edges, unique, sizeof *edges, compare_edges);
             CHECK(found != NULL);
             if (found && found->uses == 1)
-                CHECK(on_polygon_boundary(scene, mesh->element_polygon[e], mesh->vertices[a],
+                CHECK(on_polygon_boundary(cut, mesh->element_polygon[e], mesh->vertices[a],
                                           mesh->vertices[b], scale));
         }
     }
@@ -456,6 +516,7 @@ static mesh_report check_mesh(const char *label, const rad_scene *scene, const r
     if (test_failed != failed_before)
         fprintf(stderr, "  in mesh '%s' (%zu elements, %zu patches): %zu T-junctions, %zu cracks\n",
                 label, mesh->element_count, mesh->patch_count, t_junctions, cracks);
+    rad_contact_cut_destroy(ctx, cut);
     return report;
 }
 
@@ -596,7 +657,9 @@ static void test_triangles(void) {
                 t[1][x] = t[2][x], t[2][x] = swap;
             }
         add_polygon(scene, add_surface(scene, "triangle"), 3, (const double(*)[3])t);
-        if (polygon_smallest_angle(scene, &scene->polygons[0]) > 0.05) {
+        rad_vec3 corners[3] = {v3(t[0][0], t[0][1], t[0][2]), v3(t[1][0], t[1][1], t[1][2]),
+                               v3(t[2][0], t[2][1], t[2][2])};
+        if (piece_smallest_angle(corners, 3, v3(0, 0, 1)) > 0.05) {
             rad_mesh *mesh = mesh_of(scene, 0, 0.04 + 0.3 * lcg(), 0);
             if (mesh) {
                 char label[64];
@@ -675,9 +738,11 @@ static void test_element_counts(void) {
         printf("cornell --elements %-6zu %6zu elements (%.2f x), %5zu patches\n", wanted[i],
                mesh->element_count, ratio, mesh->patch_count);
         CHECK(ratio >= 0.8 && ratio <= 2.0);
-        /* Quads are cut as they always were: the counts of docs/meshing.md. */
-        if (wanted[i] == 10000) CHECK(mesh->element_count == 10341 && mesh->patch_count == 2647);
-        if (wanted[i] == 2500) CHECK(mesh->element_count == 2647 && mesh->patch_count == 694);
+        /* The counts of docs/meshing.md. The contact cuts (contact.h) cut the floor along the
+         * blocks' bases and drop the pieces under them: 2,687 elements in 806 patches at the
+         * default where the uncut floor gave 2,647 in 694 (10,341 in 2,647 at N = 10,000). */
+        if (wanted[i] == 10000) CHECK(mesh->element_count == 10678 && mesh->patch_count == 2927);
+        if (wanted[i] == 2500) CHECK(mesh->element_count == 2687 && mesh->patch_count == 806);
         if (wanted[i] <= RAD_MESH_DEFAULT_ELEMENTS) {
             mesh_report r = check_mesh("cornell", scene, mesh, 0);
             printf("  polygon area vs elements: largest relative difference %.2g\n", r.area_error);
@@ -798,11 +863,12 @@ static void test_element_aim(void) {
         rad_scene_destroy(scene);
     }
 
-    /* Scenes of quads are never re-aimed: the counts of docs/meshing.md, as before. */
+    /* Scenes of quads are re-aimed only where their rounding overshoots their area by more than
+     * 10% (small N, narrow quads): the counts of docs/meshing.md. */
     static const char *const quads[] = {"two-squares", "unit-cube", RAD_SOURCE_DIR "/scenes/room.obj",
                                         RAD_SOURCE_DIR "/scenes/lamp-room.gltf"};
-    static const size_t counts[4][4] = {{128, 1058, 2592, 10082}, {150, 1014, 2646, 10086},
-                                        {170, 1420, 3397, 13075}, {132, 1130, 2656, 10450}};
+    static const size_t counts[4][4] = {{98, 1058, 2592, 10082}, {96, 1014, 2646, 10086},
+                                        {114, 1131, 2746, 10953}, {117, 1130, 2656, 10450}};
     static const size_t sizes[4] = {100, 1000, 2500, 10000};
     for (int q = 0; q < 4; ++q) {
         scene = NULL;
@@ -880,6 +946,160 @@ static void test_bad_input(void) {
     rad_scene_destroy(scene);
 }
 
+/* ------------------------------------------------------------------------------------------- */
+/* Polygons of many corners (ngon.h).                                                           */
+
+/* A regular n-gon of circumradius r around (cx, cy, z), facing +z (up) or -z. */
+static void add_disk(rad_scene *scene, uint32_t surface, uint32_t n, double r, double cx, double cy,
+                     double z, int up) {
+    uint32_t *ids = malloc(n * sizeof *ids);
+    if (!ids) exit(1);
+    for (uint32_t k = 0; k < n; ++k) {
+        double a = 2 * RAD_PI * (up ? k : n - k) / n;
+        CHECK(rad_scene_add_vertex(scene, v3(cx + r * cos(a), cy + r * sin(a), z), &ids[k]) == RAD_OK);
+    }
+    CHECK(rad_scene_add_polygon(scene, surface, ids, n) == RAD_OK);
+    free(ids);
+}
+
+/* A closed cylinder of radius 1 and height 2 facing out: two n-gon caps and n side quads. */
+static rad_scene *make_cylinder(uint32_t n) {
+    rad_scene *scene = new_scene("cylinder");
+    add_disk(scene, add_surface(scene, "bottom"), n, 1, 0, 0, 0, 0);
+    add_disk(scene, add_surface(scene, "top"), n, 1, 0, 0, 2, 1);
+    uint32_t side = add_surface(scene, "side");
+    for (uint32_t k = 0; k < n; ++k) {
+        double a = 2 * RAD_PI * k / n, b = 2 * RAD_PI * (k + 1) / n;
+        double q[4][3] = {{cos(a), sin(a), 0}, {cos(b), sin(b), 0}, {cos(b), sin(b), 2}, {cos(a), sin(a), 2}};
+        add_polygon(scene, side, 4, (const double(*)[3])q);
+    }
+    return scene;
+}
+
+/* A unit sphere facing out, `around` segments by `rings` rings: quads, triangle fans at the poles. */
+static rad_scene *make_sphere(int around, int rings) {
+    rad_scene *scene = new_scene("sphere");
+    uint32_t s = add_surface(scene, "sphere");
+    for (int j = 0; j < rings; ++j)
+        for (int i = 0; i < around; ++i) {
+            double t0 = RAD_PI * j / rings, t1 = RAD_PI * (j + 1) / rings;
+            double a0 = 2 * RAD_PI * i / around, a1 = 2 * RAD_PI * (i + 1) / around;
+            double p[4][3] = {{sin(t0) * cos(a0), sin(t0) * sin(a0), cos(t0)},
+                              {sin(t1) * cos(a0), sin(t1) * sin(a0), cos(t1)},
+                              {sin(t1) * cos(a1), sin(t1) * sin(a1), cos(t1)},
+                              {sin(t0) * cos(a1), sin(t0) * sin(a1), cos(t0)}};
+            double cap[3][3];
+            int skip = j == 0 ? 3 : 0; /* the corner at a pole that repeats: 3 at the top, 1 at the bottom */
+            if (j == rings - 1) skip = 2;
+            for (int k = 0, at = 0; k < 4; ++k)
+                if (k != skip) memcpy(cap[at++], p[k], sizeof cap[0]);
+            if (j == 0 || j == rings - 1) add_polygon(scene, s, 3, (const double(*)[3])cap);
+            else add_polygon(scene, s, 4, (const double(*)[3])p);
+        }
+    return scene;
+}
+
+/* The smallest corner angle (degrees) and the largest ratio of longest edge to square root of
+ * area over the elements of a mesh. */
+static void element_shapes(const rad_mesh *mesh, double *smallest, double *stretch) {
+    *smallest = 180, *stretch = 0;
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        int n = rad_mesh_corner_count(mesh, e);
+        double longest = 0;
+        for (int c = 0; c < n; ++c) {
+            rad_vec3 prev = vertex(mesh, e, (c + n - 1) % n), here = vertex(mesh, e, c),
+                     next = vertex(mesh, e, (c + 1) % n);
+            *smallest = fmin(*smallest, corner_angle(prev, here, next) * 180 / RAD_PI);
+            longest = fmax(longest, v3_length(v3_sub(next, here)));
+        }
+        *stretch = fmax(*stretch, longest / sqrt(mesh->element_area[e]));
+    }
+}
+
+/* A disk of 128 corners is meshed like a square of its area: about as many elements, none
+ * much thinner; disks, cylinders and spheres follow --elements like boxes. */
+static void test_ngons(void) {
+    static const size_t wanted[] = {100, 1000, 2500, 10000};
+    rad_scene *disk = new_scene("disk");
+    add_disk(disk, add_surface(disk, "disk"), 128, 1, 0, 0, 0, 1);
+    double side = sqrt(rad_polygon_area(disk, &disk->polygons[0]));
+    rad_scene *square = new_scene("square of the disk's area");
+    double q[4][3] = {{0, 0, 0}, {side, 0, 0}, {side, side, 0}, {0, side, 0}};
+    add_polygon(square, add_surface(square, "square"), 4, (const double(*)[3])q);
+    rad_scene *cylinder = make_cylinder(64), *sphere = make_sphere(32, 16);
+    for (size_t w = 0; w < sizeof wanted / sizeof *wanted; ++w) {
+        rad_mesh *a = mesh_of(disk, 0, 0, wanted[w]), *b = mesh_of(square, 0, 0, wanted[w]);
+        rad_mesh *c = mesh_of(cylinder, 0, 0, wanted[w]), *d = mesh_of(sphere, 0, 0, wanted[w]);
+        if (a && b && c && d) {
+            check_mesh("disk", disk, a, 1);
+            check_mesh("cylinder", cylinder, c, 1);
+            double sa, ta, sb, tb;
+            element_shapes(a, &sa, &ta);
+            element_shapes(b, &sb, &tb);
+            printf("--elements %-6zu disk %6zu (angle %.1f, stretch %.2f) square %6zu (%.1f, %.2f) "
+                   "cylinder %6zu sphere %6zu\n",
+                   wanted[w], a->element_count, sa, ta, b->element_count, sb, tb, c->element_count,
+                   d->element_count);
+            /* Counts follow N (at N = 100 the disk's 128 rim edges set a floor); no sliver:
+             * the fan from corner 0 had corners of 1.4 degrees, the ear-clipped strips worse. */
+            double n = (double)wanted[w];
+            if (wanted[w] >= 1000) {
+                CHECK(a->element_count >= 0.9 * n && a->element_count <= 1.15 * n);
+                CHECK(c->element_count >= 0.9 * n && c->element_count <= 1.15 * n);
+                CHECK(d->element_count >= 0.45 * n && d->element_count <= 1.3 * n);
+            } else {
+                CHECK(a->element_count <= 4 * n);
+            }
+            CHECK(sa >= 15 && ta <= 2.5);
+        }
+        rad_mesh_destroy(a);
+        rad_mesh_destroy(b);
+        rad_mesh_destroy(c);
+        rad_mesh_destroy(d);
+    }
+    rad_scene_destroy(disk);
+    rad_scene_destroy(square);
+    rad_scene_destroy(cylinder);
+    rad_scene_destroy(sphere);
+}
+
+/* Two coaxial 128-gon disks of radius 1, one apart, at the default mesh and form factors: the
+ * closed form (Howell C-41) for disks of the polygons' area, within 1%, and under 5,000
+ * elements (the importer's ear-clipped strips made 105,163). */
+static void test_coaxial_disks(void) {
+    rad_scene *scene = new_scene("coaxial disks");
+    add_disk(scene, add_surface(scene, "lower"), 128, 1, 0, 0, 0, 1);
+    add_disk(scene, add_surface(scene, "upper"), 128, 1, 0, 0, 1, 0);
+    double r = sqrt(rad_polygon_area(scene, &scene->polygons[0]) / RAD_PI), d = 1;
+    double x = 1 + (1 + r * r / (d * d)) / (r * r / (d * d));
+    double exact = 0.5 * (x - sqrt(x * x - 4));
+    rad_system *system = NULL;
+    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
+    if (system) {
+        double matrix[4] = {0};
+        CHECK(rad_system_surface_form_factors(system, matrix) == RAD_OK);
+        size_t elements = rad_system_element_count(system);
+        printf("coaxial 128-gon disks: %zu elements, F = %.5f and %.5f, closed form %.5f\n",
+               elements, matrix[1], matrix[2], exact);
+        CHECK(elements < 5000);
+        CHECK(fabs(matrix[1] / exact - 1) < 0.01 && fabs(matrix[2] / exact - 1) < 0.01);
+        rad_system_destroy(system);
+    }
+    rad_scene_destroy(scene);
+
+    /* A polygon of 10,000 corners is meshed at once (rings are linear in the corners). */
+    scene = new_scene("10000 corners");
+    add_disk(scene, add_surface(scene, "disk"), 10000, 1, 0, 0, 0, 1);
+    rad_mesh *mesh = mesh_of(scene, 0, 0, 0);
+    if (mesh) {
+        printf("10,000-gon at the defaults: %zu elements\n", mesh->element_count);
+        check_mesh("10000-gon", scene, mesh, 1);
+        CHECK(mesh->element_count < 60000);
+    }
+    rad_mesh_destroy(mesh);
+    rad_scene_destroy(scene);
+}
+
 int main(void) {
     rad_context_options options = {0};
     options.log = on_log;
@@ -893,6 +1113,8 @@ int main(void) {
     test_element_aim();
     test_builtin_and_imported();
     test_bad_input();
+    test_ngons();
+    test_coaxial_disks();
     rad_context_destroy(ctx);
     return test_finish();
 }

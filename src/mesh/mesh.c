@@ -1,9 +1,12 @@
 /* mesh.c - cutting surfaces into patches and elements (see mesh.h).
  *
+ * 0. Cut the polygons at contacts with other surfaces, dropping hidden pieces (contact.c); the
+ *    steps below work on the pieces.
  * 1. Weld polygon corners by position within each surface, then split every welded corner
  *    where the faces around it bend by more than the crease angle, so that a box's faces or a
  *    wall and the floor never share a vertex (and never smooth across the corner).
- * 2. Fan polygons of more than four corners into triangles: every cell is a triangle or a quad.
+ * 2. Cut polygons of more than four corners into triangles, peeled in rings (ngon.c): every
+ *    cell is a triangle or a quad.
  * 3. Decide how many pieces each edge is cut into. A quad's opposite edges must agree, and an
  *    edge shared by two cells is one edge: union-find over edges ties them into classes, and a
  *    class takes the largest count any member asks for. A triangle ties nothing: each of its
@@ -12,6 +15,8 @@
  *    the vertices along shared edges; patches are blocks of up to k x k elements. */
 #include "mesh/mesh.h"
 
+#include "mesh/contact.h"
+#include "mesh/ngon.h"
 #include "mesh/triangle.h"
 
 #include "scene/scene.h"
@@ -105,6 +110,7 @@ typedef struct mesher {
     uint32_t *edge_cuts;
     uint32_t *edge_first_vertex; /* interior vertices along a -> b */
     size_t skipped;
+    rad_contact_cut *contacts; /* the polygons cut at contacts (contact.h) */
 } mesher;
 
 static uint32_t find(uint32_t *parent, uint32_t x) {
@@ -133,34 +139,52 @@ static rad_status build_cells(mesher *m) {
     double quantum = diagonal > 0 ? diagonal * 1e-7 : 1e-9;
     double min_area = diagonal * diagonal * 1e-14;
 
-    size_t max_cells = 0;
-    for (size_t i = 0; i < scene->polygon_count; ++i)
-        max_cells += scene->polygons[i].count <= 4 ? 1 : scene->polygons[i].count - 2;
-    m->cells = rad_alloc(ctx, max_cells ? max_cells : 1, sizeof *m->cells);
-    m->corner_position = rad_alloc(ctx, scene->polygon_vertex_count + 1, sizeof(rad_vec3));
-    m->corner_surface = rad_alloc(ctx, scene->polygon_vertex_count + 1, sizeof(uint32_t));
-    if (!m->cells || !m->corner_position || !m->corner_surface) return RAD_ERROR_NO_MEMORY;
-
-    key_map weld;
-    rad_status status = key_map_init(ctx, &weld, scene->polygon_vertex_count);
-    if (status) {
-        key_map_free(ctx, &weld);
-        return status;
+    const rad_contact_cut *cut = m->contacts;
+    size_t max_cells = 0, max_corners = cut->point_count + 1, largest = 4;
+    for (size_t i = 0; i < cut->piece_count; ++i) {
+        size_t n = cut->pieces[i].count;
+        max_cells += n <= 4 ? 1 : ngon_max_triangles(n);
+        if (n > 4) max_corners += ngon_max_points(n);
+        if (n > largest) largest = n;
     }
-    uint32_t ids[64];
-    for (size_t i = 0; i < scene->polygon_count; ++i) {
+    m->cells = rad_alloc(ctx, max_cells ? max_cells : 1, sizeof *m->cells);
+    m->corner_position = rad_alloc(ctx, max_corners, sizeof(rad_vec3));
+    m->corner_surface = rad_alloc(ctx, max_corners, sizeof(uint32_t));
+    /* Scratch for one polygon: its corner ids, and its cut (ngon.h). */
+    uint32_t *ids = rad_alloc(ctx, largest + ngon_max_points(largest), sizeof *ids);
+    rad_vec3 *extra = rad_alloc(ctx, ngon_max_points(largest), sizeof *extra);
+    uint32_t (*triangles)[3] = rad_alloc(ctx, ngon_max_triangles(largest), sizeof *triangles);
+    uint32_t *ring = rad_alloc(ctx, largest, sizeof *ring);
+    rad_status status = RAD_OK;
+    key_map weld = {0};
+    if (!m->cells || !m->corner_position || !m->corner_surface || !ids || !extra || !triangles ||
+        !ring) {
+        status = RAD_ERROR_NO_MEMORY;
+        goto done;
+    }
+
+    status = key_map_init(ctx, &weld, cut->point_count);
+    if (status) goto done;
+    /* The pieces of the polygons after the contact cuts (contact.c), in polygon order. */
+    uint32_t last_polygon = UINT32_MAX;
+    int bad = 0;
+    for (size_t piece = 0; piece < cut->piece_count; ++piece) {
+        uint32_t i = cut->pieces[piece].polygon;
         const rad_polygon *polygon = &scene->polygons[i];
-        int bad = polygon->count > 64 || rad_polygon_area(scene, polygon) <= min_area;
-        for (uint32_t k = 0; k < polygon->count && !bad; ++k) {
-            rad_vec3 p = rad_polygon_vertex(scene, polygon, k);
-            if (!isfinite(p.x) || !isfinite(p.y) || !isfinite(p.z)) bad = 1;
+        const rad_vec3 *points = cut->points + cut->pieces[piece].first;
+        uint32_t count = cut->pieces[piece].count;
+        if (i != last_polygon) {
+            last_polygon = i;
+            bad = rad_polygon_area(scene, polygon) <= min_area;
+            for (uint32_t k = 0; k < polygon->count && !bad; ++k) {
+                rad_vec3 p = rad_polygon_vertex(scene, polygon, k);
+                if (!isfinite(p.x) || !isfinite(p.y) || !isfinite(p.z)) bad = 1;
+            }
+            if (bad) m->skipped++;
         }
-        if (bad) {
-            m->skipped++;
-            continue;
-        }
-        for (uint32_t k = 0; k < polygon->count; ++k) {
-            rad_vec3 p = rad_polygon_vertex(scene, polygon, k);
+        if (bad) continue;
+        for (uint32_t k = 0; k < count; ++k) {
+            rad_vec3 p = points[k];
             /* Quantised relative to the bounds, so each coordinate fits 32 bits. */
             uint64_t qx = (uint64_t)llround((p.x - lo.x) / quantum);
             uint64_t qy = (uint64_t)llround((p.y - lo.y) / quantum);
@@ -175,22 +199,35 @@ static rad_status build_cells(mesher *m) {
                 m->corner_count++;
             }
         }
-        /* Fan anything larger than a quad into triangles. */
+        /* Anything larger than a quad is cut into triangles, peeled in rings (ngon.c). */
         rad_vec3 normal = rad_polygon_normal(scene, polygon);
-        if (polygon->count <= 4) {
-            cell c = {{ids[0], ids[1], ids[2], polygon->count == 4 ? ids[3] : RAD_NO_VERTEX},
+        if (count <= 4) {
+            cell c = {{ids[0], ids[1], ids[2], count == 4 ? ids[3] : RAD_NO_VERTEX},
                       {0}, (uint32_t)i, polygon->surface, normal};
             m->cells[m->cell_count++] = c;
-        } else {
-            for (uint32_t k = 1; k + 1 < polygon->count; ++k) {
-                cell c = {{ids[0], ids[k], ids[k + 1], RAD_NO_VERTEX}, {0}, (uint32_t)i,
-                          polygon->surface, normal};
-                m->cells[m->cell_count++] = c;
-            }
+            continue;
+        }
+        size_t added = 0;
+        size_t made = ngon_cut(points, count, normal, extra, &added, triangles, ring);
+        for (size_t k = 0; k < added; ++k) {
+            ids[count + k] = (uint32_t)m->corner_count;
+            m->corner_position[m->corner_count] = extra[k];
+            m->corner_surface[m->corner_count] = polygon->surface;
+            m->corner_count++;
+        }
+        for (size_t t = 0; t < made; ++t) {
+            cell c = {{ids[triangles[t][0]], ids[triangles[t][1]], ids[triangles[t][2]], RAD_NO_VERTEX},
+                      {0}, (uint32_t)i, polygon->surface, normal};
+            m->cells[m->cell_count++] = c;
         }
     }
+done:
     key_map_free(ctx, &weld);
-    return RAD_OK;
+    rad_free(ctx, ids);
+    rad_free(ctx, extra);
+    rad_free(ctx, triangles);
+    rad_free(ctx, ring);
+    return status;
 }
 
 /* Step 1, second half: give each welded corner one id per group of faces around it whose
@@ -545,6 +582,7 @@ static void mesher_free(mesher *m) {
     rad_free(ctx, m->edge_parent);
     rad_free(ctx, m->edge_cuts);
     rad_free(ctx, m->edge_first_vertex);
+    rad_contact_cut_destroy(ctx, m->contacts);
 }
 
 void rad_mesh_destroy(rad_mesh *mesh) {
@@ -578,6 +616,7 @@ typedef struct mesh_count {
     double grid; /* scratch vertex ids for the largest cell */
     uint32_t largest_side; /* the largest count on a triangle's side */
     double quad_elements;
+    double quad_area; /* the quads' area over the element size squared */
     double triangle_floor; /* the sum of max(1, area / element size^2) over triangles */
     double triangle_area; /* the triangles' area over the element size squared */
 } mesh_count;
@@ -603,6 +642,10 @@ static rad_status count_mesh(mesher *m, double element_size, uint32_t k, mesh_co
         if (cell_corners(q) == 4) {
             c.vertices += (nu - 1) * (nv - 1);
             c.quad_elements += nu * nv;
+            rad_vec3 p0 = m->corner_position[q->corner[0]], p1 = m->corner_position[q->corner[1]],
+                     p2 = m->corner_position[q->corner[2]], p3 = m->corner_position[q->corner[3]];
+            c.quad_area += 0.5 * v3_length(v3_cross(v3_sub(p2, p0), v3_sub(p3, p1))) /
+                           (element_size * element_size);
             c.grid = fmax(c.grid, (nu + 1) * (nv + 1));
         } else {
             rad_vec3 a = m->corner_position[q->corner[0]], b = m->corner_position[q->corner[1]],
@@ -640,11 +683,11 @@ static uint32_t set_sizes(rad_mesh_options *o, double element_size, double patch
 
 /* Re-aiming --elements N (docs/meshing.md, "What --elements N gives"). The first element size
  * is that of a square of 1/N of the area. Quads then make about N (more by rounding their edges
- * up, which stays as it is); a triangle makes more and smaller elements than its area asks for
+ * up, which stays as it is unless it exceeds QUAD_ROUNDING times their area); a triangle makes more and smaller elements than its area asks for
  * (its three quads' grids). The target is what the quads make at the first size plus the
  * triangles' area over that size squared (N itself for a scene of triangles only), and at
  * least one element per cell: a scene of more polygons than N is aimed at that floor. A scene
- * without triangles is never re-aimed. The size is scaled until the count is within
+ * without triangles whose quads round within QUAD_ROUNDING is not re-aimed. The size is scaled until the count is within
  * AIM_TOLERANCE of the target, by a secant step on log count against log size (slope -2 to
  * start: a count that follows the area), kept between the sizes known to be too fine and too
  * coarse; it stops after AIM_STEPS recounts, when those two are within AIM_GAP of each other
@@ -653,11 +696,15 @@ static uint32_t set_sizes(rad_mesh_options *o, double element_size, double patch
 #define AIM_TOLERANCE 0.05
 #define AIM_STEPS 6
 #define AIM_GAP 1.02
+#define QUAD_ROUNDING 1.1
 
 static rad_status aim_element_count(mesher *m, double patch_option, rad_mesh_options *o,
                                     uint32_t *k, mesh_count *count) {
-    if (count->elements == count->quad_elements) return RAD_OK; /* no triangles */
-    double target = fmax(count->quad_elements + count->triangle_area, (double)m->cell_count);
+    /* The quads' rounding is kept unless it overshoots their area by more than QUAD_ROUNDING
+     * (narrow quads tied in long chains: the sides of a cylinder, the columns of a sphere). */
+    double quads = fmin(count->quad_elements, QUAD_ROUNDING * count->quad_area);
+    if (count->elements == count->quad_elements && quads == count->quad_elements) return RAD_OK;
+    double target = fmax(quads + count->triangle_area, (double)m->cell_count);
     double best_size = o->element_size, best_off = fabs(count->elements - target);
     double too_fine = 0, too_coarse = INFINITY, last_size = 0, last_elements = 0;
     rad_status status = RAD_OK;
@@ -721,7 +768,8 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
     m.ctx = ctx;
     m.scene = scene;
     mesh_count count = {0};
-    rad_status status = build_cells(&m);
+    rad_status status = rad_contact_cut_create(ctx, scene, &m.contacts);
+    if (!status) status = build_cells(&m);
     if (!status && m.cell_count == 0)
         status = rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                           "%s: every face is degenerate (zero area or not finite)", scene->source);

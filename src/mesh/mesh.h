@@ -1,8 +1,9 @@
 /* mesh.h - surfaces cut into patches and patches into elements (Cohen et al. 1986).
  *
- * Each input polygon is cut into elements (quads into a grid of quads, triangles to their own
- * three side counts, mostly into three grids of quads: triangle.h; larger convex polygons are
- * fanned into triangles first). The number of cuts along an edge is shared by every polygon of
+ * The input polygons are first cut where other surfaces touch or pass through them, and the
+ * pieces hidden inside solids are dropped (contact.h). Each piece is cut into elements (quads
+ * into a grid of quads, triangles to their own three side counts, mostly into three grids of
+ * quads: triangle.h; larger convex polygons are peeled into triangles first: ngon.h). The number of cuts along an edge is shared by every polygon of
  * the surface that uses the edge, so elements of a surface share their vertices: no T-junctions
  * inside a surface. Vertices are never shared between surfaces, so a corner between two
  * surfaces keeps one value per side.

@@ -1,0 +1,418 @@
+/* contact.c - discontinuity meshing at contacts (D0; see contact.h).
+ *
+ * 1. Planes and bounds of every polygon; candidate pairs by a sweep over the bounds along x.
+ * 2. For a polygon A and a polygon B of another surface whose bounds meet: B's intersection
+ *    with A's plane (the edge of B lying in it, or the segment where B passes through it). If
+ *    that segment runs through A's interior, A is to be cut along its line.
+ * 3. Each polygon is cut by its lines in turn (a convex polygon and a line give two convex
+ *    pieces), so no piece straddles a contact.
+ * 4. A piece is hidden when, just in front of it, a ray along its normal first meets the back of
+ *    a surface S that touches the polygon and the piece lies behind every polygon of S that
+ *    touches it: the floor under a block (behind its four sides, below its top), a slab inside a
+ *    wall. Hidden pieces are dropped: they can neither receive nor send light. */
+#include "mesh/contact.h"
+
+#include "scene/rays.h"
+#include "scene/scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A polygon receives at most this many contact lines (more are ignored): a bound on the cost of
+ * step 3 for polygons touched by very many others. */
+#define MAX_LINES 64
+
+typedef struct plane_info {
+    rad_vec3 normal, lo, hi;
+    double offset; /* normal . x on the plane */
+} plane_info;
+
+typedef struct line {
+    rad_vec3 point, direction; /* in the receiver's plane; direction unit */
+} line;
+
+typedef struct contact {
+    uint32_t receiver, other;
+    line cut;
+} contact;
+
+typedef struct piece_list {
+    rad_vec3 *points;
+    uint32_t *first, *count;
+    size_t pieces, piece_capacity, used, capacity;
+} piece_list;
+
+static int grow(rad_context *ctx, void **array, size_t *capacity, size_t needed, size_t size) {
+    if (needed <= *capacity) return 0;
+    size_t next = *capacity ? *capacity : 64;
+    while (next < needed) next *= 2;
+    void *grown = rad_realloc(ctx, *array, next, size);
+    if (!grown) return 1;
+    *array = grown;
+    *capacity = next;
+    return 0;
+}
+
+static rad_status add_piece(rad_context *ctx, piece_list *list, const rad_vec3 *p, size_t n) {
+    size_t capacity = list->piece_capacity;
+    if (grow(ctx, (void **)&list->first, &capacity, list->pieces + 1, sizeof *list->first))
+        return RAD_ERROR_NO_MEMORY;
+    capacity = list->piece_capacity;
+    if (grow(ctx, (void **)&list->count, &capacity, list->pieces + 1, sizeof *list->count))
+        return RAD_ERROR_NO_MEMORY;
+    list->piece_capacity = capacity;
+    if (grow(ctx, (void **)&list->points, &list->capacity, list->used + n, sizeof *list->points))
+        return RAD_ERROR_NO_MEMORY;
+    memcpy(list->points + list->used, p, n * sizeof *p);
+    list->first[list->pieces] = (uint32_t)list->used;
+    list->count[list->pieces] = (uint32_t)n;
+    list->used += n;
+    list->pieces++;
+    return RAD_OK;
+}
+
+/* The point where the line (side values sa at a, sb at b) crosses segment ab, computed from the
+ * endpoints in a fixed order so that both pieces sharing the edge get the same point. */
+static rad_vec3 crossing(rad_vec3 a, double sa, rad_vec3 b, double sb) {
+    int swap = a.x > b.x || (a.x == b.x && (a.y > b.y || (a.y == b.y && a.z > b.z)));
+    if (swap) {
+        rad_vec3 t = a;
+        a = b, b = t;
+        double s = sa;
+        sa = sb, sb = s;
+    }
+    return v3_lerp(a, b, sa / (sa - sb));
+}
+
+static double polygon_area(const rad_vec3 *p, size_t n) {
+    rad_vec3 sum = v3(0, 0, 0);
+    for (size_t k = 0; k < n; ++k) sum = v3_add(sum, v3_cross(p[k], p[(k + 1) % n]));
+    return 0.5 * v3_length(sum);
+}
+
+/* Splits the convex polygon p by the line (side(x) = side_normal . (x - point)) into the parts
+ * on each side; points within eps of the line go to both. Returns 0 when the line misses the
+ * interior (the polygon is left whole). */
+static int split(const rad_vec3 *p, size_t n, rad_vec3 point, rad_vec3 side_normal, double eps,
+                 rad_vec3 *left, size_t *nl, rad_vec3 *right, size_t *nr) {
+    int positive = 0, negative = 0;
+    for (size_t k = 0; k < n; ++k) {
+        double s = v3_dot(side_normal, v3_sub(p[k], point));
+        positive |= s > eps;
+        negative |= s < -eps;
+    }
+    if (!positive || !negative) return 0;
+    *nl = *nr = 0;
+    for (size_t k = 0; k < n; ++k) {
+        rad_vec3 a = p[k], b = p[(k + 1) % n];
+        double sa = v3_dot(side_normal, v3_sub(a, point)), sb = v3_dot(side_normal, v3_sub(b, point));
+        if (fabs(sa) <= eps) sa = 0;
+        if (fabs(sb) <= eps) sb = 0;
+        if (sa >= 0) left[(*nl)++] = a;
+        if (sa <= 0) right[(*nr)++] = a;
+        if ((sa > 0 && sb < 0) || (sa < 0 && sb > 0)) {
+            rad_vec3 x = crossing(a, sa, b, sb);
+            left[(*nl)++] = x;
+            right[(*nr)++] = x;
+        }
+    }
+    return *nl >= 3 && *nr >= 3;
+}
+
+/* Step 2: B's intersection with A's plane, clipped to A's interior (eps inside its edges).
+ * Returns 1 with the line when it runs through A; 2 when B lies in A's plane. */
+static int contact_line(const rad_scene *scene, const plane_info *info, uint32_t a, uint32_t b,
+                        double eps, line *out) {
+    const rad_polygon *pa = &scene->polygons[a], *pb = &scene->polygons[b];
+    const plane_info *A = &info[a], *B = &info[b];
+    rad_vec3 points[2 * 64 + 2];
+    size_t count = 0;
+    int above = 0, below = 0;
+    uint32_t n = pb->count;
+    if (n > 64) return 0;
+    double dist[64];
+    for (uint32_t k = 0; k < n; ++k) {
+        dist[k] = v3_dot(A->normal, rad_polygon_vertex(scene, pb, k)) - A->offset;
+        if (dist[k] > eps) above = 1;
+        else if (dist[k] < -eps) below = 1;
+        else dist[k] = 0;
+    }
+    if (!above && !below) return 2;
+    if (above && below) {
+        for (uint32_t k = 0; k < n; ++k) {
+            double s = dist[k], t = dist[(k + 1) % n];
+            if (s == 0) points[count++] = rad_polygon_vertex(scene, pb, k);
+            if ((s > 0 && t < 0) || (s < 0 && t > 0))
+                points[count++] = crossing(rad_polygon_vertex(scene, pb, k), s,
+                                           rad_polygon_vertex(scene, pb, (k + 1) % n), t);
+        }
+    } else {
+        for (uint32_t k = 0; k < n; ++k)
+            if (dist[k] == 0) points[count++] = rad_polygon_vertex(scene, pb, k);
+    }
+    if (count < 2) return 0;
+    rad_vec3 direction = v3_cross(A->normal, B->normal);
+    if (v3_length(direction) < 1e-6) return 0;
+    direction = v3_normalize(direction);
+    double t0 = INFINITY, t1 = -INFINITY;
+    rad_vec3 origin = points[0];
+    for (size_t k = 0; k < count; ++k) {
+        double t = v3_dot(v3_sub(points[k], origin), direction);
+        t0 = fmin(t0, t), t1 = fmax(t1, t);
+    }
+    /* Onto A's plane, then clipped against each edge of A moved eps inward. */
+    origin = v3_sub(origin, v3_scale(A->normal, v3_dot(A->normal, origin) - A->offset));
+    for (uint32_t k = 0; k < pa->count && t0 < t1; ++k) {
+        rad_vec3 p = rad_polygon_vertex(scene, pa, k), q = rad_polygon_vertex(scene, pa, (k + 1) % pa->count);
+        rad_vec3 inward = v3_normalize(v3_cross(A->normal, v3_sub(q, p)));
+        double at = v3_dot(inward, v3_sub(origin, p)) - eps, slope = v3_dot(inward, direction);
+        if (fabs(slope) < 1e-12) {
+            if (at < 0) return 0;
+            continue;
+        }
+        double t = -at / slope;
+        if (slope > 0) t0 = fmax(t0, t);
+        else t1 = fmin(t1, t);
+    }
+    if (!(t1 - t0 > eps)) return 0;
+    out->point = v3_add(origin, v3_scale(direction, 0.5 * (t0 + t1)));
+    out->direction = direction;
+    return 1;
+}
+
+/* Is the corner mean of polygon b inside polygon a (eps within its edges, in a's plane)? */
+static int inside(const rad_scene *scene, const plane_info *info, uint32_t a, uint32_t b, double eps) {
+    const rad_polygon *pa = &scene->polygons[a], *pb = &scene->polygons[b];
+    rad_vec3 centre = v3(0, 0, 0);
+    for (uint32_t k = 0; k < pb->count; ++k) centre = v3_add(centre, rad_polygon_vertex(scene, pb, k));
+    centre = v3_scale(centre, 1.0 / pb->count);
+    for (uint32_t k = 0; k < pa->count; ++k) {
+        rad_vec3 p = rad_polygon_vertex(scene, pa, k), q = rad_polygon_vertex(scene, pa, (k + 1) % pa->count);
+        rad_vec3 inward = v3_normalize(v3_cross(info[a].normal, v3_sub(q, p)));
+        if (v3_dot(inward, v3_sub(centre, p)) < eps) return 0;
+    }
+    return 1;
+}
+
+static int by_receiver(const void *x, const void *y) {
+    const contact *a = x, *b = y;
+    if (a->receiver != b->receiver) return a->receiver < b->receiver ? -1 : 1;
+    return a->other < b->other ? -1 : a->other > b->other;
+}
+
+static const plane_info *sort_info;
+static int by_low_x(const void *x, const void *y) {
+    double a = sort_info[*(const uint32_t *)x].lo.x, b = sort_info[*(const uint32_t *)y].lo.x;
+    return a < b ? -1 : a > b;
+}
+
+void rad_contact_cut_destroy(rad_context *ctx, rad_contact_cut *cut) {
+    if (!cut) return;
+    rad_free(ctx, cut->pieces);
+    rad_free(ctx, cut->points);
+    rad_free(ctx, cut);
+}
+
+/* Step 4 for one piece of polygon `receiver`, whose contacts are list[0 .. count-1]. */
+static int hidden(const rad_scene *scene, const rad_rays *rays, const plane_info *info,
+                  const contact *list, size_t count, const rad_vec3 *p, size_t n, double eps) {
+    rad_vec3 centre = v3(0, 0, 0);
+    for (size_t k = 0; k < n; ++k) centre = v3_add(centre, p[k]);
+    centre = v3_scale(centre, 1.0 / (double)n);
+    rad_vec3 normal = info[list[0].receiver].normal;
+    rad_hit hit;
+    if (!rad_rays_intersect(rays, v3_add(centre, v3_scale(normal, 4 * rays->epsilon)), normal,
+                            rays->epsilon, INFINITY, &hit) || hit.front)
+        return 0;
+    uint32_t solid = scene->polygons[hit.polygon].surface;
+    int touching = 0;
+    for (size_t i = 0; i < count; ++i) {
+        const plane_info *B = &info[list[i].other];
+        if (scene->polygons[list[i].other].surface != solid) continue;
+        touching++;
+        if (v3_dot(B->normal, centre) - B->offset > -eps) return 0;
+    }
+    return touching > 0;
+}
+
+rad_status rad_contact_cut_create(rad_context *ctx, const rad_scene *scene, rad_contact_cut **out) {
+    *out = NULL;
+    size_t np = scene->polygon_count;
+    rad_vec3 lo, hi;
+    rad_scene_bounds(scene, &lo, &hi);
+    double diagonal = v3_length(v3_sub(hi, lo));
+    double eps = diagonal > 0 ? 1e-6 * diagonal : 1e-9;
+    plane_info *info = rad_alloc(ctx, np + 1, sizeof *info);
+    uint32_t *order = rad_alloc(ctx, np + 1, sizeof *order);
+    contact *contacts = NULL;
+    size_t contact_count = 0, contact_capacity = 0, largest = 3;
+    rad_contact_cut *cut = rad_alloc_zero(ctx, 1, sizeof *cut);
+    piece_list list = {0}, work = {0};
+    rad_vec3 *left = NULL, *right = NULL;
+    rad_rays *rays = NULL;
+    rad_status status = RAD_OK;
+    uint32_t coplanar[2] = {0, 0};
+    if (!info || !order || !cut) {
+        status = RAD_ERROR_NO_MEMORY;
+        goto done;
+    }
+    /* Step 1. */
+    for (size_t i = 0; i < np; ++i) {
+        const rad_polygon *polygon = &scene->polygons[i];
+        plane_info *p = &info[i];
+        p->normal = rad_polygon_normal(scene, polygon);
+        p->lo = v3(INFINITY, INFINITY, INFINITY);
+        p->hi = v3(-INFINITY, -INFINITY, -INFINITY);
+        rad_vec3 sum = v3(0, 0, 0);
+        for (uint32_t k = 0; k < polygon->count; ++k) {
+            rad_vec3 q = rad_polygon_vertex(scene, polygon, k);
+            sum = v3_add(sum, q);
+            p->lo = v3(fmin(p->lo.x, q.x), fmin(p->lo.y, q.y), fmin(p->lo.z, q.z));
+            p->hi = v3(fmax(p->hi.x, q.x), fmax(p->hi.y, q.y), fmax(p->hi.z, q.z));
+        }
+        p->offset = v3_dot(p->normal, v3_scale(sum, 1.0 / polygon->count));
+        if (polygon->count > largest) largest = polygon->count;
+        order[i] = (uint32_t)i;
+    }
+    sort_info = info;
+    qsort(order, np, sizeof *order, by_low_x);
+    /* Step 2: pairs whose bounds meet (sweep along x). */
+    for (size_t s = 0; s < np && !status; ++s) {
+        uint32_t a = order[s];
+        if (!isfinite(info[a].offset) || scene->polygons[a].count > 64) continue;
+        for (size_t t = s + 1; t < np && info[order[t]].lo.x <= info[a].hi.x + eps; ++t) {
+            uint32_t b = order[t];
+            if (scene->polygons[a].surface == scene->polygons[b].surface) continue;
+            if (!isfinite(info[b].offset) || scene->polygons[b].count > 64) continue;
+            if (info[b].lo.y > info[a].hi.y + eps || info[a].lo.y > info[b].hi.y + eps ||
+                info[b].lo.z > info[a].hi.z + eps || info[a].lo.z > info[b].hi.z + eps)
+                continue;
+            for (int way = 0; way < 2 && !status; ++way) {
+                uint32_t receiver = way ? b : a, other = way ? a : b;
+                line l;
+                int kind = contact_line(scene, info, receiver, other, eps, &l);
+                if (kind == 2) {
+                    /* Coplanar: overlapping when the centre of one lies inside the other;
+                     * recorded for the note only. */
+                    if (way == 0 && (inside(scene, info, a, b, eps) || inside(scene, info, b, a, eps))) {
+                        if (!cut->coplanar_pairs) coplanar[0] = receiver, coplanar[1] = other;
+                        cut->coplanar_pairs++;
+                    }
+                    break;
+                }
+                if (kind != 1) continue;
+                if (grow(ctx, (void **)&contacts, &contact_capacity, contact_count + 1, sizeof *contacts)) {
+                    status = RAD_ERROR_NO_MEMORY;
+                    break;
+                }
+                contacts[contact_count++] = (contact){receiver, other, l};
+            }
+        }
+    }
+    if (status) goto done;
+    qsort(contacts, contact_count, sizeof *contacts, by_receiver);
+    /* Rays for step 4, only when something was cut. */
+    if (contact_count) status = rad_rays_create(ctx, scene, &rays);
+    size_t split_room = (largest + MAX_LINES + 2) * 2;
+    left = rad_alloc(ctx, split_room, sizeof *left);
+    right = rad_alloc(ctx, split_room, sizeof *right);
+    if (!status && (!left || !right)) status = RAD_ERROR_NO_MEMORY;
+    /* Step 3 and 4, polygon by polygon, into the output pieces. */
+    size_t next_contact = 0;
+    size_t piece_capacity = 0;
+    for (size_t i = 0; i < np && !status; ++i) {
+        const rad_polygon *polygon = &scene->polygons[i];
+        size_t first_contact = next_contact;
+        while (next_contact < contact_count && contacts[next_contact].receiver == i) next_contact++;
+        size_t lines = next_contact - first_contact;
+        work.pieces = work.used = 0;
+        rad_vec3 corners[64];
+        const rad_vec3 *whole = corners;
+        rad_vec3 *big = NULL;
+        if (polygon->count > 64) {
+            big = rad_alloc(ctx, polygon->count, sizeof *big);
+            if (!big) {
+                status = RAD_ERROR_NO_MEMORY;
+                break;
+            }
+            whole = big;
+        }
+        for (uint32_t k = 0; k < polygon->count; ++k)
+            (big ? big : corners)[k] = rad_polygon_vertex(scene, polygon, k);
+        status = add_piece(ctx, &work, whole, polygon->count);
+        rad_free(ctx, big);
+        size_t made = 0;
+        for (size_t c = first_contact; c < next_contact && made < MAX_LINES && !status; ++c) {
+            line l = contacts[c].cut;
+            int seen = 0; /* the same line from another polygon (a block's side and its top) */
+            for (size_t d = first_contact; d < c && !seen; ++d) {
+                line o = contacts[d].cut;
+                seen = v3_length(v3_cross(o.direction, l.direction)) < 1e-9 &&
+                       v3_length(v3_cross(v3_sub(l.point, o.point), o.direction)) < eps;
+            }
+            if (seen) continue;
+            made++;
+            rad_vec3 side = v3_cross(info[i].normal, l.direction);
+            size_t pieces = work.pieces;
+            for (size_t w = 0; w < pieces && !status; ++w) {
+                size_t nl, nr;
+                if (work.count[w] == 0) continue;
+                if (work.count[w] + 2 > split_room / 2) continue;
+                if (!split(work.points + work.first[w], work.count[w], l.point, side, eps, left, &nl,
+                           right, &nr))
+                    continue;
+                if (polygon_area(left, nl) <= eps * eps || polygon_area(right, nr) <= eps * eps) continue;
+                work.count[w] = 0; /* replaced by its two halves */
+                status = add_piece(ctx, &work, left, nl);
+                if (!status) status = add_piece(ctx, &work, right, nr);
+            }
+        }
+        if (made) cut->cut_polygons++, cut->contact_lines += made;
+        for (size_t w = 0; w < work.pieces && !status; ++w) {
+            if (work.count[w] == 0) continue;
+            const rad_vec3 *p = work.points + work.first[w];
+            if (made && hidden(scene, rays, info, contacts + first_contact, lines, p, work.count[w], eps)) {
+                cut->hidden_pieces++;
+                cut->hidden_area += polygon_area(p, work.count[w]);
+                continue;
+            }
+            status = add_piece(ctx, &list, p, work.count[w]);
+            if (status) break;
+            if (grow(ctx, (void **)&cut->pieces, &piece_capacity, list.pieces, sizeof *cut->pieces)) {
+                status = RAD_ERROR_NO_MEMORY;
+                break;
+            }
+            cut->pieces[list.pieces - 1] = (rad_contact_piece){(uint32_t)i, list.first[list.pieces - 1],
+                                                               list.count[list.pieces - 1]};
+        }
+    }
+    if (status) goto done;
+    cut->piece_count = list.pieces;
+    cut->points = list.points;
+    cut->point_count = list.used;
+    list.points = NULL;
+    if (cut->coplanar_pairs)
+        rad_warn(ctx, "%s: surfaces '%s' and '%s' overlap in one plane (%zu pairs of polygons); "
+                 "they are meshed as they are and may flicker in renders",
+                 scene->source, scene->surfaces[scene->polygons[coplanar[0]].surface].name,
+                 scene->surfaces[scene->polygons[coplanar[1]].surface].name, cut->coplanar_pairs);
+    *out = cut;
+    cut = NULL;
+done:
+    if (status == RAD_ERROR_NO_MEMORY) status = rad_fail(ctx, status, "out of memory cutting contacts");
+    rad_rays_destroy(rays);
+    rad_free(ctx, info);
+    rad_free(ctx, order);
+    rad_free(ctx, contacts);
+    rad_free(ctx, list.points);
+    rad_free(ctx, list.first);
+    rad_free(ctx, list.count);
+    rad_free(ctx, work.points);
+    rad_free(ctx, work.first);
+    rad_free(ctx, work.count);
+    rad_free(ctx, left);
+    rad_free(ctx, right);
+    rad_contact_cut_destroy(ctx, cut);
+    return status;
+}

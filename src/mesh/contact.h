@@ -1,0 +1,46 @@
+/* contact.h - discontinuity meshing at contacts (D0): the scene's polygons cut along the lines
+ * where other surfaces touch or pass through them, and the pieces hidden inside solids dropped
+ * (docs/meshing.md, "Contacts"; Baum, Mann, Smith and Winget 1991; Heckbert 1992; Lischinski,
+ * Tampieri and Greenberg 1992).
+ *
+ * The mesher cuts these pieces instead of the input polygons, so no element straddles a
+ * contact; any other method that wants the same roots (the hierarchical solver's quadtrees)
+ * calls rad_contact_cut_create on the scene and takes its pieces. */
+#ifndef RAD_MESH_CONTACT_H
+#define RAD_MESH_CONTACT_H
+
+#include "core/context.h"
+#include "core/vec3.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+struct rad_scene;
+
+/* A convex piece of input polygon `polygon` (same surface, same orientation): points
+ * first .. first + count - 1 of the cut, counter-clockwise seen from its front. */
+typedef struct rad_contact_piece {
+    uint32_t polygon;
+    uint32_t first, count;
+} rad_contact_piece;
+
+typedef struct rad_contact_cut {
+    size_t piece_count;
+    rad_contact_piece *pieces; /* in polygon order; an uncut polygon is one piece */
+    size_t point_count;
+    rad_vec3 *points;
+    size_t cut_polygons;  /* input polygons cut by at least one contact line */
+    size_t contact_lines; /* lines cut along, over all polygons */
+    size_t hidden_pieces; /* pieces dropped: inside a solid standing on or passing through */
+    double hidden_area;
+    size_t coplanar_pairs; /* polygons of two surfaces overlapping in one plane (not cut) */
+} rad_contact_cut;
+
+/* Finds the contacts of every polygon with the polygons of other surfaces and cuts. Polygons
+ * the mesher would skip (zero area, not finite) are passed on uncut. Warns once, naming the
+ * first two surfaces, when surfaces overlap coplanar (they are left as they are). */
+rad_status rad_contact_cut_create(rad_context *ctx, const struct rad_scene *scene,
+                                  rad_contact_cut **out);
+void rad_contact_cut_destroy(rad_context *ctx, rad_contact_cut *cut);
+
+#endif
