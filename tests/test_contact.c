@@ -10,7 +10,7 @@
 #include "mesh/mesh.h"
 #include "radiosity.h"
 #include "scene/scene.h"
-#include "solve/system.h"
+#include "system/system.h"
 #include "test.h"
 
 #include <stdlib.h>
