@@ -28,7 +28,7 @@ check "stage order" test "$(grep -oE '^radiosity: \[[a-z]+\]' err | tr '\n' ' ')
 check "render: nothing on stdout" test ! -s out
 
 # --time-budget stops the solve (a tolerance that is never reached) and still renders.
-"$radiosity" render cornell -o t.png --width 16 --height 16 --spp 1 --elements 300 \
+"$radiosity" render cornell -o t.png --width 16 --height 16 --spp 1 --elements 2000 \
     --tolerance 1e-300 --time-budget 0.3 >out 2>err
 check "render --time-budget exits 0" test $? -eq 0
 check "render --time-budget stopped the solve" grep -q '^radiosity: \[solve\] shooting, .*not converged' err
