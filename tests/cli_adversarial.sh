@@ -31,6 +31,11 @@ for file in "$sample"/*; do
     case $(basename "$file") in
     LICENSE*) continue ;;
     ok-*) expect 0 '' -- "$radiosity" solve "$file" --quiet --threads 1 --elements 100 ;;
+    # These two make assimp read past an array: whether that faults depends on the memory
+    # layout (in the sanitizer build it reads garbage and finds no faces). Either way: one line.
+    Overflowing*Index.md5mesh)
+        expect 1 'assimp could not read it (it crashed: SIG\|the scene has no faces' -- \
+            "$radiosity" solve "$file" --quiet --threads 1 ;;
     *) expect 1 "assimp could not read it (it crashed: SIG" -- \
            "$radiosity" solve "$file" --quiet --threads 1 ;;
     esac

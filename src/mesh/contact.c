@@ -64,7 +64,7 @@ static rad_status add_piece(rad_context *ctx, piece_list *list, const rad_vec3 *
     list->piece_capacity = capacity;
     if (grow(ctx, (void **)&list->points, &list->capacity, list->used + n, sizeof *list->points))
         return RAD_ERROR_NO_MEMORY;
-    memcpy(list->points + list->used, p, n * sizeof *p);
+    if (n) memcpy(list->points + list->used, p, n * sizeof *p);
     list->first[list->pieces] = (uint32_t)list->used;
     list->count[list->pieces] = (uint32_t)n;
     list->used += n;
@@ -276,7 +276,7 @@ rad_status rad_contact_cut_create(rad_context *ctx, const rad_scene *scene, rad_
         order[i] = (uint32_t)i;
     }
     sort_info = info;
-    qsort(order, np, sizeof *order, by_low_x);
+    if (np) qsort(order, np, sizeof *order, by_low_x);
     /* Step 2: pairs whose bounds meet (sweep along x). */
     for (size_t s = 0; s < np && !status; ++s) {
         uint32_t a = order[s];
@@ -311,7 +311,7 @@ rad_status rad_contact_cut_create(rad_context *ctx, const rad_scene *scene, rad_
         }
     }
     if (status) goto done;
-    qsort(contacts, contact_count, sizeof *contacts, by_receiver);
+    if (contact_count) qsort(contacts, contact_count, sizeof *contacts, by_receiver);
     /* Rays for step 4, only when something was cut. */
     if (contact_count) status = rad_rays_create(ctx, scene, &rays);
     size_t split_room = (largest + MAX_LINES + 2) * 2;
