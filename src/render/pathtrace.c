@@ -202,15 +202,6 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
 
 /* ---- the image ---------------------------------------------------------------------------- */
 
-static rad_camera camera_from_desc(const rad_camera_desc *d) {
-    rad_camera c;
-    c.eye = v3(d->eye[0], d->eye[1], d->eye[2]);
-    c.look = v3(d->look[0], d->look[1], d->look[2]);
-    c.up = v3(d->up[0], d->up[1], d->up[2]);
-    c.fov_degrees = d->fov_degrees;
-    return c;
-}
-
 /* Before any work: primary rays through a grid over the image must see the front of
  * something. */
 static rad_status check_view(const rad_tracer *t, const rad_view *view) {
@@ -254,7 +245,7 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
     if (!scene->geometric)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "%s: path tracing needs geometry, not a patch system", scene->source);
-    rad_camera camera = o.camera ? camera_from_desc(o.camera) : rad_scene_camera(scene);
+    rad_camera camera = o.camera ? rad_camera_from_desc(o.camera) : rad_scene_camera(scene);
     rad_view view;
     rad_status status = rad_view_make(ctx, &camera, width, height, &view);
     if (status) return status;
