@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
-"""Compares two linear images (.pfm) in square blocks, the way issue 16 measures the contact
-bands: the relative error of each block's mean (RGB mean) against the reference.
+"""Compares two linear images (.pfm) in square blocks, the way issue 16 measures images: the
+relative error of each block's mean (RGB mean) against a far-converged reference.
 
-usage: block_compare.py TEST.pfm REF.pfm [--emitter Y] [--worst N]
+usage: block_compare.py TEST.pfm REF.pfm [--blocks 4,8,16] [--emitter Y] [--worst N]
 
-Prints the block relative RMSE at 4x4, the worst 8x8 block and how many 8x8 blocks are off by
-more than 4%. Blocks holding a reference pixel brighter than Y (default 2.0: the light, whose
-radiance is far above any lit wall's) are left out."""
+For each block size: the relative RMSE over the blocks, the worst block (with its top-left
+corner, counted from the top left of the image) and how many blocks are off by more than 4%;
+then the N worst blocks of the second size given (8 by default). Blocks holding a reference pixel
+brighter than Y (default 2.0: the Cornell light, whose radiance is far above any lit wall's) are
+left out; `--emitter inf` keeps every block. Blocks whose reference is black are left out too.
+Pure Python (no numpy): small images only."""
 import math
 import struct
 import sys
@@ -15,12 +18,15 @@ import sys
 def read_pfm(path):
     with open(path, "rb") as f:
         kind = f.readline().strip()
+        if kind not in (b"PF", b"Pf"):
+            sys.exit(f"{path}: not a PFM")
         width, height = map(int, f.readline().split())
         scale = float(f.readline())
         channels = 3 if kind == b"PF" else 1
         data = f.read()
     endian = "<" if scale < 0 else ">"
-    values = struct.unpack("%s%df" % (endian, width * height * channels), data[:4 * width * height * channels])
+    count = width * height * channels
+    values = struct.unpack("%s%df" % (endian, count), data[:4 * count])
     grey = [sum(values[i * channels:(i + 1) * channels]) / channels for i in range(width * height)]
     return width, height, grey  # rows bottom to top, as stored
 
@@ -36,33 +42,47 @@ def blocks(width, height, test, ref, size, emitter):
                     t += test[y * width + x]
                     r += ref[y * width + x]
                     bright |= ref[y * width + x] > emitter
-            if bright or r <= 0:
+            if bright or r <= 1e-6 * size * size:
                 continue
-            out.append(((t - r) / r, bx, height - by - size))  # top-left corner, from the top
+            out.append(((t - r) / r, bx, height - by - size))
     return out
+
+
+def option(args, name, default):
+    return args[args.index(name) + 1] if name in args else default
 
 
 def main():
     args = sys.argv[1:]
     if len(args) < 2:
         sys.exit(__doc__)
-    emitter = float(args[args.index("--emitter") + 1]) if "--emitter" in args else 2.0
-    worst = int(args[args.index("--worst") + 1]) if "--worst" in args else 5
+    emitter = float(option(args, "--emitter", "2.0"))
+    worst = int(option(args, "--worst", "5"))
+    sizes = [int(b) for b in option(args, "--blocks", "4,8,16").split(",")]
     wt, ht, test = read_pfm(args[0])
     wr, hr, ref = read_pfm(args[1])
     if (wt, ht) != (wr, hr):
-        sys.exit("sizes differ")
-    b4 = blocks(wt, ht, test, ref, 4, emitter)
-    rmse = math.sqrt(sum(e * e for e, _, _ in b4) / len(b4))
-    b8 = blocks(wt, ht, test, ref, 8, emitter)
-    b8.sort(key=lambda b: -abs(b[0]))
-    mean_t = sum(test) / len(test)
-    mean_r = sum(ref) / len(ref)
-    print("mean %+.2f%%  4x4 block rel RMSE %.2f%%  8x8 worst %+.1f%%  8x8 over 4%%: %d of %d"
-          % (100 * (mean_t / mean_r - 1), 100 * rmse, 100 * b8[0][0],
-             sum(1 for b in b8 if abs(b[0]) > 0.04), len(b8)))
-    for e, x, y in b8[:worst]:
-        print("  8x8 block at x %3d y %3d (from the top left): %+.1f%%" % (x, y, 100 * e))
+        sys.exit("the images differ in size")
+    mean_t, mean_r = sum(test) / len(test), sum(ref) / len(ref)
+    print(f"mean {mean_t:.6g} vs {mean_r:.6g} ({100 * (mean_t / mean_r - 1):+.3f}%)")
+    listed = None
+    for size in sizes:
+        found = blocks(wt, ht, test, ref, size, emitter)
+        if not found:
+            print(f"{size}x{size} blocks: none to compare")
+            continue
+        found.sort(key=lambda b: -abs(b[0]))
+        rmse = math.sqrt(sum(e * e for e, _, _ in found) / len(found))
+        e, x, y = found[0]
+        over = sum(1 for b in found if abs(b[0]) > 0.04)
+        print(f"{size}x{size} blocks: relative RMSE {100 * rmse:.2f}%, worst {100 * e:+.1f}% "
+              f"at x {x} y {y}, {over} of {len(found)} off by more than 4%")
+        if listed is None or size == sizes[min(1, len(sizes) - 1)]:
+            listed = (size, found)
+    if listed:
+        size, found = listed
+        for e, x, y in found[:worst]:
+            print(f"  {size}x{size} block at x {x:3d} y {y:3d}: {100 * e:+.1f}%")
 
 
 if __name__ == "__main__":
