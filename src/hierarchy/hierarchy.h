@@ -97,9 +97,4 @@ void rad_hier_radiosity_at(const rad_hier *hier, uint32_t polygon, rad_vec3 x, d
 /* The root a node belongs to. */
 uint32_t rad_hier_root_of(const rad_hier *hier, uint32_t node);
 
-/* A copy of a geometric scene's geometry and materials (names included), for solvers that need
- * the input polygons after the scene itself is gone. */
-rad_status rad_hier_scene_copy(rad_context *ctx, const struct rad_scene *scene,
-                               struct rad_scene **out);
-
 #endif

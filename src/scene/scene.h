@@ -78,6 +78,10 @@ struct rad_scene {
 /* An empty scene of either kind. */
 rad_status rad_scene_new(rad_context *ctx, int geometric, const char *source, rad_scene **out);
 
+/* A copy of a geometric scene's geometry and materials (names included), for what needs the
+ * input polygons after the scene itself is gone (the system keeps one; scene_copy.c). */
+rad_status rad_scene_copy_geometry(rad_context *ctx, const rad_scene *scene, rad_scene **out);
+
 /* Builders for geometric scenes. Indices of the new item go to *index (may be NULL). */
 rad_status rad_scene_add_material(rad_scene *scene, const rad_material *material, uint32_t *index);
 rad_status rad_scene_add_surface(rad_scene *scene, const char *name, uint32_t material,

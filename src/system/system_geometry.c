@@ -3,7 +3,6 @@
 #include "system/system.h"
 
 #include "formfactor/geometric.h"
-#include "hierarchy/hierarchy.h"
 #include "scene/scene.h"
 
 #include <string.h>
@@ -57,7 +56,7 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
     rad_system_finish_areas(s);
     if (!status) status = rad_system_check_finite(s, scene->source);
     if (!status) status = rad_ff_create(ctx, scene, mesh, ff_options, &s->ff);
-    if (!status) status = rad_hier_scene_copy(ctx, scene, &s->geometry);
+    if (!status) status = rad_scene_copy_geometry(ctx, scene, &s->geometry);
     if (status) {
         rad_system_destroy(s);
         return status;

@@ -1,8 +1,6 @@
-/* scene_copy.c - a private copy of a geometric scene's geometry and materials, kept by the
+/* scene_copy.c - a copy of a geometric scene's geometry and materials (scene.h), kept by the
  * system so that the hierarchical solver can build its quadtrees and rays from the input
  * polygons after the caller has destroyed the scene. */
-#include "hierarchy/hierarchy.h"
-
 #include "scene/scene.h"
 
 #include <string.h>
@@ -19,7 +17,7 @@ static void *copy_array(rad_context *ctx, const void *items, size_t count, size_
     return copy;
 }
 
-rad_status rad_hier_scene_copy(rad_context *ctx, const rad_scene *scene, rad_scene **out) {
+rad_status rad_scene_copy_geometry(rad_context *ctx, const rad_scene *scene, rad_scene **out) {
     *out = NULL;
     rad_scene *copy = NULL;
     rad_status status = rad_scene_new(ctx, 1, scene->source, &copy);
