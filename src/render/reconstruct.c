@@ -210,7 +210,7 @@ rad_status rad_reconstruct_prepare(rad_renderer *r) {
         rad_system_display_radiosity(s, e, r->settings.ambient, b);
         for (int c = 0; c < 3; ++c) {
             r->element_radiance[e][c] = (float)b[c] * to_radiance;
-            r->element_emission[e][c] = (float)s->emission[e][c] * to_radiance;
+            r->element_emission[e][c] = (float)rad_system_own_emission(s, e, c) * to_radiance;
             r->element_reflectance[e][c] = (float)s->reflectance[e][c];
         }
     }

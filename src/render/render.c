@@ -34,6 +34,7 @@ void rad_renderer_destroy(rad_renderer *r) {
     rad_free(ctx, r->surface_material);
     rad_emitter_table_free(ctx, &r->emitters);
     rad_free(ctx, r->element_emitter);
+    rad_lights_free(ctx, r->lights, r->light_count);
     rad_free(ctx, r->fit_vertex);
     rad_free(ctx, r->fit_first);
     rad_free(ctx, r->fit_size);
@@ -162,7 +163,10 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
         r->surface_material[s] = scene->materials[scene->surfaces[s].material];
         r->surface_material[s].name = NULL; /* the scene may go away */
     }
-    status = rad_element_rays_create(ctx, mesh, &r->rays);
+    r->sky = scene->sky;
+    status = rad_lights_copy(ctx, scene->lights, scene->light_count, &r->lights);
+    if (!status) r->light_count = scene->light_count;
+    if (!status) status = rad_element_rays_create(ctx, mesh, &r->rays);
     if (!status) status = rad_emitters_build(r);
     if (!status) status = rad_reconstruct_build(r);
     if (!status) status = probe_camera(r);
