@@ -30,16 +30,20 @@ typedef struct ies_reader {
     int line;
 } ies_reader;
 
-/* The next line (without its end) into [*start, *stop); zero at the end of the text. */
+/* The next line (without its end) into [*start, *stop); its number, or zero at the end of the
+ * text. r->line is always the line of r->p. */
 static int next_line(ies_reader *r, const char **start, const char **stop) {
     if (r->p >= r->end) return 0;
+    int line = r->line;
     *start = r->p;
     while (r->p < r->end && *r->p != '\n') ++r->p;
     *stop = r->p;
     if (*stop > *start && (*stop)[-1] == '\r') --*stop;
-    if (r->p < r->end) ++r->p;
-    ++r->line;
-    return 1;
+    if (r->p < r->end) {
+        ++r->p;
+        ++r->line;
+    }
+    return line;
 }
 
 /* The next number, blanks and commas between; fails with file:line naming `what`. */
@@ -50,9 +54,10 @@ static rad_status next_number(ies_reader *r, const char *what, double *out) {
             if (*r->p == '\n') ++r->line;
             ++r->p;
         }
-        if (r->p >= r->end)
+        if (r->p >= r->end) /* named by its last line, not the empty one after it */
             return rad_fail(r->ctx, RAD_ERROR_PARSE, "%s:%d: the file ends where %s should be",
-                            r->source, r->line, what);
+                            r->source, r->line > 1 && r->p[-1] == '\n' ? r->line - 1 : r->line,
+                            what);
         break;
     }
     char word[64];
@@ -111,8 +116,9 @@ static rad_status parse(ies_reader *r, rad_ies_profile *profile) {
     rad_context *ctx = r->ctx;
     /* Header lines up to TILT=. */
     const char *start, *stop;
-    int tilt = 0;
-    while (next_line(r, &start, &stop)) {
+    int tilt = 0, line, last = 1;
+    while ((line = next_line(r, &start, &stop))) {
+        last = line;
         if (stop - start >= 5 && strncmp(start, "TILT=", 5) == 0) {
             const char *value = start + 5;
             size_t length = (size_t)(stop - value);
@@ -123,7 +129,7 @@ static rad_status parse(ies_reader *r, rad_ies_profile *profile) {
                 tilt = 2;
             } else {
                 return rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: TILT=%.*s: tilt files are not "
-                                "read; use TILT=NONE or TILT=INCLUDE", r->source, r->line,
+                                "read; use TILT=NONE or TILT=INCLUDE", r->source, line,
                                 (int)(length > 60 ? 60 : length), value);
             }
             break;
@@ -131,7 +137,7 @@ static rad_status parse(ies_reader *r, rad_ies_profile *profile) {
     }
     if (!tilt)
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: no TILT= line: not an IES LM-63 file",
-                        r->source, r->line);
+                        r->source, last);
     rad_status status = RAD_OK;
     double value;
     if (tilt == 2) {
@@ -200,7 +206,7 @@ rad_status rad_ies_parse(rad_context *ctx, const char *text, size_t length, cons
     *out = NULL;
     rad_ies_profile *profile = rad_alloc_zero(ctx, 1, sizeof *profile);
     if (!profile) return RAD_ERROR_NO_MEMORY;
-    ies_reader r = {ctx, text, text + length, source ? source : "IES", 0};
+    ies_reader r = {ctx, text, text + length, source ? source : "IES", 1};
     rad_status status = parse(&r, profile);
     if (status) {
         rad_ies_free(ctx, profile);
