@@ -109,7 +109,10 @@ int cmd_formfactors(int argc, char **argv) {
     rad_system *system = NULL;
     double *matrix = NULL;
     rad_mesh_options mesh = {a.patch_size, a.element_size, a.elements};
-    rad_ff_options ff = {(rad_ff_method)method, a.ff_samples, a.hemicube_res};
+    rad_options own = {0};
+    cli_ff_option(&own, (rad_ff_method)method, "ff-samples", a.ff_samples);
+    cli_ff_option(&own, (rad_ff_method)method, "hemicube-res", a.hemicube_res);
+    rad_ff_options ff = {(rad_ff_method)method, 0, 0, &own};
     double start = cli_seconds();
     int exit_status = 0;
     rad_status rs = cli_load_scene(ctx, positional[0], &scene);

@@ -255,7 +255,10 @@ int cmd_solve(int argc, char **argv) {
     /* The same rule as render's: a bad value is a usage error (2). */
     if ((status = cli_pipeline_check_values("solve", &a.pipe))) return status;
     rad_mesh_options mesh = {a.pipe.patch_size, a.pipe.element_size, a.pipe.elements};
-    rad_ff_options ff = {(rad_ff_method)ff_method, a.pipe.ff_samples, a.pipe.hemicube_res};
+    rad_options ff_options = {0};
+    cli_ff_option(&ff_options, (rad_ff_method)ff_method, "ff-samples", a.pipe.ff_samples);
+    cli_ff_option(&ff_options, (rad_ff_method)ff_method, "hemicube-res", a.pipe.hemicube_res);
+    rad_ff_options ff = {(rad_ff_method)ff_method, 0, 0, &ff_options};
     if ((status = check_args(&a, solver_given || !a.resume ? kind : -1))) return status;
     double link_error;
     if ((status = cli_pipeline_link_error("solve", &a.pipe, &link_error))) return status;
@@ -324,14 +327,16 @@ int cmd_solve(int argc, char **argv) {
         solve.max_iterations = a.pipe.iterations;
         solve.tolerance = a.pipe.tolerance;
         solve.omega = a.pipe.omega;
-        solve.ambient = a.pipe.ambient || a.snapshots;
-        solve.overshoot = a.overshoot;
+        rad_options solver_options = {0};
+        cli_solver_option(&solver_options, solve.solver, "ambient", a.pipe.ambient || a.snapshots);
+        cli_solver_option(&solver_options, solve.solver, "overshoot", a.overshoot);
+        cli_solver_option(&solver_options, solve.solver, "link-error", link_error);
+        solve.method_options = &solver_options;
         solve.time_budget = isnan(a.time_budget) ? 0 : a.time_budget;
         solve.resume = a.resume != NULL;
         solve.camera = &camera;
         solve.view_width = a.width;
         solve.view_height = a.height;
-        solve.link_error = link_error;
         if (a.trace) {
             solve.trace = on_trace;
             solve.trace_user = &trace;

@@ -54,7 +54,7 @@ int cli_pipeline_check_values(const char *command, const cli_pipeline_args *a) {
     return 0;
 }
 
-int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solve_options *solve,
+int cli_pipeline_check(const char *command, cli_pipeline_args *a, rad_solve_options *solve,
                        rad_mesh_options *mesh, rad_ff_options *ff) {
     int kind = rad_solver_kind_parse(a->solver);
     if (kind < 0) return cli_unknown_solver(command, a->solver);
@@ -63,16 +63,24 @@ int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solv
     int status = cli_pipeline_check_values(command, a);
     if (status) return status;
     rad_solve_options s = {0};
-    status = cli_pipeline_link_error(command, a, &s.link_error);
+    double link_error;
+    status = cli_pipeline_link_error(command, a, &link_error);
     if (status) return status;
     s.solver = (rad_solver_kind)kind;
     s.max_iterations = a->iterations;
     s.tolerance = a->tolerance;
     s.omega = a->omega;
-    s.ambient = a->ambient;
+    /* Each method's own options go in its bag, read from the registry's names. */
+    a->solver_options = (rad_options){0};
+    cli_solver_option(&a->solver_options, s.solver, "ambient", a->ambient);
+    cli_solver_option(&a->solver_options, s.solver, "link-error", link_error);
+    s.method_options = &a->solver_options;
     *solve = s;
     *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements};
-    *ff = (rad_ff_options){(rad_ff_method)method, a->ff_samples, a->hemicube_res};
+    a->ff_options = (rad_options){0};
+    cli_ff_option(&a->ff_options, (rad_ff_method)method, "ff-samples", a->ff_samples);
+    cli_ff_option(&a->ff_options, (rad_ff_method)method, "hemicube-res", a->hemicube_res);
+    *ff = (rad_ff_options){(rad_ff_method)method, 0, 0, &a->ff_options};
     return 0;
 }
 

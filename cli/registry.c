@@ -11,10 +11,14 @@ static void append(char *out, size_t size, const char *text) {
     if (used + 1 < size) snprintf(out + used, size - used, "%s", text);
 }
 
-static int solver_has_option(const rad_solver_info *info, const char *option) {
-    for (size_t k = 0; k < info->option_count; ++k)
-        if (strcmp(info->options[k].name, option) == 0) return 1;
+static int registers(const rad_method_option *options, size_t count, const char *name) {
+    for (size_t i = 0; i < count; ++i)
+        if (strcmp(options[i].name, name) == 0) return 1;
     return 0;
+}
+
+static int solver_has_option(const rad_solver_info *info, const char *option) {
+    return registers(info->options, info->option_count, option);
 }
 
 static int solver_selected(const cli_solver_filter *filter, const rad_solver_info *info) {
@@ -75,6 +79,22 @@ int cli_solver_takes(rad_solver_kind kind, const char *option) {
 }
 
 int cli_parse_ff_method(const char *name) { return rad_ff_method_parse(name); }
+
+void cli_solver_option(rad_options *bag, rad_solver_kind kind, const char *name, double value) {
+    const rad_solver_info *info = rad_solver_get(kind);
+    if (value != 0 && info && registers(info->options, info->option_count, name))
+        rad_options_set_number(bag, name, value);
+}
+
+void cli_ff_option(rad_options *bag, rad_ff_method method, const char *name, double value) {
+    const char *method_name = rad_ff_method_name(method); /* the default's own name for 0 */
+    for (size_t i = 0; value != 0 && method_name && i < rad_ff_method_count(); ++i) {
+        const rad_ff_method_info *info = rad_ff_method_at(i);
+        if (strcmp(info->name, method_name) == 0 &&
+            registers(info->options, info->option_count, name))
+            rad_options_set_number(bag, name, value);
+    }
+}
 
 int cli_unknown_solver(const char *command, const char *name) {
     char names[200];

@@ -158,10 +158,38 @@ typedef struct rad_mesh_options {
     size_t elements; /* approximate total element count; used when element_size is zero */
 } rad_mesh_options;
 
+/* Per-method options: a bag of name = value pairs, as Mitsuba's plugins read their properties
+ * and pbrt's Create() its ParameterDictionary. Each solver and form-factor method reads its own
+ * registered options (rad_solver_info.options, rad_ff_method_info.options: "overshoot",
+ * "ambient", "link-error", "ff-samples", "hemicube-res", ...) from the bag it is given; a name
+ * the chosen method has not registered is an error that lists the ones it has. Values are text
+ * (numbers as "%.17g"; flags "1" or "0"). Valid when zeroed; no allocation, nothing to free. */
+#define RAD_OPTIONS_MAX 16
+typedef struct rad_option_entry {
+    char name[32];
+    char value[48];
+} rad_option_entry;
+typedef struct rad_options {
+    size_t count;
+    rad_option_entry entries[RAD_OPTIONS_MAX];
+} rad_options;
+
+/* Sets (or replaces) name = value; RAD_ERROR_INVALID_ARGUMENT when the name or value is too
+ * long or the bag is full. */
+rad_status rad_options_set(rad_options *options, const char *name, const char *value);
+rad_status rad_options_set_number(rad_options *options, const char *name, double value);
+/* The value of `name`, or NULL when it is not set. Lives as long as the bag is not changed. */
+const char *rad_options_get(const rad_options *options, const char *name);
+
 typedef struct rad_ff_options {
     rad_ff_method method;
     int samples;             /* rays or point pairs per form factor; zero: the method's default */
     int hemicube_resolution; /* pixels along the top face; zero: default */
+    /* The method's own options ("ff-samples", "hemicube-res"; see rad_ff_method_info.options);
+     * NULL: none. Read while the system is built, not kept. `samples` and
+     * `hemicube_resolution` above are the older way to say the same and are read when the bag
+     * does not set them. */
+    const rad_options *method_options;
 } rad_ff_options;
 
 /* Builds the system of a scene: meshing and form-factor set-up for geometry (the options are
@@ -341,6 +369,11 @@ typedef struct rad_solve_options {
     int view_width, view_height;   /* importance: the image's size; zero: 256 x 256 */
     double link_error;    /* hierarchical: the oracle's threshold on rho B dF relative to the
                              brightest emitter; zero: the tolerance when given, else 1e-3 */
+    /* The solver's own options ("overshoot", "ambient", "link-error", ...; see
+     * rad_solver_info.options); NULL: none. The per-solver fields above (ambient, overshoot,
+     * link_error) are the older way to say the same and are read when the bag does not set
+     * them. */
+    const rad_options *method_options;
 } rad_solve_options;
 
 typedef enum rad_solve_stop {
