@@ -64,6 +64,9 @@ const char *cli_solver_names(char *out, size_t size, const cli_solver_filter *fi
                              const char *separator, const char *last_separator);
 /* "shooting, importance: overshooting (...)": the solvers that take an option, and its help. */
 const char *cli_solver_option_help(char *out, size_t size, const char *option);
+/* "N  hemicube: pixels along the top face (256)": the methods that take an option, the help of
+ * the first, after `metavar`. */
+const char *cli_ff_option_help(char *out, size_t size, const char *metavar, const char *option);
 /* The form-factor methods' names, joined. */
 const char *cli_ff_method_names(char *out, size_t size, const char *separator);
 /* Nonzero when the solver shoots (RAD_SOLVER_SHOOTS) / takes its own option `option`. */

@@ -44,19 +44,49 @@ const char *cli_solver_names(char *out, size_t size, const cli_solver_filter *fi
     return out;
 }
 
+/* "METAVAR  names: help" (or "names: help" for a flag): a registered help that starts with
+ * its value's name ("E  the threshold ...") keeps it in front, as every option's help does. */
+static const char *option_help(char *out, size_t size, const char *names, const char *help,
+                               const char *metavar) {
+    out[0] = '\0';
+    const char *gap = strstr(help, "  ");
+    int named = gap && gap > help && strspn(help, "ABCDEFGHIJKLMNOPQRSTUVWXYZ") == (size_t)(gap - help);
+    if (named) snprintf(out, size, "%.*s  ", (int)(gap - help), help);
+    else if (metavar) snprintf(out, size, "%s  ", metavar);
+    append(out, size, names);
+    append(out, size, ": ");
+    append(out, size, named ? gap + 2 : help);
+    return out;
+}
+
 const char *cli_solver_option_help(char *out, size_t size, const char *option) {
+    char names[200];
     cli_solver_filter filter = {0, 0, option};
-    cli_solver_names(out, size, &filter, ", ", ", ");
+    cli_solver_names(names, sizeof names, &filter, ", ", ", ");
+    out[0] = '\0';
     for (size_t i = 0; i < rad_solver_count(); ++i) {
         const rad_solver_info *info = rad_solver_at(i);
         for (size_t k = 0; k < info->option_count; ++k)
-            if (strcmp(info->options[k].name, option) == 0) {
-                append(out, size, ": ");
-                append(out, size, info->options[k].help);
-                return out;
-            }
+            if (strcmp(info->options[k].name, option) == 0)
+                return option_help(out, size, names, info->options[k].help, NULL);
     }
     return out;
+}
+
+const char *cli_ff_option_help(char *out, size_t size, const char *metavar, const char *option) {
+    char names[200] = "";
+    const char *help = NULL;
+    for (size_t i = 0; i < rad_ff_method_count(); ++i) {
+        const rad_ff_method_info *info = rad_ff_method_at(i);
+        for (size_t k = 0; k < info->option_count; ++k)
+            if (strcmp(info->options[k].name, option) == 0) {
+                if (names[0]) append(names, sizeof names, ", ");
+                append(names, sizeof names, info->name);
+                if (!help) help = info->options[k].help;
+            }
+    }
+    out[0] = '\0';
+    return help ? option_help(out, size, names, help, metavar) : out;
 }
 
 const char *cli_ff_method_names(char *out, size_t size, const char *separator) {
