@@ -92,13 +92,18 @@ typedef struct rad_context_options {
     void *log_user;
     rad_progress_fn progress; /* zero: no progress reports */
     void *progress_user;
-    int threads;          /* worker threads; zero: all cores */
+    int threads;          /* worker threads, 0..RAD_MAX_THREADS; zero: all cores */
     uint64_t seed;        /* seed for every random choice; the same seed gives the same result */
     uint64_t max_memory;  /* bytes a form-factor matrix or dense solve may take; zero: 2 GiB */
     rad_error_fn on_error; /* zero: none */
     void *error_user;
 } rad_context_options;
 
+/* The most worker threads a context takes: OpenMP's per-thread state for more crashes. */
+#define RAD_MAX_THREADS 4096
+
+/* RAD_ERROR_INVALID_ARGUMENT when threads is outside 0..RAD_MAX_THREADS or the allocator is
+ * given in part; no context is made then, so the message goes to options->on_error only. */
 rad_status rad_context_create(const rad_context_options *options, rad_context **out);
 void rad_context_destroy(rad_context *context);
 
@@ -110,6 +115,11 @@ const char *rad_context_error(const rad_context *context);
  * RAD_ERROR_MEMORY_BUDGET with a message naming `what` and both sizes. For callers that allocate
  * large tables for the library (e.g. for rad_system_surface_form_factors). */
 rad_status rad_context_check_memory(rad_context *context, double bytes, const char *what);
+
+/* Bytes (1 to 4) of the well-formed UTF-8 character that `text` starts with; 0 at the end of
+ * the string or when the bytes there are not UTF-8. Names and paths come from files and may be
+ * in any encoding: JSON writers replace each byte this refuses with U+FFFD. */
+int rad_utf8_char_length(const char *text);
 
 /* ---------------------------------------------------------------------------------------------
  * Scenes
