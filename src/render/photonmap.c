@@ -599,6 +599,11 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
     rad_tracer *t;
     status = rad_tracer_create(ctx, scene, 0, &t);
     if (status) return status;
+    status = rad_tracer_check_view(t, &view);
+    if (status) {
+        rad_tracer_destroy(t);
+        return status;
+    }
     rad_photonmap_stats st = {0};
     rad_image *image = NULL;
     double *sum = NULL;
