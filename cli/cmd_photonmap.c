@@ -38,7 +38,8 @@ int cmd_photonmap(int argc, char **argv) {
         {"--output", CLI_STRING, &a.output, "FILE  the same as -o"},
         {"--photons", CLI_SIZE, &a.photons, "N  photons emitted for the global map (200000)"},
         {"--caustic-photons", CLI_SIZE, &a.caustic_photons,
-         "N  photons emitted more for the caustic map (as many as --photons)"},
+         "N  photons emitted more for the caustic map, when there is a mirror or glass (as many "
+         "as --photons)"},
         {"--radius", CLI_DOUBLE, &a.radius,
          "R  largest density-estimation radius, scene units (the radius holding --nearest "
          "photons on average)"},

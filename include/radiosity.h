@@ -657,8 +657,9 @@ typedef struct rad_photonmap_options {
                                       glossy point; zero: 16 */
     uint64_t photons;              /* photons emitted for the global map (and caustics); zero:
                                       200,000 */
-    uint64_t caustic_photons;      /* photons emitted more for the caustic map alone; zero: as
-                                      many as `photons` */
+    uint64_t caustic_photons;      /* photons emitted more for the caustic map alone (none when
+                                      no material is a mirror or glass); zero: as many as
+                                      `photons` */
     double radius;                 /* largest density-estimation radius, scene units; zero: the
                                       radius a disc holding `nearest` photons has on average */
     int nearest;                   /* k of the k-nearest estimate; zero: 50 */

@@ -136,6 +136,14 @@ static int near_order(const void *a, const void *b) {
 
 size_t rad_photon_map_nearest(const rad_photon_map *map, rad_vec3 x, rad_vec3 normal,
                               double radius, size_t k, rad_photon_near *found, double *radius2) {
+    size_t size = rad_photon_map_nearest_heap(map, x, normal, radius, k, found, radius2);
+    qsort(found, size, sizeof *found, near_order);
+    return size;
+}
+
+size_t rad_photon_map_nearest_heap(const rad_photon_map *map, rad_vec3 x, rad_vec3 normal,
+                                   double radius, size_t k, rad_photon_near *found,
+                                   double *radius2) {
     double r2 = radius * radius;
     *radius2 = r2;
     if (map->count == 0 || k == 0) return 0;
@@ -150,8 +158,7 @@ size_t rad_photon_map_nearest(const rad_photon_map *map, rad_vec3 x, rad_vec3 no
             if (d2 >= r2 || !same_surface(p, normal)) continue;
             heap_push(found, &size, k, (rad_photon_near){p, d2});
         }
-    qsort(found, size, sizeof *found, near_order);
-    if (size == k) *radius2 = found[k - 1].distance2;
+    if (size == k) *radius2 = found[0].distance2;
     return size;
 }
 
@@ -161,11 +168,11 @@ void rad_photon_map_irradiance(const rad_photon_map *map, rad_vec3 x, rad_vec3 n
     if (map->count == 0) return;
     if (k > 0) {
         double r2;
-        size_t n = rad_photon_map_nearest(map, x, normal, radius, k, scratch, &r2);
-        /* Of k found, the k-th only sets the radius. */
-        size_t used = n == k && k > 1 ? k - 1 : n;
+        size_t n = rad_photon_map_nearest_heap(map, x, normal, radius, k, scratch, &r2);
+        /* Of k found, the k-th (the heap's first) only sets the radius. */
+        size_t first = n == k && k > 1 ? 1 : 0;
         if (!(r2 > 0)) return;
-        for (size_t i = 0; i < used; ++i)
+        for (size_t i = first; i < n; ++i)
             for (int c = 0; c < 3; ++c) out[c] += scratch[i].photon->power[c];
         for (int c = 0; c < 3; ++c) out[c] /= RAD_PI * r2;
         return;

@@ -51,6 +51,12 @@ typedef struct rad_photon_near {
 size_t rad_photon_map_nearest(const rad_photon_map *map, rad_vec3 x, rad_vec3 normal,
                               double radius, size_t k, rad_photon_near *found, double *radius2);
 
+/* The same k nearest in heap order (no sort: the farthest first when k were found), for
+ * estimates that only sum over them. */
+size_t rad_photon_map_nearest_heap(const rad_photon_map *map, rad_vec3 x, rad_vec3 normal,
+                                   double radius, size_t k, rad_photon_near *found,
+                                   double *radius2);
+
 /* Irradiance at x on a surface of front normal `normal` from the photons within `radius`
  * (<= the cell side): the sum of their power over pi r^2 (a box kernel). With k > 0, from the k
  * nearest within `radius` (the k-th excluded from the sum: (k-1)/(pi r_k^2) is the unbiased

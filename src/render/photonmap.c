@@ -61,7 +61,7 @@ typedef struct photon_list {
 
 static int list_push(rad_context *ctx, photon_list *list, const rad_photon *photon) {
     if (list->count == list->capacity) {
-        size_t capacity = list->capacity ? 2 * list->capacity : 1024;
+        size_t capacity = list->capacity ? 2 * list->capacity : 2 * PHOTON_BLOCK;
         rad_photon *grown = rad_realloc(ctx, list->items, capacity, sizeof *grown);
         if (!grown) return 0;
         list->items = grown;
@@ -246,6 +246,18 @@ static void pass_free(rad_context *ctx, photon_pass *pass) {
     rad_photon_map_free(ctx, &pass->irradiance);
 }
 
+/* Nonzero when some material has a mirror or glass lobe (caustics are possible). */
+static int scene_has_specular(const rad_scene *scene) {
+    for (size_t i = 0; i < scene->material_count; ++i) {
+        const rad_material *m = &scene->materials[i];
+        if (m->kind == RAD_MATERIAL_GLASS ||
+            (m->kind == RAD_MATERIAL_MIRROR && m->roughness <= 0 &&
+             (m->specular[0] > 0 || m->specular[1] > 0 || m->specular[2] > 0)))
+            return 1;
+    }
+    return 0;
+}
+
 /* Total area of the surfaces where photons are stored. */
 static double storing_area(const rad_tracer *t) {
     const rad_scene *scene = t->scene;
@@ -297,7 +309,7 @@ static void global_radiance(const render_state *r, const rad_material *m, rad_ve
                             rad_photon_near *scratch, double out[3]) {
     const photon_pass *pass = r->pass;
     double r2, e[3];
-    if (rad_photon_map_nearest(&pass->irradiance, y, n, pass->radius, 1, scratch, &r2)) {
+    if (rad_photon_map_nearest_heap(&pass->irradiance, y, n, pass->radius, 1, scratch, &r2)) {
         for (int c = 0; c < 3; ++c) e[c] = scratch[0].photon->power[c];
     } else {
         rad_photon_map_irradiance(&pass->global, y, n, pass->radius, pass->nearest, scratch, e);
@@ -313,10 +325,12 @@ static void caustic_radiance(const render_state *r, const rad_material *m, rad_v
     if (pass->caustic.count == 0) return;
     double r2;
     size_t k = pass->nearest ? pass->nearest : r->scratch_size;
-    size_t found = rad_photon_map_nearest(&pass->caustic, x, n, pass->caustic_radius, k, scratch, &r2);
-    size_t used = pass->nearest && found == k && k > 1 ? k - 1 : found;
+    size_t found =
+        rad_photon_map_nearest_heap(&pass->caustic, x, n, pass->caustic_radius, k, scratch, &r2);
+    /* Of k found, the k-th (the heap's first) only sets the radius. */
+    size_t first = pass->nearest && found == k && k > 1 ? 1 : 0;
     if (!(r2 > 0)) return;
-    for (size_t i = 0; i < used; ++i) {
+    for (size_t i = first; i < found; ++i) {
         const rad_photon *p = scratch[i].photon;
         rad_vec3 wi = v3(p->incoming[0], p->incoming[1], p->incoming[2]);
         double f[3], pdf;
@@ -579,6 +593,7 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
     int iterations = o.iterations > 1 ? o.iterations : 1;
     uint64_t photons = o.photons ? o.photons : DEFAULT_PHOTONS;
     uint64_t caustic_photons = o.caustic_photons ? o.caustic_photons : photons;
+    if (!scene_has_specular(scene)) caustic_photons = 0; /* no mirror or glass: no caustics */
     double alpha = o.alpha > 0 ? o.alpha : DEFAULT_ALPHA;
     if ((uint64_t)spp * (uint64_t)iterations * (uint64_t)gather_rays > UINT32_MAX / 2)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
@@ -589,7 +604,7 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
                               ((double)photons + (double)caustic_photons) * STORES_PER_PHOTON *
                                       (sizeof(rad_photon) * 2 + 2 * sizeof(uint32_t)) +
                                   (double)width * height * 3 * (sizeof(double) + sizeof(float)),
-                              "the photon maps");
+                              "photon mapping");
     if (status) return status;
 
     rad_camera camera = o.camera ? rad_camera_from_desc(o.camera) : rad_scene_camera(scene);
