@@ -52,6 +52,19 @@ static double cpu_seconds(void) {
     return t.tv_sec + t.tv_nsec * 1e-9;
 }
 
+/* The next surface along origin + t direction: its material, the hit and the point; NULL when the
+ * ray leaves the scene or meets the back of a one-sided surface (absorbed). */
+static const rad_material *next_surface(const rad_tracer *t, rad_vec3 origin, rad_vec3 direction,
+                                        uint64_t *rays, rad_hit *hit, rad_vec3 *x) {
+    ++*rays;
+    if (!rad_rays_intersect(t->rays, origin, direction, t->rays->epsilon, INFINITY, hit))
+        return NULL;
+    const rad_material *m = t->polygon_material[hit->polygon];
+    if (!hit->front && m->kind != RAD_MATERIAL_GLASS) return NULL;
+    *x = v3_add(origin, v3_scale(direction, hit->t));
+    return m;
+}
+
 /* ---- photon tracing ----------------------------------------------------------------------- */
 
 typedef struct photon_list {
@@ -108,12 +121,9 @@ static int trace_photon(const rad_tracer *t, uint64_t seed, uint64_t index, int 
     int specular_path = 1;
     for (int bounce = 0; bounce < MAX_PHOTON_BOUNCES; ++bounce) {
         rad_hit hit;
-        ++*rays;
-        if (!rad_rays_intersect(t->rays, origin, direction, t->rays->epsilon, INFINITY, &hit))
-            break;
-        const rad_material *m = t->polygon_material[hit.polygon];
-        if (!hit.front && m->kind != RAD_MATERIAL_GLASS) break; /* one-sided: absorbed */
-        rad_vec3 x = v3_add(origin, v3_scale(direction, hit.t));
+        rad_vec3 x;
+        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x);
+        if (!m) break;
         rad_vec3 wi = v3_scale(direction, -1);
         /* Store where a diffuse or glossy lobe can reflect it towards the camera. */
         if (rad_bsdf_has_smooth_lobe(m)) {
@@ -349,11 +359,9 @@ static void gather_ray(const render_state *r, rad_sampler *sampler, rad_vec3 x, 
     out[0] = out[1] = out[2] = 0;
     for (int chain = 0; chain < MAX_SPECULAR_CHAIN; ++chain) {
         rad_hit hit;
-        ++*rays;
-        if (!rad_rays_intersect(t->rays, x, direction, t->rays->epsilon, INFINITY, &hit)) return;
-        const rad_material *m = t->polygon_material[hit.polygon];
-        if (!hit.front && m->kind != RAD_MATERIAL_GLASS) return;
-        rad_vec3 y = v3_add(x, v3_scale(direction, hit.t));
+        rad_vec3 y;
+        const rad_material *m = next_surface(t, x, direction, rays, &hit, &y);
+        if (!m) return;
         if (!rad_bsdf_is_delta(m)) {
             double l[3];
             global_radiance(r, m, y, hit.normal, scratch, l);
@@ -381,11 +389,9 @@ static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sam
     out[0] = out[1] = out[2] = 0;
     for (int chain = 0; chain < MAX_SPECULAR_CHAIN; ++chain) {
         rad_hit hit;
-        ++*rays;
-        if (!rad_rays_intersect(t->rays, origin, direction, t->rays->epsilon, INFINITY, &hit)) return;
-        const rad_material *m = t->polygon_material[hit.polygon];
-        if (!hit.front && m->kind != RAD_MATERIAL_GLASS) return;
-        rad_vec3 x = v3_add(origin, v3_scale(direction, hit.t));
+        rad_vec3 x;
+        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x);
+        if (!m) return;
         rad_vec3 wo = v3_scale(direction, -1);
         /* Emission seen directly or through mirrors and glass. */
         if (hit.front && t->polygon_emitter[hit.polygon] >= 0)
