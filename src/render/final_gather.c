@@ -54,18 +54,22 @@ static int32_t add_emitter(rad_emitter_table *table, const rad_mesh *mesh, uint3
 
 rad_status rad_emitters_build(rad_renderer *r) {
     const rad_mesh *mesh = r->mesh;
-    const rad_system *s = r->system;
+    const rad_solution_view *solution = r->solution;
     size_t count = 0;
-    for (size_t e = 0; e < mesh->element_count; ++e)
-        if (s->emission[e][0] > 0 || s->emission[e][1] > 0 || s->emission[e][2] > 0)
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        double emission[3];
+        solution->ops->emission(solution, e, emission);
+        if (emission[0] > 0 || emission[1] > 0 || emission[2] > 0)
             count += (size_t)rad_mesh_corner_count(mesh, e) - 2;
+    }
     r->element_emitter = rad_alloc(r->ctx, mesh->element_count + 1, sizeof *r->element_emitter);
     if (!r->element_emitter) return RAD_ERROR_NO_MEMORY;
     for (size_t e = 0; e < mesh->element_count; ++e) r->element_emitter[e][0] = r->element_emitter[e][1] = -1;
     rad_status status = rad_emitter_table_reserve(r->ctx, &r->emitters, count);
     if (status || count == 0) return status;
     for (size_t e = 0; e < mesh->element_count; ++e) {
-        const double *emission = s->emission[e];
+        double emission[3];
+        solution->ops->emission(solution, e, emission);
         if (!(emission[0] > 0 || emission[1] > 0 || emission[2] > 0)) continue;
         /* Emitted radiance L = E / pi, rounded to float as the renderer keeps it. */
         double radiance[3];

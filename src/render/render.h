@@ -20,6 +20,7 @@
 #include "scene/camera.h"
 #include "system/element_rays.h"
 #include "scene/scene.h"
+#include "system/solution_view.h"
 #include "system/system.h"
 
 typedef struct rad_render_settings {
@@ -31,6 +32,11 @@ typedef struct rad_render_settings {
 struct rad_renderer {
     rad_context *ctx;
     const rad_system *system;
+    /* The solution as the renderer reads it (system/solution_view.h), and its leaves: `mesh` and
+     * everything built from it below (rays, emitters, fits, radiance arrays) belong to one
+     * generation of the view and are rebuilt when the leaves change. */
+    const rad_solution_view *solution;
+    uint64_t generation;
     const rad_mesh *mesh;
     rad_element_rays *rays;
     rad_view view;

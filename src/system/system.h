@@ -15,6 +15,13 @@ struct rad_mesh;
 
 typedef double rad_rgb[3];
 
+/* The solution as the outputs read it (system/solution_view.h). */
+struct rad_solution_view_ops;
+typedef struct rad_solution_view {
+    const struct rad_solution_view_ops *ops;
+    void *state;
+} rad_solution_view;
+
 struct rad_system {
     rad_context *ctx;
     size_t element_count, patch_count, surface_count;
@@ -43,6 +50,8 @@ struct rad_system {
     struct rad_mesh *mesh; /* geometric scenes only; owned */
     struct rad_scene *geometry; /* geometric scenes only: a copy of the input polygons for the
                                    hierarchical solver (src/hierarchy); owned */
+    rad_solution_view view; /* what render, bake and solution files read: the uniform mesh
+                               (solution_view.h) unless a solver installs another */
 };
 
 /* Allocates the arrays of a system with the given counts (zeroed). */
