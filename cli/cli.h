@@ -94,5 +94,6 @@ int cmd_pathtrace(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_bake(int argc, char **argv);
 int cmd_solvers(int argc, char **argv);
+int cmd_photonmap(int argc, char **argv);
 
 #endif

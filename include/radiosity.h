@@ -688,6 +688,51 @@ const rad_ff_method_info *rad_ff_method_at(size_t index);
 /* Parses a registered name, or "default" (RAD_FF_DEFAULT); -1 when unknown. */
 int rad_ff_method_parse(const char *name);
 
+/* ---------------------------------------------------------------------------------------------
+ * Photon mapping (docs/photonmapping.md)
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct rad_photonmap_options {
+    int width, height;             /* pixels; zero: 512 */
+    const rad_camera_desc *camera; /* NULL: rad_scene_get_camera of the scene */
+    int samples_per_pixel;         /* camera samples per pixel (box filter); zero: 4 */
+    int gather_rays;               /* final-gather rays per camera sample at its first diffuse or
+                                      glossy point; zero: 16 */
+    uint64_t photons;              /* photons emitted for the global map (and caustics); zero:
+                                      200,000 */
+    uint64_t caustic_photons;      /* photons emitted more for the caustic map alone (none when
+                                      no material is a mirror or glass); zero: as many as
+                                      `photons` */
+    double radius;                 /* largest density-estimation radius, scene units; zero: the
+                                      radius a disc holding `nearest` photons has on average */
+    int nearest;                   /* k of the k-nearest estimate; zero: 50 */
+    int iterations;                /* progressive photon mapping: passes, each with fresh
+                                      photons and smaller radii; zero or 1: one pass */
+    double alpha;                  /* progressive: radius^2 shrinks by (i + alpha) / (i + 1)
+                                      after pass i; zero: 2/3 */
+} rad_photonmap_options;
+
+typedef struct rad_photonmap_stats {
+    double seconds, trace_seconds, build_seconds, render_seconds;
+    double trace_cpu_seconds;       /* processor time of the photon tracing (all threads) */
+    uint64_t photons_emitted;       /* over every pass */
+    uint64_t global_stored, caustic_stored; /* of the last pass */
+    double radius, caustic_radius;  /* of the last pass */
+    uint64_t rays;                  /* camera, shadow and gather rays */
+} rad_photonmap_stats;
+
+/* Renders a geometric scene by photon mapping (Jensen 1996): photons traced from the emitters
+ * into a global and a caustic map, then per pixel the emitted light, direct light by emitter
+ * sampling, caustics from the caustic map and indirect light by final gather into the global
+ * map's precomputed irradiance (Christensen 1999); mirrors and glass are followed from the
+ * camera. The same seed gives the same image whatever the thread count. Fails with
+ * RAD_ERROR_INVALID_ARGUMENT for bad options and RAD_ERROR_MEMORY_BUDGET when the photons would
+ * not fit the context's budget (checked before allocating). Reports progress as "photon
+ * tracing" and "photon mapping"; `stats` may be NULL. */
+rad_status rad_photonmap(rad_context *context, const rad_scene *scene,
+                         const rad_photonmap_options *options, rad_image **out,
+                         rad_photonmap_stats *stats);
+
 #ifdef __cplusplus
 }
 #endif
