@@ -733,6 +733,59 @@ rad_status rad_photonmap(rad_context *context, const rad_scene *scene,
                          const rad_photonmap_options *options, rad_image **out,
                          rad_photonmap_stats *stats);
 
+/* ---------------------------------------------------------------------------------------------
+ * Lights that are not surfaces, and the sky (docs/lights.md, units in docs/units.md)
+ * ------------------------------------------------------------------------------------------- */
+
+typedef enum rad_light_type {
+    RAD_LIGHT_TYPE_POINT = 0,
+    RAD_LIGHT_TYPE_SPOT,       /* a point with a cone: full inside inner, none outside outer */
+    RAD_LIGHT_TYPE_DIRECTIONAL /* parallel light (the sun): `direction` is where it travels */
+} rad_light_type;
+
+/* What `strength` is measured in. Photometric units turn into radiometric ones at 179 lm/W. */
+typedef enum rad_light_units {
+    RAD_LIGHT_WATTS = 0, /* point, spot: radiant intensity W/sr; directional: irradiance W/m^2 */
+    RAD_LIGHT_CANDELA,   /* point, spot: cd (on the axis); directional: lux */
+    RAD_LIGHT_LUMENS     /* point, spot: total luminous flux; directional: lux */
+} rad_light_units;
+
+typedef struct rad_light_desc {
+    const char *name;     /* for --ies and messages; may be NULL */
+    rad_light_type type;
+    double position[3];   /* point, spot */
+    double direction[3];  /* spot axis, or where a directional light travels; any length > 0 */
+    double color[3];      /* relative colour, >= 0 (zero: white) */
+    double strength;      /* in `units`, times color */
+    rad_light_units units;
+    double inner_degrees, outer_degrees; /* spot half angles; 0 < outer <= 90, inner <= outer */
+} rad_light_desc;
+
+/* Adds a light to a geometric scene. Bad values: RAD_ERROR_INVALID_ARGUMENT naming the field. */
+rad_status rad_scene_add_light(rad_scene *scene, const rad_light_desc *light);
+/* Point and spot lights in the scene (from its file or added). */
+size_t rad_scene_light_count(const rad_scene *scene);
+/* Gives the point or spot light named `light_name` (NULL or "*": every point and spot light) the
+ * intensity profile of the IES LM-63 file at `path`; errors name file:line. */
+rad_status rad_scene_set_light_ies(rad_scene *scene, const char *light_name, const char *path);
+
+typedef enum rad_sky_model {
+    RAD_SKY_NONE = 0,
+    RAD_SKY_MODEL_UNIFORM,     /* radiance L everywhere above the horizon */
+    RAD_SKY_MODEL_CIE_OVERCAST /* L(theta) = L_zenith (1 + 2 cos theta) / 3 (CIE overcast sky) */
+} rad_sky_model;
+
+typedef struct rad_sky_desc {
+    rad_sky_model model;
+    double radiance[3]; /* uniform: L; overcast: at the zenith (W m^-2 sr^-1) */
+    double up[3];       /* the zenith; zero: +Y */
+    int samples;        /* rays per element of the solver's sky pass; 0: 64 */
+} rad_sky_desc;
+
+/* Sets (or with RAD_SKY_NONE removes) the sky of a geometric scene: light that enters through
+ * its openings, in the solve, render, bake and path tracer. */
+rad_status rad_scene_set_sky(rad_scene *scene, const rad_sky_desc *sky);
+
 #ifdef __cplusplus
 }
 #endif

@@ -127,6 +127,29 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
     for (int c = 0; c < 3; ++c) out[c] /= count;
 }
 
+/* Radiance reflected at x (normal n, reflectance rho) of the point, spot and directional
+ * lights: each is one point or direction, so it is sampled exactly, with one shadow ray and no
+ * weight (no gather ray can find it). */
+static void lights_direct(const rad_renderer *r, rad_sample *sample, rad_vec3 x, rad_vec3 n,
+                          const float rho[3], double out[3]) {
+    for (size_t i = 0; i < r->light_count; ++i) {
+        rad_light_arrival arrival;
+        if (!rad_light_arrive(&r->lights[i], x, &arrival)) continue;
+        double cos_x = v3_dot(n, arrival.direction);
+        if (cos_x <= 0) continue;
+        sample->counts->shadow++;
+        if (isinf(arrival.distance)) {
+            rad_element_hit blocker;
+            if (rad_element_rays_intersect(r->rays, x, arrival.direction, r->rays->epsilon,
+                                           INFINITY, &blocker))
+                continue;
+        } else if (rad_element_rays_occluded(r->rays, x, r->lights[i].position)) {
+            continue;
+        }
+        for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * arrival.irradiance[c] * cos_x;
+    }
+}
+
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
                                   rad_vec3 direction, const rad_element_hit *hit) {
     if (!from || from->light_samples <= 0) return 1;
@@ -151,6 +174,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     /* Direct light. */
     double direct[3];
     direct_light(r, sample, &from, x, rho, direct);
+    lights_direct(r, sample, x, n, rho, direct);
     for (int c = 0; c < 3; ++c) out[c] += direct[c];
 
     /* Indirect light (and the emitted light they meet, weighted): cosine-weighted rays into the

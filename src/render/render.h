@@ -50,6 +50,11 @@ struct rad_renderer {
     /* Light sampling: the emitting elements' triangles, picked by power (light/emitters.h). */
     rad_emitter_table emitters;
     int32_t (*element_emitter)[2]; /* per element, its emitter triangles (-1: none) */
+    /* The scene's point, spot and directional lights and its sky (light/lights.h), copied:
+     * sampled at every final-gather point, the sky seen by rays that leave the scene. */
+    size_t light_count;
+    rad_light *lights;
+    rad_sky sky;
 
     /* Boundary vertices of the smooth reconstruction (reconstruct.c): their radiance is the
      * value at the vertex of a plane fitted to nearby element values, sum_k weight_k B_k over
