@@ -100,6 +100,7 @@ static const char *stop_name(rad_solve_stop stop) {
     case RAD_STOP_ITERATIONS: return "iterations";
     case RAD_STOP_TIME_BUDGET: return "time-budget";
     case RAD_STOP_CALLBACK: return "interrupted";
+    case RAD_STOP_MEMORY_BUDGET: return "memory-budget";
     case RAD_STOP_ERROR: break;
     }
     return "error";

@@ -391,7 +391,9 @@ typedef enum rad_solve_stop {
     RAD_STOP_ITERATIONS,    /* max_iterations, or the safety cap */
     RAD_STOP_TIME_BUDGET,   /* time_budget used up: the best solution so far */
     RAD_STOP_CALLBACK,      /* on_iteration asked to stop */
-    RAD_STOP_ERROR          /* an error or a cancel; the status says which */
+    RAD_STOP_ERROR,         /* an error or a cancel; the status says which */
+    RAD_STOP_MEMORY_BUDGET  /* the solver could not go on within max_memory: the best solution
+                               so far, not converged (the hierarchical solver's refinement) */
 } rad_solve_stop;
 
 typedef struct rad_solve_report {
