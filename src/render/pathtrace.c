@@ -232,7 +232,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
 
 /* Before any work: primary rays through a grid over the image must see the front of
  * something. */
-static rad_status check_view(const rad_tracer *t, const rad_view *view) {
+rad_status rad_tracer_check_view(const rad_tracer *t, const rad_view *view) {
     int nx = view->width < 64 ? view->width : 64, ny = view->height < 64 ? view->height : 64;
     int hits = 0, fronts = 0;
     const char *back_surface = NULL;
@@ -281,7 +281,7 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
     rad_tracer *t;
     status = rad_tracer_create(ctx, scene, o.max_bounces, &t);
     if (status) return status;
-    status = check_view(t, &view);
+    status = rad_tracer_check_view(t, &view);
     if (!status && t->emitters.count == 0 && scene->light_count == 0 && scene->sky.kind == RAD_SKY_OFF)
         rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
     rad_image *image = NULL;
