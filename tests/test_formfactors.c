@@ -76,7 +76,7 @@ static double *surface_matrix(rad_context *ctx, const rad_scene *scene, rad_ff_m
                               int samples, int resolution, double element_size, size_t *count) {
     rad_mesh_options mesh = {0};
     mesh.element_size = element_size;
-    rad_ff_options ff = {method, samples, resolution};
+    rad_ff_options ff = {method, samples, resolution, NULL};
     rad_system *system = NULL;
     if (rad_system_create(ctx, scene, &mesh, &ff, &system)) {
         fprintf(stderr, "system: %s\n", rad_context_error(ctx));
@@ -236,7 +236,7 @@ static void test_hemicube_convergence(rad_context *ctx) {
     for (int level = 0; level < 4; ++level) {
         rad_mesh_options mesh = {0};
         mesh.element_size = 0.1;
-        rad_ff_options ff = {RAD_FF_HEMICUBE, 0, resolutions[level]};
+        rad_ff_options ff = {RAD_FF_HEMICUBE, 0, resolutions[level], NULL};
         rad_system *system = NULL;
         CHECK(rad_system_create(ctx, right, &mesh, &ff, &system) == RAD_OK);
         if (!system) return;
@@ -397,7 +397,7 @@ static void test_threads(void) {
     rad_mesh_options mesh = {0};
     mesh.elements = 800;
     for (int m = 0; m < 4; ++m) {
-        rad_ff_options ff = {methods[m], 0, 64};
+        rad_ff_options ff = {methods[m], 0, 64, NULL};
         rad_system *a = NULL, *b = NULL;
         CHECK(rad_system_create(one, cornell, &mesh, &ff, &a) == RAD_OK);
         CHECK(rad_system_create(two, cornell, &mesh, &ff, &b) == RAD_OK);
@@ -534,7 +534,7 @@ static void check_facing(rad_context *ctx, const rad_scene *scene, size_t elemen
     rad_mesh_options options = {0};
     options.elements = elements;
     rad_mesh *mesh = NULL;
-    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0};
+    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0, NULL};
     rad_ff_context c;
     CHECK(rad_mesh_create(ctx, scene, &options, &mesh) == RAD_OK);
     if (!mesh) return;
@@ -606,7 +606,7 @@ static void test_triangulated_occluder(rad_context *ctx) {
     rad_mesh_options options = {0};
     options.element_size = 0.125;
     rad_mesh *mesh = NULL;
-    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0};
+    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0, NULL};
     rad_ff_context c;
     int culled = 0;
     if (!status && !rad_mesh_create(ctx, cut, &options, &mesh) &&
