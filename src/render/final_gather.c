@@ -233,6 +233,7 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
     rad_gather_origin next = {n, r->emitters.count ? 1 : 0, 1, point, from->level + 1, run};
     double direct[3], u[2], radiance[3];
     direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
+    lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */
     rad_sample_2d(sample, run, point, dimension + 1, u);
     rad_trace_radiance(r, sample, y, cosine_direction(n, u), &next, radiance);
     for (int c = 0; c < 3; ++c) out[c] = direct[c] + rho[c] * radiance[c];
