@@ -43,6 +43,7 @@ void rad_renderer_destroy(rad_renderer *r) {
     rad_free(ctx, r->element_radiance);
     rad_free(ctx, r->element_emission);
     rad_free(ctx, r->element_reflectance);
+    rad_free(ctx, r->vertex_irradiance);
     rad_free(ctx, r);
 }
 
@@ -207,6 +208,7 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
     rad_context *ctx = r->ctx;
     double start = rad_seconds();
     rad_status status = rad_reconstruct_prepare(r);
+    if (!status) status = rad_texture_shading_prepare(r);
     rad_image *image = NULL;
     if (!status) status = rad_image_new(ctx, r->view.width, r->view.height, &image);
     if (status) return status;

@@ -23,6 +23,9 @@ typedef struct rad_material {
     double specular[3];    /* mirror / glass tint */
     double roughness;      /* 0: perfect mirror */
     double ior;            /* glass index of refraction */
+    /* A colour texture that multiplies `reflectance` (scene/texture.h), or NULL; the scene
+     * holds a reference (textures below). */
+    const struct rad_texture *texture;
 } rad_material;
 
 /* A named input object: results are reported per surface. */
@@ -73,6 +76,14 @@ struct rad_scene {
     rad_material *materials;
     int has_camera;
     rad_camera camera;
+
+    /* Textures (scene/texture.h): the scene holds one reference to each; materials point at
+     * them. Texture coordinates per polygon corner, parallel to polygon_vertices: corners past
+     * polygon_uv_count, or NaN, have none. */
+    size_t texture_count, texture_capacity;
+    struct rad_texture **textures;
+    size_t polygon_uv_count, polygon_uv_capacity;
+    float (*polygon_uvs)[2];
 };
 
 /* An empty scene of either kind. */
@@ -93,6 +104,11 @@ rad_status rad_scene_add_polygon(rad_scene *scene, uint32_t surface, const uint3
 /* A convex polygon from positions (adds the vertices). */
 rad_status rad_scene_add_polygon_points(rad_scene *scene, uint32_t surface,
                                         const rad_vec3 *points, uint32_t count);
+
+/* Keeps a reference to `texture` (scene/texture.h); its index to *index (may be NULL). */
+rad_status rad_scene_add_texture(rad_scene *scene, struct rad_texture *texture, uint32_t *index);
+/* Texture coordinates for the corners of the last polygon added (`count` pairs). */
+rad_status rad_scene_set_last_uvs(rad_scene *scene, const float (*uv)[2], uint32_t count);
 
 /* Geometry of a polygon: unit normal (Newell's method), area, centroid. */
 rad_vec3 rad_polygon_normal(const rad_scene *scene, const rad_polygon *polygon);
