@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# cli_scene_info.sh - `radiosity scenes --info SCENE [--json]` (cli/cmd_scenes.c,
+# src/scene/scene_info.c): counts, bounds, materials with textures, surfaces, lights, camera and
+# the import's warnings, in text and as one JSON object; bad input as everywhere.
+# Usage: cli_scene_info.sh RADIOSITY SOURCE_DIR
+source "$(dirname "$0")/lib_cli.sh" "$@"
+cd "$work" || exit 1
+python3 "$source_dir/scripts/make_textured_room.py" room.gltf
+
+"$radiosity" scenes --info room.gltf >info.txt 2>info.err
+check "text: exit 0" test $? -eq 0
+check "text: polygon and triangle counts" grep -q "^polygons    7 (14 triangles), 28 vertices" info.txt
+check "text: bounds" grep -q "^bounds      0 0 0  to  4 3 4" info.txt
+check "text: the texture with its size" grep -q "checker .*texture checker.png (64 x 64)" info.txt
+check "text: the textured surface" grep -q "^  floor .*textured$" info.txt
+check "text: the lamp among the lights" grep -q "^lights      'lamp' (radiance 10 10 10)" info.txt
+check "text: the file's camera" grep -q "^camera      the file's: eye 2 2.2 3.9" info.txt
+
+# An OBJ with a lost texture and a bright material: the warnings go into the JSON too.
+printf 'mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\no a\nusemtl white\nf 1/1 2/2 3/3 4/3\nusemtl nosuch\nf 4 3 1\n' >m.obj
+printf 'newmtl white\nKd 1 1 1\nmap_Kd gone.png\n' >m.mtl
+"$radiosity" scenes --info m.obj --json >info.json 2>json.err
+check "json: exit 0" test $? -eq 0
+check "json: the result" python3 - info.json <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["geometric"] and d["polygons"] == 2 and d["triangles"] == 3, d
+assert d["bounds"] == {"min": [0, 0, 0], "max": [1, 1, 0]}, d["bounds"]
+assert d["camera"]["from_file"] is False
+white = [m for m in d["materials"] if m["name"] == "white"][0]
+assert white["texture"] is None and white["reflectance"] == [1, 1, 1], white
+assert any("gone.png" in w for w in d["warnings"]), d["warnings"]
+assert any("white because its texture" in w for w in d["warnings"]), d["warnings"]
+assert any("usemtl 'nosuch'" in n for n in d["notes"]), d["notes"]
+assert d["lights"] == [], d["lights"]
+PY
+"$radiosity" scenes --info four-walls --json >ffm.json 2>/dev/null
+check "json: a patch system" python3 -c "import json; d = json.load(open('ffm.json')); assert not d['geometric'] and d['patches'] == 4, d"
+
+expect_exit 1 "nothere.obj" -- "$radiosity" scenes --info nothere.obj
+expect_exit 2 "json goes with --info" -- "$radiosity" scenes --json
+expect_exit 2 "unexpected argument" -- "$radiosity" scenes --info room.gltf extra
+finish
