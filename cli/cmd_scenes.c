@@ -80,7 +80,9 @@ static void info_text(const char *name, const rad_scene *scene, const kept_log *
     printf("materials   %zu, %zu textures\n", info.material_count, info.texture_count);
     rad_camera_desc camera;
     rad_scene_get_camera(scene, &camera);
-    printf("camera      %s: eye ", info.has_camera ? "the file's" : "none in the file; automatic");
+    printf("camera      %s: eye ", info.has_camera         ? "the file's"
+                                   : info.camera_automatic ? "none in the file; automatic, inside"
+                                                           : "none in the file; framing the scene");
     print_vector(camera.eye);
     printf(", look ");
     print_vector(camera.look);
@@ -141,7 +143,9 @@ static void info_json(const char *name, const rad_scene *scene, const kept_log *
         json_vector("max", info.bounds_max, 1);
         rad_camera_desc camera;
         rad_scene_get_camera(scene, &camera);
-        printf("},\n \"camera\": {\"from_file\": %s, ", info.has_camera ? "true" : "false");
+        printf("},\n \"camera\": {\"from_file\": %s, \"automatic\": \"%s\", ",
+               info.has_camera ? "true" : "false",
+               info.has_camera ? "none" : info.camera_automatic ? "inside" : "framing");
         json_vector("eye", camera.eye, 0);
         json_vector("look", camera.look, 0);
         json_vector("up", camera.up, 0);

@@ -657,6 +657,7 @@ typedef struct rad_scene_info {
     size_t emitting_surface_count;
     int has_camera;       /* the file's own camera (rad_scene_get_camera gives it) */
     double bounds_min[3], bounds_max[3];
+    int camera_automatic; /* no camera in the file: one was placed inside its open space */
 } rad_scene_info;
 void rad_scene_get_info(const rad_scene *scene, rad_scene_info *out);
 

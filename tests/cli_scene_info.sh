@@ -37,6 +37,23 @@ PY
 "$radiosity" scenes --info four-walls --json >ffm.json 2>/dev/null
 check "json: a patch system" python3 -c "import json; d = json.load(open('ffm.json')); assert not d['geometric'] and d['patches'] == 4, d"
 
+# No camera in a closed room: the automatic camera stands inside, and render sees the room.
+python3 -c "import json; d = json.load(open('room.gltf'))
+d['nodes'] = [n for n in d['nodes'] if 'camera' not in n]; del d['cameras']
+d['scenes'][0]['nodes'] = list(range(len(d['nodes']))); json.dump(d, open('nocam.gltf', 'w'))"
+"$radiosity" scenes --info nocam.gltf --json >nocam.json 2>nocam.err
+check "automatic camera: a note says so" grep -q "the automatic camera stands inside the largest open space" nocam.json
+check "automatic camera: inside the room" python3 -c "import json; c = json.load(open('nocam.json'))['camera']
+assert c['automatic'] == 'inside' and not c['from_file'], c
+assert 0 < c['eye'][0] < 4 and 0 < c['eye'][1] < 3 and 0 < c['eye'][2] < 4, c"
+"$radiosity" render nocam.gltf --elements 100 --width 16 --height 16 --spp 1 -o nocam.pfm 2>/dev/null
+check "automatic camera: render sees the room" test -s nocam.pfm
+"$radiosity" scenes --info "$source_dir/scenes/room.obj" --json >objroom.json 2>/dev/null
+check "an open scene keeps the framing camera" python3 -c "import json
+assert json.load(open('objroom.json'))['camera']['automatic'] == 'framing'"
+expect_exit 1 "place it with --eye and --look" -- "$radiosity" render nocam.gltf --quiet \
+    --elements 100 --width 16 --height 16 --eye 2,1.5,-1 --look 2,1.5,2
+
 expect_exit 1 "nothere.obj" -- "$radiosity" scenes --info nothere.obj
 expect_exit 2 "json goes with --info" -- "$radiosity" scenes --json
 expect_exit 2 "unexpected argument" -- "$radiosity" scenes --info room.gltf extra

@@ -234,7 +234,8 @@ static rad_status check_view(const rad_tracer *t, const rad_view *view) {
     if (fronts == 0)
         return rad_fail(t->ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "camera is inside an object or behind the scene: it sees only the backs "
-                        "of surfaces (such as '%s')", back_surface);
+                        "of surfaces (such as '%s'); place it with --eye and --look, or leave "
+                        "the file without a camera for the automatic one", back_surface);
     return RAD_OK;
 }
 

@@ -111,7 +111,8 @@ static rad_status probe_camera(const rad_renderer *r) {
                         "--fov)");
     return rad_fail(r->ctx, RAD_ERROR_INVALID_ARGUMENT,
                     "the camera sees only the backs of one-sided surfaces: is it inside an "
-                    "object? (check --eye)");
+                    "object? (check --eye; place it with --eye and --look, or leave the file "
+                    "without a camera for the automatic one)");
 }
 
 rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,

@@ -84,6 +84,9 @@ struct rad_scene {
     struct rad_texture **textures;
     size_t polygon_uv_count, polygon_uv_capacity;
     float (*polygon_uvs)[2];
+
+    /* No camera in the file: `camera` is the automatic one (camera.c, rad_scene_auto_camera). */
+    int camera_automatic;
 };
 
 /* An empty scene of either kind. */

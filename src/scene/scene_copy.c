@@ -44,6 +44,7 @@ rad_status rad_scene_copy_geometry(rad_context *ctx, const rad_scene *scene, rad
     copy->polygon_uv_count = copy->polygon_uv_capacity = ok ? scene->polygon_uv_count : 0;
     copy->has_camera = scene->has_camera;
     copy->camera = scene->camera;
+    copy->camera_automatic = scene->camera_automatic;
     if (!ok) {
         rad_scene_destroy(copy);
         return RAD_ERROR_NO_MEMORY;

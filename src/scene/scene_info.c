@@ -23,6 +23,7 @@ void rad_scene_get_info(const rad_scene *scene, rad_scene_info *out) {
         if (e[0] > 0 || e[1] > 0 || e[2] > 0) out->emitting_surface_count++;
     }
     out->has_camera = scene->has_camera;
+    out->camera_automatic = scene->camera_automatic;
     rad_vec3 lo, hi;
     rad_scene_bounds(scene, &lo, &hi);
     out->bounds_min[0] = lo.x, out->bounds_min[1] = lo.y, out->bounds_min[2] = lo.z;
