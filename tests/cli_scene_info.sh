@@ -54,6 +54,28 @@ assert json.load(open('objroom.json'))['camera']['automatic'] == 'framing'"
 expect_exit 1 "place it with --eye and --look" -- "$radiosity" render nocam.gltf --quiet \
     --elements 100 --width 16 --height 16 --eye 2,1.5,-1 --look 2,1.5,2
 
+# A 3DS camera (z-up file, turned y-up by assimp) comes in upright: up +y, not -z (rolled).
+python3 - <<'PY'
+import struct
+def chunk(cid, body): return struct.pack("<HI", cid, 6 + len(body)) + body
+verts = [(-2, -2, 0), (2, -2, 0), (2, 4, 0), (-2, 4, 0), (-2, 4, 0), (2, 4, 0), (2, 4, 3), (-2, 4, 3)]
+faces = [(0, 1, 2), (0, 2, 3), (4, 7, 6), (4, 6, 5)]   # floor (+z) and back wall (-y)
+vb = struct.pack("<H", len(verts)) + b"".join(struct.pack("<3f", *v) for v in verts)
+fb = struct.pack("<H", len(faces)) + b"".join(struct.pack("<4H", *f, 0) for f in faces)
+mesh = chunk(0x4000, b"room\0" + chunk(0x4100, chunk(0x4110, vb) + chunk(0x4120, fb)))
+# camera: position, target, roll, lens
+camera = chunk(0x4000, b"Camera01\0" + chunk(0x4700, struct.pack("<8f", 0, -1.5, 1.5, 0, 4, 1.2, 0, 35)))
+editor = chunk(0x3D3D, chunk(0x3D3E, struct.pack("<I", 3)) + mesh + camera)
+open("room.3ds", "wb").write(chunk(0x4D4D, chunk(0x0002, struct.pack("<I", 3)) + editor))
+PY
+"$radiosity" scenes --info room.3ds --json >3ds.json 2>/dev/null
+check "3DS camera: upright (up +y), eye and view as the file says" python3 -c "import json
+c = json.load(open('3ds.json'))['camera']
+assert c['from_file'] and abs(c['up'][1] - 1) < 1e-9 and abs(c['up'][2]) < 1e-9, c
+assert [round(x, 6) for x in c['eye']] == [0, 1.5, 1.5], c
+d = [c['look'][k] - c['eye'][k] for k in range(3)]
+assert d[2] < -0.99 and d[1] < 0, c"
+
 expect_exit 1 "nothere.obj" -- "$radiosity" scenes --info nothere.obj
 expect_exit 2 "json goes with --info" -- "$radiosity" scenes --json
 expect_exit 2 "unexpected argument" -- "$radiosity" scenes --info room.gltf extra

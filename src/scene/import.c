@@ -231,6 +231,8 @@ typedef struct importer {
     int last_texture_lost; /* set by material_texture */
 } importer;
 
+static int has_extension(const char *path, const char *extension);
+
 /* The stem of a path: "dir/room.obj" -> "room". */
 static void path_stem(const char *path, char *stem, size_t size) {
     const char *slash = strrchr(path, '/');
@@ -842,6 +844,10 @@ static void read_camera(importer *im) {
         look = v3(0, 0, -1);
         up = v3(0, 1, 0);
     }
+    /* 3DS files are z-up (assimp turns the root node to y-up), but assimp 5.2.5 leaves the
+     * camera's up at its default +y of the file's space, which the turn makes -z: the camera
+     * came in rolled by 90 degrees (Sponza's). Up in the file is +z. */
+    if (has_extension(im->path, ".3ds")) up = v3(0, 0, 1);
     rad_vec3 eye = transform_point(&world, position);
     rad_vec3 view = v3_normalize(transform_direction(&world, look));
     up = v3_normalize(transform_direction(&world, up));
@@ -907,8 +913,6 @@ static void warn_bright_materials(importer *im) {
  * material of that name with its own defaults). The MTL files are those `mtllib` names,
  * beside the OBJ; their `newmtl` names are the known ones. */
 #define MTL_NAMES 4096
-
-static int has_extension(const char *path, const char *extension);
 
 /* The text after a statement's keyword on a line, trimmed; NULL when the line is not it. */
 static char *statement(char *line, const char *keyword) {
