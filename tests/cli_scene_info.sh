@@ -76,6 +76,34 @@ assert [round(x, 6) for x in c['eye']] == [0, 1.5, 1.5], c
 d = [c['look'][k] - c['eye'][k] for k in range(3)]
 assert d[2] < -0.99 and d[1] < 0, c"
 
+# glTF doubleSided: a panel between two lamps, one above and one below, gets a back surface;
+# both faces receive light (a one-sided panel's back would stay black).
+python3 - <<'PY'
+import base64, json, struct
+positions = [(-0.5, 0, -0.5), (-0.5, 0, 0.5), (0.5, 0, 0.5), (0.5, 0, -0.5)]   # faces +y
+binary = b"".join(struct.pack("<3f", *p) for p in positions) + struct.pack("<6H", 0, 1, 2, 0, 2, 3)
+def material(name, double, emit):
+    m = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0}}
+    if double: m["doubleSided"] = True
+    if emit: m["emissiveFactor"] = [1, 1, 1]
+    return m
+json.dump({"asset": {"version": "2.0"},
+    "buffers": [{"byteLength": len(binary), "uri": "data:application/octet-stream;base64," + base64.b64encode(binary).decode()}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-0.5, 0, -0.5], "max": [0.5, 0, 0.5]},
+                  {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+    "materials": [material("panel", True, False), material("lamp", False, True)],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": m}]} for m in (0, 1)],
+    "nodes": [{"name": "panel", "mesh": 0},
+              {"name": "above", "mesh": 1, "translation": [0, 1, 0], "rotation": [1, 0, 0, 0]},
+              {"name": "below", "mesh": 1, "translation": [0, -1, 0]}],
+    "scenes": [{"nodes": [0, 1, 2]}], "scene": 0}, open("panel.gltf", "w"))
+PY
+"$radiosity" solve panel.gltf --elements 50 --json >panel.json 2>panel.err
+check "doubleSided: both faces of the panel receive light" python3 -c "import json
+p = {s['name']: s['radiosity'][0] for s in json.load(open('panel.json'))['patches']}
+assert p['panel'] > 0.05 and abs(p['panel (back)'] - p['panel']) < 0.02 * p['panel'], p"
+
 expect_exit 1 "nothere.obj" -- "$radiosity" scenes --info nothere.obj
 expect_exit 2 "json goes with --info" -- "$radiosity" scenes --json
 expect_exit 2 "unexpected argument" -- "$radiosity" scenes --info room.gltf extra

@@ -454,6 +454,8 @@ static rad_status convert_material(importer *im, unsigned index, uint32_t *out) 
             mat.roughness = shininess > 0 ? fmin(1.0, fmax(0.0, 1 - sqrt(shininess / 1000))) : 0;
         }
     }
+    int two_sided = 0; /* glTF doubleSided, and what else assimp marks two-sided */
+    if (material_int(m, AI_MATKEY_TWOSIDED, &two_sided)) mat.two_sided = two_sided != 0;
     im->last_texture_lost = 0;
     rad_status status = material_texture(im, m, &mat);
     if (!status) status = rad_scene_add_material(im->scene, &mat, out);

@@ -152,6 +152,7 @@ static int write_scene(const rad_scene *scene) {
         copy.kind = m->kind;
         copy.roughness = m->roughness;
         copy.ior = m->ior;
+        copy.two_sided = m->two_sided; /* texture: the textures record */
         if (write_all(&copy, sizeof copy) || write_string(m->name)) return -1;
     }
     return 0;

@@ -26,6 +26,7 @@ typedef struct rad_material {
     /* A colour texture that multiplies `reflectance` (scene/texture.h), or NULL; the scene
      * holds a reference (textures below). */
     const struct rad_texture *texture;
+    int two_sided; /* both faces receive and reflect (glTF doubleSided): two_sided.c */
 } rad_material;
 
 /* A named input object: results are reported per surface. */
@@ -112,6 +113,11 @@ rad_status rad_scene_add_polygon_points(rad_scene *scene, uint32_t surface,
 rad_status rad_scene_add_texture(rad_scene *scene, struct rad_texture *texture, uint32_t *index);
 /* Texture coordinates for the corners of the last polygon added (`count` pairs). */
 rad_status rad_scene_set_last_uvs(rad_scene *scene, const float (*uv)[2], uint32_t count);
+
+/* Surfaces of two-sided materials get a back: a surface "NAME (back)" of the same polygons
+ * turned over, moved behind by a hair (2e-5 of the scene's diagonal, twice the rays' offset),
+ * so both faces receive and reflect as two one-sided surfaces back to back (two_sided.c). */
+rad_status rad_scene_add_back_faces(rad_scene *scene);
 
 /* Geometry of a polygon: unit normal (Newell's method), area, centroid. */
 rad_vec3 rad_polygon_normal(const rad_scene *scene, const rad_polygon *polygon);
