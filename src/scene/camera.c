@@ -103,10 +103,7 @@ void rad_scene_auto_camera(rad_scene *scene) {
                 }
             }
     if (!(best > 0)) {
-        rad_rays_destroy(rays);
-        rad_info(ctx, "%s: no camera in the file, and no open space inside it was found: the "
-                 "automatic camera frames the scene from outside (set one with --eye and --look)",
-                 scene->source);
+        rad_rays_destroy(rays); /* no open space inside: the framing camera stays */
         return;
     }
     /* The view: level (a little down), along the heading with the longest free view, +y up. */
