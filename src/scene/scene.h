@@ -5,6 +5,7 @@
 
 #include "core/context.h"
 #include "core/vec3.h"
+#include "light/lights.h"
 
 #include <stdint.h>
 
@@ -88,6 +89,11 @@ struct rad_scene {
 
     /* No camera in the file: `camera` is the automatic one (camera.c, rad_scene_auto_camera). */
     int camera_automatic;
+    /* Sources that are not surfaces (light/lights.h, scene_lights.c): point, spot and
+     * directional lights from the file or the caller (the sun), and the sky. */
+    size_t light_count, light_capacity;
+    rad_light *lights;
+    rad_sky sky;
 };
 
 /* An empty scene of either kind. */
@@ -118,6 +124,8 @@ rad_status rad_scene_set_last_uvs(rad_scene *scene, const float (*uv)[2], uint32
  * turned over, moved behind by a hair (2e-5 of the scene's diagonal, twice the rays' offset),
  * so both faces receive and reflect as two one-sided surfaces back to back (two_sided.c). */
 rad_status rad_scene_add_back_faces(rad_scene *scene);
+/* Appends a copy of `light` (its name copied; its IES profile, if any, now owned by the scene). */
+rad_status rad_scene_append_light(rad_scene *scene, const rad_light *light);
 
 /* Geometry of a polygon: unit normal (Newell's method), area, centroid. */
 rad_vec3 rad_polygon_normal(const rad_scene *scene, const rad_polygon *polygon);
