@@ -373,6 +373,11 @@ static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *
     double brightest = fmax(s->radiosity[0], fmax(s->radiosity[1], s->radiosity[2]));
     double error = rho * brightest * fabs((double)link->error) * r->area;
     *relative = error / h->threshold;
+    /* A cluster only sends. Gathered into a cluster, light would reach every member alike,
+     * whatever its orientation and whatever hides it (it leaked under boxes standing on a
+     * tiled floor: 0.10 against 0.009); so a cluster receiver is opened as soon as its source
+     * carries light, and every surface gathers with its own orientation and visibility. */
+    if (is_cluster(r) && brightest > 0) return link->receiver == link->source ? 3 : 1;
     if (!(error > h->threshold)) return 0;
     if (link->receiver == link->source) return 3;
     int split_r = is_cluster(r) || can_split(h, r), split_s = is_cluster(s) || can_split(h, s);
