@@ -23,6 +23,9 @@ check "bakes" test -s "$work/h.ply"
 "$radiosity" solve cornell --solver hierarchical --link-error 1e-5 --max-memory 2 >"$work/small" 2>"$work/warn"
 check "budget: still solved" grep -Eq '^floor +[0-9]+ +0\.[0-9]' "$work/small"
 check "budget: says so" grep -q 'links and [0-9]* nodes needs .* refinement stops at [0-9]* links' "$work/warn"
+check "budget: not converged" grep -Eq '^hierarchical: [0-9]+ rounds, not converged' "$work/small"
+"$radiosity" solve cornell --solver hierarchical >/dev/null 2>"$work/steps"
+check "step line" grep -Eq '^radiosity: hierarchical step 1: [0-9]+ links \([0-9]+ to clusters\), [0-9]+ leaves, [0-9]+ clusters, [0-9]+ refined, largest remaining error' "$work/steps"
 
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error 0
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error -1

@@ -302,15 +302,27 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     return p;
 }
 
-/* Up to four points on a node's surfaces for visibility rays: a polygon node's quadrature
- * points; for a cluster, points on members picked by a fixed pseudo-random walk down it. */
-static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 *out) {
+/* Up to four points on a node's surfaces for visibility rays toward unit direction w: a
+ * polygon node's quadrature points; for a cluster, points on members reached by a fixed
+ * pseudo-random walk down it that picks each child in proportion to its projected area toward
+ * w (members facing away, whose own bodies would block the rays, are not sampled). */
+static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, rad_vec3 *out) {
     if (!is_cluster(&h->nodes[index])) return quadrature_points(&h->nodes[index], out);
     for (int k = 0; k < 4; ++k) {
         uint32_t state = (uint32_t)k * 2654435761u + index * 40503u, at = index;
         while (is_cluster(&h->nodes[at])) {
+            const rad_hier_node *n = &h->nodes[at];
             state = state * 1664525u + 1013904223u;
-            at = h->nodes[at].first_child + (state >> 16) % h->nodes[at].child_count;
+            double weight[LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total = 0;
+            uint32_t count = n->child_count <= LEAF_CLUSTER ? n->child_count : LEAF_CLUSTER;
+            for (uint32_t c = 0; c < count; ++c)
+                total += weight[c] = project(h, n->first_child + c, w, 0).estimate;
+            uint32_t pick = (state >> 16) % n->child_count;
+            if (total > 0 && n->child_count <= LEAF_CLUSTER) {
+                double u = (double)(state >> 8) / 16777216.0 * total;
+                for (pick = 0; pick + 1 < count && u >= weight[pick]; ++pick) u -= weight[pick];
+            }
+            at = n->first_child + pick;
         }
         rad_vec3 q[4];
         int count = quadrature_points(&h->nodes[at], q);
@@ -345,7 +357,8 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     double lower = pr.lower * ps.lower / (RAD_PI * (d + reach) * (d + reach) * area);
     /* Transmittance: the visible fraction of the rays between sampled member points. */
     rad_vec3 x[4], y[4];
-    int rn = sample_points(h, receiver, x), sn = sample_points(h, source, y), partial;
+    int rn = sample_points(h, receiver, w, x), sn = sample_points(h, source, v3_scale(w, -1), y);
+    int partial;
     double fraction = visible_fraction(h, x, rn, y, sn, &partial);
     double error = (upper - lower) + (partial ? estimate : 0);
     out->form_factor = (float)(estimate * fraction);
@@ -373,6 +386,11 @@ static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *
     double brightest = fmax(s->radiosity[0], fmax(s->radiosity[1], s->radiosity[2]));
     double error = rho * brightest * fabs((double)link->error) * r->area;
     *relative = error / h->threshold;
+    /* A cluster only sends. Gathered into a cluster, light would reach every member alike,
+     * whatever its orientation and whatever hides it (it leaked under boxes standing on a
+     * tiled floor: 0.10 against 0.009); so a cluster receiver is opened as soon as its source
+     * carries light, and every surface gathers with its own orientation and visibility. */
+    if (is_cluster(r) && brightest > 0) return link->receiver == link->source ? 3 : 1;
     if (!(error > h->threshold)) return 0;
     if (link->receiver == link->source) return 3;
     int split_r = is_cluster(r) || can_split(h, r), split_s = is_cluster(s) || can_split(h, s);
