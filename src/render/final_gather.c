@@ -54,18 +54,22 @@ static int32_t add_emitter(rad_emitter_table *table, const rad_mesh *mesh, uint3
 
 rad_status rad_emitters_build(rad_renderer *r) {
     const rad_mesh *mesh = r->mesh;
-    const rad_system *s = r->system;
+    const rad_solution_view *solution = r->solution;
     size_t count = 0;
-    for (size_t e = 0; e < mesh->element_count; ++e)
-        if (s->emission[e][0] > 0 || s->emission[e][1] > 0 || s->emission[e][2] > 0)
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        double emission[3];
+        solution->ops->emission(solution, e, emission);
+        if (emission[0] > 0 || emission[1] > 0 || emission[2] > 0)
             count += (size_t)rad_mesh_corner_count(mesh, e) - 2;
+    }
     r->element_emitter = rad_alloc(r->ctx, mesh->element_count + 1, sizeof *r->element_emitter);
     if (!r->element_emitter) return RAD_ERROR_NO_MEMORY;
     for (size_t e = 0; e < mesh->element_count; ++e) r->element_emitter[e][0] = r->element_emitter[e][1] = -1;
     rad_status status = rad_emitter_table_reserve(r->ctx, &r->emitters, count);
     if (status || count == 0) return status;
     for (size_t e = 0; e < mesh->element_count; ++e) {
-        const double *emission = s->emission[e];
+        double emission[3];
+        solution->ops->emission(solution, e, emission);
         if (!(emission[0] > 0 || emission[1] > 0 || emission[2] > 0)) continue;
         /* Emitted radiance L = E / pi, rounded to float as the renderer keeps it. */
         double radiance[3];
@@ -125,6 +129,29 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
     for (int c = 0; c < 3; ++c) out[c] /= count;
 }
 
+/* Radiance reflected at x (normal n, reflectance rho) of the point, spot and directional
+ * lights: each is one point or direction, so it is sampled exactly, with one shadow ray and no
+ * weight (no gather ray can find it). */
+static void lights_direct(const rad_renderer *r, rad_sample *sample, rad_vec3 x, rad_vec3 n,
+                          const float rho[3], double out[3]) {
+    for (size_t i = 0; i < r->light_count; ++i) {
+        rad_light_arrival arrival;
+        if (!rad_light_arrive(&r->lights[i], x, &arrival)) continue;
+        double cos_x = v3_dot(n, arrival.direction);
+        if (cos_x <= 0) continue;
+        sample->counts->shadow++;
+        if (isinf(arrival.distance)) {
+            rad_element_hit blocker;
+            if (rad_element_rays_intersect(r->rays, x, arrival.direction, r->rays->epsilon,
+                                           INFINITY, &blocker))
+                continue;
+        } else if (rad_element_rays_occluded(r->rays, x, r->lights[i].position)) {
+            continue;
+        }
+        for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * arrival.irradiance[c] * cos_x;
+    }
+}
+
 /* A cosine-weighted direction about n from the point u of the unit square. */
 static rad_vec3 cosine_direction(rad_vec3 n, const double u[2]) {
     rad_vec3 t, b;
@@ -159,6 +186,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     /* Direct light. */
     double direct[3];
     direct_light(r, sample, &from, (uint32_t)from.light_samples, 0, RAD_RENDER_DIM_LIGHT, x, rho, direct);
+    lights_direct(r, sample, x, n, rho, direct);
     for (int c = 0; c < 3; ++c) out[c] += direct[c];
 
     /* Indirect light (and the emitted light they meet, weighted): cosine-weighted rays into the

@@ -20,6 +20,7 @@
 #include "scene/camera.h"
 #include "system/element_rays.h"
 #include "scene/scene.h"
+#include "system/solution_view.h"
 #include "system/system.h"
 
 typedef struct rad_render_settings {
@@ -31,6 +32,11 @@ typedef struct rad_render_settings {
 struct rad_renderer {
     rad_context *ctx;
     const rad_system *system;
+    /* The solution as the renderer reads it (system/solution_view.h), and its leaves: `mesh` and
+     * everything built from it below (rays, emitters, fits, radiance arrays) belong to one
+     * generation of the view and are rebuilt when the leaves change. */
+    const rad_solution_view *solution;
+    uint64_t generation;
     const rad_mesh *mesh;
     rad_element_rays *rays;
     rad_view view;
@@ -44,6 +50,11 @@ struct rad_renderer {
     /* Light sampling: the emitting elements' triangles, picked by power (light/emitters.h). */
     rad_emitter_table emitters;
     int32_t (*element_emitter)[2]; /* per element, its emitter triangles (-1: none) */
+    /* The scene's point, spot and directional lights and its sky (light/lights.h), copied:
+     * sampled at every final-gather point, the sky seen by rays that leave the scene. */
+    size_t light_count;
+    rad_light *lights;
+    rad_sky sky;
 
     /* Boundary vertices of the smooth reconstruction (reconstruct.c): their radiance is the
      * value at the vertex of a plane fitted to nearby element values, sum_k weight_k B_k over

@@ -14,7 +14,8 @@
  *     paths also sample the emitters, combined with the BSDF sample by multiple importance
  *     sampling (the glossy highlight of a light would otherwise be specks);
  * for at most max_depth bounces, until it lands on a diffuse surface (radiance from the solution,
- * or a final gather there when asked for), leaves the scene (black) or hits the back of a
+ * or a final gather there when asked for), leaves the scene (the sky's radiance, black without
+ * one) or hits the back of a
  * one-sided surface (black: surfaces reflect from their front only, as in the solution).
  *
  * What this cannot show (docs/rendering.md): light that reaches a diffuse surface by way of a
@@ -77,7 +78,13 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
         else if (gather) counts->gather++;
         else counts->camera++;
         rad_element_hit hit;
-        if (!rad_element_rays_intersect(r->rays, origin, direction, tnear, INFINITY, &hit)) return;
+        if (!rad_element_rays_intersect(r->rays, origin, direction, tnear, INFINITY, &hit)) {
+            /* Left the scene: the sky, if there is one (light/lights.h). */
+            double sky[3];
+            rad_sky_radiance(&r->sky, direction, sky);
+            for (int c = 0; c < 3; ++c) out[c] += throughput[c] * sky[c];
+            return;
+        }
         const rad_material *material = rad_renderer_material(r, hit.element);
         rad_vec3 x = v3_add(origin, v3_scale(direction, hit.t));
         rad_vec3 normal = r->mesh->element_normal[hit.element];
