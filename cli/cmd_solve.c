@@ -145,6 +145,21 @@ static void print_json(const rad_system *system, const rad_solve_options *option
         printf("}");
     }
     printf("]");
+    /* Where the emitted power went: a leak in a closed scene shows as escaped power. */
+    rad_energy_balance energy;
+    rad_system_energy_balance(system, &energy);
+    const char *parts[4] = {"emitted", "absorbed", "unshot", "escaped"};
+    const double *values[4] = {energy.emitted, energy.absorbed, energy.unshot, energy.escaped};
+    printf(",\n \"energy\": {");
+    for (int k = 0; k < 4; ++k) {
+        printf("%s\"%s\": ", k ? ", " : "", parts[k]);
+        json_rgb(stdout, values[k]);
+    }
+    printf(", \"escaped_fraction\": ");
+    json_number(stdout, energy.escaped_fraction);
+    printf(", \"black_area\": ");
+    json_number(stdout, energy.black_area);
+    printf("}");
     if (trace) {
         printf(",\n \"trace\": [");
         fwrite(trace->buffer, 1, trace->size, stdout);

@@ -247,6 +247,20 @@ typedef struct rad_surface_info {
 
 rad_status rad_system_surface(const rad_system *system, size_t index, rad_surface_info *out);
 
+/* Where the emitted power went (src/system/energy_balance.c), per channel, in power units
+ * (radiosity times area): emitted = absorbed + unshot + escaped. Absorbed is what each element
+ * takes of the light arriving at it, (1 - rho) H A with H = (B - E) / rho; unshot is the power
+ * a shooting solver has yet to send; escaped is the rest: light that left the scene, or, in a
+ * closed scene, light lost through leaks. Where rho is 0 the arriving light is not known and
+ * its absorption is counted as escaped; `black_area` is the area of such elements (any channel). */
+typedef struct rad_energy_balance {
+    double emitted[3], absorbed[3], unshot[3], escaped[3];
+    double escaped_fraction; /* escaped / emitted, summed over channels */
+    double black_area;
+} rad_energy_balance;
+
+void rad_system_energy_balance(const rad_system *system, rad_energy_balance *out);
+
 /* The form factor between two surfaces, each surface's elements combined by area: the fraction
  * of the energy leaving surface `from` that arrives at surface `to`. Fills a row-major
  * surface_count x surface_count matrix. */
@@ -482,6 +496,12 @@ rad_status rad_scene_export_obj(rad_context *context, const rad_scene *scene, co
  * with a desk, a chair and an emitting ceiling lamp, rooms of 4 x 4 cells with doorways, outer
  * walls; deterministic (src/scene/generate_office.c). At least 123 triangles. */
 rad_status rad_scene_generate_office(rad_context *context, size_t triangles, rad_scene **out);
+
+/* A generated closed two-room house (metres) built as building models are: a floor slab running
+ * under the walls and out of the building, exterior walls passing through it and the roof slab,
+ * a partition with a doorway, one ceiling lamp; nothing leaves it, so power escaping from a
+ * solution is a leak (src/scene/generate_house.c). */
+rad_status rad_scene_generate_house(rad_context *context, rad_scene **out);
 
 /* ---------------------------------------------------------------------------------------------
  * Rendering: pictures of the solution and the ray-traced second pass (docs/rendering.md)

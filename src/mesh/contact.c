@@ -181,6 +181,31 @@ static int contact_line(const rad_scene *scene, const plane_info *info, uint32_t
     return 1;
 }
 
+/* Step 2b: B parallel to A, a little in front of it (nearer than NEAR_GAP times B's extent,
+ * farther than eps): a lamp panel just under a ceiling, a rug on a floor. A is cut along the
+ * lines of B's edges projected onto its plane, so that no element straddles B's outline, half
+ * seen and half hidden behind B (it was black or dark in view, beside the lamp). Adds up to
+ * B's corner count of lines to `out`; returns how many. */
+#define NEAR_GAP 0.05
+static size_t near_parallel_lines(const rad_scene *scene, const plane_info *info, uint32_t a,
+                                  uint32_t b, double eps, line *out) {
+    const plane_info *A = &info[a], *B = &info[b];
+    const rad_polygon *pb = &scene->polygons[b];
+    if (fabs(v3_dot(A->normal, B->normal)) < 1 - 1e-9 || pb->count > 64) return 0;
+    double gap = v3_dot(A->normal, rad_polygon_vertex(scene, pb, 0)) - A->offset;
+    double extent = v3_length(v3_sub(B->hi, B->lo));
+    if (!(gap > eps) || gap > NEAR_GAP * extent) return 0;
+    size_t count = 0;
+    for (uint32_t k = 0; k < pb->count; ++k) {
+        rad_vec3 p = rad_polygon_vertex(scene, pb, k), q = rad_polygon_vertex(scene, pb, (k + 1) % pb->count);
+        rad_vec3 d = v3_sub(q, p);
+        if (v3_length(d) <= eps) continue;
+        p = v3_sub(p, v3_scale(A->normal, v3_dot(A->normal, p) - A->offset));
+        out[count++] = (line){p, v3_normalize(d)};
+    }
+    return count;
+}
+
 /* Is the corner mean of polygon b inside polygon a (eps within its edges, in a's plane)? */
 static int inside(const rad_scene *scene, const plane_info *info, uint32_t a, uint32_t b, double eps) {
     const rad_polygon *pa = &scene->polygons[a], *pb = &scene->polygons[b];
@@ -277,16 +302,24 @@ rad_status rad_contact_cut_create(rad_context *ctx, const rad_scene *scene, rad_
     }
     sort_info = info;
     if (np) qsort(order, np, sizeof *order, by_low_x);
+    double largest_reach = 0;
+    for (size_t i = 0; i < np; ++i)
+        if (isfinite(info[i].offset))
+            largest_reach = fmax(largest_reach, NEAR_GAP * v3_length(v3_sub(info[i].hi, info[i].lo)));
     /* Step 2: pairs whose bounds meet (sweep along x). */
     for (size_t s = 0; s < np && !status; ++s) {
         uint32_t a = order[s];
         if (!isfinite(info[a].offset) || scene->polygons[a].count > 64) continue;
-        for (size_t t = s + 1; t < np && info[order[t]].lo.x <= info[a].hi.x + eps; ++t) {
+        /* Bounds nearer than eps, or than NEAR_GAP times the larger polygon's extent (step 2b). */
+        double reach_a = NEAR_GAP * v3_length(v3_sub(info[a].hi, info[a].lo));
+        for (size_t t = s + 1; t < np && info[order[t]].lo.x <= info[a].hi.x + eps + fmax(reach_a, largest_reach); ++t) {
             uint32_t b = order[t];
             if (scene->polygons[a].surface == scene->polygons[b].surface) continue;
             if (!isfinite(info[b].offset) || scene->polygons[b].count > 64) continue;
-            if (info[b].lo.y > info[a].hi.y + eps || info[a].lo.y > info[b].hi.y + eps ||
-                info[b].lo.z > info[a].hi.z + eps || info[a].lo.z > info[b].hi.z + eps)
+            double m = eps + fmax(reach_a, NEAR_GAP * v3_length(v3_sub(info[b].hi, info[b].lo)));
+            if (info[b].lo.x > info[a].hi.x + m || info[b].lo.y > info[a].hi.y + m ||
+                info[a].lo.y > info[b].hi.y + m || info[b].lo.z > info[a].hi.z + m ||
+                info[a].lo.z > info[b].hi.z + m)
                 continue;
             for (int way = 0; way < 2 && !status; ++way) {
                 uint32_t receiver = way ? b : a, other = way ? a : b;
@@ -301,12 +334,14 @@ rad_status rad_contact_cut_create(rad_context *ctx, const rad_scene *scene, rad_
                     }
                     break;
                 }
-                if (kind != 1) continue;
-                if (grow(ctx, (void **)&contacts, &contact_capacity, contact_count + 1, sizeof *contacts)) {
+                line near[64];
+                size_t lines = kind == 1 ? 1 : near_parallel_lines(scene, info, receiver, other, eps, near);
+                if (kind == 1) near[0] = l;
+                if (grow(ctx, (void **)&contacts, &contact_capacity, contact_count + lines, sizeof *contacts)) {
                     status = RAD_ERROR_NO_MEMORY;
                     break;
                 }
-                contacts[contact_count++] = (contact){receiver, other, l};
+                for (size_t k = 0; k < lines; ++k) contacts[contact_count++] = (contact){receiver, other, near[k]};
             }
         }
     }
