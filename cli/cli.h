@@ -9,7 +9,7 @@
 
 #define EXIT_USAGE 2
 /* The most worker threads --threads may ask for (libgomp crashes on a million). */
-#define CLI_MAX_THREADS 4096
+#define CLI_MAX_THREADS RAD_MAX_THREADS
 
 typedef enum cli_option_kind {
     CLI_FLAG,    /* int, set to 1 */
@@ -94,5 +94,6 @@ int cmd_pathtrace(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_bake(int argc, char **argv);
 int cmd_solvers(int argc, char **argv);
+int cmd_photonmap(int argc, char **argv);
 
 #endif

@@ -100,6 +100,7 @@ static const char *stop_name(rad_solve_stop stop) {
     case RAD_STOP_ITERATIONS: return "iterations";
     case RAD_STOP_TIME_BUDGET: return "time-budget";
     case RAD_STOP_CALLBACK: return "interrupted";
+    case RAD_STOP_MEMORY_BUDGET: return "memory-budget";
     case RAD_STOP_ERROR: break;
     }
     return "error";
@@ -227,11 +228,13 @@ int cmd_solve(int argc, char **argv) {
         {"--height", CLI_INT, NULL, "H  image height (256)"},
         {"--exposure", CLI_DOUBLE, NULL, "EV  snapshot exposure in stops (0)"},
         {"--tonemap", CLI_STRING, NULL, "CURVE  snapshots: none|clamp|reinhard|aces (clamp)"},
+        CLI_LIGHT_OPTIONS(&a.lights),
     };
     void *own_targets[] = {&a.time_budget, &a.overshoot, &a.trace,  &a.json,      &a.log,
                            &a.plot,        &a.save,      &a.resume, &a.snapshots, &a.snapshot_every,
                            &a.compare,     a.camera.eye, a.camera.look, a.camera.up, &a.camera.fov,
-                           &a.width,       &a.height,    &a.exposure, &a.tonemap};
+                           &a.width,       &a.height,    &a.exposure, &a.tonemap,
+                           &a.lights.sky,  &a.lights.sun, &a.lights.ies};
     enum { OWN = sizeof own / sizeof own[0] };
     /* The shared solver, form-factor and meshing options (cli/pipeline.h), then our own. */
     cli_option options[CLI_PIPELINE_OPTION_COUNT + OWN + 1];
@@ -257,6 +260,7 @@ int cmd_solve(int argc, char **argv) {
     if ((status = cli_pipeline_check("solve", &a.pipe, &solve, &mesh, &ff))) return status;
     int kind = (int)solve.solver;
     if ((status = check_args(&a, solver_given || !a.resume ? kind : -1))) return status;
+    if ((status = cli_lights_check("solve", &a.lights))) return status;
     double link_error;
     cli_pipeline_link_error("solve", &a.pipe, &link_error); /* checked above */
     if ((status = check_outputs(&a))) return status;

@@ -1,15 +1,21 @@
 /* json.c - JSON output helpers. */
 #include "json.h"
 
+#include "radiosity.h"
+
 #include <math.h>
 #include <stdlib.h>
 
 void json_string(FILE *out, const char *text) {
     fputc('"', out);
-    for (const unsigned char *s = (const unsigned char *)text; *s; ++s) {
-        if (*s == '"' || *s == '\\') fprintf(out, "\\%c", *s);
-        else if (*s < 0x20) fprintf(out, "\\u%04x", *s);
-        else fputc(*s, out);
+    for (const char *s = text ? text : ""; *s;) {
+        unsigned char c = (unsigned char)*s;
+        int length = rad_utf8_char_length(s);
+        if (c == '"' || c == '\\') fprintf(out, "\\%c", c);
+        else if (c < 0x20) fprintf(out, "\\u%04x", c);
+        else if (!length) fputs("\\ufffd", out); /* not UTF-8: the replacement character */
+        else fwrite(s, 1, (size_t)length, out);
+        s += length ? length : 1;
     }
     fputc('"', out);
 }

@@ -92,13 +92,18 @@ typedef struct rad_context_options {
     void *log_user;
     rad_progress_fn progress; /* zero: no progress reports */
     void *progress_user;
-    int threads;          /* worker threads; zero: all cores */
+    int threads;          /* worker threads, 0..RAD_MAX_THREADS; zero: all cores */
     uint64_t seed;        /* seed for every random choice; the same seed gives the same result */
     uint64_t max_memory;  /* bytes a form-factor matrix or dense solve may take; zero: 2 GiB */
     rad_error_fn on_error; /* zero: none */
     void *error_user;
 } rad_context_options;
 
+/* The most worker threads a context takes: OpenMP's per-thread state for more crashes. */
+#define RAD_MAX_THREADS 4096
+
+/* RAD_ERROR_INVALID_ARGUMENT when threads is outside 0..RAD_MAX_THREADS or the allocator is
+ * given in part; no context is made then, so the message goes to options->on_error only. */
 rad_status rad_context_create(const rad_context_options *options, rad_context **out);
 void rad_context_destroy(rad_context *context);
 
@@ -110,6 +115,11 @@ const char *rad_context_error(const rad_context *context);
  * RAD_ERROR_MEMORY_BUDGET with a message naming `what` and both sizes. For callers that allocate
  * large tables for the library (e.g. for rad_system_surface_form_factors). */
 rad_status rad_context_check_memory(rad_context *context, double bytes, const char *what);
+
+/* Bytes (1 to 4) of the well-formed UTF-8 character that `text` starts with; 0 at the end of
+ * the string or when the bytes there are not UTF-8. Names and paths come from files and may be
+ * in any encoding: JSON writers replace each byte this refuses with U+FFFD. */
+int rad_utf8_char_length(const char *text);
 
 /* ---------------------------------------------------------------------------------------------
  * Scenes
@@ -381,7 +391,9 @@ typedef enum rad_solve_stop {
     RAD_STOP_ITERATIONS,    /* max_iterations, or the safety cap */
     RAD_STOP_TIME_BUDGET,   /* time_budget used up: the best solution so far */
     RAD_STOP_CALLBACK,      /* on_iteration asked to stop */
-    RAD_STOP_ERROR          /* an error or a cancel; the status says which */
+    RAD_STOP_ERROR,         /* an error or a cancel; the status says which */
+    RAD_STOP_MEMORY_BUDGET  /* the solver could not go on within max_memory: the best solution
+                               so far, not converged (the hierarchical solver's refinement) */
 } rad_solve_stop;
 
 typedef struct rad_solve_report {
@@ -677,6 +689,104 @@ size_t rad_ff_method_count(void);
 const rad_ff_method_info *rad_ff_method_at(size_t index);
 /* Parses a registered name, or "default" (RAD_FF_DEFAULT); -1 when unknown. */
 int rad_ff_method_parse(const char *name);
+
+/* ---------------------------------------------------------------------------------------------
+ * Photon mapping (docs/photonmapping.md)
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct rad_photonmap_options {
+    int width, height;             /* pixels; zero: 512 */
+    const rad_camera_desc *camera; /* NULL: rad_scene_get_camera of the scene */
+    int samples_per_pixel;         /* camera samples per pixel (box filter); zero: 4 */
+    int gather_rays;               /* final-gather rays per camera sample at its first diffuse or
+                                      glossy point; zero: 16 */
+    uint64_t photons;              /* photons emitted for the global map (and caustics); zero:
+                                      200,000 */
+    uint64_t caustic_photons;      /* photons emitted more for the caustic map alone (none when
+                                      no material is a mirror or glass); zero: as many as
+                                      `photons` */
+    double radius;                 /* largest density-estimation radius, scene units; zero: the
+                                      radius a disc holding `nearest` photons has on average */
+    int nearest;                   /* k of the k-nearest estimate; zero: 50 */
+    int iterations;                /* progressive photon mapping: passes, each with fresh
+                                      photons and smaller radii; zero or 1: one pass */
+    double alpha;                  /* progressive: radius^2 shrinks by (i + alpha) / (i + 1)
+                                      after pass i; zero: 2/3 */
+} rad_photonmap_options;
+
+typedef struct rad_photonmap_stats {
+    double seconds, trace_seconds, build_seconds, render_seconds;
+    double trace_cpu_seconds;       /* processor time of the photon tracing (all threads) */
+    uint64_t photons_emitted;       /* over every pass */
+    uint64_t global_stored, caustic_stored; /* of the last pass */
+    double radius, caustic_radius;  /* of the last pass */
+    uint64_t rays;                  /* camera, shadow and gather rays */
+} rad_photonmap_stats;
+
+/* Renders a geometric scene by photon mapping (Jensen 1996): photons traced from the emitters
+ * into a global and a caustic map, then per pixel the emitted light, direct light by emitter
+ * sampling, caustics from the caustic map and indirect light by final gather into the global
+ * map's precomputed irradiance (Christensen 1999); mirrors and glass are followed from the
+ * camera. The same seed gives the same image whatever the thread count. Fails with
+ * RAD_ERROR_INVALID_ARGUMENT for bad options and RAD_ERROR_MEMORY_BUDGET when the photons would
+ * not fit the context's budget (checked before allocating). Reports progress as "photon
+ * tracing" and "photon mapping"; `stats` may be NULL. */
+rad_status rad_photonmap(rad_context *context, const rad_scene *scene,
+                         const rad_photonmap_options *options, rad_image **out,
+                         rad_photonmap_stats *stats);
+
+/* ---------------------------------------------------------------------------------------------
+ * Lights that are not surfaces, and the sky (docs/lights.md, units in docs/units.md)
+ * ------------------------------------------------------------------------------------------- */
+
+typedef enum rad_light_type {
+    RAD_LIGHT_TYPE_POINT = 0,
+    RAD_LIGHT_TYPE_SPOT,       /* a point with a cone: full inside inner, none outside outer */
+    RAD_LIGHT_TYPE_DIRECTIONAL /* parallel light (the sun): `direction` is where it travels */
+} rad_light_type;
+
+/* What `strength` is measured in. Photometric units turn into radiometric ones at 179 lm/W. */
+typedef enum rad_light_units {
+    RAD_LIGHT_WATTS = 0, /* point, spot: radiant intensity W/sr; directional: irradiance W/m^2 */
+    RAD_LIGHT_CANDELA,   /* point, spot: cd (on the axis); directional: lux */
+    RAD_LIGHT_LUMENS     /* point, spot: total luminous flux; directional: lux */
+} rad_light_units;
+
+typedef struct rad_light_desc {
+    const char *name;     /* for --ies and messages; may be NULL */
+    rad_light_type type;
+    double position[3];   /* point, spot */
+    double direction[3];  /* spot axis, or where a directional light travels; any length > 0 */
+    double color[3];      /* relative colour, >= 0 (zero: white) */
+    double strength;      /* in `units`, times color */
+    rad_light_units units;
+    double inner_degrees, outer_degrees; /* spot half angles; 0 < outer <= 90, inner <= outer */
+} rad_light_desc;
+
+/* Adds a light to a geometric scene. Bad values: RAD_ERROR_INVALID_ARGUMENT naming the field. */
+rad_status rad_scene_add_light(rad_scene *scene, const rad_light_desc *light);
+/* Point and spot lights in the scene (from its file or added). */
+size_t rad_scene_light_count(const rad_scene *scene);
+/* Gives the point or spot light named `light_name` (NULL or "*": every point and spot light) the
+ * intensity profile of the IES LM-63 file at `path`; errors name file:line. */
+rad_status rad_scene_set_light_ies(rad_scene *scene, const char *light_name, const char *path);
+
+typedef enum rad_sky_model {
+    RAD_SKY_NONE = 0,
+    RAD_SKY_MODEL_UNIFORM,     /* radiance L everywhere above the horizon */
+    RAD_SKY_MODEL_CIE_OVERCAST /* L(theta) = L_zenith (1 + 2 cos theta) / 3 (CIE overcast sky) */
+} rad_sky_model;
+
+typedef struct rad_sky_desc {
+    rad_sky_model model;
+    double radiance[3]; /* uniform: L; overcast: at the zenith (W m^-2 sr^-1) */
+    double up[3];       /* the zenith; zero: +Y */
+    int samples;        /* rays per element of the solver's sky pass; 0: 64 */
+} rad_sky_desc;
+
+/* Sets (or with RAD_SKY_NONE removes) the sky of a geometric scene: light that enters through
+ * its openings, in the solve, render, bake and path tracer. */
+rad_status rad_scene_set_sky(rad_scene *scene, const rad_sky_desc *sky);
 
 #ifdef __cplusplus
 }

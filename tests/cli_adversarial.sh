@@ -117,4 +117,19 @@ check "closed stdout: message" grep -q "cannot write to standard output" err
 rm -f err
 nothing_left "closed stdout"
 
+# 7. Names that are not UTF-8 (Latin-1, a lone continuation, an overlong NUL, a surrogate):
+# every JSON writer replaces each bad byte with U+FFFD and keeps the good characters.
+printf 'o caf\xe9\xff\xc0\x80\xed\xa0\x80ok\xc3\xa9\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n' >keep-latin1.obj
+valid_json() { # FILE KEY: strict UTF-8 JSON, and the name found under KEY
+    python3 -c 'import json,sys; d=json.load(open(sys.argv[1],encoding="utf-8",errors="strict")); n=[x.get("name") for x in d[sys.argv[2]]]; sys.exit(0 if "caf\ufffd\ufffd\ufffd\ufffd\ufffd\ufffd\ufffdok\u00e9" in n else 1)' "$1" "$2"
+}
+"$radiosity" solve keep-latin1.obj --json --quiet >keep-solve.json 2>/dev/null
+check "solve --json: valid UTF-8 JSON with the name's good characters" valid_json keep-solve.json patches
+"$radiosity" formfactors keep-latin1.obj --json >keep-ff.json 2>/dev/null
+check "formfactors --json: valid UTF-8 JSON" valid_json keep-ff.json surfaces
+"$radiosity" bake keep-latin1.obj --quiet -o keep-bake.gltf 2>/dev/null
+check "bake glTF: valid UTF-8 JSON" valid_json keep-bake.gltf nodes
+check "bake glTF: valid UTF-8 JSON (meshes)" valid_json keep-bake.gltf meshes
+nothing_left "names that are not UTF-8"
+
 finish

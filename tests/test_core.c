@@ -318,6 +318,18 @@ static void test_version_and_error_callback(void) {
     CHECK(seen.count == 1 && seen.status != RAD_OK);
     CHECK(strcmp(seen.message, rad_context_error(context)) == 0 && seen.message[0]);
     rad_context_destroy(context);
+    /* threads is bounded in the library, not only in the CLI; the callback gets the reason */
+    seen_errors bad = {0};
+    rad_context_options too_many = {.threads = RAD_MAX_THREADS + 1, .on_error = on_error,
+                                    .error_user = &bad};
+    context = NULL;
+    CHECK(rad_context_create(&too_many, &context) == RAD_ERROR_INVALID_ARGUMENT && !context);
+    CHECK(bad.count == 1 && strstr(bad.message, "4097") && strstr(bad.message, "4096"));
+    too_many.threads = -1;
+    CHECK(rad_context_create(&too_many, &context) == RAD_ERROR_INVALID_ARGUMENT && !context);
+    too_many.threads = RAD_MAX_THREADS;
+    CHECK(rad_context_create(&too_many, &context) == RAD_OK && context);
+    rad_context_destroy(context);
 }
 
 /* The reference solution and the error measure of the solver comparison. */

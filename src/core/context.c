@@ -46,7 +46,16 @@ rad_status rad_context_create(const rad_context_options *options, rad_context **
         allocator.release = default_release;
         allocator.user = NULL;
     }
-    if (options->threads < 0) return RAD_ERROR_INVALID_ARGUMENT;
+    if (options->threads < 0 || options->threads > RAD_MAX_THREADS) {
+        /* No context to keep the message on: tell the error callback, if there is one. */
+        if (options->on_error) {
+            char message[128];
+            snprintf(message, sizeof message, "threads is %d; it must be 0 (all cores) to %d",
+                     options->threads, RAD_MAX_THREADS);
+            options->on_error(options->error_user, RAD_ERROR_INVALID_ARGUMENT, message);
+        }
+        return RAD_ERROR_INVALID_ARGUMENT;
+    }
     rad_context *ctx = allocator.allocate(allocator.user, sizeof *ctx);
     if (!ctx) return RAD_ERROR_NO_MEMORY;
     memset(ctx, 0, sizeof *ctx);

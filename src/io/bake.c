@@ -54,10 +54,14 @@ void rad_bake_text_printf(rad_bake_text *t, const char *format, ...) {
 
 void rad_bake_text_json_string(rad_bake_text *t, const char *value) {
     rad_bake_text_printf(t, "\"");
-    for (const unsigned char *c = (const unsigned char *)(value ? value : ""); *c; ++c) {
-        if (*c == '"' || *c == '\\') rad_bake_text_printf(t, "\\%c", *c);
-        else if (*c < 0x20) rad_bake_text_printf(t, "\\u%04x", *c);
-        else rad_bake_text_printf(t, "%c", *c);
+    for (const char *s = value ? value : ""; *s;) {
+        unsigned char c = (unsigned char)*s;
+        int length = rad_utf8_char_length(s);
+        if (c == '"' || c == '\\') rad_bake_text_printf(t, "\\%c", c);
+        else if (c < 0x20) rad_bake_text_printf(t, "\\u%04x", c);
+        else if (!length) rad_bake_text_printf(t, "\\ufffd"); /* not UTF-8 */
+        else rad_bake_text_printf(t, "%.*s", length, s);
+        s += length ? length : 1;
     }
     rad_bake_text_printf(t, "\"");
 }

@@ -80,6 +80,7 @@ void rad_renderer_destroy(rad_renderer *r) {
     rad_context *ctx = r->ctx;
     leaves_free(r);
     rad_free(ctx, r->surface_material);
+    rad_lights_free(ctx, r->lights, r->light_count);
     rad_free(ctx, r);
 }
 
@@ -193,7 +194,10 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
         r->surface_material[s] = scene->materials[scene->surfaces[s].material];
         r->surface_material[s].name = NULL; /* the scene may go away */
     }
-    status = leaves_build(r);
+    r->sky = scene->sky;
+    status = rad_lights_copy(ctx, scene->lights, scene->light_count, &r->lights);
+    if (!status) r->light_count = scene->light_count;
+    if (!status) status = leaves_build(r);
     if (!status) status = probe_camera(r);
     if (status) {
         rad_renderer_destroy(r);

@@ -16,7 +16,9 @@
  *    messages, checks every index of the scene it gets back, and turns a signal, a time-out or
  *    an overrun into one line: "FILE: assimp could not read it (it crashed: SIGSEGV)".
  * Both processes run the same binary, so the records hold native structs.
- * RAD_IMPORT_SECONDS overrides the CPU limit (the wall-clock limit is twice it). */
+ * RAD_IMPORT_SECONDS overrides the CPU limit (the wall-clock limit is twice it).
+ * In the sanitizer build the child's ASan/UBSan reports stay visible (child_outputs), and their
+ * exit status 86 is named in the parent's line. */
 #define _GNU_SOURCE
 #include "scene/scene.h"
 
@@ -68,6 +70,15 @@ typedef struct record_header {
     int32_t status;  /* RECORD_ERROR */
     uint64_t length; /* bytes that follow */
 } record_header;
+
+/* A light as it crosses the pipe (after the materials: a uint64 count, then each light and its
+ * name); IES profiles are never in a file's import, so none travels. */
+typedef struct light_record {
+    int32_t kind;
+    rad_vec3 position, direction;
+    double intensity[3];
+    double inner_angle, outer_angle;
+} light_record;
 
 typedef struct scene_counts {
     uint64_t vertices, polygon_vertices, polygons, surfaces, materials;
@@ -129,6 +140,9 @@ static int write_scene(const rad_scene *scene) {
         length += sizeof(uint32_t) + string_bytes(scene->surfaces[i].name);
     for (size_t i = 0; i < scene->material_count; ++i)
         length += sizeof(rad_material) + string_bytes(scene->materials[i].name);
+    length += sizeof(uint64_t);
+    for (size_t i = 0; i < scene->light_count; ++i)
+        length += sizeof(light_record) + string_bytes(scene->lights[i].name);
     record_header header = {RECORD_SCENE, 0, length};
     if (write_all(&header, sizeof header) || write_all(&counts, sizeof counts) ||
         write_all(scene->vertices, counts.vertices * sizeof *scene->vertices) ||
@@ -151,6 +165,20 @@ static int write_scene(const rad_scene *scene) {
         copy.roughness = m->roughness;
         copy.ior = m->ior;
         if (write_all(&copy, sizeof copy) || write_string(m->name)) return -1;
+    }
+    uint64_t light_count = scene->light_count;
+    if (write_all(&light_count, sizeof light_count)) return -1;
+    for (size_t i = 0; i < scene->light_count; ++i) {
+        const rad_light *l = &scene->lights[i];
+        light_record record;
+        memset(&record, 0, sizeof record);
+        record.kind = (int32_t)l->kind;
+        record.position = l->position;
+        record.direction = l->direction;
+        memcpy(record.intensity, l->intensity, sizeof record.intensity);
+        record.inner_angle = l->inner_angle;
+        record.outer_angle = l->outer_angle;
+        if (write_all(&record, sizeof record) || write_string(l->name)) return -1;
     }
     return 0;
 }
@@ -186,21 +214,36 @@ static void child_outputs(int write_fd) {
         close(write_fd);
     }
     pipe_fd = 3;
-    int null_fd = open("/dev/null", O_RDWR);
     int keep_stderr = getenv("RAD_IMPORT_STDERR") && strcmp(getenv("RAD_IMPORT_STDERR"), "1") == 0;
+#if UNDER_ASAN
+    /* The sanitizers' reports on our own code in the child (the walk over assimp's scene) must
+     * reach whoever runs the sanitizer build: to ASAN_OPTIONS' log_path when it is set (the
+     * runtime opens that file per process), else to the parent's standard error, kept on
+     * descriptor 4 past the clean-up below. */
+    const char *asan_options = getenv("ASAN_OPTIONS");
+    int report_fd = -1;
+    if (!keep_stderr && !(asan_options && strstr(asan_options, "log_path=")))
+        report_fd = dup2(2, 4);
+#endif
+    int null_fd = open("/dev/null", O_RDWR);
     if (null_fd >= 0) {
         dup2(null_fd, 0);
         dup2(null_fd, 1);
         if (!keep_stderr) dup2(null_fd, 2);
         if (null_fd > 3) close(null_fd);
     }
-    if (close_range(4, ~0u, 0) != 0)
-        for (int fd = 4; fd < 1024; ++fd) close(fd);
 #if UNDER_ASAN
-    /* A crash inside assimp is the parent's to report: the sanitizers' reports follow
-     * standard error, and a signal ends the child as it would without them. */
+    int first_closed = report_fd == 4 ? 5 : 4;
+#else
+    int first_closed = 4;
+#endif
+    if (close_range((unsigned)first_closed, ~0u, 0) != 0)
+        for (int fd = first_closed; fd < 1024; ++fd) close(fd);
+#if UNDER_ASAN
+    if (report_fd == 4) __sanitizer_set_report_fd((void *)(intptr_t)4);
+    /* A crash inside assimp (not instrumented) is the parent's to report: a signal ends the
+     * child as it would without the sanitizers. */
     if (!keep_stderr) {
-        __sanitizer_set_report_fd((void *)(intptr_t)2);
         static const int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
         for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; ++i) signal(fatal[i], SIG_DFL);
     }
@@ -378,6 +421,27 @@ static rad_status read_scene(rad_context *ctx, const char *path, cursor *c, rad_
         if (!status) status = take_string(ctx, c, &material->name);
         if (!status) scene->material_count++;
     }
+    uint64_t light_count = 0;
+    if (!status && take(c, &light_count, sizeof light_count)) status = RAD_ERROR_PARSE;
+    for (uint64_t i = 0; !status && i < light_count; ++i) {
+        light_record record;
+        rad_light light;
+        memset(&light, 0, sizeof light);
+        if (take(c, &record, sizeof record) || record.kind < RAD_LIGHT_POINT ||
+            record.kind > RAD_LIGHT_DIRECTIONAL) {
+            status = RAD_ERROR_PARSE;
+            break;
+        }
+        light.kind = (rad_light_kind)record.kind;
+        light.position = record.position;
+        light.direction = record.direction;
+        memcpy(light.intensity, record.intensity, sizeof light.intensity);
+        light.inner_angle = record.inner_angle;
+        light.outer_angle = record.outer_angle;
+        status = take_string(ctx, c, &light.name);
+        if (!status) status = rad_scene_append_light(scene, &light);
+        rad_free(ctx, light.name);
+    }
     if (!status && (c->p != c->end || !scene_consistent(scene))) status = RAD_ERROR_PARSE;
     if (!status) {
         scene->has_camera = n.has_camera;
@@ -493,7 +557,10 @@ rad_status rad_scene_import(rad_context *ctx, const char *path, rad_scene **out)
             rad_scene_destroy(*out);
             *out = NULL;
             status = rad_fail(ctx, RAD_ERROR_PARSE, "%s: assimp could not read it (the import "
-                              "stopped with status %d)", path, WEXITSTATUS(wait_status));
+                              "stopped with status %d%s)", path, WEXITSTATUS(wait_status),
+                              UNDER_ASAN && WEXITSTATUS(wait_status) == 86
+                                  ? ": a sanitizer report, on standard error or in log_path"
+                                  : "");
         } else if (status && strstr(ctx->error, "bad_alloc")) {
             status = rad_fail(ctx, RAD_ERROR_MEMORY_BUDGET, "%s: assimp could not read it (it "
                               "exceeded the memory budget of %.1f MiB, --max-memory)", path,

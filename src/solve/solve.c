@@ -127,6 +127,10 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                 break;
             int asked_to_stop = options->on_iteration &&
                 emit_iteration(&run, impl, iteration, residual, start, &callback_seconds);
+            if (run.memory_budget_reached) {
+                local.stop = RAD_STOP_MEMORY_BUDGET;
+                break;
+            }
             if (residual <= tolerance || !iterative) {
                 local.converged = 1;
                 local.stop = RAD_STOP_CONVERGED;

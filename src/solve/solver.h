@@ -21,6 +21,7 @@ typedef struct rad_solver_run {
     double unshot_fraction; /* set by shooting steps: unshot power / emitted power */
     int importance_shots;   /* set by the importance solver's begin */
     void *state;          /* the solver's own */
+    int memory_budget_reached; /* set by a step that cannot go on within the memory budget */
 } rad_solver_run;
 
 /* The number the solver's own option `name` is set to in the caller's option bag

@@ -32,8 +32,11 @@ static int uniform_unshot(const rad_solution_view *view, size_t leaf, double out
     return 1;
 }
 
+/* What the element emits itself: without the light of the lights' pre-pass (light_emission,
+ * docs/lights.md), which the renderer samples from the lights, not from the element. */
 static void uniform_emission(const rad_solution_view *view, size_t leaf, double out[3]) {
-    memcpy(out, uniform_system(view)->emission[leaf], sizeof(rad_rgb));
+    const rad_system *s = uniform_system(view);
+    for (int c = 0; c < 3; ++c) out[c] = rad_system_own_emission(s, leaf, c);
 }
 
 static void uniform_reflectance(const rad_solution_view *view, size_t leaf, double out[3]) {

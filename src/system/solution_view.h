@@ -37,6 +37,8 @@ typedef struct rad_solution_view_ops {
                       double out[3]);
     /* The leaf's unshot radiosity; returns 0 (and zeros) when the method keeps none. */
     int (*unshot)(const rad_solution_view *view, size_t leaf, double out[3]);
+    /* What the leaf emits itself (its material), without the light the lights' pre-pass put
+     * into the system's emission (docs/lights.md): what makes it a light source to render. */
     void (*emission)(const rad_solution_view *view, size_t leaf, double out[3]);
     void (*reflectance)(const rad_solution_view *view, size_t leaf, double out[3]);
     /* The ambient radiosity (Cohen et al. 1988) display adds as reflectance * ambient. */
