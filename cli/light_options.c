@@ -5,7 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const cli_light_args *registered;
+/* The flags of this run, copied (their strings point into argv, which lives as long as the
+ * process). */
+static cli_light_args registered;
+static int have_registered;
 
 /* Up to `most` comma-separated finite numbers; their count, or -1 when a word is not one. */
 static int parse_numbers(const char *text, double *out, int most) {
@@ -71,13 +74,14 @@ int cli_lights_check(const char *command, cli_light_args *a) {
         }
         if (!*a->ies_path) return cli_error(EXIT_USAGE, "%s: --ies needs a file", command);
     }
-    registered = a;
+    registered = *a;
+    have_registered = 1;
     return 0;
 }
 
 rad_status cli_lights_apply(rad_scene *scene) {
-    const cli_light_args *a = registered;
-    if (!a) return RAD_OK;
+    if (!have_registered) return RAD_OK;
+    const cli_light_args *a = &registered;
     rad_status status = RAD_OK;
     if (a->sky) status = rad_scene_set_sky(scene, &a->sky_desc);
     if (!status && a->sun) status = rad_scene_add_light(scene, &a->sun_desc);

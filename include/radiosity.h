@@ -691,6 +691,42 @@ const rad_ff_method_info *rad_ff_method_at(size_t index);
 int rad_ff_method_parse(const char *name);
 
 /* ---------------------------------------------------------------------------------------------
+ * What a scene holds (`radiosity scenes --info`; src/scene/scene_info.c). Strings live as long
+ * as the scene.
+ * ------------------------------------------------------------------------------------------- */
+typedef struct rad_scene_info {
+    int geometric;        /* 0: a patch system (.ffm): only patch_count is set */
+    size_t patch_count;
+    size_t surface_count, material_count, texture_count;
+    size_t vertex_count, polygon_count, triangle_count; /* triangles: sum of (corners - 2) */
+    size_t emitting_surface_count;
+    int has_camera;       /* the file's own camera (rad_scene_get_camera gives it) */
+    double bounds_min[3], bounds_max[3];
+    int camera_automatic; /* no camera in the file: one was placed inside its open space */
+} rad_scene_info;
+void rad_scene_get_info(const rad_scene *scene, rad_scene_info *out);
+
+typedef struct rad_material_info {
+    const char *name;
+    const char *kind;     /* "diffuse", "mirror", "glass" */
+    double reflectance[3], emission[3];
+    const char *texture;  /* the texture's file (or "FILE: embedded image N"); NULL: none */
+    unsigned texture_width, texture_height;
+    size_t surface_count; /* surfaces that use it */
+} rad_material_info;
+/* Material `index` < material_count; RAD_ERROR_INVALID_ARGUMENT past the end. */
+rad_status rad_scene_get_material(const rad_scene *scene, size_t index, rad_material_info *out);
+
+typedef struct rad_surface_listing {
+    const char *name;
+    size_t material;      /* index for rad_scene_get_material */
+    size_t polygon_count, triangle_count;
+    double area;
+    int textured;         /* its material has a texture and its polygons texture coordinates */
+} rad_surface_listing;
+rad_status rad_scene_get_surface(const rad_scene *scene, size_t index, rad_surface_listing *out);
+
+/* ---------------------------------------------------------------------------------------------
  * Photon mapping (docs/photonmapping.md)
  * ------------------------------------------------------------------------------------------- */
 

@@ -176,7 +176,8 @@ double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin
 void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_element_hit *hit,
                       rad_vec3 x, rad_vec3 n, double out[3]) {
     uint32_t element = hit->element;
-    const float *rho = r->element_reflectance[element];
+    float rho[3]; /* the texture's at x on textured surfaces (texture_shading.c) */
+    rad_renderer_albedo(r, element, x, rho);
     const float *emitted = r->element_emission[element];
     for (int c = 0; c < 3; ++c) out[c] = emitted[c];
     if (!(rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return;
@@ -233,6 +234,7 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
     rad_gather_origin next = {n, r->emitters.count ? 1 : 0, 1, point, from->level + 1, run};
     double direct[3], u[2], radiance[3];
     direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
+    lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */
     rad_sample_2d(sample, run, point, dimension + 1, u);
     rad_trace_radiance(r, sample, y, cosine_direction(n, u), &next, radiance);
     for (int c = 0; c < 3; ++c) out[c] = direct[c] + rho[c] * radiance[c];

@@ -12,6 +12,7 @@
  * choice and roulette), each a pure function of (seed, pixel, sample, dimension), so the image
  * does not depend on the thread count. */
 #include "render/pathtrace.h"
+#include "scene/texture.h"
 
 #include "image/image.h"
 
@@ -130,6 +131,13 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
         }
         const rad_material *m = t->polygon_material[hit.polygon];
         rad_vec3 x = v3_add(origin, v3_scale(direction, hit.t));
+        /* A textured surface reflects its texture at x times the factor (scene/texture.h). */
+        rad_material textured;
+        if (m->texture) {
+            textured = *m;
+            rad_scene_albedo_at(t->scene, hit.polygon, x, textured.reflectance);
+            m = &textured;
+        }
         rad_vec3 wo = v3_scale(direction, -1);
 
         /* Emission seen along the path (front sides only). */
@@ -254,7 +262,8 @@ rad_status rad_tracer_check_view(const rad_tracer *t, const rad_view *view) {
     if (fronts == 0)
         return rad_fail(t->ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "camera is inside an object or behind the scene: it sees only the backs "
-                        "of surfaces (such as '%s')", back_surface);
+                        "of surfaces (such as '%s'); place it with --eye and --look, or leave "
+                        "the file without a camera for the automatic one", back_surface);
     return RAD_OK;
 }
 

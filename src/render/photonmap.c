@@ -633,9 +633,14 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
         sum = rad_alloc_zero(ctx, (size_t)width * (size_t)height * 3, sizeof *sum);
         if (!sum) status = RAD_ERROR_NO_MEMORY;
     }
+    if (!status && (scene->light_count || scene->sky.kind != RAD_SKY_OFF))
+        /* Photons leave emitting surfaces only, so far (docs/photonmapping.md, "Not done"). */
+        rad_warn(ctx, "%s: photon mapping leaves out the point, spot and directional lights and "
+                      "the sky (only emitting surfaces are traced); `pathtrace` renders them",
+                 scene->source);
     if (!status && t->emitters.count == 0) {
         /* Nothing to trace: a black image. */
-        rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
+        rad_warn(ctx, "%s: no emitting surface: the image is black", scene->source);
         iterations = 0;
     }
     int threads = rad_thread_count(ctx);

@@ -42,6 +42,8 @@ static void leaves_free(rad_renderer *r) {
     rad_free(ctx, r->element_radiance);
     rad_free(ctx, r->element_emission);
     rad_free(ctx, r->element_reflectance);
+    rad_free(ctx, r->vertex_irradiance);
+    r->vertex_irradiance = NULL;
     r->rays = NULL;
     memset(&r->emitters, 0, sizeof r->emitters);
     r->element_emitter = NULL;
@@ -148,7 +150,8 @@ static rad_status probe_camera(const rad_renderer *r) {
                         "--fov)");
     return rad_fail(r->ctx, RAD_ERROR_INVALID_ARGUMENT,
                     "the camera sees only the backs of one-sided surfaces: is it inside an "
-                    "object? (check --eye)");
+                    "object? (check --eye; place it with --eye and --look, or leave the file "
+                    "without a camera for the automatic one)");
 }
 
 rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
@@ -245,6 +248,7 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
                             ? RAD_OK
                             : leaves_build(r);
     if (!status) status = rad_reconstruct_prepare(r);
+    if (!status) status = rad_texture_shading_prepare(r);
     rad_image *image = NULL;
     if (!status) status = rad_image_new(ctx, r->view.width, r->view.height, &image);
     if (status) return status;

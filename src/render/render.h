@@ -70,6 +70,10 @@ struct rad_renderer {
     float (*element_radiance)[3];  /* B / pi per element (flat) */
     float (*element_emission)[3];  /* E / pi per element */
     float (*element_reflectance)[3];
+
+    /* Textured surfaces (texture_shading.c): the irradiance (B - E) / (pi rho) averaged at mesh
+     * vertices; NULL when no surface is textured. */
+    float (*vertex_irradiance)[3];
 };
 
 /* Counters one thread keeps while rendering. */
@@ -174,5 +178,15 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
  * mirror or glass the direct light is not sampled, and they take B / pi. */
 void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
                         rad_vec3 direction, const rad_gather_origin *gather, double out[3]);
+
+/* texture_shading.c: the reflectance at point x of element (the texture's, times the factor,
+ * on textured surfaces; 1 then), else the element's (0). */
+int rad_renderer_albedo(const rad_renderer *r, uint32_t element, rad_vec3 x, float rho[3]);
+/* Fills vertex_irradiance from the current solution (after rad_reconstruct_prepare). */
+rad_status rad_texture_shading_prepare(rad_renderer *r);
+/* The radiance a camera ray sees at x on a textured element: E / pi + rho(x) times the
+ * interpolated irradiance. 0 (out untouched) when the element is not textured. */
+int rad_texture_shading_radiance(const rad_renderer *r, const rad_element_hit *hit, rad_vec3 x,
+                                 double out[3]);
 
 #endif

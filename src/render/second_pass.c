@@ -36,7 +36,9 @@ static double largest3(const double c[3]) { return fmax(c[0], fmax(c[1], c[2]));
  * is a caustic, which the first pass does not carry either (see above), and is left out. */
 static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
                               const rad_gather_origin *gather, int depth, rad_vec3 direction,
-                              double out[3]) {
+                              rad_vec3 x, double out[3]) {
+    /* Camera paths on textured surfaces: the texture times the irradiance (texture_shading.c). */
+    if (!gather && rad_texture_shading_radiance(r, hit, x, out)) return;
     rad_reconstruct_radiance(r, hit->element, hit->u, hit->v, out);
     if (!gather) return;
     const float *emitted = r->element_emission[hit->element];
@@ -101,7 +103,7 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
                 const float *emitted = r->element_emission[hit.element];
                 double weight = rad_gather_emission_weight(r, gather, direction, &hit);
                 for (int c = 0; c < 3; ++c) radiance[c] += weight * emitted[c];
-            } else solution_radiance(r, &hit, gather, depth, direction, radiance);
+            } else solution_radiance(r, &hit, gather, depth, direction, x, radiance);
             const float *emitted = r->element_emission[hit.element];
             if (glossy_pdf > 0 && (emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) {
                 double weight = rad_power_heuristic(glossy_pdf, rad_emitter_pdf(r, direction, &hit));
@@ -117,7 +119,7 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
             /* The diffuse part from the solution, the mirror part traced. */
             if (largest3(material->reflectance) > 0) {
                 double radiance[3];
-                solution_radiance(r, &hit, gather, depth, direction, radiance);
+                solution_radiance(r, &hit, gather, depth, direction, x, radiance);
                 for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
             }
             for (int c = 0; c < 3; ++c) throughput[c] *= fmax(0.0, material->specular[c]);

@@ -1,6 +1,8 @@
 /* camera.c - pinhole cameras (see camera.h). */
 #include "scene/camera.h"
 
+#include "scene/rays.h"
+
 rad_camera rad_camera_framing(const rad_scene *scene) {
     rad_vec3 lo, hi;
     rad_scene_bounds(scene, &lo, &hi);
@@ -15,7 +17,118 @@ rad_camera rad_camera_framing(const rad_scene *scene) {
 }
 
 rad_camera rad_scene_camera(const rad_scene *scene) {
-    return scene->has_camera ? scene->camera : rad_camera_framing(scene);
+    return scene->has_camera || scene->camera_automatic ? scene->camera : rad_camera_framing(scene);
+}
+
+/* ---- the automatic camera ---------------------------------------------------------------- */
+
+/* Candidate eye points per side of the bounding box, directions cast from each. */
+#define AUTO_GRID 10
+#define AUTO_DIRECTIONS 64
+/* Level view directions tried from the chosen eye, and how far they look down (radians). */
+#define AUTO_HEADINGS 32
+#define AUTO_PITCH 0.2
+
+/* Front and back hits of a 24 x 24 grid of rays through the camera's image (square). */
+static void probe(const rad_rays *rays, const rad_camera *camera, int *fronts, int *hits) {
+    rad_view view;
+    *fronts = *hits = 0;
+    if (rad_view_make(NULL, camera, 24, 24, &view)) return;
+    for (int j = 0; j < 24; ++j)
+        for (int i = 0; i < 24; ++i) {
+            rad_hit hit;
+            if (!rad_rays_intersect(rays, view.eye, rad_view_direction(&view, i + 0.5, j + 0.5), 0,
+                                    INFINITY, &hit))
+                continue;
+            ++*hits;
+            *fronts += hit.front != 0;
+        }
+}
+
+/* Direction k of n spread evenly over the sphere (Fibonacci lattice). */
+static rad_vec3 sphere_direction(int k, int n) {
+    double z = 1 - (2 * k + 1.0) / n, r = sqrt(fmax(0.0, 1 - z * z));
+    double phi = k * RAD_PI * (3 - sqrt(5.0));
+    return v3(r * cos(phi), z, r * sin(phi));
+}
+
+void rad_scene_auto_camera(rad_scene *scene) {
+    if (!scene->geometric || scene->has_camera || !scene->polygon_count) return;
+    rad_context *ctx = scene->ctx;
+    rad_rays *rays = NULL;
+    if (rad_rays_create(ctx, scene, &rays)) return;
+    rad_camera framing = rad_camera_framing(scene);
+    int fronts, hits;
+    probe(rays, &framing, &fronts, &hits);
+    if (hits > 0 && 2 * fronts >= hits) {
+        /* An object, or an open scene, seen from outside: keep the framing camera. */
+        rad_rays_destroy(rays);
+        return;
+    }
+    /* The eye: of a grid of points in the bounding box, one that sees front faces all around
+     * (inside the open space, not inside a solid or outside the room), with the longest mean
+     * free path: the middle of the largest open volume. */
+    rad_vec3 lo, hi;
+    rad_scene_bounds(scene, &lo, &hi);
+    rad_vec3 size = v3_sub(hi, lo);
+    double best = 0;
+    rad_vec3 eye = v3(0, 0, 0);
+    for (int a = 0; a < AUTO_GRID; ++a)
+        for (int b = 0; b < AUTO_GRID; ++b)
+            for (int c = 0; c < AUTO_GRID; ++c) {
+                rad_vec3 p = v3(lo.x + size.x * (a + 0.5) / AUTO_GRID,
+                                lo.y + size.y * (b + 0.5) / AUTO_GRID,
+                                lo.z + size.z * (c + 0.5) / AUTO_GRID);
+                int front = 0, back = 0;
+                double free_path = 0;
+                for (int k = 0; k < AUTO_DIRECTIONS; ++k) {
+                    rad_hit hit;
+                    if (!rad_rays_intersect(rays, p, sphere_direction(k, AUTO_DIRECTIONS), 0,
+                                            INFINITY, &hit))
+                        continue;
+                    if (hit.front) {
+                        ++front;
+                        free_path += hit.t;
+                    } else {
+                        ++back;
+                    }
+                }
+                /* Inside: at most one direction in 32 meets a back (a thin gap, a one-sided
+                 * panel), at least three in four a front. */
+                if (back * 32 > AUTO_DIRECTIONS || front * 4 < 3 * AUTO_DIRECTIONS) continue;
+                double score = free_path / AUTO_DIRECTIONS;
+                if (score > best) {
+                    best = score;
+                    eye = p;
+                }
+            }
+    if (!(best > 0)) {
+        rad_rays_destroy(rays); /* no open space inside: the framing camera stays */
+        return;
+    }
+    /* The view: level (a little down), along the heading with the longest free view, +y up. */
+    rad_vec3 view = v3(0, 0, 1);
+    double farthest = -1;
+    for (int k = 0; k < AUTO_HEADINGS; ++k) {
+        double heading = 2 * RAD_PI * k / AUTO_HEADINGS;
+        rad_vec3 d = v3(cos(heading) * cos(AUTO_PITCH), -sin(AUTO_PITCH), sin(heading) * cos(AUTO_PITCH));
+        rad_hit hit;
+        double t = rad_rays_intersect(rays, eye, d, 0, INFINITY, &hit) && hit.front ? hit.t : 0;
+        if (t > farthest) {
+            farthest = t;
+            view = d;
+        }
+    }
+    rad_camera camera = {eye, v3_add(eye, view), v3(0, 1, 0), 60};
+    probe(rays, &camera, &fronts, &hits);
+    rad_rays_destroy(rays);
+    if (!fronts) return;
+    scene->camera = camera;
+    scene->camera_automatic = 1;
+    rad_info(ctx, "%s: no camera in the file; the automatic camera stands inside the largest "
+             "open space, at %g %g %g, looking towards %g %g %g (set another with --eye and "
+             "--look)", scene->source, eye.x, eye.y, eye.z, camera.look.x, camera.look.y,
+             camera.look.z);
 }
 
 static int finite3(rad_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }

@@ -18,8 +18,16 @@ typedef struct rad_view {
  * one. */
 rad_camera rad_camera_framing(const rad_scene *scene);
 
-/* The scene's camera or, when it has none, one that frames it. */
+/* The scene's camera or, when it has none, the automatic one (rad_scene_auto_camera), or one
+ * that frames it. */
 rad_camera rad_scene_camera(const rad_scene *scene);
+
+/* For a geometric scene without a camera: the framing camera when it sees front faces (an
+ * object seen from outside); otherwise (a closed room, whose outside is the backs of its
+ * walls) a camera inside the largest open space, looking level along its longest free view
+ * (docs/rendering.md, "The automatic camera"). Sets scene->camera and camera_automatic, and
+ * says which in a note. Does nothing when the rays cannot be built. */
+void rad_scene_auto_camera(rad_scene *scene);
 
 /* Checks the camera (finite, eye != look, up not parallel to the view, 0 < fov < 180) and the
  * size (1 .. 16384 per side) and builds the view. */

@@ -15,10 +15,19 @@
  * 4. Materials: diffuse reflectance and emitted radiance, plus mirror/glass hints for the
  *    ray-traced pass. Values are kept as the file gives them (a reflectance above 1 is refused
  *    later, when the system is built).
- * 5. The first camera, if the file has one. */
+ * 5. The first camera, if the file has one.
+ * 6. Textures (scene/texture.h): a material's diffuse or base-colour texture (a file beside the
+ *    scene, or an image embedded in it) is decoded here, in the import child, and the first
+ *    texture-coordinate channel goes with each polygon's corners. A texture that cannot be used
+ *    (missing, not an image, truncated, over the memory budget) is a warning naming it, and the
+ *    material keeps its colour factor.
+ * 7. Warnings about materials (docs/formats.md, "Materials"): a diffuse reflectance of 0.95 or
+ *    more (with its texture's mean when textured), naming the surfaces that use it, and for an
+ *    OBJ a note for each `usemtl` that names a material the MTL files lack. */
 #include "scene/gltf_extras.h"
 #include "scene/import_check.h"
 #include "scene/scene.h"
+#include "scene/texture.h"
 
 #include <assimp/cimport.h>
 #include <assimp/ObjMaterial.h>
@@ -28,6 +37,7 @@
 
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* A face is degenerate when its area is below this fraction of its longest edge squared: a
@@ -215,7 +225,13 @@ typedef struct importer {
 
     /* What was done, for the notes at the end. */
     size_t degenerate, points_and_lines, turned, cut, joined;
+    size_t textured_without_uv; /* textured surfaces whose mesh has no texture coordinates */
+    uint8_t *texture_lost; /* per scene material: its texture could not be used */
+    size_t texture_lost_capacity;
+    int last_texture_lost; /* set by material_texture */
 } importer;
+
+static int has_extension(const char *path, const char *extension);
 
 /* The stem of a path: "dir/room.obj" -> "room". */
 static void path_stem(const char *path, char *stem, size_t size) {
@@ -253,6 +269,111 @@ static int material_int(const struct aiMaterial *m, const char *key, unsigned ty
     unsigned count = 1;
     return aiGetMaterialIntegerArray(m, key, type, index, value, &count) == aiReturn_SUCCESS &&
            count >= 1;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Textures                                                                                     */
+
+/* The directory part of a path, with its slash ("dir/"), or "" for a bare name. */
+static void path_directory(const char *path, char *out, size_t size) {
+    const char *slash = strrchr(path, '/');
+    size_t length = slash ? (size_t)(slash - path + 1) : 0;
+    if (length >= size) length = size - 1;
+    memcpy(out, path, length);
+    out[length] = '\0';
+}
+
+/* An image embedded in the scene file: "*N" (glTF buffers, GLB, FBX) or one whose file name
+ * the material gives. Decodes it into *out; 0 when the reference is not to an embedded image. */
+static int embedded_texture(importer *im, const char *reference, char *name, size_t name_size,
+                            rad_texture **out, rad_status *status) {
+    const struct aiScene *ai = im->ai;
+    unsigned index = ai->mNumTextures;
+    if (reference[0] == '*') {
+        char *end;
+        unsigned long n = strtoul(reference + 1, &end, 10);
+        if (*end || n >= ai->mNumTextures) {
+            *status = rad_fail(im->ctx, RAD_ERROR_PARSE, "no embedded image %s", reference);
+            return 1;
+        }
+        index = (unsigned)n;
+    } else {
+        for (unsigned i = 0; i < ai->mNumTextures; ++i)
+            if (ai->mTextures[i] && strcmp(ai->mTextures[i]->mFilename.data, reference) == 0)
+                index = i;
+    }
+    if (index >= ai->mNumTextures) return 0;
+    const struct aiTexture *t = ai->mTextures[index];
+    snprintf(name, name_size, "%s: embedded image %u", im->path, index);
+    if (!t || !t->pcData) {
+        *status = rad_fail(im->ctx, RAD_ERROR_PARSE, "the embedded image has no data");
+    } else if (t->mHeight == 0) {
+        *status = rad_texture_decode(im->ctx, name, t->pcData, t->mWidth, out);
+    } else {
+        /* Raw texels (B, G, R, A bytes each). */
+        size_t count = (size_t)t->mWidth * t->mHeight;
+        *status = rad_check_budget(im->ctx, 3.0 * (double)count, "the texture");
+        uint8_t *texels = *status ? NULL : rad_alloc(im->ctx, count, 3);
+        if (!*status && !texels) *status = RAD_ERROR_NO_MEMORY;
+        for (size_t i = 0; texels && i < count; ++i) {
+            texels[3 * i] = t->pcData[i].r;
+            texels[3 * i + 1] = t->pcData[i].g;
+            texels[3 * i + 2] = t->pcData[i].b;
+        }
+        if (!*status)
+            *status = rad_texture_from_texels(im->ctx, name, t->mWidth, t->mHeight, texels, out);
+        rad_free(im->ctx, texels);
+    }
+    return 1;
+}
+
+/* The colour texture of assimp material `m` for scene material `mat`, or NULL with a warning
+ * when it cannot be used. Textures already read are shared by name. Only running out of memory
+ * is an error. */
+static rad_status material_texture(importer *im, const struct aiMaterial *m, rad_material *mat) {
+    struct aiString reference;
+    if (aiGetMaterialTexture(m, aiTextureType_BASE_COLOR, 0, &reference, NULL, NULL, NULL, NULL,
+                             NULL, NULL) != aiReturn_SUCCESS &&
+        aiGetMaterialTexture(m, aiTextureType_DIFFUSE, 0, &reference, NULL, NULL, NULL, NULL,
+                             NULL, NULL) != aiReturn_SUCCESS)
+        return RAD_OK;
+    if (reference.length == 0) return RAD_OK;
+    char name[2 * MAXLEN + 64], directory[MAXLEN];
+    rad_texture *texture = NULL;
+    rad_status status = RAD_OK;
+    /* A failed decode is a warning: the context's error callback is not told. */
+    rad_error_fn on_error = im->ctx->on_error;
+    im->ctx->on_error = NULL;
+    if (!embedded_texture(im, reference.data, name, sizeof name, &texture, &status)) {
+        /* A file: relative to the scene's directory, with '\' read as '/'. */
+        char relative[MAXLEN];
+        snprintf(relative, sizeof relative, "%s", reference.data);
+        for (char *c = relative; *c; ++c)
+            if (*c == '\\') *c = '/';
+        path_directory(im->path, directory, sizeof directory);
+        snprintf(name, sizeof name, "%s%s", relative[0] == '/' ? "" : directory, relative);
+        for (size_t i = 0; i < im->scene->texture_count; ++i)
+            if (strcmp(im->scene->textures[i]->name, name) == 0) {
+                im->ctx->on_error = on_error;
+                mat->texture = im->scene->textures[i];
+                return RAD_OK;
+            }
+        status = rad_texture_read(im->ctx, name, &texture);
+    }
+    im->ctx->on_error = on_error;
+    if (status == RAD_ERROR_NO_MEMORY) return status;
+    if (status) {
+        im->last_texture_lost = 1;
+        rad_warn(im->ctx, "%s: material '%s': texture '%s' not used (%s); its colour factor "
+                 "%g %g %g is used instead", im->path, mat->name, name,
+                 rad_context_error(im->ctx), mat->reflectance[0], mat->reflectance[1],
+                 mat->reflectance[2]);
+        return RAD_OK;
+    }
+    status = rad_scene_add_texture(im->scene, texture, NULL);
+    rad_texture_release(texture); /* the scene's reference is the one left */
+    if (!status) mat->texture = texture;
+    return status;
 }
 
 /* Translates assimp material `index` into a scene material (docs/formats.md, "Materials"). */
@@ -333,7 +454,23 @@ static rad_status convert_material(importer *im, unsigned index, uint32_t *out) 
             mat.roughness = shininess > 0 ? fmin(1.0, fmax(0.0, 1 - sqrt(shininess / 1000))) : 0;
         }
     }
-    return rad_scene_add_material(im->scene, &mat, out);
+    int two_sided = 0; /* glTF doubleSided, and what else assimp marks two-sided */
+    if (material_int(m, AI_MATKEY_TWOSIDED, &two_sided)) mat.two_sided = two_sided != 0;
+    im->last_texture_lost = 0;
+    rad_status status = material_texture(im, m, &mat);
+    if (!status) status = rad_scene_add_material(im->scene, &mat, out);
+    if (!status && im->last_texture_lost) {
+        if (*out >= im->texture_lost_capacity) {
+            size_t capacity = 2 * (size_t)*out + 16;
+            uint8_t *grown = rad_realloc(im->ctx, im->texture_lost, capacity, 1);
+            if (!grown) return RAD_ERROR_NO_MEMORY;
+            memset(grown + im->texture_lost_capacity, 0, capacity - im->texture_lost_capacity);
+            im->texture_lost = grown;
+            im->texture_lost_capacity = capacity;
+        }
+        im->texture_lost[*out] = 1;
+    }
+    return status;
 }
 
 static rad_status material_for(importer *im, unsigned index, uint32_t *out) {
@@ -383,6 +520,8 @@ static rad_status current_surface(importer *im, uint32_t *out) {
     uint32_t material = 0;
     rad_status status = material_for(im, mesh->mMaterialIndex, &material);
     if (!status) status = rad_scene_add_surface(im->scene, name, material, &im->surface);
+    if (!status && im->scene->materials[material].texture && !mesh->mTextureCoords[0])
+        im->textured_without_uv++;
     if (!status)
         status = name_set_add(im->ctx, &im->names, im->scene->surfaces[im->surface].name);
     if (!status) *out = im->surface;
@@ -399,6 +538,17 @@ static rad_status emit(importer *im, const rad_vec3 *points, const uint32_t *cor
         indices[k] = *mapped;
     }
     if (!status) status = rad_scene_add_polygon(im->scene, surface, indices, (uint32_t)n);
+    /* Texture coordinates, for textured materials (channel 0). */
+    if (!status && im->scene->materials[im->scene->surfaces[surface].material].texture &&
+        im->mesh->mTextureCoords[0]) {
+        float uv[MAX_POLYGON_CORNERS][2];
+        for (size_t k = 0; k < n; ++k) {
+            const struct aiVector3D *t = &im->mesh->mTextureCoords[0][corners[k]];
+            uv[k][0] = (float)t->x;
+            uv[k][1] = (float)t->y;
+        }
+        status = rad_scene_set_last_uvs(im->scene, (const float(*)[2])uv, (uint32_t)n);
+    }
     return status;
 }
 
@@ -696,6 +846,10 @@ static void read_camera(importer *im) {
         look = v3(0, 0, -1);
         up = v3(0, 1, 0);
     }
+    /* 3DS files are z-up (assimp turns the root node to y-up), but assimp 5.2.5 leaves the
+     * camera's up at its default +y of the file's space, which the turn makes -z: the camera
+     * came in rolled by 90 degrees (Sponza's). Up in the file is +z. */
+    if (has_extension(im->path, ".3ds")) up = v3(0, 0, 1);
     rad_vec3 eye = transform_point(&world, position);
     rad_vec3 view = v3_normalize(transform_direction(&world, look));
     up = v3_normalize(transform_direction(&world, up));
@@ -714,6 +868,107 @@ static void read_camera(importer *im) {
     }
     im->scene->has_camera = 1;
     im->scene->camera = (rad_camera){eye, v3_add(eye, view), up, fov};
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Warnings about materials                                                                     */
+
+/* Reflectance this close to 1 barely loses energy: iterative solvers converge slowly and the
+ * room comes out too bright. Textured materials' factors are usually white (1), so a texture
+ * that could not be read leaves them so. */
+#define BRIGHT_REFLECTANCE 0.95
+/* A warning names at most this many surfaces. */
+#define NAMED_SURFACES 4
+
+static void warn_bright_materials(importer *im) {
+    const rad_scene *scene = im->scene;
+    for (size_t i = 0; i < scene->material_count; ++i) {
+        const rad_material *m = &scene->materials[i];
+        double rho[3] = {m->reflectance[0], m->reflectance[1], m->reflectance[2]};
+        if (m->texture) {
+            double mean[3];
+            rad_texture_mean(m->texture, mean);
+            for (int c = 0; c < 3; ++c) rho[c] *= mean[c];
+        }
+        double largest = fmax(rho[0], fmax(rho[1], rho[2]));
+        if (!(largest >= BRIGHT_REFLECTANCE) || largest > 1) continue; /* > 1 is refused later */
+        char names[512] = "";
+        size_t used = 0, count = 0;
+        for (size_t s = 0; s < scene->surface_count; ++s) {
+            if (scene->surfaces[s].material != i) continue;
+            if (count++ < NAMED_SURFACES && used < sizeof names)
+                used += (size_t)snprintf(names + used, sizeof names - used, "%s'%s'",
+                                         count > 1 ? ", " : "", scene->surfaces[s].name);
+        }
+        if (count == 0) continue;
+        if (used >= sizeof names) used = sizeof names - 1;
+        if (count > NAMED_SURFACES)
+            snprintf(names + used, sizeof names - used, " and %zu more", count - NAMED_SURFACES);
+        int lost = i < im->texture_lost_capacity && im->texture_lost[i];
+        rad_warn(im->ctx, "%s: material '%s' reflects %.3g of the light%s (surfaces %s); "
+                 "reflectances near 1 converge slowly and brighten the scene", im->path, m->name,
+                 largest, lost ? ", white because its texture could not be used" : "", names);
+    }
+}
+
+/* OBJ: a note for each material a `usemtl` names that no MTL file gave (assimp makes a
+ * material of that name with its own defaults). The MTL files are those `mtllib` names,
+ * beside the OBJ; their `newmtl` names are the known ones. */
+#define MTL_NAMES 4096
+
+/* The text after a statement's keyword on a line, trimmed; NULL when the line is not it. */
+static char *statement(char *line, const char *keyword) {
+    size_t n = strlen(keyword);
+    while (*line == ' ' || *line == '\t') ++line;
+    if (strncmp(line, keyword, n) != 0 || (line[n] != ' ' && line[n] != '\t')) return NULL;
+    line += n;
+    while (*line == ' ' || *line == '\t') ++line;
+    size_t length = strcspn(line, "\r\n");
+    while (length > 0 && (line[length - 1] == ' ' || line[length - 1] == '\t')) --length;
+    line[length] = '\0';
+    return length ? line : NULL;
+}
+
+static void note_unknown_usemtl(importer *im) {
+    if (!has_extension(im->path, ".obj")) return;
+    FILE *file = fopen(im->path, "r");
+    if (!file) return;
+    char (*known)[128] = rad_alloc(im->ctx, MTL_NAMES, sizeof *known);
+    if (!known) {
+        fclose(file);
+        return;
+    }
+    size_t count = 0;
+    char line[1024], directory[MAXLEN], mtl_path[2 * MAXLEN];
+    path_directory(im->path, directory, sizeof directory);
+    while (fgets(line, sizeof line, file)) {
+        const char *library = statement(line, "mtllib");
+        if (!library) continue;
+        snprintf(mtl_path, sizeof mtl_path, "%s%s", library[0] == '/' ? "" : directory, library);
+        FILE *mtl = fopen(mtl_path, "r");
+        if (!mtl) continue;
+        char entry[1024];
+        while (fgets(entry, sizeof entry, mtl) && count < MTL_NAMES) {
+            const char *name = statement(entry, "newmtl");
+            if (name) snprintf(known[count++], sizeof known[0], "%s", name);
+        }
+        fclose(mtl);
+    }
+    rewind(file);
+    size_t first_unknown = count;
+    for (unsigned number = 1; fgets(line, sizeof line, file); ++number) {
+        const char *name = statement(line, "usemtl");
+        if (!name) continue;
+        int seen = 0;
+        for (size_t i = 0; i < count && !seen; ++i) seen = strncmp(known[i], name, sizeof known[0] - 1) == 0;
+        if (seen || count >= MTL_NAMES) continue;
+        rad_info(im->ctx, "%s:%u: usemtl '%s' names a material the MTL files lack; assimp gives "
+                 "its faces a material of its own defaults", im->path, number, name);
+        snprintf(known[count++], sizeof known[0], "%s", name); /* once per name */
+        if (count - first_unknown >= 8) break;
+    }
+    rad_free(im->ctx, known);
+    fclose(file);
 }
 
 /* assimp's point, spot and directional lights become the scene's lights (docs/lights.md): the
@@ -777,6 +1032,7 @@ static rad_status read_lights(importer *im) {
 static void importer_free(importer *im) {
     rad_context *ctx = im->ctx;
     rad_free(ctx, im->material_of);
+    rad_free(ctx, im->texture_lost);
     rad_free(ctx, im->names.names);
     rad_free(ctx, im->vertex_of);
     rad_free(ctx, im->points);
@@ -863,6 +1119,11 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
     if (im.cut) rad_info(ctx, "%s: cut %zu non-convex faces into convex pieces", path, im.cut);
     if (im.joined)
         rad_info(ctx, "%s: joined %zu pairs of triangles into quads", path, im.joined);
+    warn_bright_materials(&im);
+    note_unknown_usemtl(&im);
+    if (im.textured_without_uv)
+        rad_warn(ctx, "%s: %zu textured surfaces have no texture coordinates; they take their "
+                 "material's colour factor", path, im.textured_without_uv);
     if (im.ai->mNumLights > 0 && (status = read_lights(&im))) {
         rad_scene_destroy(im.scene);
         importer_free(&im);

@@ -21,6 +21,7 @@
  * exit status 86 is named in the parent's line. */
 #define _GNU_SOURCE
 #include "scene/scene.h"
+#include "scene/texture.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -63,7 +64,8 @@
 /* Address space the child may map beyond the budget: assimp's own tables and stacks. */
 #define IMPORT_SLACK_BYTES (64u << 20)
 
-enum record_kind { RECORD_INFO, RECORD_WARNING, RECORD_ERROR, RECORD_SCENE, RECORD_END };
+enum record_kind { RECORD_INFO, RECORD_WARNING, RECORD_ERROR, RECORD_SCENE, RECORD_END,
+                   RECORD_TEXTURES };
 
 typedef struct record_header {
     uint32_t kind;
@@ -164,6 +166,7 @@ static int write_scene(const rad_scene *scene) {
         copy.kind = m->kind;
         copy.roughness = m->roughness;
         copy.ior = m->ior;
+        copy.two_sided = m->two_sided; /* texture: the textures record */
         if (write_all(&copy, sizeof copy) || write_string(m->name)) return -1;
     }
     uint64_t light_count = scene->light_count;
@@ -179,6 +182,38 @@ static int write_scene(const rad_scene *scene) {
         record.inner_angle = l->inner_angle;
         record.outer_angle = l->outer_angle;
         if (write_all(&record, sizeof record) || write_string(l->name)) return -1;
+    }
+    return 0;
+}
+
+/* Textures and texture coordinates (scene/texture.h): one record after the scene, when it has
+ * any: the corners' (u, v), then each texture (name, width, height, sRGB texels), then per
+ * material the index of its texture plus one (0: none). */
+static int write_textures(const rad_scene *scene) {
+    if (!scene->texture_count && !scene->polygon_uv_count) return 0;
+    uint64_t uvs = scene->polygon_uv_count, textures = scene->texture_count;
+    uint64_t length = 2 * sizeof(uint64_t) + uvs * sizeof *scene->polygon_uvs +
+                      scene->material_count * sizeof(uint32_t);
+    for (size_t i = 0; i < scene->texture_count; ++i)
+        length += string_bytes(scene->textures[i]->name) + 2 * sizeof(uint32_t) +
+                  3 * (uint64_t)scene->textures[i]->width * scene->textures[i]->height;
+    record_header header = {RECORD_TEXTURES, 0, length};
+    if (write_all(&header, sizeof header) || write_all(&uvs, sizeof uvs) ||
+        write_all(scene->polygon_uvs, uvs * sizeof *scene->polygon_uvs) ||
+        write_all(&textures, sizeof textures))
+        return -1;
+    for (size_t i = 0; i < scene->texture_count; ++i) {
+        const rad_texture *t = scene->textures[i];
+        uint32_t size[2] = {t->width, t->height};
+        if (write_string(t->name) || write_all(size, sizeof size) ||
+            write_all(t->texels, 3 * (size_t)t->width * t->height))
+            return -1;
+    }
+    for (size_t i = 0; i < scene->material_count; ++i) {
+        uint32_t which = 0;
+        for (size_t k = 0; k < scene->texture_count && scene->materials[i].texture; ++k)
+            if (scene->textures[k] == scene->materials[i].texture) which = (uint32_t)k + 1;
+        if (write_all(&which, sizeof which)) return -1;
     }
     return 0;
 }
@@ -265,6 +300,7 @@ static _Noreturn void child_run(rad_context *ctx, const char *path, int write_fd
     int failed = status ? write_record(RECORD_ERROR, (int32_t)status, ctx->error,
                                        strlen(ctx->error) + 1)
                         : write_scene(scene);
+    if (!failed && !status) failed = write_textures(scene);
     if (!failed) failed = write_record(RECORD_END, 0, NULL, 0);
     rad_scene_destroy(scene);
     _exit(failed ? 3 : 0);
@@ -418,6 +454,7 @@ static rad_status read_scene(rad_context *ctx, const char *path, cursor *c, rad_
         rad_material *material = &scene->materials[i];
         status = take(c, material, sizeof *material) ? RAD_ERROR_PARSE : RAD_OK;
         material->name = NULL;
+        material->texture = NULL; /* the child's pointer; set by the textures record */
         if (!status) status = take_string(ctx, c, &material->name);
         if (!status) scene->material_count++;
     }
@@ -453,6 +490,42 @@ static rad_status read_scene(rad_context *ctx, const char *path, cursor *c, rad_
     return status;
 }
 
+/* The textures record (write_textures) into the scene read before it. */
+static rad_status read_textures(rad_context *ctx, cursor *c, rad_scene *scene) {
+    uint64_t uvs, textures;
+    if (take(c, &uvs, sizeof uvs) || uvs > scene->polygon_vertex_count) return RAD_ERROR_PARSE;
+    rad_status status = take_array(ctx, c, (void **)&scene->polygon_uvs, uvs,
+                                   sizeof *scene->polygon_uvs);
+    if (status) return status;
+    scene->polygon_uv_count = scene->polygon_uv_capacity = uvs;
+    if (take(c, &textures, sizeof textures) || textures > (uint64_t)(c->end - c->p))
+        return RAD_ERROR_PARSE;
+    for (uint64_t i = 0; i < textures; ++i) {
+        char *name = NULL;
+        uint32_t size[2];
+        status = take_string(ctx, c, &name);
+        if (status) return status;
+        rad_texture *texture = NULL;
+        if (take(c, size, sizeof size) || size[0] == 0 || size[1] == 0 ||
+            3 * (uint64_t)size[0] * size[1] > (uint64_t)(c->end - c->p))
+            status = RAD_ERROR_PARSE;
+        if (!status) status = rad_texture_from_texels(ctx, name, size[0], size[1],
+                                                      (const uint8_t *)c->p, &texture);
+        rad_free(ctx, name);
+        if (status) return status;
+        c->p += 3 * (size_t)size[0] * size[1];
+        status = rad_scene_add_texture(scene, texture, NULL);
+        rad_texture_release(texture);
+        if (status) return status;
+    }
+    for (size_t i = 0; i < scene->material_count; ++i) {
+        uint32_t which;
+        if (take(c, &which, sizeof which) || which > scene->texture_count) return RAD_ERROR_PARSE;
+        scene->materials[i].texture = which ? scene->textures[which - 1] : NULL;
+    }
+    return c->p == c->end ? RAD_OK : RAD_ERROR_PARSE;
+}
+
 /* Replays the records into *status (and *out); returns 1 when they end with the end mark. */
 static int replay(rad_context *ctx, const char *path, const reply *r, rad_scene **out,
                   rad_status *status) {
@@ -476,6 +549,15 @@ static int replay(rad_context *ctx, const char *path, const reply *r, rad_scene 
             if (read == RAD_ERROR_PARSE) break;
             if (read) {
                 *status = read;
+                return 1;
+            }
+        } else if (header.kind == RECORD_TEXTURES && !*status && *out) {
+            rad_status read = read_textures(ctx, &body, *out);
+            if (read == RAD_ERROR_PARSE) break;
+            if (read) {
+                *status = read;
+                rad_scene_destroy(*out);
+                *out = NULL;
                 return 1;
             }
         } else if (header.kind == RECORD_END && (*status || *out)) {

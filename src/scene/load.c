@@ -1,5 +1,6 @@
 /* load.c - scene loading by file kind, and the list of built-in scenes. */
 #include "scene/scene.h"
+#include "scene/camera.h"
 
 #include "scene/mgf.h"
 
@@ -161,7 +162,14 @@ rad_status rad_scene_load(rad_context *ctx, const char *path, rad_scene **out) {
     }
     if (!has_extension(path, ".ffm")) {
         rad_status regular = check_regular(ctx, path);
-        return regular ? regular : rad_scene_import(ctx, path, out);
+        rad_status status = regular ? regular : rad_scene_import(ctx, path, out);
+        if (!status) status = rad_scene_add_back_faces(*out); /* glTF doubleSided */
+        if (status) {
+            rad_scene_destroy(*out);
+            *out = NULL;
+        }
+        if (!status) rad_scene_auto_camera(*out); /* no camera in the file: an automatic one */
+        return status;
     }
     char *text = NULL;
     size_t length = 0;

@@ -1,6 +1,7 @@
 /* scene.c - scene storage and builders shared by the .ffm parser, the built-in scenes and the
  * importer. */
 #include "scene/scene.h"
+#include "scene/texture.h"
 
 #include <string.h>
 
@@ -34,6 +35,9 @@ void rad_scene_destroy(rad_scene *scene) {
     rad_free(ctx, scene->polygons);
     rad_lights_free(ctx, scene->lights, scene->light_count);
     rad_free(ctx, scene->source);
+    for (size_t i = 0; i < scene->texture_count; ++i) rad_texture_release(scene->textures[i]);
+    rad_free(ctx, scene->textures);
+    rad_free(ctx, scene->polygon_uvs);
     rad_free(ctx, scene);
 }
 
@@ -146,4 +150,32 @@ void rad_scene_bounds(const rad_scene *scene, rad_vec3 *lo, rad_vec3 *hi) {
         *lo = v3(fmin(lo->x, p.x), fmin(lo->y, p.y), fmin(lo->z, p.z));
         *hi = v3(fmax(hi->x, p.x), fmax(hi->y, p.y), fmax(hi->z, p.z));
     }
+}
+
+rad_status rad_scene_add_texture(rad_scene *scene, struct rad_texture *texture, uint32_t *index) {
+    if (GROW(scene, textures, texture_count, texture_capacity)) return RAD_ERROR_NO_MEMORY;
+    rad_texture_retain(texture);
+    if (index) *index = (uint32_t)scene->texture_count;
+    scene->textures[scene->texture_count++] = texture;
+    return RAD_OK;
+}
+
+rad_status rad_scene_set_last_uvs(rad_scene *scene, const float (*uv)[2], uint32_t count) {
+    if (scene->polygon_count == 0 || scene->polygons[scene->polygon_count - 1].count != count)
+        return rad_fail(scene->ctx, RAD_ERROR_INVALID_ARGUMENT, "texture coordinates: bad count");
+    size_t first = scene->polygons[scene->polygon_count - 1].first, needed = first + count;
+    if (needed > scene->polygon_uv_capacity) {
+        size_t wanted = scene->polygon_uv_capacity ? scene->polygon_uv_capacity : 64;
+        while (wanted < needed) wanted *= 2;
+        float(*grown)[2] = rad_realloc(scene->ctx, scene->polygon_uvs, wanted, sizeof *grown);
+        if (!grown) return RAD_ERROR_NO_MEMORY;
+        scene->polygon_uvs = grown;
+        scene->polygon_uv_capacity = wanted;
+    }
+    /* Corners of earlier polygons without coordinates: none (NaN). */
+    for (size_t i = scene->polygon_uv_count; i < first; ++i)
+        scene->polygon_uvs[i][0] = scene->polygon_uvs[i][1] = NAN;
+    memcpy(scene->polygon_uvs + first, uv, count * sizeof *uv);
+    if (needed > scene->polygon_uv_count) scene->polygon_uv_count = needed;
+    return RAD_OK;
 }

@@ -24,6 +24,10 @@ typedef struct rad_material {
     double specular[3];    /* mirror / glass tint */
     double roughness;      /* 0: perfect mirror */
     double ior;            /* glass index of refraction */
+    /* A colour texture that multiplies `reflectance` (scene/texture.h), or NULL; the scene
+     * holds a reference (textures below). */
+    const struct rad_texture *texture;
+    int two_sided; /* both faces receive and reflect (glTF doubleSided): two_sided.c */
 } rad_material;
 
 /* A named input object: results are reported per surface. */
@@ -75,6 +79,16 @@ struct rad_scene {
     int has_camera;
     rad_camera camera;
 
+    /* Textures (scene/texture.h): the scene holds one reference to each; materials point at
+     * them. Texture coordinates per polygon corner, parallel to polygon_vertices: corners past
+     * polygon_uv_count, or NaN, have none. */
+    size_t texture_count, texture_capacity;
+    struct rad_texture **textures;
+    size_t polygon_uv_count, polygon_uv_capacity;
+    float (*polygon_uvs)[2];
+
+    /* No camera in the file: `camera` is the automatic one (camera.c, rad_scene_auto_camera). */
+    int camera_automatic;
     /* Sources that are not surfaces (light/lights.h, scene_lights.c): point, spot and
      * directional lights from the file or the caller (the sun), and the sky. */
     size_t light_count, light_capacity;
@@ -101,6 +115,15 @@ rad_status rad_scene_add_polygon(rad_scene *scene, uint32_t surface, const uint3
 rad_status rad_scene_add_polygon_points(rad_scene *scene, uint32_t surface,
                                         const rad_vec3 *points, uint32_t count);
 
+/* Keeps a reference to `texture` (scene/texture.h); its index to *index (may be NULL). */
+rad_status rad_scene_add_texture(rad_scene *scene, struct rad_texture *texture, uint32_t *index);
+/* Texture coordinates for the corners of the last polygon added (`count` pairs). */
+rad_status rad_scene_set_last_uvs(rad_scene *scene, const float (*uv)[2], uint32_t count);
+
+/* Surfaces of two-sided materials get a back: a surface "NAME (back)" of the same polygons
+ * turned over, moved behind by a hair (2e-5 of the scene's diagonal, twice the rays' offset),
+ * so both faces receive and reflect as two one-sided surfaces back to back (two_sided.c). */
+rad_status rad_scene_add_back_faces(rad_scene *scene);
 /* Appends a copy of `light` (its name copied; its IES profile, if any, now owned by the scene). */
 rad_status rad_scene_append_light(rad_scene *scene, const rad_light *light);
 

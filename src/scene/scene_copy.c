@@ -2,6 +2,7 @@
  * system so that the hierarchical solver can build its quadtrees and rays from the input
  * polygons after the caller has destroyed the scene. */
 #include "scene/scene.h"
+#include "scene/texture.h"
 
 #include <string.h>
 
@@ -35,8 +36,15 @@ rad_status rad_scene_copy_geometry(rad_context *ctx, const rad_scene *scene, rad
     for (size_t i = 0; i < scene->surface_count && ok; ++i)
         ok = rad_scene_add_surface(copy, scene->surfaces[i].name, scene->surfaces[i].material,
                                    NULL) == RAD_OK;
+    /* Textures are shared (one more reference each), texture coordinates copied. */
+    for (size_t i = 0; i < scene->texture_count && ok; ++i)
+        ok = rad_scene_add_texture(copy, scene->textures[i], NULL) == RAD_OK;
+    copy->polygon_uvs = copy_array(ctx, scene->polygon_uvs, scene->polygon_uv_count,
+                                   sizeof *scene->polygon_uvs, &ok);
+    copy->polygon_uv_count = copy->polygon_uv_capacity = ok ? scene->polygon_uv_count : 0;
     copy->has_camera = scene->has_camera;
     copy->camera = scene->camera;
+    copy->camera_automatic = scene->camera_automatic;
     if (!ok) {
         rad_scene_destroy(copy);
         return RAD_ERROR_NO_MEMORY;

@@ -4,6 +4,7 @@
 
 #include "formfactor/geometric.h"
 #include "scene/scene.h"
+#include "scene/texture.h"
 
 #include <string.h>
 
@@ -48,6 +49,13 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
             s->reflectance[e][c] = m->reflectance[c];
             s->emission[e][c] = RAD_PI * m->emission[c];
             if (m->emission[c] > 0) emits = 1;
+        }
+        /* A textured element reflects the texture's mean over it times the factor. */
+        if (m->texture) {
+            rad_vec3 corners[4];
+            int count = rad_mesh_corner_count(mesh, e);
+            for (int k = 0; k < count; ++k) corners[k] = mesh->vertices[mesh->element_vertices[e][k]];
+            rad_texture_element_mean(scene, mesh->element_polygon[e], corners, count, s->reflectance[e]);
         }
     }
     memcpy(s->patch_first, mesh->patch_first, (mesh->patch_count + 1) * sizeof *s->patch_first);
