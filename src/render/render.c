@@ -58,6 +58,7 @@ static void leaves_free(rad_renderer *r) {
 static rad_status leaves_build(rad_renderer *r) {
     rad_context *ctx = r->ctx;
     leaves_free(r);
+    r->leaves_ready = 0;
     r->generation = rad_solution_generation(r->solution);
     const rad_mesh *mesh = r->mesh = rad_solution_leaves(r->solution);
     if (!mesh)
@@ -72,6 +73,7 @@ static rad_status leaves_build(rad_renderer *r) {
     rad_status status = rad_element_rays_create(ctx, mesh, &r->rays);
     if (!status) status = rad_emitters_build(r);
     if (!status) status = rad_reconstruct_build(r);
+    r->leaves_ready = status == RAD_OK;
     return status;
 }
 
@@ -242,8 +244,9 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
     double start = rad_seconds();
     /* Leaves that appeared or vanished since the last picture (a hierarchy refining): rebuild
      * what was made from them. */
-    rad_status status = r->generation == rad_solution_generation(r->solution) ? RAD_OK
-                                                                             : leaves_build(r);
+    rad_status status = r->leaves_ready && r->generation == rad_solution_generation(r->solution)
+                            ? RAD_OK
+                            : leaves_build(r);
     if (!status) status = rad_reconstruct_prepare(r);
     if (!status) status = rad_texture_shading_prepare(r);
     rad_image *image = NULL;

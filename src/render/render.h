@@ -37,6 +37,7 @@ struct rad_renderer {
      * generation of the view and are rebuilt when the leaves change. */
     const rad_solution_view *solution;
     uint64_t generation;
+    int leaves_ready; /* what is built from the leaves is complete (a failed rebuild is not) */
     const rad_mesh *mesh;
     rad_element_rays *rays;
     rad_view view;
