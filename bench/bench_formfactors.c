@@ -67,7 +67,7 @@ static void setup_free(setup *s) {
 /* A provider straight from the method table: no row cache; `cull` 0 turns shaft culling off. */
 static rad_ff_provider *provider(const setup *s, rad_ff_method method, int samples,
                                  int resolution, int cull) {
-    rad_ff_options options = {method, samples, resolution};
+    rad_ff_options options = {method, samples, resolution, NULL};
     rad_ff_context context;
     rad_ff_provider *p = NULL;
     if (rad_ff_context_build(s->ctx, s->scene, s->mesh, &options, cull, &context) ||
@@ -411,7 +411,7 @@ static void shoot(rad_ff_method method, int threads, double patch_factor) {
     rad_system *system = NULL;
     rad_mesh_options mesh = {0};
     mesh.elements = 10000;
-    rad_ff_options ff = {method, 0, 0};
+    rad_ff_options ff = {method, 0, 0, NULL};
     double start = rad_seconds();
     if (rad_scene_builtin(ctx, "cornell", &scene)) {
         fprintf(stderr, "bench: %s\n", rad_context_error(ctx));

@@ -64,11 +64,19 @@ const char *cli_solver_names(char *out, size_t size, const cli_solver_filter *fi
                              const char *separator, const char *last_separator);
 /* "shooting, importance: overshooting (...)": the solvers that take an option, and its help. */
 const char *cli_solver_option_help(char *out, size_t size, const char *option);
+/* "N  hemicube: pixels along the top face (256)": the methods that take an option, the help of
+ * the first, after `metavar`. */
+const char *cli_ff_option_help(char *out, size_t size, const char *metavar, const char *option);
 /* The form-factor methods' names, joined. */
 const char *cli_ff_method_names(char *out, size_t size, const char *separator);
 /* Nonzero when the solver shoots (RAD_SOLVER_SHOOTS) / takes its own option `option`. */
 int cli_solver_shoots(rad_solver_kind kind);
 int cli_solver_takes(rad_solver_kind kind, const char *option);
+/* Per-method option bags (rad_options): sets `name` to `value` when the value is nonzero (the
+ * flag or number was given) and the chosen solver / form-factor method registered `name`; the
+ * others never read it. */
+void cli_solver_option(rad_options *bag, rad_solver_kind kind, const char *name, double value);
+void cli_ff_option(rad_options *bag, rad_ff_method method, const char *name, double value);
 /* The usage errors for a name the registry does not have, listing the names it has; return
  * EXIT_USAGE. */
 int cli_unknown_solver(const char *command, const char *name);
@@ -86,5 +94,6 @@ int cmd_pathtrace(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_bake(int argc, char **argv);
 int cmd_solvers(int argc, char **argv);
+int cmd_photonmap(int argc, char **argv);
 
 #endif

@@ -2,6 +2,7 @@
  * other tools open: glTF 2.0 (.glb, .gltf + .bin), PLY or OBJ (docs/bake.md). The solver,
  * form-factor and meshing options are the ones every solving command shares (pipeline.h). */
 #include "cli.h"
+#include "light_options.h"
 #include "output_path.h"
 #include "pipeline.h"
 #include "progress.h"
@@ -19,7 +20,8 @@ int cmd_bake(int argc, char **argv) {
     const char *output = NULL, *tonemap = "clamp";
     const char *solution = NULL;
     double exposure = 0, scale = 0, aspect = 0, time_budget = 0;
-    enum { OWN_OPTIONS = 8 };
+    cli_light_args lights = {0};
+    enum { OWN_OPTIONS = 11 };
     cli_option options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT + 1] = {
         {"-o", CLI_STRING, &output, "FILE  .glb, .gltf (writes FILE.bin beside it), .ply or .obj"},
         {"--output", CLI_STRING, &output, "FILE  the same as -o"},
@@ -33,6 +35,7 @@ int cmd_bake(int argc, char **argv) {
         {"--solution", CLI_STRING, &solution,
          "FILE  bake a solution saved by solve --save (same scene and meshing/ff options) "
          "instead of solving"},
+        CLI_LIGHT_OPTIONS(&lights),
     };
     cli_pipeline_options(&p, RAD_SOLVER_SHOOTING, options + OWN_OPTIONS);
     options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT] = (cli_option){0};
@@ -56,6 +59,7 @@ int cmd_bake(int argc, char **argv) {
     rad_ff_options ff;
     status = cli_pipeline_check("bake", &p, &solve, &mesh, &ff);
     if (status) return status;
+    if ((status = cli_lights_check("bake", &lights))) return status;
     solve.time_budget = time_budget;
 
     rad_context *ctx = cli_context_with_progress(p.threads, p.seed, p.max_memory, p.quiet);

@@ -77,10 +77,12 @@ int cmd_formfactors(int argc, char **argv) {
     char ff_help[200], names[160];
     snprintf(ff_help, sizeof ff_help, "METHOD  %s (default: docs/formfactors.md)",
              cli_ff_method_names(names, sizeof names, "|"));
+    char resolution_help[160];
     const cli_option options[] = {
         {"--ff", CLI_STRING, &a.ff, ff_help},
         {"--ff-samples", CLI_INT, &a.ff_samples, "N  rays or point pairs per form factor"},
-        {"--hemicube-res", CLI_INT, &a.hemicube_res, "N  hemicube top-face resolution"},
+        {"--hemicube-res", CLI_INT, &a.hemicube_res,
+         cli_ff_option_help(resolution_help, sizeof resolution_help, "N", "hemicube-res")},
         {"--patch-size", CLI_DOUBLE, &a.patch_size, "S  longest patch edge (scene units)"},
         {"--element-size", CLI_DOUBLE, &a.element_size, "S  longest element edge (scene units)"},
         {"--elements", CLI_SIZE, &a.elements, "N  approximate element count"},
@@ -109,7 +111,10 @@ int cmd_formfactors(int argc, char **argv) {
     rad_system *system = NULL;
     double *matrix = NULL;
     rad_mesh_options mesh = {a.patch_size, a.element_size, a.elements};
-    rad_ff_options ff = {(rad_ff_method)method, a.ff_samples, a.hemicube_res};
+    rad_options own = {0};
+    cli_ff_option(&own, (rad_ff_method)method, "ff-samples", a.ff_samples);
+    cli_ff_option(&own, (rad_ff_method)method, "hemicube-res", a.hemicube_res);
+    rad_ff_options ff = {(rad_ff_method)method, 0, 0, &own};
     double start = cli_seconds();
     int exit_status = 0;
     rad_status rs = cli_load_scene(ctx, positional[0], &scene);

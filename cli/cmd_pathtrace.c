@@ -3,6 +3,7 @@
  * camera) is refused before any path is traced, so a bad command fails at once and never leaves
  * a file. */
 #include "camera_options.h"
+#include "light_options.h"
 #include "cli.h"
 #include "pipeline.h"
 #include "progress.h"
@@ -17,6 +18,7 @@ typedef struct pathtrace_args {
     size_t seed;
     double exposure, max_memory;
     cli_camera_args camera;
+    cli_light_args lights;
 } pathtrace_args;
 
 int cmd_pathtrace(int argc, char **argv) {
@@ -38,6 +40,7 @@ int cmd_pathtrace(int argc, char **argv) {
         {"--width", CLI_INT, &a.width, "W  image width in pixels (512)"},
         {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
         CLI_CAMERA_OPTIONS(&a.camera),
+        CLI_LIGHT_OPTIONS(&a.lights),
         {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
         {"--half", CLI_FLAG, &a.half, "EXR only: 16-bit half floats (default 32-bit float)"},
@@ -61,6 +64,7 @@ int cmd_pathtrace(int argc, char **argv) {
     if (a.max_bounces == 0)
         return cli_error(EXIT_USAGE, "pathtrace: --max-bounces must be at least 1");
     if ((status = cli_camera_check("pathtrace", &a.camera))) return status;
+    if ((status = cli_lights_check("pathtrace", &a.lights))) return status;
     if (a.max_memory < 0) return cli_error(EXIT_USAGE, "pathtrace: --max-memory must be positive");
 
     rad_context *ctx = cli_context_with_progress(a.threads, (uint64_t)a.seed, a.max_memory, a.quiet);

@@ -5,6 +5,7 @@
  * Order of work: everything that can be refused cheaply is refused before the solve (flags, the
  * output path, the camera), so a bad command fails in milliseconds and never leaves a file. */
 #include "camera_options.h"
+#include "light_options.h"
 #include "cli.h"
 #include "output_path.h"
 #include "pipeline.h"
@@ -22,6 +23,7 @@ typedef struct render_args {
     int width, height, spp, final_gather, light_samples, max_depth, stats, half;
     double exposure, time_budget;
     cli_camera_args camera;
+    cli_light_args lights;
 } render_args;
 
 /* "scenes/room.obj" -> "room.png"; "cornell" -> "cornell.png". */
@@ -80,7 +82,7 @@ int cmd_render(int argc, char **argv) {
     cli_camera_args_init(&a.camera);
     /* render's own options, then the shared solver, form-factor and meshing ones, then the
      * terminator (the array is zeroed past what is listed here). */
-    enum { OWN_OPTIONS = 19 };
+    enum { OWN_OPTIONS = 22 };
     cli_option options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT + 1] = {
         {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm, .exr (SCENE.png)"},
         {"--output", CLI_STRING, &a.output, "FILE  the same as -o"},
@@ -88,6 +90,7 @@ int cmd_render(int argc, char **argv) {
         {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
         {"--spp", CLI_INT, &a.spp, "N  jittered samples per pixel, box filter (16)"},
         CLI_CAMERA_OPTIONS(&a.camera),
+        CLI_LIGHT_OPTIONS(&a.lights),
         {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
         {"--half", CLI_FLAG, &a.half, "EXR only: 16-bit half floats (default 32-bit float)"},
@@ -127,6 +130,7 @@ int cmd_render(int argc, char **argv) {
         return cli_error(EXIT_USAGE, "render: --time-budget must be a positive number of seconds");
     solve.time_budget = a.time_budget;
     if ((status = cli_camera_check("render", &a.camera))) return status;
+    if ((status = cli_lights_check("render", &a.lights))) return status;
     int shading = rad_shading_parse(a.shading);
     if (shading < 0)
         return cli_error(EXIT_USAGE, "render: unknown shading '%s' (smooth, flat)", a.shading);

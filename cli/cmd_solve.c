@@ -100,6 +100,7 @@ static const char *stop_name(rad_solve_stop stop) {
     case RAD_STOP_ITERATIONS: return "iterations";
     case RAD_STOP_TIME_BUDGET: return "time-budget";
     case RAD_STOP_CALLBACK: return "interrupted";
+    case RAD_STOP_MEMORY_BUDGET: return "memory-budget";
     case RAD_STOP_ERROR: break;
     }
     return "error";
@@ -227,11 +228,13 @@ int cmd_solve(int argc, char **argv) {
         {"--height", CLI_INT, NULL, "H  image height (256)"},
         {"--exposure", CLI_DOUBLE, NULL, "EV  snapshot exposure in stops (0)"},
         {"--tonemap", CLI_STRING, NULL, "CURVE  snapshots: none|clamp|reinhard|aces (clamp)"},
+        CLI_LIGHT_OPTIONS(&a.lights),
     };
     void *own_targets[] = {&a.time_budget, &a.overshoot, &a.trace,  &a.json,      &a.log,
                            &a.plot,        &a.save,      &a.resume, &a.snapshots, &a.snapshot_every,
                            &a.compare,     a.camera.eye, a.camera.look, a.camera.up, &a.camera.fov,
-                           &a.width,       &a.height,    &a.exposure, &a.tonemap};
+                           &a.width,       &a.height,    &a.exposure, &a.tonemap,
+                           &a.lights.sky,  &a.lights.sun, &a.lights.ies};
     enum { OWN = sizeof own / sizeof own[0] };
     /* The shared solver, form-factor and meshing options (cli/pipeline.h), then our own. */
     cli_option options[CLI_PIPELINE_OPTION_COUNT + OWN + 1];
@@ -247,18 +250,19 @@ int cmd_solve(int argc, char **argv) {
     if (status) return status < 0 ? 0 : status;
     if (count != 1) return cli_error(EXIT_USAGE, "solve: which scene? (usage: radiosity solve %s)", synopsis);
     a.scene_name = positional[0];
+    /* The shared checks and option structs, as render's and bake's (cli/pipeline.c): a bad
+     * value is a usage error (2). Without --solver, a resumed run takes the saved solver. */
     int solver_given = a.pipe.solver != NULL;
-    int kind = solver_given ? rad_solver_kind_parse(a.pipe.solver) : (int)RAD_SOLVER_SHOOTING;
-    if (kind < 0) return cli_unknown_solver("solve", a.pipe.solver);
-    int ff_method = cli_parse_ff_method(a.pipe.ff);
-    if (ff_method < 0) return cli_unknown_ff_method("solve", a.pipe.ff);
-    /* The same rule as render's: a bad value is a usage error (2). */
-    if ((status = cli_pipeline_check_values("solve", &a.pipe))) return status;
-    rad_mesh_options mesh = {a.pipe.patch_size, a.pipe.element_size, a.pipe.elements};
-    rad_ff_options ff = {(rad_ff_method)ff_method, a.pipe.ff_samples, a.pipe.hemicube_res};
+    if (!solver_given) a.pipe.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
+    rad_solve_options solve;
+    rad_mesh_options mesh;
+    rad_ff_options ff;
+    if ((status = cli_pipeline_check("solve", &a.pipe, &solve, &mesh, &ff))) return status;
+    int kind = (int)solve.solver;
     if ((status = check_args(&a, solver_given || !a.resume ? kind : -1))) return status;
+    if ((status = cli_lights_check("solve", &a.lights))) return status;
     double link_error;
-    if ((status = cli_pipeline_link_error("solve", &a.pipe, &link_error))) return status;
+    cli_pipeline_link_error("solve", &a.pipe, &link_error); /* checked above */
     if ((status = check_outputs(&a))) return status;
     /* No output may be the scene; --save may be --resume (read whole, then replaced whole). */
     const char *inputs[] = {positional[0], a.resume};
@@ -319,19 +323,19 @@ int cmd_solve(int argc, char **argv) {
 
     trace_log trace = {system, a.json, cli_solver_shoots((rad_solver_kind)kind), stdout, NULL, 0, 0};
     if (!rs) {
-        rad_solve_options solve = {0};
+        /* The solver may be the resumed one: its own options again, with ours. */
         solve.solver = (rad_solver_kind)kind;
-        solve.max_iterations = a.pipe.iterations;
-        solve.tolerance = a.pipe.tolerance;
-        solve.omega = a.pipe.omega;
-        solve.ambient = a.pipe.ambient || a.snapshots;
-        solve.overshoot = a.overshoot;
+        rad_options *own = &a.pipe.solver_options;
+        *own = (rad_options){0};
+        cli_solver_option(own, solve.solver, "ambient", a.pipe.ambient || a.snapshots);
+        cli_solver_option(own, solve.solver, "overshoot", a.overshoot);
+        cli_solver_option(own, solve.solver, "link-error", link_error);
+        solve.method_options = own;
         solve.time_budget = isnan(a.time_budget) ? 0 : a.time_budget;
         solve.resume = a.resume != NULL;
         solve.camera = &camera;
         solve.view_width = a.width;
         solve.view_height = a.height;
-        solve.link_error = link_error;
         if (a.trace) {
             solve.trace = on_trace;
             solve.trace_user = &trace;

@@ -19,6 +19,7 @@ static const command commands[] = {
     {"bake", cmd_bake, "export the solution as a mesh with vertex colours"},
     {"scenes", cmd_scenes, "list the built-in scenes (or export one)"},
     {"solvers", cmd_solvers, "list the solvers and form-factor methods, with their options"},
+    {"photonmap", cmd_photonmap, "render an image by photon mapping"},
 };
 #define COMMAND_COUNT (sizeof commands / sizeof commands[0])
 

@@ -1,5 +1,6 @@
 /* options.c - the declarative option parser and the shared helpers of every command. */
 #include "cli.h"
+#include "light_options.h"
 #include "interrupt.h"
 #include "progress.h"
 
@@ -176,6 +177,10 @@ rad_status cli_load_scene(rad_context *ctx, const char *name, rad_scene **out) {
     for (size_t i = 0; i < rad_builtin_scene_count() && !builtin; ++i)
         builtin = strcmp(rad_builtin_scene_name(i), name) == 0;
     rad_status status = builtin ? rad_scene_builtin(ctx, name, out) : rad_scene_load(ctx, name, out);
+    if (!status && (status = cli_lights_apply(*out))) { /* --sky, --sun, --ies */
+        rad_scene_destroy(*out);
+        *out = NULL;
+    }
     if (!status)
         cli_stage("scene", "%s%s, %.2f s", name, builtin ? " (built in)" : "", cli_seconds() - start);
     return status;

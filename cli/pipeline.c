@@ -15,22 +15,26 @@ double cli_seconds(void) {
 
 void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, cli_option *o) {
     /* The help lines that list or name solvers and methods, from the registries. */
-    static char solver_help[256], ff_help[160], ambient_help[160], names[200];
+    static char solver_help[256], ff_help[160], ambient_help[160], link_help[200],
+        resolution_help[160], names[200];
     snprintf(solver_help, sizeof solver_help, "NAME  %s (%s)",
              cli_solver_names(names, sizeof names, NULL, "|", "|"),
              rad_solver_kind_name(default_solver));
     snprintf(ff_help, sizeof ff_help, "METHOD  %s", cli_ff_method_names(names, sizeof names, "|"));
     cli_solver_option_help(ambient_help, sizeof ambient_help, "ambient");
+    cli_solver_option_help(link_help, sizeof link_help, "link-error");
+    cli_ff_option_help(resolution_help, sizeof resolution_help, "N", "hemicube-res");
     const cli_option shared[CLI_PIPELINE_OPTION_COUNT] = {
         {"--solver", CLI_STRING, &a->solver, solver_help},
         {"--iterations", CLI_INT, &a->iterations, "N  stop after N rounds or shots"},
         {"--tolerance", CLI_DOUBLE, &a->tolerance,
-         "T  gathering: largest relative change; shooting: unshot power fraction (1e-6)"},
+         "T  stop at this measure: a round's largest relative change, or the unshot power "
+         "fraction after a shot (1e-6)"},
         {"--omega", CLI_DOUBLE, &a->omega, "W  over-relaxation in (0, 2) (1)"},
         {"--ambient", CLI_FLAG, &a->ambient, ambient_help},
         {"--ff", CLI_STRING, &a->ff, ff_help},
         {"--ff-samples", CLI_INT, &a->ff_samples, "N  rays or point pairs per form factor"},
-        {"--hemicube-res", CLI_INT, &a->hemicube_res, "N  hemicube top-face resolution"},
+        {"--hemicube-res", CLI_INT, &a->hemicube_res, resolution_help},
         {"--patch-size", CLI_DOUBLE, &a->patch_size, "S  longest patch edge (scene units)"},
         {"--element-size", CLI_DOUBLE, &a->element_size, "S  longest element edge (scene units)"},
         {"--elements", CLI_SIZE, &a->elements, "N  approximate element count (2500)"},
@@ -38,8 +42,7 @@ void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, 
         {"--threads", CLI_INT, &a->threads, "N  worker threads (all cores)"},
         {"--seed", CLI_SIZE, &a->seed, "S  random seed (0)"},
         {"--quiet", CLI_FLAG, &a->quiet, "no notes or progress on stderr"},
-        {"--link-error", CLI_STRING, &a->link_error,
-         "E  hierarchical: the oracle's threshold, relative to the brightest emitter (1e-3)"},
+        {"--link-error", CLI_STRING, &a->link_error, link_help},
     };
     for (int i = 0; i < CLI_PIPELINE_OPTION_COUNT; ++i) o[i] = shared[i];
 }
@@ -54,7 +57,7 @@ int cli_pipeline_check_values(const char *command, const cli_pipeline_args *a) {
     return 0;
 }
 
-int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solve_options *solve,
+int cli_pipeline_check(const char *command, cli_pipeline_args *a, rad_solve_options *solve,
                        rad_mesh_options *mesh, rad_ff_options *ff) {
     int kind = rad_solver_kind_parse(a->solver);
     if (kind < 0) return cli_unknown_solver(command, a->solver);
@@ -63,16 +66,24 @@ int cli_pipeline_check(const char *command, const cli_pipeline_args *a, rad_solv
     int status = cli_pipeline_check_values(command, a);
     if (status) return status;
     rad_solve_options s = {0};
-    status = cli_pipeline_link_error(command, a, &s.link_error);
+    double link_error;
+    status = cli_pipeline_link_error(command, a, &link_error);
     if (status) return status;
     s.solver = (rad_solver_kind)kind;
     s.max_iterations = a->iterations;
     s.tolerance = a->tolerance;
     s.omega = a->omega;
-    s.ambient = a->ambient;
+    /* Each method's own options go in its bag, read from the registry's names. */
+    a->solver_options = (rad_options){0};
+    cli_solver_option(&a->solver_options, s.solver, "ambient", a->ambient);
+    cli_solver_option(&a->solver_options, s.solver, "link-error", link_error);
+    s.method_options = &a->solver_options;
     *solve = s;
     *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements};
-    *ff = (rad_ff_options){(rad_ff_method)method, a->ff_samples, a->hemicube_res};
+    a->ff_options = (rad_options){0};
+    cli_ff_option(&a->ff_options, (rad_ff_method)method, "ff-samples", a->ff_samples);
+    cli_ff_option(&a->ff_options, (rad_ff_method)method, "hemicube-res", a->hemicube_res);
+    *ff = (rad_ff_options){(rad_ff_method)method, 0, 0, &a->ff_options};
     return 0;
 }
 

@@ -12,6 +12,9 @@ typedef struct cli_pipeline_args {
     double tolerance, omega, max_memory, patch_size, element_size;
     size_t elements;
     size_t seed;
+    /* Filled by cli_pipeline_check: the chosen solver's and form-factor method's own options,
+     * which the option structs it writes point to. */
+    rad_options solver_options, ff_options;
 } cli_pipeline_args;
 
 /* How many entries cli_pipeline_options writes. */
@@ -28,7 +31,7 @@ int cli_pipeline_check_values(const char *command, const cli_pipeline_args *args
 
 /* The library's option structs from the arguments, checked. Prints a usage error and returns
  * EXIT_USAGE, or 0. */
-int cli_pipeline_check(const char *command, const cli_pipeline_args *args, rad_solve_options *solve,
+int cli_pipeline_check(const char *command, cli_pipeline_args *args, rad_solve_options *solve,
                        rad_mesh_options *mesh, rad_ff_options *ff);
 
 /* --link-error, checked (a positive number; zero when not given). Prints a usage error and

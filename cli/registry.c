@@ -11,10 +11,14 @@ static void append(char *out, size_t size, const char *text) {
     if (used + 1 < size) snprintf(out + used, size - used, "%s", text);
 }
 
-static int solver_has_option(const rad_solver_info *info, const char *option) {
-    for (size_t k = 0; k < info->option_count; ++k)
-        if (strcmp(info->options[k].name, option) == 0) return 1;
+static int registers(const rad_method_option *options, size_t count, const char *name) {
+    for (size_t i = 0; i < count; ++i)
+        if (strcmp(options[i].name, name) == 0) return 1;
     return 0;
+}
+
+static int solver_has_option(const rad_solver_info *info, const char *option) {
+    return registers(info->options, info->option_count, option);
 }
 
 static int solver_selected(const cli_solver_filter *filter, const rad_solver_info *info) {
@@ -40,19 +44,49 @@ const char *cli_solver_names(char *out, size_t size, const cli_solver_filter *fi
     return out;
 }
 
+/* "METAVAR  names: help" (or "names: help" for a flag): a registered help that starts with
+ * its value's name ("E  the threshold ...") keeps it in front, as every option's help does. */
+static const char *option_help(char *out, size_t size, const char *names, const char *help,
+                               const char *metavar) {
+    out[0] = '\0';
+    const char *gap = strstr(help, "  ");
+    int named = gap && gap > help && strspn(help, "ABCDEFGHIJKLMNOPQRSTUVWXYZ") == (size_t)(gap - help);
+    if (named) snprintf(out, size, "%.*s  ", (int)(gap - help), help);
+    else if (metavar) snprintf(out, size, "%s  ", metavar);
+    append(out, size, names);
+    append(out, size, ": ");
+    append(out, size, named ? gap + 2 : help);
+    return out;
+}
+
 const char *cli_solver_option_help(char *out, size_t size, const char *option) {
+    char names[200];
     cli_solver_filter filter = {0, 0, option};
-    cli_solver_names(out, size, &filter, ", ", ", ");
+    cli_solver_names(names, sizeof names, &filter, ", ", ", ");
+    out[0] = '\0';
     for (size_t i = 0; i < rad_solver_count(); ++i) {
         const rad_solver_info *info = rad_solver_at(i);
         for (size_t k = 0; k < info->option_count; ++k)
-            if (strcmp(info->options[k].name, option) == 0) {
-                append(out, size, ": ");
-                append(out, size, info->options[k].help);
-                return out;
-            }
+            if (strcmp(info->options[k].name, option) == 0)
+                return option_help(out, size, names, info->options[k].help, NULL);
     }
     return out;
+}
+
+const char *cli_ff_option_help(char *out, size_t size, const char *metavar, const char *option) {
+    char names[200] = "";
+    const char *help = NULL;
+    for (size_t i = 0; i < rad_ff_method_count(); ++i) {
+        const rad_ff_method_info *info = rad_ff_method_at(i);
+        for (size_t k = 0; k < info->option_count; ++k)
+            if (strcmp(info->options[k].name, option) == 0) {
+                if (names[0]) append(names, sizeof names, ", ");
+                append(names, sizeof names, info->name);
+                if (!help) help = info->options[k].help;
+            }
+    }
+    out[0] = '\0';
+    return help ? option_help(out, size, names, help, metavar) : out;
 }
 
 const char *cli_ff_method_names(char *out, size_t size, const char *separator) {
@@ -75,6 +109,22 @@ int cli_solver_takes(rad_solver_kind kind, const char *option) {
 }
 
 int cli_parse_ff_method(const char *name) { return rad_ff_method_parse(name); }
+
+void cli_solver_option(rad_options *bag, rad_solver_kind kind, const char *name, double value) {
+    const rad_solver_info *info = rad_solver_get(kind);
+    if (value != 0 && info && registers(info->options, info->option_count, name))
+        rad_options_set_number(bag, name, value);
+}
+
+void cli_ff_option(rad_options *bag, rad_ff_method method, const char *name, double value) {
+    const char *method_name = rad_ff_method_name(method); /* the default's own name for 0 */
+    for (size_t i = 0; value != 0 && method_name && i < rad_ff_method_count(); ++i) {
+        const rad_ff_method_info *info = rad_ff_method_at(i);
+        if (strcmp(info->name, method_name) == 0 &&
+            registers(info->options, info->option_count, name))
+            rad_options_set_number(bag, name, value);
+    }
+}
 
 int cli_unknown_solver(const char *command, const char *name) {
     char names[200];

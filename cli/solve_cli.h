@@ -4,6 +4,7 @@
 #define RAD_CLI_SOLVE_CLI_H
 
 #include "camera_options.h"
+#include "light_options.h"
 #include "pipeline.h"
 #include "radiosity.h"
 #include "solve_watch.h"
@@ -18,6 +19,7 @@ typedef struct solve_args {
     double time_budget; /* NaN when not given */
     const char *log, *plot, *save, *resume, *snapshots;
     cli_camera_args camera; /* --eye, --look, --up, --fov (importance, snapshots) */
+    cli_light_args lights;  /* --sky, --sun, --ies */
     double exposure;
     const char *tonemap;
     const char *scene_name; /* the SCENE argument */

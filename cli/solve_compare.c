@@ -158,7 +158,9 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
         rad_solve_options options = {0};
         options.solver = run->kind;
         options.omega = run->omega;
-        options.overshoot = run->overshoot;
+        rad_options own = {0};
+        cli_solver_option(&own, options.solver, "overshoot", run->overshoot);
+        options.method_options = &own;
         options.tolerance = 1e-13; /* the error decides when to stop */
         options.max_iterations = a->pipe.iterations;
         options.time_budget = watch.time_budget;

@@ -168,10 +168,38 @@ typedef struct rad_mesh_options {
     size_t elements; /* approximate total element count; used when element_size is zero */
 } rad_mesh_options;
 
+/* Per-method options: a bag of name = value pairs, as Mitsuba's plugins read their properties
+ * and pbrt's Create() its ParameterDictionary. Each solver and form-factor method reads its own
+ * registered options (rad_solver_info.options, rad_ff_method_info.options: "overshoot",
+ * "ambient", "link-error", "ff-samples", "hemicube-res", ...) from the bag it is given; a name
+ * the chosen method has not registered is an error that lists the ones it has. Values are text
+ * (numbers as "%.17g"; flags "1" or "0"). Valid when zeroed; no allocation, nothing to free. */
+#define RAD_OPTIONS_MAX 16
+typedef struct rad_option_entry {
+    char name[32];
+    char value[48];
+} rad_option_entry;
+typedef struct rad_options {
+    size_t count;
+    rad_option_entry entries[RAD_OPTIONS_MAX];
+} rad_options;
+
+/* Sets (or replaces) name = value; RAD_ERROR_INVALID_ARGUMENT when the name or value is too
+ * long or the bag is full. */
+rad_status rad_options_set(rad_options *options, const char *name, const char *value);
+rad_status rad_options_set_number(rad_options *options, const char *name, double value);
+/* The value of `name`, or NULL when it is not set. Lives as long as the bag is not changed. */
+const char *rad_options_get(const rad_options *options, const char *name);
+
 typedef struct rad_ff_options {
     rad_ff_method method;
     int samples;             /* rays or point pairs per form factor; zero: the method's default */
     int hemicube_resolution; /* pixels along the top face; zero: default */
+    /* The method's own options ("ff-samples", "hemicube-res"; see rad_ff_method_info.options);
+     * NULL: none. Read while the system is built, not kept. `samples` and
+     * `hemicube_resolution` above are the older way to say the same and are read when the bag
+     * does not set them. */
+    const rad_options *method_options;
 } rad_ff_options;
 
 /* Builds the system of a scene: meshing and form-factor set-up for geometry (the options are
@@ -351,6 +379,11 @@ typedef struct rad_solve_options {
     int view_width, view_height;   /* importance: the image's size; zero: 256 x 256 */
     double link_error;    /* hierarchical: the oracle's threshold on rho B dF relative to the
                              brightest emitter; zero: the tolerance when given, else 1e-3 */
+    /* The solver's own options ("overshoot", "ambient", "link-error", ...; see
+     * rad_solver_info.options); NULL: none. The per-solver fields above (ambient, overshoot,
+     * link_error) are the older way to say the same and are read when the bag does not set
+     * them. */
+    const rad_options *method_options;
 } rad_solve_options;
 
 typedef enum rad_solve_stop {
@@ -358,7 +391,9 @@ typedef enum rad_solve_stop {
     RAD_STOP_ITERATIONS,    /* max_iterations, or the safety cap */
     RAD_STOP_TIME_BUDGET,   /* time_budget used up: the best solution so far */
     RAD_STOP_CALLBACK,      /* on_iteration asked to stop */
-    RAD_STOP_ERROR          /* an error or a cancel; the status says which */
+    RAD_STOP_ERROR,         /* an error or a cancel; the status says which */
+    RAD_STOP_MEMORY_BUDGET  /* the solver could not go on within max_memory: the best solution
+                               so far, not converged (the hierarchical solver's refinement) */
 } rad_solve_stop;
 
 typedef struct rad_solve_report {
@@ -654,6 +689,104 @@ size_t rad_ff_method_count(void);
 const rad_ff_method_info *rad_ff_method_at(size_t index);
 /* Parses a registered name, or "default" (RAD_FF_DEFAULT); -1 when unknown. */
 int rad_ff_method_parse(const char *name);
+
+/* ---------------------------------------------------------------------------------------------
+ * Photon mapping (docs/photonmapping.md)
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct rad_photonmap_options {
+    int width, height;             /* pixels; zero: 512 */
+    const rad_camera_desc *camera; /* NULL: rad_scene_get_camera of the scene */
+    int samples_per_pixel;         /* camera samples per pixel (box filter); zero: 4 */
+    int gather_rays;               /* final-gather rays per camera sample at its first diffuse or
+                                      glossy point; zero: 16 */
+    uint64_t photons;              /* photons emitted for the global map (and caustics); zero:
+                                      200,000 */
+    uint64_t caustic_photons;      /* photons emitted more for the caustic map alone (none when
+                                      no material is a mirror or glass); zero: as many as
+                                      `photons` */
+    double radius;                 /* largest density-estimation radius, scene units; zero: the
+                                      radius a disc holding `nearest` photons has on average */
+    int nearest;                   /* k of the k-nearest estimate; zero: 50 */
+    int iterations;                /* progressive photon mapping: passes, each with fresh
+                                      photons and smaller radii; zero or 1: one pass */
+    double alpha;                  /* progressive: radius^2 shrinks by (i + alpha) / (i + 1)
+                                      after pass i; zero: 2/3 */
+} rad_photonmap_options;
+
+typedef struct rad_photonmap_stats {
+    double seconds, trace_seconds, build_seconds, render_seconds;
+    double trace_cpu_seconds;       /* processor time of the photon tracing (all threads) */
+    uint64_t photons_emitted;       /* over every pass */
+    uint64_t global_stored, caustic_stored; /* of the last pass */
+    double radius, caustic_radius;  /* of the last pass */
+    uint64_t rays;                  /* camera, shadow and gather rays */
+} rad_photonmap_stats;
+
+/* Renders a geometric scene by photon mapping (Jensen 1996): photons traced from the emitters
+ * into a global and a caustic map, then per pixel the emitted light, direct light by emitter
+ * sampling, caustics from the caustic map and indirect light by final gather into the global
+ * map's precomputed irradiance (Christensen 1999); mirrors and glass are followed from the
+ * camera. The same seed gives the same image whatever the thread count. Fails with
+ * RAD_ERROR_INVALID_ARGUMENT for bad options and RAD_ERROR_MEMORY_BUDGET when the photons would
+ * not fit the context's budget (checked before allocating). Reports progress as "photon
+ * tracing" and "photon mapping"; `stats` may be NULL. */
+rad_status rad_photonmap(rad_context *context, const rad_scene *scene,
+                         const rad_photonmap_options *options, rad_image **out,
+                         rad_photonmap_stats *stats);
+
+/* ---------------------------------------------------------------------------------------------
+ * Lights that are not surfaces, and the sky (docs/lights.md, units in docs/units.md)
+ * ------------------------------------------------------------------------------------------- */
+
+typedef enum rad_light_type {
+    RAD_LIGHT_TYPE_POINT = 0,
+    RAD_LIGHT_TYPE_SPOT,       /* a point with a cone: full inside inner, none outside outer */
+    RAD_LIGHT_TYPE_DIRECTIONAL /* parallel light (the sun): `direction` is where it travels */
+} rad_light_type;
+
+/* What `strength` is measured in. Photometric units turn into radiometric ones at 179 lm/W. */
+typedef enum rad_light_units {
+    RAD_LIGHT_WATTS = 0, /* point, spot: radiant intensity W/sr; directional: irradiance W/m^2 */
+    RAD_LIGHT_CANDELA,   /* point, spot: cd (on the axis); directional: lux */
+    RAD_LIGHT_LUMENS     /* point, spot: total luminous flux; directional: lux */
+} rad_light_units;
+
+typedef struct rad_light_desc {
+    const char *name;     /* for --ies and messages; may be NULL */
+    rad_light_type type;
+    double position[3];   /* point, spot */
+    double direction[3];  /* spot axis, or where a directional light travels; any length > 0 */
+    double color[3];      /* relative colour, >= 0 (zero: white) */
+    double strength;      /* in `units`, times color */
+    rad_light_units units;
+    double inner_degrees, outer_degrees; /* spot half angles; 0 < outer <= 90, inner <= outer */
+} rad_light_desc;
+
+/* Adds a light to a geometric scene. Bad values: RAD_ERROR_INVALID_ARGUMENT naming the field. */
+rad_status rad_scene_add_light(rad_scene *scene, const rad_light_desc *light);
+/* Point and spot lights in the scene (from its file or added). */
+size_t rad_scene_light_count(const rad_scene *scene);
+/* Gives the point or spot light named `light_name` (NULL or "*": every point and spot light) the
+ * intensity profile of the IES LM-63 file at `path`; errors name file:line. */
+rad_status rad_scene_set_light_ies(rad_scene *scene, const char *light_name, const char *path);
+
+typedef enum rad_sky_model {
+    RAD_SKY_NONE = 0,
+    RAD_SKY_MODEL_UNIFORM,     /* radiance L everywhere above the horizon */
+    RAD_SKY_MODEL_CIE_OVERCAST /* L(theta) = L_zenith (1 + 2 cos theta) / 3 (CIE overcast sky) */
+} rad_sky_model;
+
+typedef struct rad_sky_desc {
+    rad_sky_model model;
+    double radiance[3]; /* uniform: L; overcast: at the zenith (W m^-2 sr^-1) */
+    double up[3];       /* the zenith; zero: +Y */
+    int samples;        /* rays per element of the solver's sky pass; 0: 64 */
+} rad_sky_desc;
+
+/* Sets (or with RAD_SKY_NONE removes) the sky of a geometric scene: light that enters through
+ * its openings, in the solve, render, bake and path tracer. */
+rad_status rad_scene_set_sky(rad_scene *scene, const rad_sky_desc *sky);
 
 #ifdef __cplusplus
 }

@@ -84,7 +84,7 @@ static rad_status run_scene(rad_context *ctx, const void *arg, double *result) {
     rad_system *system = NULL;
     rad_status status = job->file ? rad_scene_load(ctx, job->name, &scene)
                                   : rad_scene_builtin(ctx, job->name, &scene);
-    rad_ff_options ff = {job->method, 0, 0};
+    rad_ff_options ff = {job->method, 0, 0, NULL};
     if (!status) status = rad_system_create(ctx, scene, &job->mesh, &ff, &system);
     rad_scene_destroy(scene); /* the system keeps what it needs */
     if (!status && job->solve) status = solve_all(system, 1, result);
@@ -180,7 +180,7 @@ static rad_status run_outputs(rad_context *ctx, const void *arg, double *result)
         status = rad_scene_builtin(ctx, "cornell", &scene);
     }
     rad_mesh_options mesh = {0, 0, 60};
-    rad_ff_options ff = {RAD_FF_DEFAULT, 0, 0};
+    rad_ff_options ff = {RAD_FF_DEFAULT, 0, 0, NULL};
     if (!status && what != OUT_PATHTRACE) status = rad_system_create(ctx, scene, &mesh, &ff, &system);
     if (!status && system) {
         rad_solve_options solve = {0};

@@ -10,7 +10,7 @@
 #include "mesh/mesh.h"
 #include "image/tonemap.h"
 #include "system/system.h"
-#include "system/vertex_radiosity.h"
+#include "system/solution_view.h"
 
 #include <assimp/cimport.h>
 #include <assimp/scene.h>
@@ -220,9 +220,10 @@ static solved solve(const char *name, size_t elements) {
     options.tolerance = 1e-4;
     rad_solve_report report;
     CHECK(rad_solve(s.system, &options, &report) == RAD_OK);
-    const rad_mesh *m = s.system->mesh;
+    const rad_mesh *m = rad_solution_leaves(rad_system_view(s.system));
     s.vertex_radiance = malloc(m->vertex_count * sizeof *s.vertex_radiance);
-    CHECK(rad_system_vertex_radiosity(s.system, 0, s.vertex_radiance) == RAD_OK);
+    CHECK(rad_solution_vertex_radiosity(rad_system_view(s.system), ctx, 0, s.vertex_radiance) ==
+          RAD_OK);
     for (size_t v = 0; v < m->vertex_count; ++v)
         for (int c = 0; c < 3; ++c) s.vertex_radiance[v][c] /= RAD_PI;
     return s;

@@ -76,7 +76,7 @@ static double *surface_matrix(rad_context *ctx, const rad_scene *scene, rad_ff_m
                               int samples, int resolution, double element_size, size_t *count) {
     rad_mesh_options mesh = {0};
     mesh.element_size = element_size;
-    rad_ff_options ff = {method, samples, resolution};
+    rad_ff_options ff = {method, samples, resolution, NULL};
     rad_system *system = NULL;
     if (rad_system_create(ctx, scene, &mesh, &ff, &system)) {
         fprintf(stderr, "system: %s\n", rad_context_error(ctx));
@@ -236,7 +236,7 @@ static void test_hemicube_convergence(rad_context *ctx) {
     for (int level = 0; level < 4; ++level) {
         rad_mesh_options mesh = {0};
         mesh.element_size = 0.1;
-        rad_ff_options ff = {RAD_FF_HEMICUBE, 0, resolutions[level]};
+        rad_ff_options ff = {RAD_FF_HEMICUBE, 0, resolutions[level], NULL};
         rad_system *system = NULL;
         CHECK(rad_system_create(ctx, right, &mesh, &ff, &system) == RAD_OK);
         if (!system) return;
@@ -276,15 +276,23 @@ static void test_hemicube_convergence(rad_context *ctx) {
 /* Occluders: a large square halfway between the opposed squares hides them from each other
  * completely; a wall standing on the middle line (x = 1/2) between them leaves each half of
  * the lower square only the half above it: F = F(0.5 x 1 rectangles one apart). */
+/* The opposed squares with a screen between them that covers them from each other, or a wall
+ * across the middle. The wall stops 10^-3 short of both squares: touching them, the contact
+ * cuts (src/mesh/contact.h) would cut the squares along it and no patch would straddle it. */
+static void occluded_squares(quad covered[3], quad walled[3]) {
+    const quad screen = {"screen", {{-0.25, -0.25, 0.5}, {1.25, -0.25, 0.5}, {1.25, 1.25, 0.5},
+                                    {-0.25, 1.25, 0.5}}, 0};
+    const quad wall = {"wall", {{0.5, -0.5, 0.001}, {0.5, 1.5, 0.001}, {0.5, 1.5, 0.999},
+                                {0.5, -0.5, 0.999}}, 0};
+    covered[0] = walled[0] = opposed[0];
+    covered[1] = walled[1] = opposed[1];
+    covered[2] = screen;
+    walled[2] = wall;
+}
+
 static void test_occluders(rad_context *ctx) {
-    quad covered[3] = {opposed[0], opposed[1],
-                       {"screen", {{-0.25, -0.25, 0.5}, {1.25, -0.25, 0.5}, {1.25, 1.25, 0.5},
-                                   {-0.25, 1.25, 0.5}}, 0}};
-    /* The wall stops 10^-3 short of both squares: touching them, the contact cuts
-     * (src/mesh/contact.h) would cut the squares along it and no patch would straddle it. */
-    quad walled[3] = {opposed[0], opposed[1],
-                      {"wall", {{0.5, -0.5, 0.001}, {0.5, 1.5, 0.001}, {0.5, 1.5, 0.999},
-                                {0.5, -0.5, 0.999}}, 0}};
+    quad covered[3], walled[3];
+    occluded_squares(covered, walled);
     rad_scene *screen = quad_scene(ctx, covered, 3), *wall = quad_scene(ctx, walled, 3);
     double expected = parallel_rectangles(0.5, 1, 1);
     for (int m = 0; m < 4; ++m) {
@@ -313,6 +321,72 @@ static void test_occluders(rad_context *ctx) {
     rad_scene_destroy(wall);
 }
 
+/* The pair kernel (formfactor/pair.h), one pair at a time: the estimate is within its error
+ * bound of the closed form, the bound shrinks when the receiver is split, pieces facing away
+ * give nothing, and the visibility estimate sees a full cover and a partial wall. */
+static rad_ff_piece piece_of(const quad *q, rad_vec3 normal) {
+    rad_ff_piece piece = {q->p, 4, normal};
+    return piece;
+}
+
+static void test_pair_kernel(rad_context *ctx) {
+    rad_ff_pair pair;
+    /* Opposed squares: lower (facing up) receives from upper (facing down). */
+    rad_ff_piece lower = piece_of(&opposed[0], v3(0, 0, 1));
+    rad_ff_piece upper = piece_of(&opposed[1], v3(0, 0, -1));
+    CHECK(rad_ff_pair_estimate(&lower, &upper, NULL, &pair) == 1);
+    printf("  pair: opposed %.6f (exact %.6f, bound %.4f), ", pair.form_factor, F_OPPOSED, pair.error);
+    CHECK(fabs(pair.form_factor - F_OPPOSED) <= pair.error);
+    CHECK(pair.error > 0 && pair.error < 0.5 * F_OPPOSED);
+    CHECK(pair.visibility == 1 && !pair.partial && pair.rays == 0);
+    /* Perpendicular squares sharing an edge: the point factor peaks along it. */
+    rad_ff_piece floor = piece_of(&perpendicular[0], v3(0, 0, 1));
+    rad_ff_piece wall = piece_of(&perpendicular[1], v3(0, 1, 0));
+    CHECK(rad_ff_pair_estimate(&floor, &wall, NULL, &pair) == 1);
+    printf("perpendicular %.6f (exact %.6f, bound %.4f)", pair.form_factor, F_PERPENDICULAR,
+           pair.error);
+    CHECK(fabs(pair.form_factor - F_PERPENDICULAR) <= pair.error);
+    /* Split the floor into four: the area-weighted sum of the children's estimates is a
+     * factor of the same pair, with a smaller error bound. */
+    double sum = 0, bound = 0;
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) {
+            rad_vec3 c[4] = {v3(0.5 * i, 0.5 * j, 0), v3(0.5 * i + 0.5, 0.5 * j, 0),
+                             v3(0.5 * i + 0.5, 0.5 * j + 0.5, 0), v3(0.5 * i, 0.5 * j + 0.5, 0)};
+            rad_ff_piece child = {c, 4, v3(0, 0, 1)};
+            rad_ff_pair part;
+            CHECK(rad_ff_pair_estimate(&child, &wall, NULL, &part) == 1);
+            sum += 0.25 * part.form_factor;
+            bound += 0.25 * part.error;
+        }
+    printf(", split in four %.6f (bound %.4f)\n", sum, bound);
+    CHECK(bound < pair.error);
+    CHECK(fabs(sum - F_PERPENDICULAR) <= bound);
+    CHECK(fabs(sum - F_PERPENDICULAR) < fabs(pair.form_factor - F_PERPENDICULAR));
+    /* Back to back: no light passes. */
+    rad_ff_piece away = piece_of(&opposed[1], v3(0, 0, 1));
+    CHECK(rad_ff_pair_estimate(&lower, &away, NULL, &pair) == 0 && pair.form_factor == 0);
+    /* Visibility against the input geometry: a screen covering the squares from each other
+     * hides every ray (a partial verdict whose whole factor is error); a wall across the middle
+     * hides some. */
+    quad covered[3], walled[3];
+    occluded_squares(covered, walled);
+    rad_scene *scenes[2] = {quad_scene(ctx, covered, 3), quad_scene(ctx, walled, 3)};
+    for (int k = 0; k < 2; ++k) {
+        rad_rays *rays = NULL;
+        CHECK(rad_rays_create(ctx, scenes[k], &rays) == RAD_OK);
+        CHECK(rad_ff_pair_estimate(&lower, &upper, rays, &pair) == 1);
+        printf("  pair behind a %s: visibility %.3f, factor %.4f, bound %.4f, %d rays\n",
+               k ? "wall" : "screen", pair.visibility, pair.form_factor, pair.error, pair.rays);
+        CHECK(pair.rays == 16 && pair.partial);
+        CHECK(pair.error >= pair.unoccluded);
+        if (k == 0) CHECK(pair.visibility == 0 && pair.form_factor == 0);
+        else CHECK(pair.visibility > 0.25 && pair.visibility < 0.75);
+        rad_rays_destroy(rays);
+        rad_scene_destroy(scenes[k]);
+    }
+}
+
 /* Rows do not depend on the thread count. */
 static void test_threads(void) {
     rad_context *one = make_context(1), *two = make_context(2);
@@ -323,7 +397,7 @@ static void test_threads(void) {
     rad_mesh_options mesh = {0};
     mesh.elements = 800;
     for (int m = 0; m < 4; ++m) {
-        rad_ff_options ff = {methods[m], 0, 64};
+        rad_ff_options ff = {methods[m], 0, 64, NULL};
         rad_system *a = NULL, *b = NULL;
         CHECK(rad_system_create(one, cornell, &mesh, &ff, &a) == RAD_OK);
         CHECK(rad_system_create(two, cornell, &mesh, &ff, &b) == RAD_OK);
@@ -460,7 +534,7 @@ static void check_facing(rad_context *ctx, const rad_scene *scene, size_t elemen
     rad_mesh_options options = {0};
     options.elements = elements;
     rad_mesh *mesh = NULL;
-    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0};
+    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0, NULL};
     rad_ff_context c;
     CHECK(rad_mesh_create(ctx, scene, &options, &mesh) == RAD_OK);
     if (!mesh) return;
@@ -532,7 +606,7 @@ static void test_triangulated_occluder(rad_context *ctx) {
     rad_mesh_options options = {0};
     options.element_size = 0.125;
     rad_mesh *mesh = NULL;
-    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0};
+    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0, NULL};
     rad_ff_context c;
     int culled = 0;
     if (!status && !rad_mesh_create(ctx, cut, &options, &mesh) &&
@@ -615,6 +689,7 @@ int main(void) {
     rad_context *ctx = make_context(1);
     printf("point to polygon\n");
     test_point_polygon();
+    test_pair_kernel(ctx);
     printf("every method at its defaults\n");
     test_methods_at_defaults(ctx);
     printf("(%.1f s)\n", rad_seconds() - start);

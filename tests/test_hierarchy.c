@@ -41,7 +41,7 @@ static void add_quad(rad_scene *scene, uint32_t surface, rad_vec3 a, rad_vec3 b,
 
 /* Refines and solves until no link refines. */
 static rad_hier *solve_hierarchy(rad_context *ctx, const rad_scene *scene, double link_error) {
-    rad_hier_options options = {link_error, 0};
+    rad_hier_options options = {link_error, 0, 0};
     rad_hier *h = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
     if (!h) return NULL;
@@ -138,7 +138,7 @@ static void test_furnace(void) {
     for (size_t i = 0; i < count; ++i) parent[i] = RAD_HIER_NO_NODE;
     for (size_t i = 0; i < count; ++i)
         if (nodes[i].first_child != RAD_HIER_NO_NODE)
-            for (uint32_t k = 0; k < 4; ++k) parent[nodes[i].first_child + k] = (uint32_t)i;
+            for (uint32_t k = 0; k < nodes[i].child_count; ++k) parent[nodes[i].first_child + k] = (uint32_t)i;
     for (size_t l = 0; l < link_count; ++l)
         bound[links[l].receiver] += 0.5 * nodes[links[l].source].radiosity[0] * fabs(links[l].error);
     size_t leaves = 0, within = 0;

@@ -503,7 +503,7 @@ static void test_bad_input(void) {
 static rad_system *solve_scene(rad_context *ctx, const rad_scene *scene) {
     rad_system *system = NULL;
     rad_mesh_options mesh = {0, 0, 400};
-    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0};
+    rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0, NULL};
     if (rad_system_create(ctx, scene, &mesh, &ff, &system)) {
         fprintf(stderr, "system: %s\n", rad_context_error(ctx));
         return NULL;

@@ -2,11 +2,13 @@
  * flat shading shows element values, image orientation, agreement with the path tracer (mean
  * and relative MSE, with and without the final gather), the emitted light counted once, the
  * second pass through the mirror and the glass sphere, the same image for any thread count, and
- * refusals (sizes, cameras that see nothing or only back faces, patch systems). */
+ * refusals (sizes, cameras that see nothing or only back faces, patch systems), and the solution
+ * view: a renderer follows the view's leaves when they change. */
 #include "radiosity.h"
 #include "system/element_rays.h"
 #include "render/render.h"
 #include "scene/scene.h"
+#include "system/solution_view.h"
 #include "system/system.h"
 #include "test.h"
 
@@ -15,6 +17,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static rad_context *make_context(int threads, uint64_t seed) {
     rad_context_options options = {0};
@@ -405,6 +408,84 @@ static void test_refusals(rad_context *ctx, const rad_scene *scene, const rad_sy
     rad_scene_destroy(patches);
 }
 
+/* The renderer reads the solution through the system's view (system/solution_view.h) and
+ * rebuilds what it made from the leaves when they change: a renderer made on a coarse system,
+ * whose view is then swapped for one serving a finer system's leaves (a new generation, as a
+ * hierarchy's leaves appear), draws the same picture as a renderer made on the finer system. */
+typedef struct borrowed_view {
+    rad_solution_view inner; /* the finer system's uniform view */
+    uint64_t generation;
+} borrowed_view;
+
+static const rad_solution_view *inner_of(const rad_solution_view *view) {
+    return &((const borrowed_view *)view->state)->inner;
+}
+static const rad_mesh *borrowed_leaves(const rad_solution_view *view) {
+    return rad_solution_leaves(inner_of(view));
+}
+static uint64_t borrowed_generation(const rad_solution_view *view) {
+    return ((const borrowed_view *)view->state)->generation;
+}
+static void borrowed_radiosity(const rad_solution_view *view, size_t leaf, double u, double v,
+                               double out[3]) {
+    inner_of(view)->ops->radiosity(inner_of(view), leaf, u, v, out);
+}
+static int borrowed_unshot(const rad_solution_view *view, size_t leaf, double out[3]) {
+    return inner_of(view)->ops->unshot(inner_of(view), leaf, out);
+}
+static void borrowed_emission(const rad_solution_view *view, size_t leaf, double out[3]) {
+    inner_of(view)->ops->emission(inner_of(view), leaf, out);
+}
+static void borrowed_reflectance(const rad_solution_view *view, size_t leaf, double out[3]) {
+    inner_of(view)->ops->reflectance(inner_of(view), leaf, out);
+}
+static void borrowed_ambient(const rad_solution_view *view, double out[3]) {
+    inner_of(view)->ops->ambient(inner_of(view), out);
+}
+static const rad_solution_view_ops borrowed_ops = {
+    "borrowed", borrowed_leaves, borrowed_generation, borrowed_radiosity, borrowed_unshot,
+    borrowed_emission, borrowed_reflectance, borrowed_ambient, NULL, NULL,
+};
+
+static void test_solution_view(rad_context *ctx, const rad_scene *scene) {
+    rad_system *coarse = solved(ctx, scene, 200, RAD_SOLVER_GAUSS_SEIDEL);
+    rad_system *fine = solved(ctx, scene, 800, RAD_SOLVER_GAUSS_SEIDEL);
+    CHECK(coarse && fine);
+    if (!coarse || !fine) return;
+    rad_render_options options = {0};
+    options.width = options.height = 32;
+    options.samples_per_pixel = 2;
+    rad_renderer *on_coarse = NULL, *on_fine = NULL;
+    rad_image *before = NULL, *after = NULL, *expected = NULL;
+    CHECK(rad_renderer_create(scene, coarse, &options, &on_coarse) == RAD_OK);
+    CHECK(rad_renderer_create(scene, fine, &options, &on_fine) == RAD_OK);
+    CHECK(rad_renderer_render(on_coarse, &before, NULL) == RAD_OK);
+    CHECK(rad_renderer_render(on_fine, &expected, NULL) == RAD_OK);
+    borrowed_view borrowed = {{&rad_uniform_view_ops, fine}, 2};
+    rad_system_set_view(coarse, &borrowed_ops, &borrowed);
+    CHECK(rad_solution_leaves(rad_system_view(coarse))->element_count == fine->element_count);
+    CHECK(rad_renderer_render(on_coarse, &after, NULL) == RAD_OK);
+    size_t bytes = 32 * 32 * 3 * sizeof(float);
+    if (before && after && expected) {
+        CHECK(memcmp(rad_image_pixels(after), rad_image_pixels(expected), bytes) == 0);
+        CHECK(memcmp(rad_image_pixels(before), rad_image_pixels(expected), bytes) != 0);
+    }
+    /* A solution file holds one value per element: a view with other leaves is refused. */
+    char path[] = "/tmp/test_render_view_XXXXXX";
+    int fd = mkstemp(path);
+    if (fd >= 0) close(fd);
+    CHECK(rad_system_save_solution(coarse, path, NULL) == RAD_ERROR_UNSUPPORTED);
+    printf("  solution view: %s\n", rad_context_error(ctx));
+    unlink(path);
+    rad_image_destroy(before);
+    rad_image_destroy(after);
+    rad_image_destroy(expected);
+    rad_renderer_destroy(on_coarse);
+    rad_renderer_destroy(on_fine);
+    rad_system_destroy(coarse);
+    rad_system_destroy(fine);
+}
+
 int main(void) {
     test_furnace();
     rad_context *ctx = make_context(0, 7);
@@ -418,6 +499,7 @@ int main(void) {
         test_against_path_tracer(ctx, cornell, system);
         test_refusals(ctx, cornell, system);
         test_threads(cornell);
+        test_solution_view(ctx, cornell);
     }
     test_second_pass();
     rad_system_destroy(system);

@@ -2,8 +2,11 @@
  * is built on (the rays of the input geometry, patch outlines, shaft culling, the row cache). */
 #include "formfactor/geometric.h"
 
+#include "core/options.h"
 #include "scene/scene.h"
 
+#include <limits.h>
+#include <math.h>
 #include <string.h>
 
 const rad_ff_provider *rad_ff_cache_inner(const rad_ff_provider *provider);
@@ -68,6 +71,23 @@ rad_status rad_ff_context_build(rad_context *ctx, const rad_scene *scene, const 
     if (!entry)
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "form-factor method %d is not available",
                         (int)options->method);
+    /* The method's own options: only the names it registered, read into the older fields. */
+    rad_status checked = rad_options_check(ctx, options->method_options, entry->info.options,
+                                           entry->info.option_count, "form-factor method",
+                                           entry->info.name);
+    if (checked) return checked;
+    rad_ff_options resolved = *options;
+    resolved.method_options = NULL; /* the caller's bag is not kept */
+    double samples = rad_options_number(options->method_options, "ff-samples", options->samples);
+    double resolution = rad_options_number(options->method_options, "hemicube-res",
+                                           options->hemicube_resolution);
+    if (samples != floor(samples) || resolution != floor(resolution) || samples > INT_MAX ||
+        resolution > INT_MAX)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "form-factor samples and hemicube resolution must be whole numbers");
+    resolved.samples = (int)fmax(samples, INT_MIN);
+    resolved.hemicube_resolution = (int)fmax(resolution, INT_MIN);
+    options = &resolved;
     if (options->samples < 0 || options->hemicube_resolution < 0)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "form-factor samples and hemicube resolution must be positive");

@@ -7,6 +7,7 @@
 #define RAD_FORMFACTOR_GEOMETRIC_H
 
 #include "core/rng.h"
+#include "formfactor/pair.h"
 #include "formfactor/provider.h"
 #include "mesh/mesh.h"
 #include "scene/rays.h"
@@ -134,23 +135,6 @@ rad_vec3 rad_element_sample(const rad_mesh *mesh, size_t element, double u1, dou
 /* Corner k of element e. */
 static inline rad_vec3 rad_element_corner(const rad_mesh *mesh, size_t element, int k) {
     return mesh->vertices[mesh->element_vertices[element][k]];
-}
-
-/* 1 / sqrt(x) for x > 0 to about one ulp, with no library call: the magic-constant first guess
- * (3.4% off) and four Newton steps, each doubling the correct digits. Unlike sqrt() (which may
- * set errno) it lets the compiler vectorise the loops that weigh source points. */
-static inline double rad_inverse_sqrt(double x) {
-    union {
-        double d;
-        uint64_t u;
-    } bits = {x};
-    bits.u = 0x5fe6eb50c7b537a9ull - (bits.u >> 1);
-    double y = bits.d, half = 0.5 * x;
-    y = y * (1.5 - half * y * y);
-    y = y * (1.5 - half * y * y);
-    y = y * (1.5 - half * y * y);
-    y = y * (1.5 - half * y * y);
-    return y;
 }
 
 /* The R2 sequence (Roberts 2018): the 2-D low-discrepancy lattice i * (1/g, 1/g^2) mod 1 with
@@ -448,10 +432,5 @@ static inline void rad_ff_block_write(const rad_ff_row *row, const rad_ff_block 
 
 /* ------------------------------------------------------------------------------------------- */
 
-/* Point-to-polygon form factor (Lambert's contour integral, Baum et al. 1989): the fraction of
- * the energy leaving a differential area at x with unit normal n that arrives at the polygon,
- * or by reciprocity F(dA -> polygon). The polygon (counter-clockwise seen from its front) is
- * clipped to the hemisphere above x; only its front side receives. */
-double rad_ff_point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *polygon, int count);
 
 #endif

@@ -70,9 +70,7 @@ static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *out) {
                      * unnormalised; the ray's ends are kept epsilon / r from the surfaces. */
                     double r2 = dx * dx + dy * dy + dz * dz, inverse_r = rad_inverse_sqrt(r2);
                     int faces = cos_e > 0 && cos_p > 0;
-                    f[k] = faces ? weight[k] * cos_e * cos_p * inverse_r * inverse_r /
-                                       (RAD_PI * r2 + weight[k])
-                                 : 0;
+                    f[k] = faces ? rad_ff_disc_factor(weight[k], cos_e, cos_p, r2, inverse_r) : 0;
                     margin[k] = epsilon * inverse_r;
                 }
                 for (int k = 0; k < count; ++k) {

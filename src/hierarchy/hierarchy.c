@@ -7,6 +7,7 @@
 #include "scene/rays.h"
 #include "scene/scene.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -15,8 +16,20 @@
 #define DEFAULT_MIN_AREA 1e-6
 #define MAX_DEPTH 24
 #define PARALLEL_MIN 256 /* loops shorter than this run on one thread */
+#define LEAF_CLUSTER 4   /* roots in a leaf cluster, at most */
+#define UNKNOWN_ERROR FLT_MAX /* the bound of a link that must be refined before it is trusted */
 
 typedef double rgb[3];
+
+/* What the oracle and the form factors need of a cluster (node cluster_first + i). */
+typedef struct cluster_info {
+    rad_vec3 lo, hi, centre;
+    double radius;         /* of the bounding sphere about the box's centre */
+    double axis_area[6];   /* sum over members of A max(0, +n_x), A max(0, -n_x), ... y, z */
+    rad_vec3 normal_sum;   /* sum over members of A n */
+    double reflectance;    /* the largest member reflectance (any channel) */
+    uint32_t parent;       /* the parent cluster's node, or RAD_HIER_NO_NODE for the top */
+} cluster_info;
 
 struct rad_hier {
     rad_context *ctx;
@@ -24,7 +37,13 @@ struct rad_hier {
     rad_rays *rays;
     rad_hier_node *nodes;
     size_t node_count, node_capacity, root_count;
-    uint32_t *polygon_root_first, *polygon_root_count;
+    uint32_t *polygon_root_first, *polygon_root_count; /* into polygon_roots */
+    uint32_t *polygon_roots;      /* root nodes, grouped by polygon */
+    uint32_t *root_parent;        /* each root's leaf cluster */
+    cluster_info *clusters;
+    size_t cluster_first, cluster_count; /* cluster nodes are cluster_first .. + cluster_count */
+    rgb *cluster_down;            /* irradiance pushed down to each cluster's members */
+    int no_clusters;
     rgb *reflectance, *emission; /* per polygon */
     rad_vec3 *normal;            /* per polygon */
     rad_hier_link *links;
@@ -67,6 +86,7 @@ static void init_node(rad_hier *h, rad_hier_node *n, const rad_vec3 *c, int coun
     n->polygon = polygon;
     n->root = root;
     n->first_child = RAD_HIER_NO_NODE;
+    n->child_count = 0;
     n->depth = (uint8_t)depth;
     memcpy(n->radiosity, h->emission[polygon], sizeof n->radiosity);
 }
@@ -103,6 +123,7 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
     }
     h->node_count += 4;
     h->nodes[index].first_child = first;
+    h->nodes[index].child_count = 4;
     return RAD_OK;
 }
 
@@ -136,6 +157,26 @@ static int any_in_front(const rad_hier_node *n, rad_vec3 p, rad_vec3 normal) {
     return 0;
 }
 
+/* The visible fraction of the rays from every point x (rn of them) to every point y (sn; at
+ * most 16 rays); *partial is set when some ray is blocked. */
+static double visible_fraction(const rad_hier *h, const rad_vec3 *x, int rn, const rad_vec3 *y,
+                               int sn, int *partial) {
+    rad_vec3 a[16] = {{0, 0, 0}}, b[16] = {{0, 0, 0}};
+    uint8_t occluded[16];
+    int count = 0;
+    for (int i = 0; i < rn; ++i)
+        for (int j = 0; j < sn; ++j) {
+            a[count] = x[i];
+            b[count] = y[j];
+            ++count;
+        }
+    rad_rays_occluded_batch(h->rays, a, b, (size_t)count, occluded);
+    int visible = 0;
+    for (int i = 0; i < count; ++i) visible += !occluded[i];
+    *partial = visible < count;
+    return (double)visible / count;
+}
+
 /* The link receiver <- source: its form factor and error bound. Returns 0 when no light can
  * pass (the two face away from each other). */
 static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_hier_link *out) {
@@ -167,24 +208,11 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
         lo = fmin(lo, f);
         hi = fmax(hi, f);
     }
-    /* Visibility: a ray from every receiver point to every source point. */
-    rad_vec3 a[16] = {{0, 0, 0}}, b[16] = {{0, 0, 0}};
-    uint8_t occluded[16];
-    int count = 0;
-    for (int i = 0; i < rn; ++i)
-        for (int j = 0; j < sn; ++j) {
-            a[count] = x[i];
-            b[count] = y[j];
-            ++count;
-        }
-    rad_rays_occluded_batch(h->rays, a, b, (size_t)count, occluded);
-    int visible = 0;
-    for (int i = 0; i < count; ++i) visible += !occluded[i];
     /* Rays that all hit something do not prove the pair hidden (a sliver of the receiver may
      * see past the occluder): such a link carries nothing but keeps its whole factor as its
      * error, so the oracle refines it where it matters. */
-    double fraction = (double)visible / count;
-    int partial = visible < count;
+    int partial;
+    double fraction = visible_fraction(h, x, rn, y, sn, &partial);
     double error = 0.25 * (hi - lo) * fraction + (partial ? form_factor : 0);
     out->receiver = receiver;
     out->source = source;
@@ -216,6 +244,150 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
     if (split_r && !(partial && split_s && s->area > r->area)) return 1;
     if (partial && split_s) return 2;
     return 0;
+}
+
+/* ---- Cluster links (Smits, Arvo & Greenberg 1994; Sillion 1995) -------------------------- */
+
+static int is_cluster(const rad_hier_node *n) { return n->corner_count == 0; }
+
+static const cluster_info *info(const rad_hier *h, uint32_t index) {
+    return &h->clusters[index - h->cluster_first];
+}
+
+static rad_vec3 surface_centre(const rad_hier_node *n) {
+    rad_vec3 sum = v3(0, 0, 0);
+    for (int k = 0; k < n->corner_count; ++k) sum = v3_add(sum, n->corner[k]);
+    return v3_scale(sum, 1.0 / n->corner_count);
+}
+
+/* A node's bounding sphere: the box's for a cluster, the corners' about the centroid for a
+ * polygon node. */
+static rad_vec3 node_centre(const rad_hier *h, uint32_t index, double *radius) {
+    const rad_hier_node *n = &h->nodes[index];
+    if (is_cluster(n)) {
+        *radius = info(h, index)->radius;
+        return info(h, index)->centre;
+    }
+    rad_vec3 centre = surface_centre(n);
+    double r = 0;
+    for (int k = 0; k < n->corner_count; ++k) r = fmax(r, v3_length(v3_sub(n->corner[k], centre)));
+    *radius = r;
+    return centre;
+}
+
+/* The projected area of a node toward unit direction w, and bounds on it over every direction
+ * within `spread` radians of w (a cosine moves by at most the angle). A cluster's estimate sums
+ * its members' areas per signed axis weighted by |w_a|: an upper bound on sum A max(0, n.w),
+ * exact when every member's normal lies in w's octant; its lower bound is (sum A n).w. */
+typedef struct projection {
+    double estimate, lower, upper;
+} projection;
+
+static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double spread) {
+    const rad_hier_node *n = &h->nodes[index];
+    projection p;
+    if (!is_cluster(n)) {
+        double c = v3_dot(h->normal[n->polygon], w);
+        p.estimate = n->area * fmax(0, c);
+        p.lower = n->area * fmax(0, c - spread);
+        p.upper = n->area * fmin(1, fmax(0, c + spread));
+        return p;
+    }
+    const cluster_info *ci = info(h, index);
+    const double *a = ci->axis_area;
+    p.estimate = fabs(w.x) * a[w.x < 0] + fabs(w.y) * a[2 + (w.y < 0)] + fabs(w.z) * a[4 + (w.z < 0)];
+    p.upper = fmin(n->area, p.estimate + n->area * spread);
+    p.lower = fmax(0, v3_dot(ci->normal_sum, w) - n->area * spread);
+    if (p.lower > p.estimate) p.lower = p.estimate;
+    return p;
+}
+
+/* Up to four points on a node's surfaces for visibility rays: a polygon node's quadrature
+ * points; for a cluster, points on members picked by a fixed pseudo-random walk down it. */
+static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 *out) {
+    if (!is_cluster(&h->nodes[index])) return quadrature_points(&h->nodes[index], out);
+    for (int k = 0; k < 4; ++k) {
+        uint32_t state = (uint32_t)k * 2654435761u + index * 40503u, at = index;
+        while (is_cluster(&h->nodes[at])) {
+            state = state * 1664525u + 1013904223u;
+            at = h->nodes[at].first_child + (state >> 16) % h->nodes[at].child_count;
+        }
+        rad_vec3 q[4];
+        int count = quadrature_points(&h->nodes[at], q);
+        out[k] = q[k % count];
+    }
+    return 4;
+}
+
+/* The link receiver <- source when either is a cluster: the point estimate between the
+ * centres, its bound, and the visible fraction of the rays between sampled member points.
+ * A self-link, or one whose bounding spheres overlap, carries nothing and must be refined.
+ * Returns 0 when no light can pass. */
+static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t source,
+                             rad_hier_link *out) {
+    out->receiver = receiver;
+    out->source = source;
+    out->form_factor = 0;
+    out->error = UNKNOWN_ERROR;
+    if (receiver == source) return 1;
+    double rr, rs;
+    rad_vec3 cr = node_centre(h, receiver, &rr), cs = node_centre(h, source, &rs);
+    rad_vec3 between = v3_sub(cs, cr);
+    double d = v3_length(between), reach = rr + rs;
+    if (!(d > reach)) return 1;
+    rad_vec3 w = v3_scale(between, 1 / d);
+    double spread = asin(fmin(1, reach / d));
+    projection pr = project(h, receiver, w, spread), ps = project(h, source, v3_scale(w, -1), spread);
+    if (!(pr.upper > 0) || !(ps.upper > 0)) return 0;
+    double area = h->nodes[receiver].area;
+    double estimate = pr.estimate * ps.estimate / (RAD_PI * d * d * area);
+    double upper = pr.upper * ps.upper / (RAD_PI * (d - reach) * (d - reach) * area);
+    double lower = pr.lower * ps.lower / (RAD_PI * (d + reach) * (d + reach) * area);
+    /* Transmittance: the visible fraction of the rays between sampled member points. */
+    rad_vec3 x[4], y[4];
+    int rn = sample_points(h, receiver, x), sn = sample_points(h, source, y), partial;
+    double fraction = visible_fraction(h, x, rn, y, sn, &partial);
+    double error = (upper - lower) + (partial ? estimate : 0);
+    out->form_factor = (float)(estimate * fraction);
+    out->error = (float)fmin(error, UNKNOWN_ERROR);
+    if (partial) out->error = -out->error;
+    return 1;
+}
+
+/* Any link: the contour integral between two polygon nodes, the point estimate otherwise. */
+static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_hier_link *out) {
+    if (is_cluster(&h->nodes[receiver]) || is_cluster(&h->nodes[source]))
+        return make_cluster_link(h, receiver, source, out);
+    return make_link(h, receiver, source, out);
+}
+
+/* The oracle for a link with a cluster at one end or both: 0 keeps it, 1 opens (or splits) the
+ * receiver, 2 the source, 3 a self-link into every pair of children. The end with the larger
+ * bounding sphere is opened (Smits et al. 1994). */
+static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *relative) {
+    const rad_hier_node *r = &h->nodes[link->receiver], *s = &h->nodes[link->source];
+    double rho = 0;
+    if (is_cluster(r)) rho = info(h, link->receiver)->reflectance;
+    else
+        for (int c = 0; c < 3; ++c) rho = fmax(rho, h->reflectance[r->polygon][c]);
+    double brightest = fmax(s->radiosity[0], fmax(s->radiosity[1], s->radiosity[2]));
+    double error = rho * brightest * fabs((double)link->error) * r->area;
+    *relative = error / h->threshold;
+    if (!(error > h->threshold)) return 0;
+    if (link->receiver == link->source) return 3;
+    int split_r = is_cluster(r) || can_split(h, r), split_s = is_cluster(s) || can_split(h, s);
+    double radius_r, radius_s;
+    node_centre(h, link->receiver, &radius_r);
+    node_centre(h, link->source, &radius_s);
+    if (split_r && (!split_s || radius_r >= radius_s)) return 1;
+    if (split_s) return 2;
+    return 0;
+}
+
+static int decide_any(const rad_hier *h, const rad_hier_link *link, double *relative) {
+    if (is_cluster(&h->nodes[link->receiver]) || is_cluster(&h->nodes[link->source]))
+        return decide_cluster(h, link, relative);
+    return decide(h, link, relative);
 }
 
 /* Sorts `links` by receiver (stable) into h->links and rebuilds the receiver groups. Takes
@@ -264,6 +436,13 @@ static rad_status check_memory(rad_hier *h, size_t links, size_t nodes) {
 }
 
 rad_status rad_hier_link_roots(rad_hier *h) {
+    if (!h->no_clusters) {
+        /* One self-link on the top cluster: the oracle opens it where the light asks. */
+        rad_hier_link *top = rad_alloc(h->ctx, 1, sizeof *top);
+        if (!top) return RAD_ERROR_NO_MEMORY;
+        make_cluster_link(h, rad_hier_top(h), rad_hier_top(h), top);
+        return adopt_links(h, top, 1);
+    }
     size_t n = h->root_count;
     rad_status status = check_memory(h, n * n, h->node_count);
     if (status) return status;
@@ -288,77 +467,138 @@ rad_status rad_hier_link_roots(rad_hier *h) {
     return adopt_links(h, all, kept);
 }
 
+/* How many links a decision makes of one link. */
+static size_t children_made(const rad_hier *h, const rad_hier_link *link, int decision) {
+    const rad_hier_node *r = &h->nodes[link->receiver], *s = &h->nodes[link->source];
+    size_t cr = is_cluster(r) ? r->child_count : 4, cs = is_cluster(s) ? s->child_count : 4;
+    return decision == 1 ? cr : decision == 2 ? cs : decision == 3 ? cr * cs : 0;
+}
+
+/* Appends `count` links to a growing array. */
+static rad_status append_links(rad_context *ctx, rad_hier_link **array, size_t *size,
+                               size_t *capacity, const rad_hier_link *links, size_t count) {
+    if (*size + count > *capacity) {
+        size_t wanted = *capacity ? *capacity : 1024;
+        while (wanted < *size + count) wanted *= 2;
+        rad_hier_link *grown = rad_realloc(ctx, *array, wanted, sizeof *grown);
+        if (!grown) return RAD_ERROR_NO_MEMORY;
+        *array = grown;
+        *capacity = wanted;
+    }
+    if (count) memcpy(*array + *size, links, count * sizeof *links);
+    *size += count;
+    return RAD_OK;
+}
+
 rad_status rad_hier_refine(rad_hier *h) {
     rad_context *ctx = h->ctx;
-    size_t n = h->link_count;
-    uint8_t *decision = rad_alloc(ctx, n ? n : 1, 1);
-    if (!decision) return RAD_ERROR_NO_MEMORY;
+    /* The links the oracle has yet to pass (at first all of them), those it passed, and the
+     * new ones made by splitting. */
+    rad_hier_link *pending = h->links, *kept = NULL, *fresh = NULL;
+    size_t pending_count = h->link_count, kept_count = 0, kept_capacity = 0;
+    h->links = NULL;
+    h->link_count = 0;
+    uint8_t *decision = NULL, *made = NULL;
+    size_t refined = 0;
     double largest = 0;
-    size_t splits = 0;
-    /* The oracle over every link, with the current radiosities. */
-#pragma omp parallel for schedule(static) num_threads(threads(h)) if (n >= PARALLEL_MIN) \
-    reduction(max : largest) reduction(+ : splits)
-    for (long i = 0; i < (long)n; ++i) {
-        double relative;
-        decision[i] = (uint8_t)decide(h, &h->links[i], &relative);
-        largest = fmax(largest, relative);
-        splits += decision[i] != 0;
-    }
-    h->stats.largest_error = largest;
-    h->stats.refined = splits;
-    if (splits == 0) {
+    int budget = 0;
+    rad_status status = RAD_OK;
+    while (pending_count && !status) {
         rad_free(ctx, decision);
-        return RAD_OK;
-    }
-    rad_status status = check_memory(h, n + 3 * splits, h->node_count + 4 * splits);
-    if (status == RAD_ERROR_MEMORY_BUDGET) {
-        /* Keep the solution so far: say why refinement stopped, then stop refining. */
-        rad_warn(ctx, "%s; refinement stops at %zu links, keeping the solution so far",
-                 rad_context_error(ctx), n);
-        h->stats.refined = 0;
-        h->stats.budget_reached = 1;
-        rad_free(ctx, decision);
-        return RAD_OK;
-    }
-    rad_hier_link *next = NULL;
-    uint8_t *made = NULL;
-    if (!status) {
-        next = rad_alloc(ctx, n + 4 * splits, sizeof *next);
-        made = rad_alloc(ctx, 4 * splits, 1);
-        if (!next || !made) status = RAD_ERROR_NO_MEMORY;
-    }
-    /* Kept links first, then the children's candidate links, in link order. */
-    size_t kept = 0, candidates = 0;
-    for (size_t i = 0; i < n && !status; ++i)
-        if (!decision[i]) next[kept++] = h->links[i];
-    for (size_t i = 0; i < n && !status; ++i) {
-        if (!decision[i]) continue;
-        rad_hier_link link = h->links[i];
-        uint32_t split = decision[i] == 1 ? link.receiver : link.source;
-        if ((status = subdivide(h, split))) break;
-        uint32_t first = h->nodes[split].first_child;
-        for (uint32_t k = 0; k < 4; ++k) {
-            rad_hier_link *c = &next[kept + candidates++];
-            c->receiver = decision[i] == 1 ? first + k : link.receiver;
-            c->source = decision[i] == 1 ? link.source : first + k;
+        decision = rad_alloc(ctx, pending_count, 1);
+        if (!decision) {
+            status = RAD_ERROR_NO_MEMORY;
+            break;
         }
+        size_t splits = 0, candidates = 0;
+        double pass_largest = 0;
+        /* The oracle over the pending links, with the current radiosities. */
+#pragma omp parallel for schedule(static) num_threads(threads(h)) \
+    if (pending_count >= PARALLEL_MIN) reduction(max : pass_largest) reduction(+ : splits, candidates)
+        for (long i = 0; i < (long)pending_count; ++i) {
+            double relative;
+            decision[i] = (uint8_t)decide_any(h, &pending[i], &relative);
+            if (decision[i]) {
+                splits++;
+                candidates += children_made(h, &pending[i], decision[i]);
+            } else
+                pass_largest = fmax(pass_largest, relative);
+        }
+        largest = fmax(largest, pass_largest);
+        if (splits &&
+            check_memory(h, kept_count + pending_count + candidates,
+                         h->node_count + 4 * splits) == RAD_ERROR_MEMORY_BUDGET) {
+            /* Keep the solution so far: say why refinement stops, then stop refining. */
+            rad_warn(ctx, "%s; refinement stops at %zu links, keeping the solution so far",
+                     rad_context_error(ctx), kept_count + pending_count);
+            budget = 1;
+            for (size_t i = 0; i < pending_count; ++i) {
+                double relative;
+                decide_any(h, &pending[i], &relative);
+                largest = fmax(largest, relative);
+            }
+            memset(decision, 0, pending_count);
+            splits = 0;
+        }
+        refined += splits;
+        /* Links the oracle passed are kept; the others are replaced by their children's. */
+        size_t count = 0;
+        fresh = splits ? rad_alloc(ctx, candidates, sizeof *fresh) : NULL;
+        made = splits ? rad_alloc(ctx, candidates, 1) : NULL;
+        if (splits && (!fresh || !made)) status = RAD_ERROR_NO_MEMORY;
+        for (size_t i = 0; i < pending_count && !status; ++i) {
+            if (!decision[i]) {
+                status = append_links(ctx, &kept, &kept_count, &kept_capacity, &pending[i], 1);
+                continue;
+            }
+            rad_hier_link link = pending[i];
+            uint32_t rs[2] = {link.receiver, link.source};
+            for (int end = 0; end < 2 && !status; ++end)
+                if ((decision[i] == 1 + end || decision[i] == 3) && !is_cluster(&h->nodes[rs[end]]))
+                    status = subdivide(h, rs[end]);
+            if (status) break;
+            const rad_hier_node *r = &h->nodes[link.receiver], *s = &h->nodes[link.source];
+            uint32_t r_first = link.receiver, r_count = 1, s_first = link.source, s_count = 1;
+            if (decision[i] != 2) r_first = r->first_child, r_count = r->child_count;
+            if (decision[i] != 1) s_first = s->first_child, s_count = s->child_count;
+            for (uint32_t a = 0; a < r_count; ++a)
+                for (uint32_t b = 0; b < s_count; ++b) {
+                    fresh[count].receiver = r_first + a;
+                    fresh[count].source = s_first + b;
+                    ++count;
+                }
+        }
+        rad_free(ctx, pending);
+        pending = NULL;
+        pending_count = 0;
+        if (status || !splits) break;
+        /* The new links' form factors, in parallel (each writes its own slot). */
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (count >= 64)
+        for (long i = 0; i < (long)count; ++i)
+            made[i] = (uint8_t)make_any_link(h, fresh[i].receiver, fresh[i].source, &fresh[i]);
+        for (size_t i = 0; i < count; ++i)
+            if (made[i]) fresh[pending_count++] = fresh[i];
+        rad_free(ctx, made);
+        made = NULL;
+        pending = fresh;
+        fresh = NULL;
     }
     rad_free(ctx, decision);
+    rad_free(ctx, made);
+    rad_free(ctx, fresh);
+    rad_free(ctx, pending);
+    h->stats.largest_error = largest;
+    h->stats.refined = refined;
+    h->stats.budget_reached = budget;
     if (status) {
-        rad_free(ctx, next);
-        rad_free(ctx, made);
+        rad_free(ctx, kept);
         return status;
     }
-    /* The new links' form factors, in parallel (each writes its own slot). */
-    rad_hier_link *fresh = next + kept;
-#pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (candidates >= 64)
-    for (long i = 0; i < (long)candidates; ++i)
-        made[i] = (uint8_t)make_link(h, fresh[i].receiver, fresh[i].source, &fresh[i]);
-    size_t count = kept;
-    for (size_t i = 0; i < candidates; ++i)
-        if (made[i]) next[count++] = fresh[i];
-    rad_free(ctx, made);
-    return adopt_links(h, next, count);
+    if (!kept) {
+        kept = rad_alloc(ctx, 1, sizeof *kept);
+        if (!kept) return RAD_ERROR_NO_MEMORY;
+    }
+    return adopt_links(h, kept, kept_count);
 }
 
 /* ---- Solving ----------------------------------------------------------------------------- */
@@ -381,7 +621,7 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
         return change;
     }
     double sum[3] = {0, 0, 0}, area = 0;
-    for (uint32_t k = 0; k < 4; ++k) {
+    for (uint32_t k = 0; k < n->child_count; ++k) {
         uint32_t child = n->first_child + k;
         change = fmax(change, push_pull(h, child, total));
         const rad_hier_node *m = &h->nodes[child];
@@ -416,13 +656,32 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
                 memcpy(h->nodes[h->links[first].receiver].irradiance, sum, sizeof sum);
             }
         }
-        /* Push-pull, one tree per task. */
+        /* Push down the clusters (parents come before their children): each passes what it
+         * and its ancestors gathered to its members, per unit area. */
+        for (size_t c = 0; c < h->cluster_count; ++c) {
+            uint32_t parent = h->clusters[c].parent;
+            const double *gathered = h->nodes[h->cluster_first + c].irradiance;
+            for (int k = 0; k < 3; ++k)
+                h->cluster_down[c][k] = gathered[k] +
+                    (parent == RAD_HIER_NO_NODE ? 0 : h->cluster_down[parent - h->cluster_first][k]);
+        }
+        /* Push-pull through the polygon trees, one tree per task. */
         double change = 0;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (roots >= 64) \
     reduction(max : change)
         for (long r = 0; r < roots; ++r) {
-            const double zero[3] = {0, 0, 0};
-            change = fmax(change, push_pull(h, (uint32_t)r, zero));
+            const double *down = h->cluster_down[h->root_parent[r] - h->cluster_first];
+            change = fmax(change, push_pull(h, (uint32_t)r, down));
+        }
+        /* Pull up the clusters (children first): area-weighted means of their members. */
+        for (size_t c = h->cluster_count; c-- > 0;) {
+            rad_hier_node *n = &h->nodes[h->cluster_first + c];
+            double sum[3] = {0, 0, 0};
+            for (uint32_t k = 0; k < n->child_count; ++k) {
+                const rad_hier_node *m = &h->nodes[n->first_child + k];
+                for (int i = 0; i < 3; ++i) sum[i] += m->radiosity[i] * m->area;
+            }
+            for (int i = 0; i < 3; ++i) n->radiosity[i] = n->area > 0 ? sum[i] / n->area : 0;
         }
         if (change <= limit) break;
         if (rad_progress(h->ctx, "hierarchical gathering", round, max_rounds))
@@ -431,6 +690,150 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
     }
     h->stats.solve_rounds = round > max_rounds ? max_rounds : round;
     return RAD_OK;
+}
+
+/* ---- Clusters ---------------------------------------------------------------------------- */
+
+typedef struct cluster_range {
+    size_t first, count;     /* roots order[first .. first + count) */
+    size_t first_child;      /* the first child cluster (an internal cluster's two) */
+    size_t parent;           /* the parent cluster, or SIZE_MAX */
+} cluster_range;
+
+/* Takes rad_vec3 component `axis`. */
+static double component(rad_vec3 v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
+
+static rad_vec3 v3_min(rad_vec3 a, rad_vec3 b) { return v3(fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)); }
+static rad_vec3 v3_max(rad_vec3 a, rad_vec3 b) { return v3(fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)); }
+
+/* The bounding-volume hierarchy of the roots: a cluster of more than LEAF_CLUSTER roots splits
+ * at the midpoint of its centroids' bounds along their longest axis (in half by count when
+ * they coincide), breadth first, so parents precede children and an internal cluster's two
+ * children are adjacent. The roots are then renumbered so that every leaf cluster's roots are
+ * contiguous; the clusters are appended after them as nodes, and their bounds, axis areas,
+ * reflectance and radiosity are gathered bottom-up. */
+static rad_status build_clusters(rad_hier *h) {
+    rad_context *ctx = h->ctx;
+    size_t n = h->root_count;
+    uint32_t *order = rad_alloc(ctx, n, sizeof *order);
+    rad_vec3 *centroid = rad_alloc(ctx, n, sizeof *centroid);
+    cluster_range *ranges = rad_alloc(ctx, 2 * n, sizeof *ranges);
+    rad_hier_node *roots = rad_alloc(ctx, n, sizeof *roots);
+    h->polygon_roots = rad_alloc(ctx, n, sizeof *h->polygon_roots);
+    h->root_parent = rad_alloc(ctx, n, sizeof *h->root_parent);
+    rad_status status = RAD_OK;
+    if (!order || !centroid || !ranges || !roots || !h->polygon_roots || !h->root_parent)
+        status = RAD_ERROR_NO_MEMORY;
+    size_t count = 1;
+    if (!status) {
+        for (size_t i = 0; i < n; ++i) {
+            order[i] = (uint32_t)i;
+            centroid[i] = surface_centre(&h->nodes[i]);
+        }
+        ranges[0] = (cluster_range){0, n, 0, SIZE_MAX};
+    }
+    for (size_t c = 0; c < count && !status; ++c) {
+        cluster_range *r = &ranges[c];
+        if (r->count <= LEAF_CLUSTER) continue;
+        rad_vec3 lo = centroid[order[r->first]], hi = lo;
+        for (size_t i = r->first; i < r->first + r->count; ++i) {
+            lo = v3_min(lo, centroid[order[i]]);
+            hi = v3_max(hi, centroid[order[i]]);
+        }
+        rad_vec3 extent = v3_sub(hi, lo);
+        int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+        double split = 0.5 * (component(lo, axis) + component(hi, axis));
+        size_t i = r->first, j = r->first + r->count;
+        while (i < j) {
+            if (component(centroid[order[i]], axis) < split) ++i;
+            else {
+                uint32_t t = order[--j];
+                order[j] = order[i];
+                order[i] = t;
+            }
+        }
+        if (i == r->first || i == r->first + r->count) i = r->first + r->count / 2;
+        ranges[count] = (cluster_range){r->first, i - r->first, 0, c};
+        ranges[count + 1] = (cluster_range){i, r->first + r->count - i, 0, c};
+        r->first_child = count;
+        count += 2;
+    }
+    if (!status) status = reserve_nodes(h, count);
+    if (!status) {
+        /* Renumber the roots in cluster order. */
+        memcpy(roots, h->nodes, n * sizeof *roots);
+        for (size_t k = 0; k < n; ++k) {
+            h->nodes[k] = roots[order[k]];
+            h->nodes[k].root = (uint32_t)k;
+            h->polygon_roots[order[k]] = (uint32_t)k;
+        }
+        h->clusters = rad_alloc_zero(ctx, count, sizeof *h->clusters);
+        h->cluster_down = rad_alloc_zero(ctx, count, sizeof *h->cluster_down);
+        if (!h->clusters || !h->cluster_down) status = RAD_ERROR_NO_MEMORY;
+    }
+    if (!status) {
+        h->cluster_first = n;
+        h->cluster_count = count;
+        for (size_t c = 0; c < count; ++c) {
+            const cluster_range *r = &ranges[c];
+            rad_hier_node *node = &h->nodes[n + c];
+            memset(node, 0, sizeof *node);
+            node->polygon = RAD_HIER_NO_NODE;
+            node->root = (uint32_t)(n + c);
+            int leaf = r->count <= LEAF_CLUSTER;
+            node->first_child = (uint32_t)(leaf ? r->first : n + r->first_child);
+            node->child_count = (uint32_t)(leaf ? r->count : 2);
+            h->clusters[c].parent = r->parent == SIZE_MAX ? RAD_HIER_NO_NODE : (uint32_t)(n + r->parent);
+            if (leaf)
+                for (size_t k = r->first; k < r->first + r->count; ++k)
+                    h->root_parent[k] = (uint32_t)(n + c);
+        }
+        h->node_count = n + count;
+        /* Bounds, areas, orientations and radiosity, children first. */
+        for (size_t c = count; c-- > 0;) {
+            rad_hier_node *node = &h->nodes[n + c];
+            cluster_info *ci = &h->clusters[c];
+            ci->lo = v3(INFINITY, INFINITY, INFINITY);
+            ci->hi = v3(-INFINITY, -INFINITY, -INFINITY);
+            double power[3] = {0, 0, 0};
+            for (uint32_t k = 0; k < node->child_count; ++k) {
+                uint32_t child = node->first_child + k;
+                const rad_hier_node *m = &h->nodes[child];
+                if (is_cluster(m)) {
+                    const cluster_info *mi = info(h, child);
+                    ci->lo = v3_min(ci->lo, mi->lo);
+                    ci->hi = v3_max(ci->hi, mi->hi);
+                    for (int a = 0; a < 6; ++a) ci->axis_area[a] += mi->axis_area[a];
+                    ci->normal_sum = v3_add(ci->normal_sum, mi->normal_sum);
+                    ci->reflectance = fmax(ci->reflectance, mi->reflectance);
+                } else {
+                    for (int k2 = 0; k2 < m->corner_count; ++k2) {
+                        ci->lo = v3_min(ci->lo, m->corner[k2]);
+                        ci->hi = v3_max(ci->hi, m->corner[k2]);
+                    }
+                    rad_vec3 normal = h->normal[m->polygon];
+                    double d[3] = {normal.x, normal.y, normal.z};
+                    for (int a = 0; a < 3; ++a) {
+                        ci->axis_area[2 * a] += m->area * fmax(0, d[a]);
+                        ci->axis_area[2 * a + 1] += m->area * fmax(0, -d[a]);
+                    }
+                    ci->normal_sum = v3_add(ci->normal_sum, v3_scale(normal, m->area));
+                    for (int i = 0; i < 3; ++i)
+                        ci->reflectance = fmax(ci->reflectance, h->reflectance[m->polygon][i]);
+                }
+                node->area += m->area;
+                for (int i = 0; i < 3; ++i) power[i] += m->radiosity[i] * m->area;
+            }
+            ci->centre = v3_scale(v3_add(ci->lo, ci->hi), 0.5);
+            ci->radius = 0.5 * v3_length(v3_sub(ci->hi, ci->lo));
+            for (int i = 0; i < 3; ++i) node->radiosity[i] = node->area > 0 ? power[i] / node->area : 0;
+        }
+    }
+    rad_free(ctx, order);
+    rad_free(ctx, centroid);
+    rad_free(ctx, ranges);
+    rad_free(ctx, roots);
+    return status;
 }
 
 /* ---- Set-up and queries ------------------------------------------------------------------ */
@@ -450,6 +853,7 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
     if (!h) return RAD_ERROR_NO_MEMORY;
     h->ctx = ctx;
     h->scene = scene;
+    h->no_clusters = o.no_clusters;
     size_t np = scene->polygon_count;
     h->polygon_root_first = rad_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_first);
     h->polygon_root_count = rad_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_count);
@@ -471,7 +875,7 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
         }
         double emitted = fmax(h->emission[p][0], fmax(h->emission[p][1], h->emission[p][2]));
         h->normal[p] = rad_polygon_normal(scene, polygon);
-        h->polygon_root_first[p] = (uint32_t)h->node_count;
+        h->polygon_root_first[p] = (uint32_t)h->node_count; /* before renumbering: identity */
         if (!(rad_polygon_area(scene, polygon) > 0)) continue;
         /* Quads and triangles are roots; larger polygons are fanned into triangles. */
         uint32_t roots = polygon->count <= 4 ? 1 : polygon->count - 2;
@@ -501,12 +905,14 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
     if (!status && h->root_count == 0)
         status = rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                           "%s: no polygon with a nonzero area", scene->source);
+    if (!status) status = build_clusters(h);
     if (!status) status = rad_rays_create(ctx, scene, &h->rays);
     if (status) {
         rad_hier_destroy(h);
         return status;
     }
     h->stats.roots = h->root_count;
+    h->stats.clusters = h->cluster_count;
     *out = h;
     return RAD_OK;
 }
@@ -518,6 +924,10 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->nodes);
     rad_free(ctx, h->polygon_root_first);
     rad_free(ctx, h->polygon_root_count);
+    rad_free(ctx, h->polygon_roots);
+    rad_free(ctx, h->root_parent);
+    rad_free(ctx, h->clusters);
+    rad_free(ctx, h->cluster_down);
     rad_free(ctx, h->reflectance);
     rad_free(ctx, h->emission);
     rad_free(ctx, h->normal);
@@ -530,9 +940,15 @@ rad_hier_stats rad_hier_get_stats(const rad_hier *h) {
     rad_hier_stats s = h->stats;
     s.nodes = h->node_count;
     s.leaves = 0;
-    for (size_t i = 0; i < h->node_count; ++i) s.leaves += h->nodes[i].first_child == RAD_HIER_NO_NODE;
+    s.cluster_links = 0;
+    for (size_t i = 0; i < h->node_count; ++i)
+        s.leaves += h->nodes[i].first_child == RAD_HIER_NO_NODE && !is_cluster(&h->nodes[i]);
+    for (size_t i = 0; i < h->link_count; ++i)
+        s.cluster_links += is_cluster(&h->nodes[h->links[i].receiver]) ||
+                           is_cluster(&h->nodes[h->links[i].source]);
     s.links = h->link_count;
     s.roots = h->root_count;
+    s.clusters = h->cluster_count;
     return s;
 }
 
@@ -546,10 +962,12 @@ const rad_hier_link *rad_hier_links(const rad_hier *h, size_t *count) {
     return h->links;
 }
 
-uint32_t rad_hier_polygon_roots(const rad_hier *h, uint32_t polygon, uint32_t *count) {
+const uint32_t *rad_hier_polygon_roots(const rad_hier *h, uint32_t polygon, uint32_t *count) {
     *count = polygon < h->scene->polygon_count ? h->polygon_root_count[polygon] : 0;
-    return *count ? h->polygon_root_first[polygon] : RAD_HIER_NO_NODE;
+    return *count ? h->polygon_roots + h->polygon_root_first[polygon] : NULL;
 }
+
+uint32_t rad_hier_top(const rad_hier *h) { return (uint32_t)h->cluster_first; }
 
 uint32_t rad_hier_root_of(const rad_hier *h, uint32_t node) { return h->nodes[node].root; }
 
@@ -568,16 +986,17 @@ static double inside(const rad_hier *h, const rad_hier_node *n, rad_vec3 x) {
 }
 
 void rad_hier_radiosity_at(const rad_hier *h, uint32_t polygon, rad_vec3 x, double out[3]) {
-    uint32_t count, index = rad_hier_polygon_roots(h, polygon, &count);
-    if (index == RAD_HIER_NO_NODE) {
+    uint32_t count;
+    const uint32_t *roots = rad_hier_polygon_roots(h, polygon, &count);
+    if (!roots) {
         memset(out, 0, sizeof(double[3]));
         return;
     }
     double best = -INFINITY;
-    uint32_t first = index;
+    uint32_t index = roots[0];
     for (uint32_t k = 0; k < count; ++k) {
-        double d = inside(h, &h->nodes[first + k], x);
-        if (d > best) best = d, index = first + k;
+        double d = inside(h, &h->nodes[roots[k]], x);
+        if (d > best) best = d, index = roots[k];
     }
     while (h->nodes[index].first_child != RAD_HIER_NO_NODE) {
         uint32_t child = h->nodes[index].first_child, pick = child;

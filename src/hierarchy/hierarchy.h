@@ -13,6 +13,17 @@
  * the threshold is replaced by links to the four children of its receiver (or, when the
  * visibility is partial and the source is larger, of its source).
  *
+ * Clustering (Smits, Arvo & Greenberg 1994; Sillion 1995): the roots are the leaves of a
+ * bounding-volume hierarchy of volume clusters (splits at the midpoint of the roots'
+ * centroids, at most four roots a leaf cluster). The solve starts from one self-link on the top
+ * cluster; links with a cluster at either end carry the point estimate
+ * P_r P_s / (pi d^2 A_r) between the two centres, where P is the projected area toward the
+ * other end (a surface: A cos; a cluster: its members' areas summed per axis direction, exact
+ * for axis-aligned members), and their error bound is the spread of that estimate over the two
+ * bounding spheres and all member orientations, plus the whole factor when the rays between
+ * sampled member points are partly blocked. Irradiance gathered by a cluster is pushed to its
+ * members; a cluster's radiosity is its members' area-weighted mean.
+ *
  * Solving: Jacobi gathering over the links into each node's irradiance, then push-pull through
  * the trees (Hanrahan et al. 1991, section 4): irradiance is pushed down to the leaves, the
  * leaves' radiosity is pulled up as area-weighted means. Receivers are processed in parallel,
@@ -36,8 +47,9 @@ typedef struct rad_hier_node {
     double irradiance[3]; /* gathered over the node's own links in the last round */
     uint32_t polygon;     /* the input polygon */
     uint32_t root;        /* the root of its tree */
-    uint32_t first_child; /* four contiguous children, or RAD_HIER_NO_NODE for a leaf */
-    uint8_t corner_count; /* 3 or 4 */
+    uint32_t first_child; /* child_count contiguous children, or RAD_HIER_NO_NODE for a leaf */
+    uint32_t child_count; /* 4 for a split polygon node; a cluster's members */
+    uint8_t corner_count; /* 3 or 4; 0 for a cluster (polygon is then RAD_HIER_NO_NODE) */
     uint8_t depth;
 } rad_hier_node;
 
@@ -50,14 +62,17 @@ typedef struct rad_hier_link {
 typedef struct rad_hier_options {
     double link_error; /* threshold on rho B dF, relative to the brightest emitter; zero: 1e-3 */
     double min_area;   /* nodes this small (relative to the scene's area) are not split; zero: 1e-6 */
+    int no_clusters;   /* nonzero: rad_hier_link_roots links all pairs of roots (n^2), as
+                          before clustering; for comparisons */
 } rad_hier_options;
 
 typedef struct rad_hier_stats {
-    size_t nodes, leaves, links, roots;
+    size_t nodes, leaves, links, roots, clusters;
     size_t refined;        /* links refined by the last call of rad_hier_refine */
     double largest_error;  /* the oracle's largest error over the links, relative to threshold */
     int solve_rounds;      /* gathering rounds of the last rad_hier_solve */
     int budget_reached;    /* refinement stopped at the memory budget (a warning said so) */
+    size_t cluster_links;  /* links with a cluster at one end or both */
 } rad_hier_stats;
 
 typedef struct rad_hier rad_hier;
@@ -68,12 +83,15 @@ rad_status rad_hier_create(rad_context *ctx, const struct rad_scene *scene,
                            const rad_hier_options *options, rad_hier **out);
 void rad_hier_destroy(rad_hier *hier);
 
-/* The initial links: between every pair of roots that can see each other. Refused through the
- * context's memory budget when the pairs would not fit. */
+/* The initial links: one self-link on the top cluster (or, with options.no_clusters, between
+ * every pair of roots that can see each other, refused through the context's memory budget
+ * when the pairs would not fit). */
 rad_status rad_hier_link_roots(rad_hier *hier);
 
-/* One pass of the oracle over every link: refines those over the threshold (subdividing nodes
- * as needed) and computes the new links' form factors. stats.refined says how many. When the
+/* The oracle over every link, recursively: refines those over the threshold (subdividing nodes
+ * and opening clusters as needed), computes the new links' form factors and asks the oracle
+ * again about them, until every link passes or cannot be split. stats.refined says how many
+ * links were refined. When the
  * new links would pass the memory budget nothing is refined, a warning names the link count
  * and stats.budget_reached is set: the solution so far stands. */
 rad_status rad_hier_refine(rad_hier *hier);
@@ -88,13 +106,16 @@ rad_hier_stats rad_hier_get_stats(const rad_hier *hier);
 const rad_hier_node *rad_hier_nodes(const rad_hier *hier, size_t *count);
 const rad_hier_link *rad_hier_links(const rad_hier *hier, size_t *count);
 
-/* The root node of polygon `polygon`'s first (or only) fan triangle and how many roots it has. */
-uint32_t rad_hier_polygon_roots(const rad_hier *hier, uint32_t polygon, uint32_t *count);
+/* The root nodes of polygon `polygon` (one, or one per fan triangle) and how many. */
+const uint32_t *rad_hier_polygon_roots(const rad_hier *hier, uint32_t polygon, uint32_t *count);
+
+/* The top cluster (the node every root descends from). */
+uint32_t rad_hier_top(const rad_hier *hier);
 
 /* The radiosity of the leaf under point x (on polygon `polygon`). */
 void rad_hier_radiosity_at(const rad_hier *hier, uint32_t polygon, rad_vec3 x, double out[3]);
 
-/* The root a node belongs to. */
+/* The root a node belongs to (a cluster: itself). */
 uint32_t rad_hier_root_of(const rad_hier *hier, uint32_t node);
 
 #endif

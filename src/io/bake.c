@@ -7,7 +7,7 @@
 #include "scene/camera.h"
 #include "scene/scene.h"
 #include "system/system.h"
-#include "system/vertex_radiosity.h"
+#include "system/solution_view.h"
 
 #include <ctype.h>
 #include <float.h>
@@ -215,7 +215,8 @@ static rad_status bake_camera(rad_context *ctx, const rad_scene *scene, const ra
 static rad_status build(const rad_system *s, const rad_bake_options *o, int tonemap,
                         rad_baked_mesh *b) {
     rad_context *ctx = s->ctx;
-    const rad_mesh *mesh = s->mesh;
+    const rad_solution_view *solution = rad_system_view(s);
+    const rad_mesh *mesh = rad_solution_leaves(solution); /* the leaves to draw */
     size_t nv = mesh->vertex_count, ne = mesh->element_count, ns = s->surface_count;
     double scale = o->scale > 0 ? o->scale : 1;
     /* Positions (and the camera's far plane, twice the farthest distance) are written as
@@ -256,7 +257,7 @@ static rad_status build(const rad_system *s, const rad_bake_options *o, int tone
     }
 
     /* The solution at the vertices: area-weighted over the elements around each one. */
-    status = rad_system_vertex_radiosity(s, o->ambient, vertex_radiosity);
+    status = rad_solution_vertex_radiosity(solution, ctx, o->ambient, vertex_radiosity);
     if (status) goto done;
 
     /* Vertices and faces grouped by surface, in system order. Each element uses only vertices
@@ -353,10 +354,11 @@ rad_status rad_bake(const rad_system *system, const char *path, const rad_bake_o
     int tonemap;
     rad_status status = check_options(ctx, path, o, &format, &tonemap);
     if (status) return status;
-    if (!system->mesh)
+    const rad_mesh *leaves = rad_solution_leaves(rad_system_view(system));
+    if (!leaves)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "bake: a patch system (.ffm) has no geometry to bake");
-    if (system->mesh->vertex_count > UINT32_MAX - 1)
+    if (leaves->vertex_count > UINT32_MAX - 1)
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "bake: more than 2^32 - 2 vertices");
 
     rad_baked_mesh baked;

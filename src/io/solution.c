@@ -17,6 +17,7 @@
 #include "core/atomic_file.h"
 #include "mesh/mesh.h"
 #include "solve/solver.h"
+#include "system/solution_view.h"
 
 #include <errno.h>
 #include <math.h>
@@ -117,8 +118,8 @@ rad_status rad_solution_fingerprint_compute(rad_system *s, rad_solution_fingerpr
         h = hash_f64(h, s->area[e]);
         for (int c = 0; c < 3; ++c) h = hash_f64(hash_f64(h, s->reflectance[e][c]), s->emission[e][c]);
     }
-    if (s->mesh) {
-        const rad_mesh *m = s->mesh;
+    const rad_mesh *m = rad_solution_leaves(rad_system_view(s));
+    if (m) {
         h = hash_u64(h, m->vertex_count);
         for (size_t v = 0; v < m->vertex_count; ++v)
             h = hash_f64(hash_f64(hash_f64(h, m->vertices[v].x), m->vertices[v].y), m->vertices[v].z);
@@ -159,6 +160,13 @@ rad_status rad_solution_fingerprint_compute(rad_system *s, rad_solution_fingerpr
 rad_status rad_system_save_solution(rad_system *s, const char *path, const rad_solution_info *info) {
     if (!s || !path) return RAD_ERROR_INVALID_ARGUMENT;
     rad_context *ctx = s->ctx;
+    /* A file holds one value per element of the system; a view whose leaves are not those
+     * elements (a hierarchy's own leaves) cannot be saved this way. */
+    const rad_mesh *view_leaves = rad_solution_leaves(rad_system_view(s));
+    if (view_leaves && view_leaves->element_count != s->element_count)
+        return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "%s: the %s solution has %zu leaves, not one "
+                        "per element; solution files cannot hold it", path,
+                        rad_system_view(s)->ops->name, view_leaves->element_count);
     rad_solution_fingerprint print;
     rad_status status = rad_solution_fingerprint_compute(s, &print);
     if (status) return status;
@@ -181,11 +189,17 @@ rad_status rad_system_save_solution(rad_system *s, const char *path, const rad_s
     put_u64(bytes + 64, print.form_factors);
     for (int c = 0; c < 3; ++c) put_f64(bytes + 72 + 8 * c, s->ambient[c]);
     unsigned char *p = bytes + RAD_SOLUTION_HEADER_SIZE;
-    for (size_t e = 0; e < s->element_count; ++e, p += RAD_SOLUTION_ELEMENT_SIZE)
+    const rad_solution_view *view = rad_system_view(s);
+    const rad_mesh *leaves = rad_solution_leaves(view);
+    for (size_t e = 0; e < s->element_count; ++e, p += RAD_SOLUTION_ELEMENT_SIZE) {
+        double radiosity[3], unshot[3], centre = rad_solution_leaf_centre(leaves, e);
+        view->ops->radiosity(view, e, centre, centre, radiosity);
+        view->ops->unshot(view, e, unshot);
         for (int c = 0; c < 3; ++c) {
-            put_f64(p + 8 * c, s->radiosity[e][c]);
-            put_f64(p + 24 + 8 * c, s->unshot[e][c]);
+            put_f64(p + 8 * c, radiosity[c]);
+            put_f64(p + 24 + 8 * c, unshot[c]);
         }
+    }
     put_u64(p, rad_fnv1a(RAD_FNV1A_START, bytes, size - 8));
 
     rad_atomic_file file;
@@ -307,14 +321,21 @@ rad_status rad_system_load_solution(rad_system *s, const char *path, rad_solutio
     rad_status status = read_all(s->ctx, path, &bytes, &size);
     if (status) return status;
     status = check_file(s, path, bytes, size);
+    if (!status && !rad_system_view(s)->ops->store)
+        status = rad_fail(s->ctx, RAD_ERROR_UNSUPPORTED, "%s: the %s solution cannot be restored "
+                          "from a solution file", path, rad_system_view(s)->ops->name);
     if (!status) {
         for (int c = 0; c < 3; ++c) s->ambient[c] = get_f64(bytes + 72 + 8 * c);
         const unsigned char *p = bytes + RAD_SOLUTION_HEADER_SIZE;
-        for (size_t e = 0; e < s->element_count; ++e, p += RAD_SOLUTION_ELEMENT_SIZE)
+        rad_solution_view *view = rad_system_view_mutable(s);
+        for (size_t e = 0; e < s->element_count; ++e, p += RAD_SOLUTION_ELEMENT_SIZE) {
+            double radiosity[3], unshot[3];
             for (int c = 0; c < 3; ++c) {
-                s->radiosity[e][c] = get_f64(p + 8 * c);
-                s->unshot[e][c] = get_f64(p + 24 + 8 * c);
+                radiosity[c] = get_f64(p + 8 * c);
+                unshot[c] = get_f64(p + 24 + 8 * c);
             }
+            view->ops->store(view, e, radiosity, unshot);
+        }
         if (info) {
             info->solver = (rad_solver_kind)rad_solver_from_file_code(get_u32(bytes + 12));
             info->steps = (long)get_u64(bytes + 16);

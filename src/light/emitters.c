@@ -100,3 +100,13 @@ double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 
     if (cos_y <= 0) return 0;
     return rad_emitter_table_probability(table, k) / light->area * distance * distance / cos_y;
 }
+
+size_t rad_emitter_table_sample_point(const rad_emitter_table *table, double u0, double u1,
+                                      rad_vec3 *position) {
+    size_t k = pick(table, &u0);
+    const rad_emitter *light = &table->emitters[k];
+    double root = sqrt(u0);
+    *position = v3_add(light->p0, v3_add(v3_scale(light->e1, root * (1 - u1)),
+                                         v3_scale(light->e2, root * u1)));
+    return k;
+}

@@ -74,4 +74,12 @@ int rad_emitter_table_sample(const rad_emitter_table *table, double u0, double u
 double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 direction,
                              double distance);
 
+/* Emission sampling for light paths (photons, light tracing): a triangle k by the table's
+ * distribution and a point uniform on it for two uniform numbers (the same mapping as
+ * rad_emitter_table_sample, without a receiver). Stores the point and returns k; the area density
+ * of the choice is rad_emitter_table_probability(table, k) / area_k. The table must not be empty.
+ * (Point, spot and sun lights, once in the table, add their own emission sampling here.) */
+size_t rad_emitter_table_sample_point(const rad_emitter_table *table, double u0, double u1,
+                                      rad_vec3 *position);
+
 #endif

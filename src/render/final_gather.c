@@ -54,18 +54,22 @@ static int32_t add_emitter(rad_emitter_table *table, const rad_mesh *mesh, uint3
 
 rad_status rad_emitters_build(rad_renderer *r) {
     const rad_mesh *mesh = r->mesh;
-    const rad_system *s = r->system;
+    const rad_solution_view *solution = r->solution;
     size_t count = 0;
-    for (size_t e = 0; e < mesh->element_count; ++e)
-        if (s->emission[e][0] > 0 || s->emission[e][1] > 0 || s->emission[e][2] > 0)
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        double emission[3];
+        solution->ops->emission(solution, e, emission);
+        if (emission[0] > 0 || emission[1] > 0 || emission[2] > 0)
             count += (size_t)rad_mesh_corner_count(mesh, e) - 2;
+    }
     r->element_emitter = rad_alloc(r->ctx, mesh->element_count + 1, sizeof *r->element_emitter);
     if (!r->element_emitter) return RAD_ERROR_NO_MEMORY;
     for (size_t e = 0; e < mesh->element_count; ++e) r->element_emitter[e][0] = r->element_emitter[e][1] = -1;
     rad_status status = rad_emitter_table_reserve(r->ctx, &r->emitters, count);
     if (status || count == 0) return status;
     for (size_t e = 0; e < mesh->element_count; ++e) {
-        const double *emission = s->emission[e];
+        double emission[3];
+        solution->ops->emission(solution, e, emission);
         if (!(emission[0] > 0 || emission[1] > 0 || emission[2] > 0)) continue;
         /* Emitted radiance L = E / pi, rounded to float as the renderer keeps it. */
         double radiance[3];
@@ -97,17 +101,19 @@ double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_elem
 }
 
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
- * by `count` stratified emitter samples, each weighted against the gather rays that could have
- * found the same point. */
+ * by `from->light_samples` stratified emitter samples, each weighted against the gather rays
+ * that could have found the same point. Sample i is point first + i of each camera sample's run
+ * of `run` points in `dimension`. */
 static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
-                         rad_vec3 x, const float rho[3], double out[3]) {
+                         uint32_t run, uint32_t first, uint32_t dimension, rad_vec3 x,
+                         const float rho[3], double out[3]) {
     out[0] = out[1] = out[2] = 0;
     int count = from->light_samples;
     if (r->emitters.count == 0 || count <= 0) return;
     rad_vec3 n = from->normal;
     for (int i = 0; i < count; ++i) {
         double u[2];
-        rad_sample_2d(sample, (uint32_t)count, (uint32_t)i, RAD_RENDER_DIM_LIGHT, u);
+        rad_sample_2d(sample, run, first + (uint32_t)i, dimension, u);
         rad_emitter_point light;
         if (!rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light)) continue;
         double cos_x = v3_dot(n, light.direction);
@@ -121,6 +127,39 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
         for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * light.radiance[c] * g;
     }
     for (int c = 0; c < 3; ++c) out[c] /= count;
+}
+
+/* Radiance reflected at x (normal n, reflectance rho) of the point, spot and directional
+ * lights: each is one point or direction, so it is sampled exactly, with one shadow ray and no
+ * weight (no gather ray can find it). */
+static void lights_direct(const rad_renderer *r, rad_sample *sample, rad_vec3 x, rad_vec3 n,
+                          const float rho[3], double out[3]) {
+    for (size_t i = 0; i < r->light_count; ++i) {
+        rad_light_arrival arrival;
+        if (!rad_light_arrive(&r->lights[i], x, &arrival)) continue;
+        double cos_x = v3_dot(n, arrival.direction);
+        if (cos_x <= 0) continue;
+        sample->counts->shadow++;
+        if (isinf(arrival.distance)) {
+            rad_element_hit blocker;
+            if (rad_element_rays_intersect(r->rays, x, arrival.direction, r->rays->epsilon,
+                                           INFINITY, &blocker))
+                continue;
+        } else if (rad_element_rays_occluded(r->rays, x, r->lights[i].position)) {
+            continue;
+        }
+        for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * arrival.irradiance[c] * cos_x;
+    }
+}
+
+/* A cosine-weighted direction about n from the point u of the unit square. */
+static rad_vec3 cosine_direction(rad_vec3 n, const double u[2]) {
+    rad_vec3 t, b;
+    v3_basis(n, &t, &b);
+    double radius = sqrt(u[0]), phi = 2 * RAD_PI * u[1];
+    double z = sqrt(fmax(0.0, 1 - u[0]));
+    return v3_normalize(v3_add(v3_add(v3_scale(t, radius * cos(phi)), v3_scale(b, radius * sin(phi))),
+                               v3_scale(n, z)));
 }
 
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
@@ -142,31 +181,59 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     for (int c = 0; c < 3; ++c) out[c] = emitted[c];
     if (!(rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return;
 
-    rad_gather_origin from = {n, r->settings.light_samples, r->settings.final_gather, 0};
+    rad_gather_origin from = {n, r->settings.light_samples, r->settings.final_gather, 0, 0, 0};
 
     /* Direct light. */
     double direct[3];
-    direct_light(r, sample, &from, x, rho, direct);
+    direct_light(r, sample, &from, (uint32_t)from.light_samples, 0, RAD_RENDER_DIM_LIGHT, x, rho, direct);
+    lights_direct(r, sample, x, n, rho, direct);
     for (int c = 0; c < 3; ++c) out[c] += direct[c];
 
     /* Indirect light (and the emitted light they meet, weighted): cosine-weighted rays into the
      * solution. With density cos / pi the estimate of (rho / pi) * integral L cos dw is
      * rho * mean L. */
     int rays = r->settings.final_gather;
-    rad_vec3 t, b;
-    v3_basis(n, &t, &b);
     double sum[3] = {0, 0, 0};
     for (int i = 0; i < rays; ++i) {
         double u[2];
         rad_sample_2d(sample, (uint32_t)rays, (uint32_t)i, RAD_RENDER_DIM_GATHER, u);
         from.ray = (uint32_t)i;
-        double radius = sqrt(u[0]), phi = 2 * RAD_PI * u[1];
-        double z = sqrt(fmax(0.0, 1 - u[0]));
-        rad_vec3 direction = v3_normalize(v3_add(
-            v3_add(v3_scale(t, radius * cos(phi)), v3_scale(b, radius * sin(phi))), v3_scale(n, z)));
         double radiance[3];
-        rad_trace_radiance(r, sample, x, direction, &from, radiance);
+        rad_trace_radiance(r, sample, x, cosine_direction(n, u), &from, radiance);
         for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
     }
     for (int c = 0; c < 3; ++c) out[c] += rho[c] * sum[c] / rays;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Short gather rays                                                                            */
+
+/* A gather ray shorter than SHORT_RANGE element sizes (the square root of the hit element's
+ * area) looks at the solution from closer than its elements resolve: beside a block's base the
+ * floor element it meets holds the mean over its area, brighter than the dark corner the ray
+ * sees, and the bias does not shrink with more rays. There the radiance is gathered once more
+ * (one emitter sample and one gather ray from the hit), as the final gathers of photon maps do
+ * for nearby hits (Jensen 1996; Christensen 1999), at most SHORT_LEVELS times along a path. */
+#define SHORT_RANGE 2.0
+#define SHORT_LEVELS 2
+
+int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit) {
+    if (!from || from->level >= SHORT_LEVELS) return 0;
+    return hit->t < SHORT_RANGE * sqrt(r->mesh->element_area[hit->element]);
+}
+
+void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
+                      const rad_element_hit *hit, rad_vec3 y, rad_vec3 n, double out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    const float *rho = r->element_reflectance[hit->element];
+    if (!(rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return;
+    /* The parent's place in the sampler: its run per camera sample and its point in it. */
+    uint32_t run = from->level > 0 ? from->run : (uint32_t)from->gather_rays, point = from->ray;
+    uint32_t dimension = RAD_RENDER_DIM_SHORT + 2 * (uint32_t)from->level;
+    rad_gather_origin next = {n, r->emitters.count ? 1 : 0, 1, point, from->level + 1, run};
+    double direct[3], u[2], radiance[3];
+    direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
+    rad_sample_2d(sample, run, point, dimension + 1, u);
+    rad_trace_radiance(r, sample, y, cosine_direction(n, u), &next, radiance);
+    for (int c = 0; c < 3; ++c) out[c] = direct[c] + rho[c] * radiance[c];
 }

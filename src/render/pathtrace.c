@@ -116,7 +116,13 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
     for (int bounce = 0;; ++bounce) {
         rad_hit hit;
         ++counts->rays;
-        if (!rad_rays_intersect(rays, origin, direction, rays->epsilon, INFINITY, &hit)) break;
+        if (!rad_rays_intersect(rays, origin, direction, rays->epsilon, INFINITY, &hit)) {
+            /* Left the scene: the sky (light/lights.h), found only this way. */
+            double sky[3];
+            rad_sky_radiance(&t->scene->sky, direction, sky);
+            for (int c = 0; c < 3; ++c) radiance[c] += throughput[c] * sky[c];
+            break;
+        }
         if (bounce == 0) {
             ++counts->camera_hits;
             if (!hit.front && t->polygon_material[hit.polygon]->kind != RAD_MATERIAL_GLASS)
@@ -178,6 +184,28 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
             }
         }
 
+        /* Point, spot and directional lights: each sampled exactly, with no weight (a BSDF
+         * sample never finds a point or a direction). */
+        if (rad_bsdf_has_smooth_lobe(m))
+            for (size_t i = 0; i < t->scene->light_count; ++i) {
+                const rad_light *light = &t->scene->lights[i];
+                rad_light_arrival arrival;
+                double f[3], bsdf_pdf;
+                if (!rad_light_arrive(light, x, &arrival) ||
+                    !rad_bsdf_eval(m, hit.normal, wo, arrival.direction, f, &bsdf_pdf))
+                    continue;
+                ++counts->rays;
+                rad_hit blocker;
+                if (isinf(arrival.distance)
+                        ? rad_rays_intersect(rays, x, arrival.direction, rays->epsilon, INFINITY,
+                                             &blocker)
+                        : rad_rays_occluded(rays, x, light->position))
+                    continue;
+                double cos_surface = fabs(v3_dot(arrival.direction, hit.normal));
+                for (int c = 0; c < 3; ++c)
+                    radiance[c] += throughput[c] * f[c] * arrival.irradiance[c] * cos_surface;
+            }
+
         /* Continue the path by sampling the BSDF. */
         double u[3] = {u_choice[0], u_direction[0], u_direction[1]};
         rad_bsdf_sample s;
@@ -204,7 +232,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
 
 /* Before any work: primary rays through a grid over the image must see the front of
  * something. */
-static rad_status check_view(const rad_tracer *t, const rad_view *view) {
+rad_status rad_tracer_check_view(const rad_tracer *t, const rad_view *view) {
     int nx = view->width < 64 ? view->width : 64, ny = view->height < 64 ? view->height : 64;
     int hits = 0, fronts = 0;
     const char *back_surface = NULL;
@@ -253,8 +281,8 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
     rad_tracer *t;
     status = rad_tracer_create(ctx, scene, o.max_bounces, &t);
     if (status) return status;
-    status = check_view(t, &view);
-    if (!status && t->emitters.count == 0)
+    status = rad_tracer_check_view(t, &view);
+    if (!status && t->emitters.count == 0 && scene->light_count == 0 && scene->sky.kind == RAD_SKY_OFF)
         rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
     rad_image *image = NULL;
     if (!status) status = rad_image_new(ctx, width, height, &image);

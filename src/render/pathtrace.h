@@ -46,4 +46,8 @@ enum { RAD_PATH_DIM_PIXEL = 0, RAD_PATH_DIM_BOUNCE = 1, RAD_PATH_DIMS_PER_BOUNCE
 void rad_tracer_radiance(const rad_tracer *tracer, rad_sampler *sampler, rad_vec3 origin,
                          rad_vec3 direction, rad_trace_counts *counts, double out[3]);
 
+/* Before any work (the path tracer, photon mapping): primary rays through a grid over the image
+ * must see the front of something; else RAD_ERROR_INVALID_ARGUMENT with the reason. */
+rad_status rad_tracer_check_view(const rad_tracer *tracer, const rad_view *view);
+
 #endif

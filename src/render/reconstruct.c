@@ -19,8 +19,6 @@
  * emitted radiance plus the reflected one. */
 #include "render/render.h"
 
-#include "system/vertex_radiosity.h"
-
 #include <string.h>
 
 /* At most this many elements take part in the fit at one vertex. */
@@ -191,12 +189,12 @@ rad_status rad_reconstruct_build(rad_renderer *r) {
 }
 
 rad_status rad_reconstruct_prepare(rad_renderer *r) {
-    const rad_system *s = r->system;
+    const rad_solution_view *solution = r->solution;
     const rad_mesh *mesh = r->mesh;
     rad_context *ctx = r->ctx;
     rad_rgb *vertex = rad_alloc(ctx, mesh->vertex_count ? mesh->vertex_count : 1, sizeof *vertex);
     if (!vertex) return RAD_ERROR_NO_MEMORY;
-    rad_status status = rad_system_vertex_radiosity(s, r->settings.ambient, vertex);
+    rad_status status = rad_solution_vertex_radiosity(solution, ctx, r->settings.ambient, vertex);
     if (status) {
         rad_free(ctx, vertex);
         return status;
@@ -206,12 +204,16 @@ rad_status rad_reconstruct_prepare(rad_renderer *r) {
         for (int c = 0; c < 3; ++c) r->vertex_radiance[v][c] = (float)vertex[v][c] * to_radiance;
     rad_free(ctx, vertex);
     for (size_t e = 0; e < mesh->element_count; ++e) {
-        double b[3];
-        rad_system_display_radiosity(s, e, r->settings.ambient, b);
+        double b[3], emission[3], reflectance[3];
+        /* Flat shading shows the leaf's value at its centre. */
+        double centre = rad_solution_leaf_centre(mesh, e);
+        rad_solution_display_radiosity(solution, e, centre, centre, r->settings.ambient, b);
+        solution->ops->emission(solution, e, emission);
+        solution->ops->reflectance(solution, e, reflectance);
         for (int c = 0; c < 3; ++c) {
             r->element_radiance[e][c] = (float)b[c] * to_radiance;
-            r->element_emission[e][c] = (float)s->emission[e][c] * to_radiance;
-            r->element_reflectance[e][c] = (float)s->reflectance[e][c];
+            r->element_emission[e][c] = (float)emission[c] * to_radiance;
+            r->element_reflectance[e][c] = (float)reflectance[c];
         }
     }
     /* Boundary vertices: the fitted plane's value, kept between half the smallest and one and a

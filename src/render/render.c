@@ -27,11 +27,10 @@ int rad_shading_parse(const char *name) {
     return -1;
 }
 
-void rad_renderer_destroy(rad_renderer *r) {
-    if (!r) return;
+/* Frees what was built from one generation of the solution's leaves. */
+static void leaves_free(rad_renderer *r) {
     rad_context *ctx = r->ctx;
     rad_element_rays_destroy(r->rays);
-    rad_free(ctx, r->surface_material);
     rad_emitter_table_free(ctx, &r->emitters);
     rad_free(ctx, r->element_emitter);
     rad_free(ctx, r->fit_vertex);
@@ -43,6 +42,43 @@ void rad_renderer_destroy(rad_renderer *r) {
     rad_free(ctx, r->element_radiance);
     rad_free(ctx, r->element_emission);
     rad_free(ctx, r->element_reflectance);
+    r->rays = NULL;
+    memset(&r->emitters, 0, sizeof r->emitters);
+    r->element_emitter = NULL;
+    r->fit_count = 0;
+    r->fit_vertex = r->fit_first = r->fit_size = r->fit_element = NULL;
+    r->fit_weight = NULL;
+    r->vertex_radiance = r->element_radiance = r->element_emission = r->element_reflectance = NULL;
+}
+
+/* Builds, from the solution's current leaves, the rays, the emitter table, the reconstruction
+ * weights and the radiance arrays. */
+static rad_status leaves_build(rad_renderer *r) {
+    rad_context *ctx = r->ctx;
+    leaves_free(r);
+    r->generation = rad_solution_generation(r->solution);
+    const rad_mesh *mesh = r->mesh = rad_solution_leaves(r->solution);
+    if (!mesh)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "render: the solution has no leaves");
+    r->vertex_radiance = rad_alloc(ctx, mesh->vertex_count + 1, sizeof *r->vertex_radiance);
+    r->element_radiance = rad_alloc(ctx, mesh->element_count + 1, sizeof *r->element_radiance);
+    r->element_emission = rad_alloc(ctx, mesh->element_count + 1, sizeof *r->element_emission);
+    r->element_reflectance = rad_alloc(ctx, mesh->element_count + 1, sizeof *r->element_reflectance);
+    if (!r->vertex_radiance || !r->element_radiance || !r->element_emission ||
+        !r->element_reflectance)
+        return RAD_ERROR_NO_MEMORY;
+    rad_status status = rad_element_rays_create(ctx, mesh, &r->rays);
+    if (!status) status = rad_emitters_build(r);
+    if (!status) status = rad_reconstruct_build(r);
+    return status;
+}
+
+void rad_renderer_destroy(rad_renderer *r) {
+    if (!r) return;
+    rad_context *ctx = r->ctx;
+    leaves_free(r);
+    rad_free(ctx, r->surface_material);
+    rad_lights_free(ctx, r->lights, r->light_count);
     rad_free(ctx, r);
 }
 
@@ -119,7 +155,7 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
     *out = NULL;
     if (!scene || !system) return RAD_ERROR_INVALID_ARGUMENT;
     rad_context *ctx = system->ctx;
-    if (!system->mesh || !scene->geometric)
+    if (!rad_solution_leaves(rad_system_view(system)) || !scene->geometric)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "%s: a patch system has no geometry to render", scene->source);
     if (scene->surface_count != system->surface_count)
@@ -142,19 +178,13 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
     if (!r) return RAD_ERROR_NO_MEMORY;
     r->ctx = ctx;
     r->system = system;
-    r->mesh = system->mesh;
+    r->solution = rad_system_view(system);
     r->view = view;
     r->settings = settings;
     r->seed = ctx->seed;
     r->surface_count = scene->surface_count;
-    const rad_mesh *mesh = system->mesh;
     r->surface_material = rad_alloc_zero(ctx, scene->surface_count + 1, sizeof *r->surface_material);
-    r->vertex_radiance = rad_alloc(ctx, mesh->vertex_count + 1, sizeof *r->vertex_radiance);
-    r->element_radiance = rad_alloc(ctx, mesh->element_count + 1, sizeof *r->element_radiance);
-    r->element_emission = rad_alloc(ctx, mesh->element_count + 1, sizeof *r->element_emission);
-    r->element_reflectance = rad_alloc(ctx, mesh->element_count + 1, sizeof *r->element_reflectance);
-    if (!r->surface_material || !r->vertex_radiance || !r->element_radiance ||
-        !r->element_emission || !r->element_reflectance) {
+    if (!r->surface_material) {
         rad_renderer_destroy(r);
         return RAD_ERROR_NO_MEMORY;
     }
@@ -162,9 +192,10 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
         r->surface_material[s] = scene->materials[scene->surfaces[s].material];
         r->surface_material[s].name = NULL; /* the scene may go away */
     }
-    status = rad_element_rays_create(ctx, mesh, &r->rays);
-    if (!status) status = rad_emitters_build(r);
-    if (!status) status = rad_reconstruct_build(r);
+    r->sky = scene->sky;
+    status = rad_lights_copy(ctx, scene->lights, scene->light_count, &r->lights);
+    if (!status) r->light_count = scene->light_count;
+    if (!status) status = leaves_build(r);
     if (!status) status = probe_camera(r);
     if (status) {
         rad_renderer_destroy(r);
@@ -206,7 +237,11 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
     *out = NULL;
     rad_context *ctx = r->ctx;
     double start = rad_seconds();
-    rad_status status = rad_reconstruct_prepare(r);
+    /* Leaves that appeared or vanished since the last picture (a hierarchy refining): rebuild
+     * what was made from them. */
+    rad_status status = r->generation == rad_solution_generation(r->solution) ? RAD_OK
+                                                                             : leaves_build(r);
+    if (!status) status = rad_reconstruct_prepare(r);
     rad_image *image = NULL;
     if (!status) status = rad_image_new(ctx, r->view.width, r->view.height, &image);
     if (status) return status;

@@ -20,6 +20,7 @@
 #include "scene/camera.h"
 #include "system/element_rays.h"
 #include "scene/scene.h"
+#include "system/solution_view.h"
 #include "system/system.h"
 
 typedef struct rad_render_settings {
@@ -31,6 +32,11 @@ typedef struct rad_render_settings {
 struct rad_renderer {
     rad_context *ctx;
     const rad_system *system;
+    /* The solution as the renderer reads it (system/solution_view.h), and its leaves: `mesh` and
+     * everything built from it below (rays, emitters, fits, radiance arrays) belong to one
+     * generation of the view and are rebuilt when the leaves change. */
+    const rad_solution_view *solution;
+    uint64_t generation;
     const rad_mesh *mesh;
     rad_element_rays *rays;
     rad_view view;
@@ -44,6 +50,11 @@ struct rad_renderer {
     /* Light sampling: the emitting elements' triangles, picked by power (light/emitters.h). */
     rad_emitter_table emitters;
     int32_t (*element_emitter)[2]; /* per element, its emitter triangles (-1: none) */
+    /* The scene's point, spot and directional lights and its sky (light/lights.h), copied:
+     * sampled at every final-gather point, the sky seen by rays that leave the scene. */
+    size_t light_count;
+    rad_light *lights;
+    rad_sky sky;
 
     /* Boundary vertices of the smooth reconstruction (reconstruct.c): their radiance is the
      * value at the vertex of a plane fitted to nearby element values, sum_k weight_k B_k over
@@ -85,7 +96,8 @@ enum {
     RAD_RENDER_DIM_GATHER = 1,
     RAD_RENDER_DIM_LIGHT = 2,
     RAD_RENDER_DIM_BOUNCE = 3,
-    RAD_RENDER_DIM_GATHER_BOUNCE = 1000
+    RAD_RENDER_DIM_GATHER_BOUNCE = 1000,
+    RAD_RENDER_DIM_SHORT = 2000 /* short gather rays, level L: 2000 + 2L (light), + 1 (ray) */
 };
 
 /* Number i of `per_sample` numbers of this sample (of count * per_sample for the pixel) in 2D
@@ -124,6 +136,10 @@ typedef struct rad_gather_origin {
     rad_vec3 normal;
     int light_samples, gather_rays;
     uint32_t ray; /* which of the gather_rays (its sampler index) */
+    /* A short gather ray's recursion (final_gather.c): level 0 at the camera hit; at level > 0
+     * the sampler run of each sample is `run` points, of which this ray is point `ray`. */
+    int level;
+    uint32_t run;
 } rad_gather_origin;
 
 /* The power heuristic (Veach & Guibas 1995) for a sample of the strategy with (count times
@@ -140,6 +156,15 @@ double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_elem
  * from `from` meets straight away at distance t on the front of emitting `element`. */
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
                                   rad_vec3 direction, const rad_element_hit *hit);
+
+/* final_gather.c: whether a gather ray from `from` that hits `hit` is short: nearer than a few
+ * element sizes, where the solution's piecewise values are too coarse to be seen (the floor
+ * just beside a block's base), so the radiance there is gathered once more instead. */
+int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit);
+/* final_gather.c: the reflected radiance leaving diffuse point y (element hit->element, front
+ * normal n) towards a short gather ray from `from`: one emitter sample and one gather ray. */
+void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
+                      const rad_element_hit *hit, rad_vec3 y, rad_vec3 n, double out[3]);
 
 /* second_pass.c: the radiance arriving at `origin` from `direction`, following mirrors and glass
  * up to max_depth bounces. Camera rays (`gather` NULL) take B / pi where they land, or a final

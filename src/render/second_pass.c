@@ -14,7 +14,8 @@
  *     paths also sample the emitters, combined with the BSDF sample by multiple importance
  *     sampling (the glossy highlight of a light would otherwise be specks);
  * for at most max_depth bounces, until it lands on a diffuse surface (radiance from the solution,
- * or a final gather there when asked for), leaves the scene (black) or hits the back of a
+ * or a final gather there when asked for), leaves the scene (the sky's radiance, black without
+ * one) or hits the back of a
  * one-sided surface (black: surfaces reflect from their front only, as in the solution).
  *
  * What this cannot show (docs/rendering.md): light that reaches a diffuse surface by way of a
@@ -77,7 +78,13 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
         else if (gather) counts->gather++;
         else counts->camera++;
         rad_element_hit hit;
-        if (!rad_element_rays_intersect(r->rays, origin, direction, tnear, INFINITY, &hit)) return;
+        if (!rad_element_rays_intersect(r->rays, origin, direction, tnear, INFINITY, &hit)) {
+            /* Left the scene: the sky, if there is one (light/lights.h). */
+            double sky[3];
+            rad_sky_radiance(&r->sky, direction, sky);
+            for (int c = 0; c < 3; ++c) out[c] += throughput[c] * sky[c];
+            return;
+        }
         const rad_material *material = rad_renderer_material(r, hit.element);
         rad_vec3 x = v3_add(origin, v3_scale(direction, hit.t));
         rad_vec3 normal = r->mesh->element_normal[hit.element];
@@ -87,7 +94,14 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
             double radiance[3];
             if (!gather && r->settings.final_gather > 0)
                 rad_final_gather(r, sample, &hit, x, normal, radiance);
-            else solution_radiance(r, &hit, gather, depth, direction, radiance);
+            else if (depth == 0 && rad_gather_is_short(r, gather, &hit)) {
+                /* Too near for the solution: gathered again from x, plus the emitted light
+                 * weighted as solution_radiance weighs it. */
+                rad_gather_short(r, sample, gather, &hit, x, normal, radiance);
+                const float *emitted = r->element_emission[hit.element];
+                double weight = rad_gather_emission_weight(r, gather, direction, &hit);
+                for (int c = 0; c < 3; ++c) radiance[c] += weight * emitted[c];
+            } else solution_radiance(r, &hit, gather, depth, direction, radiance);
             const float *emitted = r->element_emission[hit.element];
             if (glossy_pdf > 0 && (emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) {
                 double weight = rad_power_heuristic(glossy_pdf, rad_emitter_pdf(r, direction, &hit));
@@ -114,9 +128,10 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
              * straight from the emitters at glossy points. */
             /* This bounce's numbers: (emitter point, BSDF direction, lobe choice), drawn for the
              * camera sample, or for this gather ray among the pixel's. */
-            uint32_t per_sample = gather ? (uint32_t)gather->gather_rays : 1;
+            uint32_t per_sample = gather ? (gather->level ? gather->run : (uint32_t)gather->gather_rays) : 1;
             uint32_t ray = gather ? gather->ray : 0;
-            uint32_t dimension = (gather ? RAD_RENDER_DIM_GATHER_BOUNCE : RAD_RENDER_DIM_BOUNCE) +
+            uint32_t dimension = (gather ? RAD_RENDER_DIM_GATHER_BOUNCE + 100 * (uint32_t)gather->level
+                                         : RAD_RENDER_DIM_BOUNCE) +
                                  3 * (uint32_t)depth;
             double u_light[2], u_direction[2], u_choice[2];
             rad_sample_2d(sample, per_sample, ray, dimension, u_light);

@@ -716,6 +716,64 @@ static void read_camera(importer *im) {
     im->scene->camera = (rad_camera){eye, v3_add(eye, view), up, fov};
 }
 
+/* assimp's point, spot and directional lights become the scene's lights (docs/lights.md): the
+ * node of the light's name places them. glTF (KHR_lights_punctual) gives photometric strength,
+ * colour times intensity in candela (lux for directional lights), which assimp folds into the
+ * colour: it is turned into W/sr (W/m^2) at 179 lm/W. Other formats give a colour with no unit;
+ * it is taken as radiant intensity in W/sr (irradiance in W/m^2 for directional lights). Spot
+ * cones are half angles (assimp copies glTF's innerConeAngle and outerConeAngle). */
+static rad_status read_lights(importer *im) {
+    size_t ignored = 0;
+    for (unsigned i = 0; i < im->ai->mNumLights; ++i) {
+        const struct aiLight *source = im->ai->mLights[i];
+        rad_light_desc d;
+        memset(&d, 0, sizeof d);
+        d.name = source->mName.data;
+        if (source->mType == aiLightSource_POINT) d.type = RAD_LIGHT_TYPE_POINT;
+        else if (source->mType == aiLightSource_SPOT) d.type = RAD_LIGHT_TYPE_SPOT;
+        else if (source->mType == aiLightSource_DIRECTIONAL) d.type = RAD_LIGHT_TYPE_DIRECTIONAL;
+        else {
+            ++ignored;
+            continue;
+        }
+        transform world = identity;
+        find_node(im->ai->mRootNode, source->mName.data, &identity, &world, 0);
+        rad_vec3 position = transform_point(&world, v3(source->mPosition.x, source->mPosition.y,
+                                                       source->mPosition.z));
+        rad_vec3 direction = transform_direction(&world, v3(source->mDirection.x,
+                                                            source->mDirection.y,
+                                                            source->mDirection.z));
+        d.position[0] = position.x, d.position[1] = position.y, d.position[2] = position.z;
+        d.direction[0] = direction.x, d.direction[1] = direction.y, d.direction[2] = direction.z;
+        double color[3] = {source->mColorDiffuse.r, source->mColorDiffuse.g, source->mColorDiffuse.b};
+        double peak = fmax(color[0], fmax(color[1], color[2]));
+        if (!(peak > 0) || !isfinite(peak)) {
+            rad_warn(im->ctx, "%s: light '%s' has colour (%g, %g, %g); ignored", im->path,
+                     d.name, color[0], color[1], color[2]);
+            continue;
+        }
+        for (int c = 0; c < 3; ++c) d.color[c] = color[c] / peak;
+        d.strength = peak;
+        d.units = im->is_gltf ? RAD_LIGHT_CANDELA : RAD_LIGHT_WATTS;
+        d.inner_degrees = source->mAngleInnerCone * 180 / RAD_PI;
+        d.outer_degrees = source->mAngleOuterCone * 180 / RAD_PI;
+        if (d.type == RAD_LIGHT_TYPE_SPOT) {
+            d.outer_degrees = fmin(fmax(d.outer_degrees, 1e-3), 90);
+            d.inner_degrees = fmin(fmax(d.inner_degrees, 0), d.outer_degrees);
+        }
+        rad_status status = rad_scene_add_light(im->scene, &d);
+        if (status == RAD_ERROR_NO_MEMORY) return status;
+        if (status) rad_warn(im->ctx, "%s: %s; ignored", im->path, rad_context_error(im->ctx));
+    }
+    if (ignored)
+        rad_info(im->ctx, "%s: ignored %zu ambient or area lights: only emitting surfaces, point, "
+                 "spot and directional lights give light", im->path, ignored);
+    if (im->scene->light_count)
+        rad_info(im->ctx, "%s: %zu point, spot or directional lights (docs/lights.md)", im->path,
+                 im->scene->light_count);
+    return RAD_OK;
+}
+
 static void importer_free(importer *im) {
     rad_context *ctx = im->ctx;
     rad_free(ctx, im->material_of);
@@ -834,9 +892,11 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
     if (im.cut) rad_info(ctx, "%s: cut %zu non-convex faces into convex pieces", path, im.cut);
     if (im.joined)
         rad_info(ctx, "%s: joined %zu pairs of triangles into quads", path, im.joined);
-    if (im.ai->mNumLights > 0)
-        rad_info(ctx, "%s: ignored %u point/spot/directional lights: only emitting surfaces "
-                 "give light in radiosity", path, im.ai->mNumLights);
+    if (im.ai->mNumLights > 0 && (status = read_lights(&im))) {
+        rad_scene_destroy(im.scene);
+        importer_free(&im);
+        return status;
+    }
     *out = im.scene;
     importer_free(&im);
     return RAD_OK;

@@ -71,6 +71,15 @@ typedef struct record_header {
     uint64_t length; /* bytes that follow */
 } record_header;
 
+/* A light as it crosses the pipe (after the materials: a uint64 count, then each light and its
+ * name); IES profiles are never in a file's import, so none travels. */
+typedef struct light_record {
+    int32_t kind;
+    rad_vec3 position, direction;
+    double intensity[3];
+    double inner_angle, outer_angle;
+} light_record;
+
 typedef struct scene_counts {
     uint64_t vertices, polygon_vertices, polygons, surfaces, materials;
     int32_t has_camera;
@@ -131,6 +140,9 @@ static int write_scene(const rad_scene *scene) {
         length += sizeof(uint32_t) + string_bytes(scene->surfaces[i].name);
     for (size_t i = 0; i < scene->material_count; ++i)
         length += sizeof(rad_material) + string_bytes(scene->materials[i].name);
+    length += sizeof(uint64_t);
+    for (size_t i = 0; i < scene->light_count; ++i)
+        length += sizeof(light_record) + string_bytes(scene->lights[i].name);
     record_header header = {RECORD_SCENE, 0, length};
     if (write_all(&header, sizeof header) || write_all(&counts, sizeof counts) ||
         write_all(scene->vertices, counts.vertices * sizeof *scene->vertices) ||
@@ -153,6 +165,20 @@ static int write_scene(const rad_scene *scene) {
         copy.roughness = m->roughness;
         copy.ior = m->ior;
         if (write_all(&copy, sizeof copy) || write_string(m->name)) return -1;
+    }
+    uint64_t light_count = scene->light_count;
+    if (write_all(&light_count, sizeof light_count)) return -1;
+    for (size_t i = 0; i < scene->light_count; ++i) {
+        const rad_light *l = &scene->lights[i];
+        light_record record;
+        memset(&record, 0, sizeof record);
+        record.kind = (int32_t)l->kind;
+        record.position = l->position;
+        record.direction = l->direction;
+        memcpy(record.intensity, l->intensity, sizeof record.intensity);
+        record.inner_angle = l->inner_angle;
+        record.outer_angle = l->outer_angle;
+        if (write_all(&record, sizeof record) || write_string(l->name)) return -1;
     }
     return 0;
 }
@@ -394,6 +420,27 @@ static rad_status read_scene(rad_context *ctx, const char *path, cursor *c, rad_
         material->name = NULL;
         if (!status) status = take_string(ctx, c, &material->name);
         if (!status) scene->material_count++;
+    }
+    uint64_t light_count = 0;
+    if (!status && take(c, &light_count, sizeof light_count)) status = RAD_ERROR_PARSE;
+    for (uint64_t i = 0; !status && i < light_count; ++i) {
+        light_record record;
+        rad_light light;
+        memset(&light, 0, sizeof light);
+        if (take(c, &record, sizeof record) || record.kind < RAD_LIGHT_POINT ||
+            record.kind > RAD_LIGHT_DIRECTIONAL) {
+            status = RAD_ERROR_PARSE;
+            break;
+        }
+        light.kind = (rad_light_kind)record.kind;
+        light.position = record.position;
+        light.direction = record.direction;
+        memcpy(light.intensity, record.intensity, sizeof light.intensity);
+        light.inner_angle = record.inner_angle;
+        light.outer_angle = record.outer_angle;
+        status = take_string(ctx, c, &light.name);
+        if (!status) status = rad_scene_append_light(scene, &light);
+        rad_free(ctx, light.name);
     }
     if (!status && (c->p != c->end || !scene_consistent(scene))) status = RAD_ERROR_PARSE;
     if (!status) {

@@ -32,6 +32,7 @@ void rad_scene_destroy(rad_scene *scene) {
     rad_free(ctx, scene->vertices);
     rad_free(ctx, scene->polygon_vertices);
     rad_free(ctx, scene->polygons);
+    rad_lights_free(ctx, scene->lights, scene->light_count);
     rad_free(ctx, scene->source);
     rad_free(ctx, scene);
 }

@@ -5,6 +5,7 @@
 
 #include "core/context.h"
 #include "core/vec3.h"
+#include "light/lights.h"
 
 #include <stdint.h>
 
@@ -73,6 +74,12 @@ struct rad_scene {
     rad_material *materials;
     int has_camera;
     rad_camera camera;
+
+    /* Sources that are not surfaces (light/lights.h, scene_lights.c): point, spot and
+     * directional lights from the file or the caller (the sun), and the sky. */
+    size_t light_count, light_capacity;
+    rad_light *lights;
+    rad_sky sky;
 };
 
 /* An empty scene of either kind. */
@@ -93,6 +100,9 @@ rad_status rad_scene_add_polygon(rad_scene *scene, uint32_t surface, const uint3
 /* A convex polygon from positions (adds the vertices). */
 rad_status rad_scene_add_polygon_points(rad_scene *scene, uint32_t surface,
                                         const rad_vec3 *points, uint32_t count);
+
+/* Appends a copy of `light` (its name copied; its IES profile, if any, now owned by the scene). */
+rad_status rad_scene_append_light(rad_scene *scene, const rad_light *light);
 
 /* Geometry of a polygon: unit normal (Newell's method), area, centroid. */
 rad_vec3 rad_polygon_normal(const rad_scene *scene, const rad_polygon *polygon);

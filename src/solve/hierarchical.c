@@ -45,6 +45,10 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
         return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "the hierarchical solver needs geometry; a patch system (.ffm) has only "
                         "its given form factors");
+    if (s->light_emission)
+        return rad_fail(s->ctx, RAD_ERROR_UNSUPPORTED,
+                        "the hierarchical solver does not take point, spot or directional lights "
+                        "or a sky yet (docs/lights.md); use another solver");
     if (o->link_error < 0 || isnan(o->link_error))
         return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "the link error must be a positive number, not %g", o->link_error);
@@ -64,16 +68,34 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
     return RAD_OK;
 }
 
+/* The step's line in the log: what the hierarchy holds and how far the oracle is from met. */
+static void report_step(rad_system *s, const rad_hier *hier, int iteration) {
+    rad_hier_stats stats = rad_hier_get_stats(hier);
+    rad_info(s->ctx,
+             "hierarchical step %d: %zu links (%zu to clusters), %zu leaves, %zu clusters, "
+             "%zu refined, largest remaining error %.3g of the threshold, %d gathering rounds",
+             iteration, stats.links, stats.cluster_links, stats.leaves, stats.clusters,
+             stats.refined, stats.largest_error, stats.solve_rounds);
+}
+
 static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *residual) {
-    (void)iteration;
     rad_hier *hier = run->state;
     rad_status status = rad_hier_refine(hier);
     if (status) return status;
     rad_hier_stats stats = rad_hier_get_stats(hier);
     *residual = (double)stats.refined;
-    if (stats.refined == 0) return RAD_OK;
-    status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
-    if (!status) evaluate(run->system, hier);
+    if (stats.refined > 0) {
+        status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
+        if (!status) evaluate(run->system, hier);
+    }
+    if (!status) report_step(run->system, hier, iteration);
+    if (!status && stats.budget_reached && stats.links <= 1)
+        return RAD_ERROR_MEMORY_BUDGET; /* not even the top cluster's first links fit */
+    if (!status && stats.budget_reached) {
+        /* The oracle is not met: the best solution within the budget, not converged. */
+        run->memory_budget_reached = 1;
+        *residual = fmax(*residual, stats.largest_error);
+    }
     return status;
 }
 

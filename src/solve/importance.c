@@ -232,6 +232,7 @@ static void importance_end(rad_solver_run *run) {
 
 static const rad_method_option importance_options[] = {
     {"overshoot", "overshooting (Feda & Purgathofer 1992)"},
+    {"ambient", "add the ambient term"},
 };
 static const rad_solver_variant importance_variants[] = {{"importance", 0, 0}};
 
@@ -239,6 +240,7 @@ const rad_solver_impl rad_solver_importance = {
     {"importance", "shooting ordered by what the camera sees (Smits, Arvo & Salesin 1992)",
      RAD_SOLVER_SHOOTS | RAD_SOLVER_ITERATIVE | RAD_SOLVER_NEEDS_CAMERA | RAD_SOLVER_KEEPS_UNSHOT |
          RAD_SOLVER_NEEDS_UNSHOT,
-     importance_options, 1, importance_variants, 1, 0},
+     importance_options, sizeof importance_options / sizeof importance_options[0],
+     importance_variants, 1, 0},
     importance_begin, importance_step, importance_end,
 };

@@ -86,6 +86,8 @@ static void compute_ambient(rad_shooting *state) {
 rad_status rad_shooting_begin(rad_solver_run *run, rad_shooting *state) {
     rad_system *s = run->system;
     memset(state, 0, sizeof *state);
+    state->overshoot = rad_run_option(run, "overshoot", run->options->overshoot) != 0;
+    state->with_ambient = rad_run_option(run, "ambient", run->options->ambient) != 0;
     state->row = rad_alloc(s->ctx, s->element_count, sizeof *state->row);
     state->patch_power = rad_alloc(s->ctx, s->patch_count, sizeof *state->patch_power);
     state->chunk_unshot = rad_alloc(s->ctx, chunk_count(s) + 1, sizeof *state->chunk_unshot);
@@ -101,7 +103,7 @@ rad_status rad_shooting_begin(rad_solver_run *run, rad_shooting *state) {
     /* A resumed run starts from whatever is unshot now. */
     pass(run, state, NULL, NULL);
     compute_ambient(state);
-    if (run->options->ambient) memcpy(s->ambient, state->ambient, sizeof s->ambient);
+    if (state->with_ambient) memcpy(s->ambient, state->ambient, sizeof s->ambient);
     return RAD_OK;
 }
 
@@ -123,7 +125,7 @@ rad_status rad_shooting_shoot(rad_solver_run *run, rad_shooting *state, size_t s
     /* Take its unshot radiosity; it keeps (1 - omega) of it, less the overshoot. */
     double shot[3], over[3] = {0, 0, 0};
     rad_system_patch_mean(s, (const rad_rgb *)s->unshot, shooter, shot);
-    if (run->options->overshoot) {
+    if (state->overshoot) {
         double reflectance[3];
         rad_system_patch_mean(s, (const rad_rgb *)s->reflectance, shooter, reflectance);
         for (int c = 0; c < 3; ++c) over[c] = reflectance[c] * state->ambient[c];
@@ -151,8 +153,8 @@ double rad_shooting_finish(rad_solver_run *run, rad_shooting *state) {
     for (size_t p = 0; p < s->patch_count; ++p) left += fabs(state->patch_power[p]);
     double fraction = state->emitted_power > 0 ? left / state->emitted_power : 0;
     run->unshot_fraction = fraction;
-    if (run->options->overshoot || run->options->ambient) compute_ambient(state);
-    if (run->options->ambient) memcpy(s->ambient, state->ambient, sizeof s->ambient);
+    if (state->overshoot || state->with_ambient) compute_ambient(state);
+    if (state->with_ambient) memcpy(s->ambient, state->ambient, sizeof s->ambient);
     return fraction;
 }
 

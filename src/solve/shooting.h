@@ -18,6 +18,7 @@ typedef struct rad_shooting {
     double *patch_power;        /* rad_shooting_unshot_power of every patch */
     double unshot_total[3];     /* sum over elements of dB A, per channel */
     double (*chunk_unshot)[3];  /* scratch: each chunk of patches' share of unshot_total */
+    int overshoot, with_ambient; /* the solver's options "overshoot" and "ambient" */
 } rad_shooting;
 
 /* Unshot power of a patch, sum over its elements and channels of dB A (signed); valid after

@@ -72,6 +72,16 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
     double omega = options->omega == 0 ? 1.0 : options->omega;
     if (!(omega > 0 && omega < 2))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "omega must be in (0, 2), not %g", omega);
+    /* The solver's own options: only the names it registered. */
+    rad_status checked = rad_options_check(ctx, options->method_options, impl->info.options,
+                                           impl->info.option_count, "solver", impl->info.name);
+    if (checked) return checked;
+    /* A solver that still reads its option from the shared struct gets the bag's value there
+     * (the hierarchical solver's link_error, until it reads "link-error" itself). */
+    rad_solve_options resolved = *options;
+    resolved.link_error = rad_options_number(options->method_options, "link-error",
+                                             options->link_error);
+    options = &resolved;
 
     double start = rad_seconds(), callback_seconds = 0;
     rad_solve_report local = {0};
@@ -117,6 +127,10 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                 break;
             int asked_to_stop = options->on_iteration &&
                 emit_iteration(&run, impl, iteration, residual, start, &callback_seconds);
+            if (run.memory_budget_reached) {
+                local.stop = RAD_STOP_MEMORY_BUDGET;
+                break;
+            }
             if (residual <= tolerance || !iterative) {
                 local.converged = 1;
                 local.stop = RAD_STOP_CONVERGED;

@@ -5,6 +5,7 @@
 #ifndef RAD_SOLVE_SOLVER_H
 #define RAD_SOLVE_SOLVER_H
 
+#include "core/options.h"
 #include "system/system.h"
 
 typedef struct rad_solver_run {
@@ -20,7 +21,15 @@ typedef struct rad_solver_run {
     double unshot_fraction; /* set by shooting steps: unshot power / emitted power */
     int importance_shots;   /* set by the importance solver's begin */
     void *state;          /* the solver's own */
+    int memory_budget_reached; /* set by a step that cannot go on within the memory budget */
 } rad_solver_run;
+
+/* The number the solver's own option `name` is set to in the caller's option bag
+ * (rad_solve_options.method_options, checked by the driver against the solver's registered
+ * options), else `fallback`: the older per-solver field of rad_solve_options. */
+static inline double rad_run_option(const rad_solver_run *run, const char *name, double fallback) {
+    return rad_options_number(run->options->method_options, name, fallback);
+}
 
 typedef struct rad_solver_impl {
     rad_solver_info info; /* what the public registry shows (rad_solver_at) */

@@ -1,6 +1,8 @@
 /* system.c - building systems, their bookkeeping and the public getters. */
 #include "system/system.h"
 
+#include "system/solution_view.h"
+
 #include "scene/scene.h"
 
 #include <math.h>
@@ -36,6 +38,8 @@ rad_status rad_system_alloc(rad_context *ctx, size_t elements, size_t patches, s
         return rad_fail(ctx, RAD_ERROR_NO_MEMORY, "out of memory for a system of %zu elements",
                         elements);
     }
+    s->view.ops = &rad_uniform_view_ops;
+    s->view.state = s;
     *out = s;
     return RAD_OK;
 }
@@ -43,6 +47,7 @@ rad_status rad_system_alloc(rad_context *ctx, size_t elements, size_t patches, s
 void rad_system_destroy(rad_system *s) {
     if (!s) return;
     rad_context *ctx = s->ctx;
+    rad_system_set_view(s, NULL, NULL);
     rad_ff_provider_destroy(s->ff);
     rad_mesh_destroy(s->mesh);
     rad_scene_destroy(s->geometry);
@@ -51,6 +56,7 @@ void rad_system_destroy(rad_system *s) {
     rad_free(ctx, s->area);
     rad_free(ctx, s->reflectance);
     rad_free(ctx, s->emission);
+    rad_free(ctx, s->light_emission);
     rad_free(ctx, s->element_patch);
     rad_free(ctx, s->element_surface);
     rad_free(ctx, s->patch_first);

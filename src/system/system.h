@@ -15,6 +15,13 @@ struct rad_mesh;
 
 typedef double rad_rgb[3];
 
+/* The solution as the outputs read it (system/solution_view.h). */
+struct rad_solution_view_ops;
+typedef struct rad_solution_view {
+    const struct rad_solution_view_ops *ops;
+    void *state;
+} rad_solution_view;
+
 struct rad_system {
     rad_context *ctx;
     size_t element_count, patch_count, surface_count;
@@ -22,7 +29,10 @@ struct rad_system {
     /* Elements. */
     double *area;
     rad_rgb *reflectance;
-    rad_rgb *emission; /* radiosity units: B = pi L for Lambertian emitters */
+    rad_rgb *emission; /* radiosity units: B = pi L for Lambertian emitters, plus light_emission */
+    rad_rgb *light_emission; /* the part of `emission` that is the direct light of the point,
+                                spot and directional lights and the sky reflected at once
+                                (lights_direct.c): rho E_direct; NULL without such sources */
     uint32_t *element_patch;
     uint32_t *element_surface;
 
@@ -43,6 +53,8 @@ struct rad_system {
     struct rad_mesh *mesh; /* geometric scenes only; owned */
     struct rad_scene *geometry; /* geometric scenes only: a copy of the input polygons for the
                                    hierarchical solver (src/hierarchy); owned */
+    rad_solution_view view; /* what render, bake and solution files read: the uniform mesh
+                               (solution_view.h) unless a solver installs another */
 };
 
 /* Allocates the arrays of a system with the given counts (zeroed). */
@@ -64,6 +76,17 @@ void rad_system_patch_mean(const rad_system *system, const rad_rgb *per_element,
 /* Surface means of a per-element quantity (area-weighted), into surface_count entries. */
 void rad_system_surface_means(const rad_system *system, const rad_rgb *per_element,
                               rad_rgb *per_surface);
+
+/* The light pre-pass (lights_direct.c): the irradiance each element gets straight from the
+ * scene's point, spot and directional lights and its sky, with visibility, reflected once into
+ * light_emission and added to emission, so every solver starts from it as emitted radiosity. */
+rad_status rad_system_add_light_emission(rad_system *system, const struct rad_scene *scene);
+
+/* The radiosity element e emits itself, channel c (its material's emission, without the light
+ * of the pre-pass): what makes it a light source for the renderer. */
+static inline double rad_system_own_emission(const rad_system *s, size_t e, int c) {
+    return s->light_emission ? s->emission[e][c] - s->light_emission[e][c] : s->emission[e][c];
+}
 
 /* Geometric systems (src/mesh, src/formfactor): builds mesh and provider. */
 rad_status rad_system_from_geometry(rad_context *ctx, const struct rad_scene *scene,

@@ -57,6 +57,10 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
     if (!status) status = rad_system_check_finite(s, scene->source);
     if (!status) status = rad_ff_create(ctx, scene, mesh, ff_options, &s->ff);
     if (!status) status = rad_scene_copy_geometry(ctx, scene, &s->geometry);
+    if (!status && (scene->light_count || scene->sky.kind != RAD_SKY_OFF)) {
+        emits = 1;
+        status = rad_system_add_light_emission(s, scene);
+    }
     if (status) {
         rad_system_destroy(s);
         return status;

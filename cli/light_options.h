@@ -1,0 +1,33 @@
+/* light_options.h - the light flags of the commands that solve or draw a scene (solve, render,
+ * bake, pathtrace): --sky, --sun and --ies (docs/lights.md). Checked with the other flags (a
+ * usage error, exit 2), then applied to the scene as it is loaded (cli_load_scene), before any
+ * system is built from it. */
+#ifndef RAD_CLI_LIGHT_OPTIONS_H
+#define RAD_CLI_LIGHT_OPTIONS_H
+
+#include "cli.h"
+
+typedef struct cli_light_args {
+    const char *sky, *sun, *ies; /* as given; NULL when not */
+    rad_sky_desc sky_desc;
+    rad_light_desc sun_desc;
+    char ies_name[256];
+    const char *ies_path;
+} cli_light_args;
+
+/* The three entries of an option table: write CLI_LIGHT_OPTIONS(&args) among a command's own. */
+#define CLI_LIGHT_OPTIONS(args)                                                                   \
+    {"--sky", CLI_STRING, &(args)->sky,                                                           \
+     "[uniform:|cie-overcast:]L  sky radiance L (or R,G,B; overcast: at the zenith) above +Y"},   \
+    {"--sun", CLI_STRING, &(args)->sun,                                                           \
+     "X,Y,Z,E  sun towards X,Y,Z with irradiance E (W/m^2)"},                                     \
+    {"--ies", CLI_STRING, &(args)->ies, "[NAME=]FILE  IES LM-63 profile for light NAME (all)"}
+
+/* Checks the values (usage error: message printed, EXIT_USAGE; 0 when fine) and registers the
+ * flags so that cli_load_scene applies them to the scene it loads. */
+int cli_lights_check(const char *command, cli_light_args *args);
+
+/* Applies the registered flags to a loaded scene (nothing when none were checked). */
+rad_status cli_lights_apply(rad_scene *scene);
+
+#endif

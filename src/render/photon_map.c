@@ -1,0 +1,191 @@
+/* photon_map.c - the photon map's hash grid and its density estimates (see photon_map.h;
+ * Jensen 1996, 2001 ch. 6-7). */
+#include "render/photon_map.h"
+
+#include "core/sampler.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SAME_SURFACE_COSINE 0.9
+
+static int64_t cell_of(double coordinate, double cell) { return (int64_t)floor(coordinate / cell); }
+
+static uint32_t bucket_of(int64_t cx, int64_t cy, int64_t cz, size_t bucket_count) {
+    uint64_t h = rad_mix64((uint64_t)cx * 0x9e3779b97f4a7c15ull ^
+                           rad_mix64((uint64_t)cy + 0x632be59bd9b4e019ull * (uint64_t)cz));
+    return (uint32_t)(h & (bucket_count - 1));
+}
+
+rad_status rad_photon_map_build(rad_context *ctx, rad_photon *photons, size_t count, double cell,
+                                int threads, rad_photon_map *out) {
+    memset(out, 0, sizeof *out);
+    out->cell = cell;
+    if (!(cell > 0) || !isfinite(cell)) {
+        rad_free(ctx, photons);
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "photon map: the radius must be positive");
+    }
+    if (count > UINT32_MAX - 1) {
+        rad_free(ctx, photons);
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "photon map: more than 2^32 photons");
+    }
+    size_t buckets = 1;
+    while (buckets < count) buckets <<= 1;
+    uint32_t *key = rad_alloc(ctx, count ? count : 1, sizeof *key);
+    uint32_t *start = rad_alloc_zero(ctx, buckets + 1, sizeof *start);
+    rad_photon *sorted = rad_alloc(ctx, count ? count : 1, sizeof *sorted);
+    if (!key || !start || !sorted) {
+        rad_free(ctx, key);
+        rad_free(ctx, start);
+        rad_free(ctx, sorted);
+        rad_free(ctx, photons);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    /* Each photon's bucket, in parallel. */
+    long long n = (long long)count;
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (long long i = 0; i < n; ++i) {
+        rad_vec3 p = photons[i].position;
+        key[i] = bucket_of(cell_of(p.x, cell), cell_of(p.y, cell), cell_of(p.z, cell), buckets);
+    }
+    /* A stable counting sort by bucket: the order inside a bucket is the input order. */
+    for (size_t i = 0; i < count; ++i) ++start[key[i] + 1];
+    for (size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+    uint32_t *next = rad_alloc(ctx, buckets, sizeof *next);
+    if (!next) {
+        rad_free(ctx, key);
+        rad_free(ctx, start);
+        rad_free(ctx, sorted);
+        rad_free(ctx, photons);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    memcpy(next, start, buckets * sizeof *next);
+    for (size_t i = 0; i < count; ++i) sorted[next[key[i]]++] = photons[i];
+    rad_free(ctx, next);
+    rad_free(ctx, key);
+    rad_free(ctx, photons);
+    out->photons = sorted;
+    out->count = count;
+    out->bucket_start = start;
+    out->bucket_count = buckets;
+    return RAD_OK;
+}
+
+void rad_photon_map_free(rad_context *ctx, rad_photon_map *map) {
+    if (!map) return;
+    rad_free(ctx, map->photons);
+    rad_free(ctx, map->bucket_start);
+    memset(map, 0, sizeof *map);
+}
+
+/* The distinct buckets of the 27 cells around x (two cells may share a bucket). */
+static int query_buckets(const rad_photon_map *map, rad_vec3 x, uint32_t buckets[27]) {
+    int64_t cx = cell_of(x.x, map->cell), cy = cell_of(x.y, map->cell),
+            cz = cell_of(x.z, map->cell);
+    int n = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                uint32_t b = bucket_of(cx + dx, cy + dy, cz + dz, map->bucket_count);
+                int seen = 0;
+                for (int i = 0; i < n && !seen; ++i) seen = buckets[i] == b;
+                if (!seen) buckets[n++] = b;
+            }
+    return n;
+}
+
+static int same_surface(const rad_photon *p, rad_vec3 normal) {
+    return p->normal[0] * normal.x + p->normal[1] * normal.y + p->normal[2] * normal.z >
+           SAME_SURFACE_COSINE;
+}
+
+/* A max-heap on distance2 of at most k entries: the k nearest so far. */
+static void heap_push(rad_photon_near *heap, size_t *size, size_t k, rad_photon_near item) {
+    if (*size == k) {
+        if (item.distance2 >= heap[0].distance2) return;
+        /* Replace the farthest and sift down. */
+        size_t i = 0;
+        for (;;) {
+            size_t l = 2 * i + 1, r = l + 1, m = i;
+            double dm = item.distance2;
+            if (l < k && heap[l].distance2 > dm) { m = l; dm = heap[l].distance2; }
+            if (r < k && heap[r].distance2 > dm) m = r;
+            if (m == i) break;
+            heap[i] = heap[m];
+            i = m;
+        }
+        heap[i] = item;
+        return;
+    }
+    size_t i = (*size)++;
+    while (i > 0) {
+        size_t parent = (i - 1) / 2;
+        if (heap[parent].distance2 >= item.distance2) break;
+        heap[i] = heap[parent];
+        i = parent;
+    }
+    heap[i] = item;
+}
+
+static int near_order(const void *a, const void *b) {
+    const rad_photon_near *x = a, *y = b;
+    if (x->distance2 != y->distance2) return x->distance2 < y->distance2 ? -1 : 1;
+    return x->photon < y->photon ? -1 : x->photon > y->photon; /* ties: array order */
+}
+
+size_t rad_photon_map_nearest(const rad_photon_map *map, rad_vec3 x, rad_vec3 normal,
+                              double radius, size_t k, rad_photon_near *found, double *radius2) {
+    size_t size = rad_photon_map_nearest_heap(map, x, normal, radius, k, found, radius2);
+    qsort(found, size, sizeof *found, near_order);
+    return size;
+}
+
+size_t rad_photon_map_nearest_heap(const rad_photon_map *map, rad_vec3 x, rad_vec3 normal,
+                                   double radius, size_t k, rad_photon_near *found,
+                                   double *radius2) {
+    double r2 = radius * radius;
+    *radius2 = r2;
+    if (map->count == 0 || k == 0) return 0;
+    uint32_t buckets[27];
+    int nb = query_buckets(map, x, buckets);
+    size_t size = 0;
+    for (int b = 0; b < nb; ++b)
+        for (uint32_t i = map->bucket_start[buckets[b]]; i < map->bucket_start[buckets[b] + 1]; ++i) {
+            const rad_photon *p = &map->photons[i];
+            rad_vec3 d = v3_sub(p->position, x);
+            double d2 = v3_dot(d, d);
+            if (d2 >= r2 || !same_surface(p, normal)) continue;
+            heap_push(found, &size, k, (rad_photon_near){p, d2});
+        }
+    if (size == k) *radius2 = found[0].distance2;
+    return size;
+}
+
+void rad_photon_map_irradiance(const rad_photon_map *map, rad_vec3 x, rad_vec3 normal,
+                               double radius, size_t k, rad_photon_near *scratch, double out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    if (map->count == 0) return;
+    if (k > 0) {
+        double r2;
+        size_t n = rad_photon_map_nearest_heap(map, x, normal, radius, k, scratch, &r2);
+        /* Of k found, the k-th (the heap's first) only sets the radius. */
+        size_t first = n == k && k > 1 ? 1 : 0;
+        if (!(r2 > 0)) return;
+        for (size_t i = first; i < n; ++i)
+            for (int c = 0; c < 3; ++c) out[c] += scratch[i].photon->power[c];
+        for (int c = 0; c < 3; ++c) out[c] /= RAD_PI * r2;
+        return;
+    }
+    double r2 = radius * radius;
+    uint32_t buckets[27];
+    int nb = query_buckets(map, x, buckets);
+    for (int b = 0; b < nb; ++b)
+        for (uint32_t i = map->bucket_start[buckets[b]]; i < map->bucket_start[buckets[b] + 1]; ++i) {
+            const rad_photon *p = &map->photons[i];
+            rad_vec3 d = v3_sub(p->position, x);
+            if (v3_dot(d, d) >= r2 || !same_surface(p, normal)) continue;
+            for (int c = 0; c < 3; ++c) out[c] += p->power[c];
+        }
+    for (int c = 0; c < 3; ++c) out[c] /= RAD_PI * r2;
+}

@@ -1,0 +1,672 @@
+/* photonmap.c - photon mapping (Jensen 1996, "Global illumination using photon maps"; Jensen
+ * 2001, "Realistic Image Synthesis Using Photon Mapping"), docs/photonmapping.md.
+ *
+ * Pass 1, photon tracing: photons leave the emitter table (light/emitters.h) by power, cosine
+ * distributed, with equal flux; at each surface with a diffuse or glossy lobe they are stored
+ * (the global map; the caustic map too when every bounce so far was a mirror or glass one:
+ * L S+ D paths), then scattered by the path tracer's BSDFs (render/bsdf.h) with Russian
+ * roulette on the scattering weight, so stored flux stays near the emitted flux. More photons
+ * are traced for the caustic map alone (only specular bounces are followed).
+ * Then irradiance is precomputed at every fourth global photon (Christensen 1999, "Faster photon
+ * map global illumination") into a map of its own.
+ * Pass 2, per camera sample: follow mirrors and glass from the camera; at the first point with a
+ * diffuse or glossy lobe add emitted light, direct light (one emitter sample, as the path tracer's
+ * next-event estimation), caustics (the caustic map's k nearest photons through the BSDF) and
+ * indirect light: final-gather rays, cosine distributed, each ending (through mirrors and glass)
+ * at a diffuse point y whose radiance is reflectance/pi times the precomputed irradiance nearest
+ * to y. The delta lobes of that point go on with one BSDF sample.
+ * --progressive: passes with fresh photons and radii shrinking as in progressive photon mapping
+ * (Hachisuka, Ogaki & Jensen 2008) in its probabilistic form (Knaus & Zwicker 2011: r_{i+1}^2 =
+ * r_i^2 (i + alpha) / (i + 1)), each pass's image averaged in, so bias and noise both fall.
+ * Every random number is an Owen-scrambled Sobol' point (core/sampler.h) indexed by the photon
+ * or the pixel sample; photons are traced in fixed blocks whose stores are joined in block
+ * order, so the maps and the image do not depend on the thread count. */
+#include "render/pathtrace.h"
+#include "render/photon_map.h"
+
+#include "image/image.h"
+
+#include <math.h>
+#include <omp.h>
+#include <string.h>
+#include <time.h>
+
+#define DEFAULT_SIZE 512
+#define DEFAULT_SPP 4
+#define DEFAULT_GATHER 16
+#define DEFAULT_PHOTONS 200000
+#define DEFAULT_NEAREST 50
+#define DEFAULT_ALPHA (2.0 / 3.0)
+#define PHOTON_BLOCK 4096
+#define MAX_PHOTON_BOUNCES 64
+#define MAX_SPECULAR_CHAIN 16  /* mirror and glass bounces followed from the camera or a gather */
+#define STORES_PER_PHOTON 4.0  /* budget: photons stored per photon emitted, a generous average */
+#define IRRADIANCE_STRIDE 4    /* irradiance precomputed at one global photon in four */
+#define PHOTON_SALT 0x7f4a7c159e3779b9ull
+#define GATHER_SALT 0x94d049bb133111ebull
+#define GATHER_DIM 256 /* the gather samplers' first dimension, past the camera path's */
+
+static double cpu_seconds(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return t.tv_sec + t.tv_nsec * 1e-9;
+}
+
+/* The next surface along origin + t direction: its material, the hit and the point; NULL when the
+ * ray leaves the scene or meets the back of a one-sided surface (absorbed). */
+static const rad_material *next_surface(const rad_tracer *t, rad_vec3 origin, rad_vec3 direction,
+                                        uint64_t *rays, rad_hit *hit, rad_vec3 *x) {
+    ++*rays;
+    if (!rad_rays_intersect(t->rays, origin, direction, t->rays->epsilon, INFINITY, hit))
+        return NULL;
+    const rad_material *m = t->polygon_material[hit->polygon];
+    if (!hit->front && m->kind != RAD_MATERIAL_GLASS) return NULL;
+    *x = v3_add(origin, v3_scale(direction, hit->t));
+    return m;
+}
+
+/* ---- photon tracing ----------------------------------------------------------------------- */
+
+typedef struct photon_list {
+    rad_photon *items;
+    size_t count, capacity;
+} photon_list;
+
+static int list_push(rad_context *ctx, photon_list *list, const rad_photon *photon) {
+    if (list->count == list->capacity) {
+        size_t capacity = list->capacity ? 2 * list->capacity : 2 * PHOTON_BLOCK;
+        rad_photon *grown = rad_realloc(ctx, list->items, capacity, sizeof *grown);
+        if (!grown) return 0;
+        list->items = grown;
+        list->capacity = capacity;
+    }
+    list->items[list->count++] = *photon;
+    return 1;
+}
+
+static rad_photon make_photon(rad_vec3 x, const double power[3], rad_vec3 normal, rad_vec3 wi) {
+    rad_photon p;
+    p.position = x;
+    for (int c = 0; c < 3; ++c) p.power[c] = (float)power[c];
+    p.normal[0] = (float)normal.x, p.normal[1] = (float)normal.y, p.normal[2] = (float)normal.z;
+    p.incoming[0] = (float)wi.x, p.incoming[1] = (float)wi.y, p.incoming[2] = (float)wi.z;
+    return p;
+}
+
+/* Cosine-distributed direction around n. */
+static rad_vec3 cosine_direction(rad_vec3 n, double u1, double u2) {
+    rad_vec3 t, b;
+    v3_basis(n, &t, &b);
+    double r = sqrt(u1), phi = 2 * RAD_PI * u2;
+    double z = sqrt(fmax(0, 1 - u1));
+    return v3_normalize(v3_add(v3_scale(n, z), v3_add(v3_scale(t, r * cos(phi)),
+                                                       v3_scale(b, r * sin(phi)))));
+}
+
+/* One photon: emitted with flux L_e pi A_k / P_k (the emitted power over the probability of
+ * its point, before dividing by the photon count), then scattered until absorbed. With
+ * `caustic_only`, only L S+ D photons are followed and stored. Returns 0 when out of memory. */
+static int trace_photon(const rad_tracer *t, uint64_t seed, uint64_t index, int caustic_only,
+                        photon_list *global, photon_list *caustic, uint64_t *rays) {
+    rad_sampler sampler = rad_sampler_make(seed, index);
+    double u[4];
+    rad_sampler_4d(&sampler, u);
+    rad_vec3 origin;
+    size_t k = rad_emitter_table_sample_point(&t->emitters, u[0], u[1], &origin);
+    const rad_emitter *light = &t->emitters.emitters[k];
+    double scale = RAD_PI * light->area / rad_emitter_table_probability(&t->emitters, k);
+    double power[3];
+    for (int c = 0; c < 3; ++c) power[c] = light->radiance[c] * scale;
+    rad_vec3 direction = cosine_direction(light->normal, u[2], u[3]);
+    int specular_path = 1;
+    for (int bounce = 0; bounce < MAX_PHOTON_BOUNCES; ++bounce) {
+        rad_hit hit;
+        rad_vec3 x;
+        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x);
+        if (!m) break;
+        rad_vec3 wi = v3_scale(direction, -1);
+        /* Store where a diffuse or glossy lobe can reflect it towards the camera. */
+        if (rad_bsdf_has_smooth_lobe(m)) {
+            rad_photon p = make_photon(x, power, hit.normal, wi);
+            if (!caustic_only && !list_push(t->ctx, global, &p)) return 0;
+            if (specular_path && bounce > 0 && !list_push(t->ctx, caustic, &p)) return 0;
+        }
+        /* Scatter: the BSDF is symmetric, so sampling it from wi gives the outgoing direction
+         * and the flux weight f |cos_out| / pdf. */
+        rad_sampler_4d(&sampler, u);
+        rad_bsdf_sample s;
+        if (rad_bsdf_sample_direction(m, hit.normal, wi, u, &s) == RAD_LOBE_NONE) break;
+        if (caustic_only && !s.delta) break;
+        if (s.lobe == RAD_LOBE_TRANSMISSION) /* flux does not scale by eta^2 as radiance does */
+            for (int c = 0; c < 3; ++c) s.weight[c] = fmax(0, m->specular[c]);
+        specular_path = specular_path && s.delta;
+        /* Russian roulette: survive with the largest weight (at most 1), so a surviving photon
+         * keeps its flux when the surface is grey. */
+        double q = fmin(1, fmax(s.weight[0], fmax(s.weight[1], s.weight[2])));
+        if (!(u[3] < q)) break;
+        for (int c = 0; c < 3; ++c) power[c] *= s.weight[c] / q;
+        origin = x;
+        direction = s.direction;
+    }
+    return 1;
+}
+
+typedef struct photon_block {
+    photon_list global, caustic;
+} photon_block;
+
+/* Traces photons [first, first + count) of the sequence in blocks, in parallel, and joins the
+ * blocks' stores in block order; each stored photon's flux is divided by `divisor_global` or
+ * `divisor_caustic` (the photon counts). */
+static rad_status trace_photons(const rad_tracer *t, uint64_t seed, uint64_t first, uint64_t count,
+                                int caustic_only, int threads, photon_list *global,
+                                photon_list *caustic, uint64_t *rays) {
+    rad_context *ctx = t->ctx;
+    size_t blocks = (size_t)((count + PHOTON_BLOCK - 1) / PHOTON_BLOCK);
+    photon_block *block = rad_alloc_zero(ctx, blocks ? blocks : 1, sizeof *block);
+    if (!block) return RAD_ERROR_NO_MEMORY;
+    int failed = 0, cancelled = 0;
+    long long done_blocks = 0;
+    uint64_t total_rays = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : total_rays)
+    {
+#pragma omp for schedule(dynamic, 1)
+        for (long long b = 0; b < (long long)blocks; ++b) {
+            int stop;
+#pragma omp atomic read
+            stop = failed;
+            if (stop) continue;
+            uint64_t begin = first + (uint64_t)b * PHOTON_BLOCK;
+            uint64_t end = first + count < begin + PHOTON_BLOCK ? first + count : begin + PHOTON_BLOCK;
+            uint64_t block_rays = 0;
+            for (uint64_t i = begin; i < end; ++i)
+                if (!trace_photon(t, seed, i, caustic_only, &block[b].global, &block[b].caustic,
+                                  &block_rays)) {
+#pragma omp atomic write
+                    failed = 1;
+                    break;
+                }
+            total_rays += block_rays;
+            long long done;
+#pragma omp atomic capture
+            done = ++done_blocks;
+            if (omp_get_thread_num() == 0 &&
+                rad_progress(ctx, "photon tracing", (double)done, (double)blocks)) {
+#pragma omp atomic write
+                cancelled = 1;
+#pragma omp atomic write
+                failed = 1;
+            }
+        }
+    }
+    *rays += total_rays;
+    rad_status status = RAD_OK;
+    if (cancelled) status = rad_fail(ctx, RAD_ERROR_CANCELLED, "photon mapping cancelled");
+    else if (failed) status = RAD_ERROR_NO_MEMORY;
+    /* Join in block order. */
+    size_t global_count = global->count, caustic_count = caustic->count;
+    for (size_t b = 0; b < blocks && !status; ++b) {
+        global_count += block[b].global.count;
+        caustic_count += block[b].caustic.count;
+    }
+    if (!status && global_count > global->capacity) {
+        rad_photon *grown = rad_realloc(ctx, global->items, global_count, sizeof *grown);
+        if (!grown) status = RAD_ERROR_NO_MEMORY;
+        else global->items = grown, global->capacity = global_count;
+    }
+    if (!status && caustic_count > caustic->capacity) {
+        rad_photon *grown = rad_realloc(ctx, caustic->items, caustic_count, sizeof *grown);
+        if (!grown) status = RAD_ERROR_NO_MEMORY;
+        else caustic->items = grown, caustic->capacity = caustic_count;
+    }
+    for (size_t b = 0; b < blocks; ++b) {
+        if (!status) {
+            if (block[b].global.count)
+                memcpy(global->items + global->count, block[b].global.items,
+                       block[b].global.count * sizeof(rad_photon));
+            if (block[b].caustic.count)
+                memcpy(caustic->items + caustic->count, block[b].caustic.items,
+                       block[b].caustic.count * sizeof(rad_photon));
+            global->count += block[b].global.count;
+            caustic->count += block[b].caustic.count;
+        }
+        rad_free(ctx, block[b].global.items);
+        rad_free(ctx, block[b].caustic.items);
+    }
+    rad_free(ctx, block);
+    return status;
+}
+
+static void scale_power(photon_list *list, double divisor) {
+    for (size_t i = 0; i < list->count; ++i)
+        for (int c = 0; c < 3; ++c) list->items[i].power[c] = (float)(list->items[i].power[c] / divisor);
+}
+
+/* ---- the maps of one pass ----------------------------------------------------------------- */
+
+typedef struct photon_pass {
+    rad_photon_map global, caustic, irradiance; /* irradiance: `power` holds E */
+    double radius, caustic_radius;
+    size_t nearest; /* k; zero: every photon in the radius */
+} photon_pass;
+
+static void pass_free(rad_context *ctx, photon_pass *pass) {
+    rad_photon_map_free(ctx, &pass->global);
+    rad_photon_map_free(ctx, &pass->caustic);
+    rad_photon_map_free(ctx, &pass->irradiance);
+}
+
+/* Nonzero when some material has a mirror or glass lobe (caustics are possible). */
+static int scene_has_specular(const rad_scene *scene) {
+    for (size_t i = 0; i < scene->material_count; ++i) {
+        const rad_material *m = &scene->materials[i];
+        if (m->kind == RAD_MATERIAL_GLASS ||
+            (m->kind == RAD_MATERIAL_MIRROR && m->roughness <= 0 &&
+             (m->specular[0] > 0 || m->specular[1] > 0 || m->specular[2] > 0)))
+            return 1;
+    }
+    return 0;
+}
+
+/* Total area of the surfaces where photons are stored. */
+static double storing_area(const rad_tracer *t) {
+    const rad_scene *scene = t->scene;
+    double area = 0;
+    for (size_t i = 0; i < scene->polygon_count; ++i)
+        if (rad_bsdf_has_smooth_lobe(t->polygon_material[i]))
+            area += rad_polygon_area(scene, &scene->polygons[i]);
+    return area;
+}
+
+/* Irradiance at every IRRADIANCE_STRIDE-th global photon (Christensen 1999), as a map. */
+static rad_status precompute_irradiance(rad_context *ctx, photon_pass *pass, int threads) {
+    const rad_photon_map *global = &pass->global;
+    size_t count = (global->count + IRRADIANCE_STRIDE - 1) / IRRADIANCE_STRIDE;
+    rad_photon *points = rad_alloc(ctx, count ? count : 1, sizeof *points);
+    size_t k = pass->nearest;
+    rad_photon_near *scratch = k ? rad_alloc(ctx, (size_t)threads * k, sizeof *scratch) : NULL;
+    if (!points || (k && !scratch)) {
+        rad_free(ctx, points);
+        rad_free(ctx, scratch);
+        return RAD_ERROR_NO_MEMORY;
+    }
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
+    for (long long i = 0; i < (long long)count; ++i) {
+        const rad_photon *p = &global->photons[(size_t)i * IRRADIANCE_STRIDE];
+        rad_vec3 normal = v3(p->normal[0], p->normal[1], p->normal[2]);
+        double e[3];
+        rad_photon_map_irradiance(global, p->position, normal, pass->radius, k,
+                                  k ? scratch + (size_t)omp_get_thread_num() * k : NULL, e);
+        points[i] = *p;
+        for (int c = 0; c < 3; ++c) points[i].power[c] = (float)e[c];
+    }
+    rad_free(ctx, scratch);
+    return rad_photon_map_build(ctx, points, count, pass->radius, threads, &pass->irradiance);
+}
+
+/* ---- rendering ---------------------------------------------------------------------------- */
+
+typedef struct render_state {
+    const rad_tracer *t;
+    const photon_pass *pass;
+    size_t scratch_size;
+} render_state;
+
+/* Radiance leaving the diffuse point y (normal n) towards the gather ray: reflectance/pi times
+ * the nearest precomputed irradiance on the same surface (or, with none near, the global map's
+ * own estimate there). */
+static void global_radiance(const render_state *r, const rad_material *m, rad_vec3 y, rad_vec3 n,
+                            rad_photon_near *scratch, double out[3]) {
+    const photon_pass *pass = r->pass;
+    double r2, e[3];
+    if (rad_photon_map_nearest_heap(&pass->irradiance, y, n, pass->radius, 1, scratch, &r2)) {
+        for (int c = 0; c < 3; ++c) e[c] = scratch[0].photon->power[c];
+    } else {
+        rad_photon_map_irradiance(&pass->global, y, n, pass->radius, pass->nearest, scratch, e);
+    }
+    for (int c = 0; c < 3; ++c) out[c] = fmax(0, m->reflectance[c]) / RAD_PI * e[c];
+}
+
+/* Caustic radiance at x towards wo: the k nearest caustic photons through the smooth BSDF. */
+static void caustic_radiance(const render_state *r, const rad_material *m, rad_vec3 x,
+                             rad_vec3 n, rad_vec3 wo, rad_photon_near *scratch, double out[3]) {
+    const photon_pass *pass = r->pass;
+    out[0] = out[1] = out[2] = 0;
+    if (pass->caustic.count == 0) return;
+    double r2;
+    size_t k = pass->nearest ? pass->nearest : r->scratch_size;
+    size_t found =
+        rad_photon_map_nearest_heap(&pass->caustic, x, n, pass->caustic_radius, k, scratch, &r2);
+    /* Of k found, the k-th (the heap's first) only sets the radius. */
+    size_t first = pass->nearest && found == k && k > 1 ? 1 : 0;
+    if (!(r2 > 0)) return;
+    for (size_t i = first; i < found; ++i) {
+        const rad_photon *p = scratch[i].photon;
+        rad_vec3 wi = v3(p->incoming[0], p->incoming[1], p->incoming[2]);
+        double f[3], pdf;
+        if (!rad_bsdf_eval(m, n, wo, wi, f, &pdf)) continue;
+        for (int c = 0; c < 3; ++c) out[c] += f[c] * p->power[c];
+    }
+    for (int c = 0; c < 3; ++c) out[c] /= RAD_PI * r2;
+}
+
+/* One final-gather ray from x along `direction`: through mirrors and glass to a diffuse point,
+ * whose global-map radiance it returns (emission is left out: direct light is sampled). */
+static void gather_ray(const render_state *r, rad_sampler *sampler, rad_vec3 x, rad_vec3 direction,
+                       rad_photon_near *scratch, uint64_t *rays, double out[3]) {
+    const rad_tracer *t = r->t;
+    double throughput[3] = {1, 1, 1};
+    out[0] = out[1] = out[2] = 0;
+    for (int chain = 0; chain < MAX_SPECULAR_CHAIN; ++chain) {
+        rad_hit hit;
+        rad_vec3 y;
+        const rad_material *m = next_surface(t, x, direction, rays, &hit, &y);
+        if (!m) return;
+        if (!rad_bsdf_is_delta(m)) {
+            double l[3];
+            global_radiance(r, m, y, hit.normal, scratch, l);
+            for (int c = 0; c < 3; ++c) out[c] = throughput[c] * l[c];
+            return;
+        }
+        double u[4];
+        rad_sampler_4d(sampler, u);
+        rad_bsdf_sample s;
+        if (rad_bsdf_sample_direction(m, hit.normal, v3_scale(direction, -1), u, &s) ==
+            RAD_LOBE_NONE)
+            return;
+        for (int c = 0; c < 3; ++c) throughput[c] *= s.weight[c];
+        x = y;
+        direction = s.direction;
+    }
+}
+
+/* The radiance of one camera sample. */
+static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sampler *gather,
+                            uint64_t gather_base, int gather_rays, rad_vec3 origin, rad_vec3 direction,
+                            rad_photon_near *scratch, uint64_t *rays, double out[3]) {
+    const rad_tracer *t = r->t;
+    double throughput[3] = {1, 1, 1};
+    out[0] = out[1] = out[2] = 0;
+    for (int chain = 0; chain < MAX_SPECULAR_CHAIN; ++chain) {
+        rad_hit hit;
+        rad_vec3 x;
+        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x);
+        if (!m) return;
+        rad_vec3 wo = v3_scale(direction, -1);
+        /* Emission seen directly or through mirrors and glass. */
+        if (hit.front && t->polygon_emitter[hit.polygon] >= 0)
+            for (int c = 0; c < 3; ++c) out[c] += throughput[c] * m->emission[c];
+        double u[4];
+        rad_sampler_4d(sampler, u); /* (emitter point, lobe choice, spare) */
+        if (rad_bsdf_has_smooth_lobe(m) && hit.front) {
+            double l[3] = {0, 0, 0};
+            /* Direct light: one point on the emitters (next-event estimation). */
+            rad_emitter_point light;
+            double f[3], pdf;
+            if (t->emitters.count && rad_emitter_table_sample(&t->emitters, u[0], u[1], x, &light) &&
+                rad_bsdf_eval(m, hit.normal, wo, light.direction, f, &pdf)) {
+                ++*rays;
+                if (!rad_rays_occluded(t->rays, x, light.position)) {
+                    double scale = fabs(v3_dot(light.direction, hit.normal)) / light.pdf;
+                    for (int c = 0; c < 3; ++c) l[c] += f[c] * light.radiance[c] * scale;
+                }
+            }
+            /* Caustics from the caustic map. */
+            double caustic[3];
+            caustic_radiance(r, m, x, hit.normal, wo, scratch, caustic);
+            for (int c = 0; c < 3; ++c) l[c] += caustic[c];
+            /* Indirect light: cosine-distributed gather rays into the global map. */
+            double indirect[3] = {0, 0, 0};
+            for (int g = 0; g < gather_rays; ++g) {
+                gather->index = gather_base + (uint64_t)g;
+                gather->dimension = GATHER_DIM + 8 * (uint32_t)chain;
+                double v[2];
+                rad_sampler_2d(gather, v);
+                rad_vec3 wi = cosine_direction(hit.normal, v[0], v[1]);
+                double cos_i = v3_dot(wi, hit.normal);
+                if (!(cos_i > 0) || !rad_bsdf_eval(m, hit.normal, wo, wi, f, &pdf)) continue;
+                double incoming[3];
+                gather_ray(r, gather, x, wi, scratch, rays, incoming);
+                for (int c = 0; c < 3; ++c) indirect[c] += f[c] * RAD_PI * incoming[c];
+            }
+            for (int c = 0; c < 3; ++c) l[c] += indirect[c] / gather_rays;
+            for (int c = 0; c < 3; ++c) out[c] += throughput[c] * l[c];
+        }
+        /* The delta lobes go on with one BSDF sample; the smooth ones are done above. */
+        if (rad_bsdf_is_delta(m) || (m->kind != RAD_MATERIAL_DIFFUSE)) {
+            double v[3] = {u[2], u[3], 0.5};
+            double w[2];
+            rad_sampler_2d(sampler, w);
+            v[1] = w[0], v[2] = w[1];
+            rad_bsdf_sample s;
+            if (rad_bsdf_sample_direction(m, hit.normal, wo, v, &s) == RAD_LOBE_NONE || !s.delta)
+                return;
+            for (int c = 0; c < 3; ++c) throughput[c] *= s.weight[c];
+            origin = x;
+            direction = s.direction;
+            continue;
+        }
+        return;
+    }
+}
+
+/* ---- the image ---------------------------------------------------------------------------- */
+
+static rad_status check_options(rad_context *ctx, const rad_photonmap_options *o) {
+    if (o->width < 0 || o->height < 0 || o->samples_per_pixel < 0 || o->gather_rays < 0 ||
+        o->nearest < 0 || o->iterations < 0)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "photon mapping: sizes, samples, gather rays, nearest and iterations must "
+                        "not be negative");
+    if (!(o->radius >= 0) || !isfinite(o->radius))
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "photon mapping: the radius must be positive and finite");
+    if (!(o->alpha >= 0 && o->alpha < 1))
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "photon mapping: alpha must be in (0, 1)");
+    return RAD_OK;
+}
+
+/* Emits the photons of pass `iteration` and builds its maps. */
+static rad_status build_pass(const rad_tracer *t, const rad_photonmap_options *o, uint64_t photons,
+                             uint64_t caustic_photons, int iteration, double radius,
+                             int threads, photon_pass *pass, rad_photonmap_stats *stats) {
+    rad_context *ctx = t->ctx;
+    uint64_t seed = rad_mix64(ctx->seed ^ PHOTON_SALT) + (uint64_t)iteration;
+    photon_list global = {0}, caustic = {0};
+    uint64_t rays = 0;
+    double start = rad_seconds(), cpu = cpu_seconds();
+    rad_status status =
+        trace_photons(t, seed, 0, photons, 0, threads, &global, &caustic, &rays);
+    if (!status && caustic_photons)
+        status = trace_photons(t, seed, photons, caustic_photons, 1, threads, &global, &caustic,
+                               &rays);
+    stats->trace_seconds += rad_seconds() - start;
+    stats->trace_cpu_seconds += cpu_seconds() - cpu;
+    stats->photons_emitted += photons + caustic_photons;
+    if (status) {
+        rad_free(ctx, global.items);
+        rad_free(ctx, caustic.items);
+        return status;
+    }
+    scale_power(&global, (double)photons);
+    scale_power(&caustic, (double)(photons + caustic_photons));
+    pass->nearest = (size_t)(o->nearest ? o->nearest : DEFAULT_NEAREST);
+    if (radius > 0) {
+        pass->radius = radius;
+    } else {
+        /* The radius whose disc holds `nearest` photons on average over the storing surfaces. */
+        double area = storing_area(t);
+        pass->radius = global.count ? sqrt(pass->nearest * area / (RAD_PI * global.count)) : 1;
+        if (!(pass->radius > 0)) pass->radius = 1;
+    }
+    pass->caustic_radius = pass->radius;
+    if (o->iterations > 1) pass->nearest = 0; /* progressive: fixed, shrinking radii */
+    stats->global_stored = global.count;
+    stats->caustic_stored = caustic.count;
+    start = rad_seconds();
+    status = rad_photon_map_build(ctx, global.items, global.count, pass->radius, threads,
+                                  &pass->global);
+    if (status) {
+        rad_free(ctx, caustic.items);
+        return status;
+    }
+    status = rad_photon_map_build(ctx, caustic.items, caustic.count, pass->caustic_radius, threads,
+                                  &pass->caustic);
+    if (!status) status = precompute_irradiance(ctx, pass, threads);
+    stats->build_seconds += rad_seconds() - start;
+    stats->radius = pass->radius;
+    stats->caustic_radius = pass->caustic_radius;
+    return status;
+}
+
+/* Adds pass `iteration`'s estimate to `sum` (per pixel, summed over samples). */
+static rad_status render_pass(const rad_tracer *t, const photon_pass *pass, const rad_view *view,
+                              int spp, int gather_rays, int iteration, int iterations, int threads,
+                              double *sum, uint64_t *rays_out) {
+    rad_context *ctx = t->ctx;
+    render_state r = {t, pass, 0};
+    r.scratch_size = pass->nearest ? pass->nearest : 4096;
+    int width = view->width, height = view->height;
+    rad_photon_near *scratch = rad_alloc(ctx, (size_t)threads * r.scratch_size, sizeof *scratch);
+    if (!scratch) return RAD_ERROR_NO_MEMORY;
+    int rows_done = 0, cancelled = 0;
+    uint64_t total_rays = 0;
+    uint64_t seed = ctx->seed;
+    uint32_t samples = (uint32_t)spp * (uint32_t)iterations;
+#pragma omp parallel num_threads(threads) reduction(+ : total_rays)
+    {
+        rad_photon_near *mine = scratch + (size_t)omp_get_thread_num() * r.scratch_size;
+        uint64_t rays = 0;
+#pragma omp for schedule(dynamic, 1)
+        for (int y = 0; y < height; ++y) {
+            int stop;
+#pragma omp atomic read
+            stop = cancelled;
+            if (stop) continue;
+            for (int x = 0; x < width; ++x) {
+                double *p = sum + 3 * ((size_t)y * (size_t)width + (size_t)x);
+                for (int s = 0; s < spp; ++s) {
+                    uint32_t sample = (uint32_t)(iteration * spp + s);
+                    rad_sampler sampler = rad_sampler_make(
+                        seed, rad_sampler_pixel_index((uint32_t)x, (uint32_t)y, samples, sample));
+                    uint64_t gather_base = rad_sampler_pixel_index(
+                        (uint32_t)x, (uint32_t)y, samples * (uint32_t)gather_rays,
+                        sample * (uint32_t)gather_rays);
+                    rad_sampler gather = rad_sampler_make(seed ^ GATHER_SALT, gather_base);
+                    double jitter[4];
+                    rad_sampler_4d(&sampler, jitter);
+                    double radiance[3];
+                    camera_radiance(&r, &sampler, &gather, gather_base, gather_rays, view->eye,
+                                    rad_view_direction(view, x + jitter[0], y + jitter[1]), mine,
+                                    &rays, radiance);
+                    for (int c = 0; c < 3; ++c) p[c] += radiance[c];
+                }
+            }
+            int done;
+#pragma omp atomic capture
+            done = ++rows_done;
+            if (omp_get_thread_num() == 0 &&
+                rad_progress(ctx, "photon mapping", iteration * height + done,
+                             (double)iterations * height)) {
+#pragma omp atomic write
+                cancelled = 1;
+            }
+        }
+        total_rays += rays;
+    }
+    rad_free(ctx, scratch);
+    *rays_out += total_rays;
+    if (cancelled) return rad_fail(ctx, RAD_ERROR_CANCELLED, "photon mapping cancelled");
+    return RAD_OK;
+}
+
+rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
+                         const rad_photonmap_options *options, rad_image **out,
+                         rad_photonmap_stats *stats) {
+    *out = NULL;
+    double start = rad_seconds();
+    rad_photonmap_options o = options ? *options : (rad_photonmap_options){0};
+    rad_status status = check_options(ctx, &o);
+    if (status) return status;
+    if (!scene) return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "photon mapping: no scene");
+    if (!scene->geometric)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "%s: photon mapping needs geometry, not a patch system", scene->source);
+    int width = o.width ? o.width : DEFAULT_SIZE, height = o.height ? o.height : DEFAULT_SIZE;
+    int spp = o.samples_per_pixel ? o.samples_per_pixel : DEFAULT_SPP;
+    int gather_rays = o.gather_rays ? o.gather_rays : DEFAULT_GATHER;
+    int iterations = o.iterations > 1 ? o.iterations : 1;
+    uint64_t photons = o.photons ? o.photons : DEFAULT_PHOTONS;
+    uint64_t caustic_photons = o.caustic_photons ? o.caustic_photons : photons;
+    if (!scene_has_specular(scene)) caustic_photons = 0; /* no mirror or glass: no caustics */
+    double alpha = o.alpha > 0 ? o.alpha : DEFAULT_ALPHA;
+    if ((uint64_t)spp * (uint64_t)iterations * (uint64_t)gather_rays > UINT32_MAX / 2)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "photon mapping: samples x iterations x gather rays is too large");
+    /* The budget, before anything is allocated: the stored photons (a generous
+     * STORES_PER_PHOTON per photon emitted), the grid and the image's sums. */
+    status = rad_check_budget(ctx,
+                              ((double)photons + (double)caustic_photons) * STORES_PER_PHOTON *
+                                      (sizeof(rad_photon) * 2 + 2 * sizeof(uint32_t)) +
+                                  (double)width * height * 3 * (sizeof(double) + sizeof(float)),
+                              "photon mapping");
+    if (status) return status;
+
+    rad_camera camera = o.camera ? rad_camera_from_desc(o.camera) : rad_scene_camera(scene);
+    rad_view view;
+    status = rad_view_make(ctx, &camera, width, height, &view);
+    if (status) return status;
+    rad_tracer *t;
+    status = rad_tracer_create(ctx, scene, 0, &t);
+    if (status) return status;
+    status = rad_tracer_check_view(t, &view);
+    if (status) {
+        rad_tracer_destroy(t);
+        return status;
+    }
+    rad_photonmap_stats st = {0};
+    rad_image *image = NULL;
+    double *sum = NULL;
+    status = rad_image_new(ctx, width, height, &image);
+    if (!status) {
+        sum = rad_alloc_zero(ctx, (size_t)width * (size_t)height * 3, sizeof *sum);
+        if (!sum) status = RAD_ERROR_NO_MEMORY;
+    }
+    if (!status && t->emitters.count == 0) {
+        /* Nothing to trace: a black image. */
+        rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
+        iterations = 0;
+    }
+    int threads = rad_thread_count(ctx);
+    double radius = o.radius;
+    for (int i = 0; i < iterations && !status; ++i) {
+        photon_pass pass;
+        memset(&pass, 0, sizeof pass);
+        status = build_pass(t, &o, photons, caustic_photons, i, radius, threads, &pass, &st);
+        if (!status) {
+            double render_start = rad_seconds();
+            status = render_pass(t, &pass, &view, spp, gather_rays, i, iterations, threads, sum,
+                                 &st.rays);
+            st.render_seconds += rad_seconds() - render_start;
+        }
+        /* Progressive: the next pass's radius^2 shrinks by (i + alpha) / (i + 1). */
+        radius = pass.radius * sqrt((i + 1 + alpha) / (i + 2));
+        pass_free(ctx, &pass);
+    }
+    rad_tracer_destroy(t);
+    if (!status && image) {
+        double samples = (double)spp * (iterations ? iterations : 1);
+        for (size_t i = 0; i < (size_t)width * (size_t)height * 3; ++i)
+            image->pixels[i] = (float)(sum[i] / samples);
+    }
+    rad_free(ctx, sum);
+    if (status) {
+        rad_image_free(image);
+        return status;
+    }
+    st.seconds = rad_seconds() - start;
+    if (stats) *stats = st;
+    *out = image;
+    return RAD_OK;
+}

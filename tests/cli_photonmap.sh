@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# cli_photonmap.sh - `radiosity photonmap` (docs/photonmapping.md): an image, the same image for
+# the same seed whatever the thread count, --progressive, and bad input: one line, exit 1 or 2,
+# no file left behind.
+# Usage: cli_photonmap.sh RADIOSITY SOURCE_DIR
+source "$(dirname "$0")/lib_cli.sh" "$@"
+
+no_stray_files() { test -z "$(ls "$work" | grep -v -e '^out$' -e '^err$' -e '^keep')"; }
+
+small=(--width 24 --height 20 --spp 1 --gather 4 --photons 5000 --quiet)
+
+"$radiosity" photonmap --help | grep -q -- '--caustic-photons'; check "help" test $? -eq 0
+"$radiosity" --help | grep -q 'photonmap'; check "listed" test $? -eq 0
+
+"$radiosity" photonmap cornell-mirror -o "$work/keep.pfm" "${small[@]}"
+check "writes .pfm" test "$(head -c 11 "$work/keep.pfm" | tr '\n' ' ')" = "PF 24 20 -1"
+
+# Same seed: the same bytes with 1 and 2 threads; another seed: other bytes.
+"$radiosity" photonmap cornell-mirror -o "$work/keep1.pfm" "${small[@]}" --seed 7 --threads 1
+"$radiosity" photonmap cornell-mirror -o "$work/keep2.pfm" "${small[@]}" --seed 7 --threads 2
+"$radiosity" photonmap cornell-mirror -o "$work/keep3.pfm" "${small[@]}" --seed 8 --threads 2
+check "same seed, threads 1 and 2" cmp -s "$work/keep1.pfm" "$work/keep2.pfm"
+differ() { ! cmp -s "$1" "$2"; }
+check "another seed differs" differ "$work/keep1.pfm" "$work/keep3.pfm"
+"$radiosity" photonmap cornell -o "$work/keep4.pfm" "${small[@]}" --progressive 3 --threads 1
+"$radiosity" photonmap cornell -o "$work/keep5.pfm" "${small[@]}" --progressive 3 --threads 2
+check "progressive, threads 1 and 2" cmp -s "$work/keep4.pfm" "$work/keep5.pfm"
+
+"$radiosity" photonmap -o "$work/keep.pfm" "${small[@]}" --stats >"$work/out"
+check "stats" grep -q 'Mphotons/s' "$work/out"
+
+# Usage errors: exit 2, nothing written.
+expect_exit 2 'output file is required' -- "$radiosity" photonmap "${small[@]}"
+expect_exit 2 'photons must be at least 1' -- "$radiosity" photonmap -o "$work/x.png" --photons 0
+expect_exit 2 'wants a whole number' -- "$radiosity" photonmap -o "$work/x.png" --photons -5
+expect_exit 2 'wants a whole number' -- "$radiosity" photonmap -o "$work/x.png" --photons nan
+expect_exit 2 'caustic-photons must be at least 1' -- "$radiosity" photonmap -o "$work/x.png" --caustic-photons 0
+expect_exit 2 'radius must be positive' -- "$radiosity" photonmap -o "$work/x.png" --radius 0
+expect_exit 2 'radius must be positive' -- "$radiosity" photonmap -o "$work/x.png" --radius -1
+expect_exit 2 'wants a number' -- "$radiosity" photonmap -o "$work/x.png" --radius nan
+expect_exit 2 'gather must be at least 1' -- "$radiosity" photonmap -o "$work/x.png" --gather 0
+expect_exit 2 'nearest must be at least 2' -- "$radiosity" photonmap -o "$work/x.png" --nearest 1
+expect_exit 2 'spp must be at least 1' -- "$radiosity" photonmap -o "$work/x.png" --spp 0
+expect_exit 2 'unknown image format' -- "$radiosity" photonmap -o "$work/x.jpg" "${small[@]}"
+check "usage errors leave no file" no_stray_files
+
+# Errors: exit 1, nothing written; the budget is checked before any photon is stored.
+expect_exit 1 'memory budget' -- "$radiosity" photonmap -o "$work/x.pfm" --photons 1000000000000 --quiet
+expect_exit 1 'memory budget' -- "$radiosity" photonmap -o "$work/x.pfm" --photons 20000000 --max-memory 64 --quiet
+expect_exit 1 'camera sees nothing' -- "$radiosity" photonmap -o "$work/x.png" "${small[@]}" --look 278,273,-1600
+expect_exit 1 'cannot write' -- "$radiosity" photonmap -o "$work/no/such/dir/x.png" "${small[@]}"
+check "errors leave no file" no_stray_files
+
+finish

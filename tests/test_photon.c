@@ -1,0 +1,408 @@
+/* test_photon.c - photon mapping (docs/photonmapping.md) against closed forms and the path tracer:
+ *   - the hash grid: k nearest and the box-kernel irradiance equal a brute-force search, and the
+ *     map is the same built on 1 and 2 threads;
+ *   - furnace: a closed box whose walls all emit L and reflect rho: the global map's irradiance
+ *     at points away from the edges is pi L / (1 - rho) within 3 % (the mean over 486 points), and
+ *     the rendered image's mean is L / (1 - rho) within 3 %;
+ *   - the Cornell box and cornell-mirror against the path tracer: the mean within 3 %, and every
+ *     8x8 block of a 32x32 image within the tolerance stated below;
+ *   - 1 and 2 threads give the same image;
+ *   - bad options and a scene without emitters. */
+#include "image/image.h"
+#include "render/pathtrace.h"
+#include "render/photon_map.h"
+#include "test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static rad_context *make_context(int threads, uint64_t seed) {
+    rad_context_options options = {0};
+    options.threads = threads;
+    options.seed = seed;
+    rad_context *ctx = NULL;
+    rad_context_create(&options, &ctx);
+    return ctx;
+}
+
+/* ---- the grid ----------------------------------------------------------------------------- */
+
+static double uniform(uint64_t *state) {
+    *state = *state * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*state >> 11) * 0x1p-53;
+}
+
+static rad_photon *random_photons(rad_context *ctx, size_t count, uint64_t seed) {
+    rad_photon *p = rad_alloc(ctx, count, sizeof *p);
+    uint64_t state = seed;
+    for (size_t i = 0; i < count; ++i) {
+        p[i].position = v3(uniform(&state) * 4 - 2, uniform(&state) * 4 - 2, uniform(&state) * 0.01);
+        /* Most face +z; one in eight faces -z (the other side of a thin wall). */
+        double nz = (i % 8 == 0) ? -1 : 1;
+        p[i].normal[0] = p[i].normal[1] = 0;
+        p[i].normal[2] = (float)nz;
+        for (int c = 0; c < 3; ++c) p[i].power[c] = (float)(1 + c + uniform(&state));
+        p[i].incoming[0] = p[i].incoming[1] = 0;
+        p[i].incoming[2] = 1;
+    }
+    return p;
+}
+
+static void test_grid(void) {
+    rad_context *ctx = make_context(2, 1);
+    size_t count = 20000;
+    rad_photon *copy = random_photons(ctx, count, 7);
+    rad_photon_map map, map1;
+    CHECK(rad_photon_map_build(ctx, random_photons(ctx, count, 7), count, 0.2, 2, &map) == RAD_OK);
+    CHECK(rad_photon_map_build(ctx, random_photons(ctx, count, 7), count, 0.2, 1, &map1) == RAD_OK);
+    CHECK(map.count == count);
+    CHECK(memcmp(map.photons, map1.photons, count * sizeof *map.photons) == 0);
+    rad_photon_near found[30];
+    uint64_t state = 99;
+    int nearest_ok = 1, irradiance_ok = 1;
+    for (int q = 0; q < 200; ++q) {
+        rad_vec3 x = v3(uniform(&state) * 4 - 2, uniform(&state) * 4 - 2, 0.005);
+        rad_vec3 n = v3(0, 0, 1);
+        double radius = 0.05 + 0.15 * uniform(&state);
+        /* Brute force: distances of same-side photons within the radius, sorted. */
+        double *d2 = malloc(count * sizeof *d2);
+        size_t m = 0;
+        double sum = 0;
+        for (size_t i = 0; i < count; ++i) {
+            rad_vec3 d = v3_sub(copy[i].position, x);
+            double dd = v3_dot(d, d);
+            if (dd < radius * radius && copy[i].normal[2] > 0) {
+                d2[m++] = dd;
+                sum += copy[i].power[1];
+            }
+        }
+        for (size_t i = 1; i < m; ++i) /* insertion sort: m is small */
+            for (size_t j = i; j > 0 && d2[j - 1] > d2[j]; --j) {
+                double s = d2[j];
+                d2[j] = d2[j - 1];
+                d2[j - 1] = s;
+            }
+        double r2;
+        size_t k = 1 + (size_t)(uniform(&state) * 29);
+        size_t got = rad_photon_map_nearest(&map, x, n, radius, k, found, &r2);
+        size_t want = m < k ? m : k;
+        if (got != want) nearest_ok = 0;
+        for (size_t i = 0; i < got && i < want; ++i)
+            if (found[i].distance2 != d2[i]) nearest_ok = 0;
+        if (got == k && r2 != d2[k - 1]) nearest_ok = 0;
+        if (got < k && r2 != radius * radius) nearest_ok = 0;
+        double e[3];
+        rad_photon_map_irradiance(&map, x, n, radius, 0, NULL, e);
+        if (fabs(e[1] - sum / (RAD_PI * radius * radius)) > 1e-9 * (1 + e[1])) irradiance_ok = 0;
+        free(d2);
+    }
+    CHECK(nearest_ok);
+    CHECK(irradiance_ok);
+    rad_free(ctx, copy);
+    rad_photon_map_free(ctx, &map);
+    rad_photon_map_free(ctx, &map1);
+    rad_context_destroy(ctx);
+}
+
+/* ---- scenes ------------------------------------------------------------------------------- */
+
+static void add_quad(rad_scene *scene, uint32_t surface, rad_vec3 a, rad_vec3 b, rad_vec3 c,
+                     rad_vec3 d) {
+    rad_vec3 points[4] = {a, b, c, d};
+    rad_scene_add_polygon_points(scene, surface, points, 4);
+}
+
+/* A closed box [0, 10]^3 seen from inside: every wall emits L and reflects rho. */
+static rad_scene *furnace_box(rad_context *ctx, double rho, double radiance) {
+    rad_scene *scene;
+    if (rad_scene_new(ctx, 1, "furnace", &scene)) return NULL;
+    rad_material wall = {0};
+    wall.name = "wall";
+    for (int c = 0; c < 3; ++c) {
+        wall.reflectance[c] = rho;
+        wall.emission[c] = radiance;
+    }
+    uint32_t material, surface;
+    rad_scene_add_material(scene, &wall, &material);
+    rad_scene_add_surface(scene, "walls", material, &surface);
+    double s = 10;
+    rad_vec3 p000 = v3(0, 0, 0), p100 = v3(s, 0, 0), p010 = v3(0, s, 0), p110 = v3(s, s, 0);
+    rad_vec3 p001 = v3(0, 0, s), p101 = v3(s, 0, s), p011 = v3(0, s, s), p111 = v3(s, s, s);
+    add_quad(scene, surface, p000, p100, p110, p010);
+    add_quad(scene, surface, p001, p011, p111, p101);
+    add_quad(scene, surface, p000, p001, p101, p100);
+    add_quad(scene, surface, p010, p110, p111, p011);
+    add_quad(scene, surface, p000, p010, p011, p001);
+    add_quad(scene, surface, p100, p101, p111, p110);
+    scene->has_camera = 1;
+    scene->camera = (rad_camera){v3(5, 5, 0.5), v3(5, 5, 10), v3(0, 1, 0), 90};
+    return scene;
+}
+
+static double image_mean(const rad_image *image) {
+    double sum = 0;
+    size_t n = (size_t)image->width * image->height * 3;
+    for (size_t i = 0; i < n; ++i) sum += image->pixels[i];
+    return sum / n;
+}
+
+static void test_furnace(void) {
+    rad_context *ctx = make_context(2, 3);
+    double rho = 0.5, radiance = 1, expected = radiance / (1 - rho);
+    rad_scene *scene = furnace_box(ctx, rho, radiance);
+    rad_photonmap_options o = {0};
+    o.width = o.height = 24;
+    o.samples_per_pixel = 1;
+    o.gather_rays = 8;
+    o.photons = 200000;
+    rad_image *image = NULL;
+    rad_photonmap_stats stats;
+    CHECK(rad_photonmap(ctx, scene, &o, &image, &stats) == RAD_OK);
+    /* Stored photons: each photon is stored at every bounce, 1 / (1 - rho) times on average. */
+    CHECK_NEAR(stats.global_stored / 200000.0, 1 / (1 - rho), 0.02);
+    CHECK(stats.caustic_stored == 0);
+    if (image) {
+        double mean = image_mean(image);
+        fprintf(stderr, "furnace image mean %.4f, expected %.4f\n", mean, expected);
+        CHECK_NEAR(mean / expected, 1, 0.03);
+    }
+    rad_image_destroy(image);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+/* The global map's irradiance against pi L / (1 - rho): photons traced by hand (the closed form
+ * of their flux is simple here), stored in the map, estimated with its k nearest. */
+static void test_furnace_irradiance(void) {
+    rad_context *ctx = make_context(2, 5);
+    double rho = 0.5;
+    rad_scene *scene = furnace_box(ctx, rho, 1);
+    rad_tracer *t = NULL;
+    CHECK(rad_tracer_create(ctx, scene, 0, &t) == RAD_OK);
+    /* Photons by hand, with the library's tracer: emitted by power, cosine distributed, scattered
+     * with probability rho (each wall reflects rho), stored at every hit. */
+    size_t n = 100000, stored = 0, capacity = 400000;
+    rad_photon *photons = rad_alloc(ctx, capacity, sizeof *photons);
+    double total_power = 0;
+    for (size_t k = 0; k < t->emitters.count; ++k)
+        total_power += RAD_PI * t->emitters.emitters[k].area * t->emitters.emitters[k].radiance[0];
+    for (size_t i = 0; i < n && stored < capacity; ++i) {
+        rad_sampler s = rad_sampler_make(11, i);
+        double u[4];
+        rad_sampler_4d(&s, u);
+        rad_vec3 origin;
+        size_t k = rad_emitter_table_sample_point(&t->emitters, u[0], u[1], &origin);
+        rad_vec3 n0 = t->emitters.emitters[k].normal, a, b;
+        v3_basis(n0, &a, &b);
+        double r = sqrt(u[2]), phi = 2 * RAD_PI * u[3];
+        rad_vec3 d = v3_add(v3_scale(n0, sqrt(1 - u[2])),
+                            v3_add(v3_scale(a, r * cos(phi)), v3_scale(b, r * sin(phi))));
+        for (int bounce = 0; bounce < 100 && stored < capacity; ++bounce) {
+            rad_hit hit;
+            if (!rad_rays_intersect(t->rays, origin, d, t->rays->epsilon, INFINITY, &hit)) break;
+            rad_vec3 x = v3_add(origin, v3_scale(d, hit.t));
+            rad_photon *p = &photons[stored++];
+            p->position = x;
+            for (int c = 0; c < 3; ++c) p->power[c] = (float)(total_power / n);
+            p->normal[0] = (float)hit.normal.x;
+            p->normal[1] = (float)hit.normal.y;
+            p->normal[2] = (float)hit.normal.z;
+            rad_sampler_4d(&s, u);
+            if (u[0] >= rho) break;
+            rad_vec3 ta, tb;
+            v3_basis(hit.normal, &ta, &tb);
+            r = sqrt(u[1]), phi = 2 * RAD_PI * u[2];
+            d = v3_add(v3_scale(hit.normal, sqrt(1 - u[1])),
+                       v3_add(v3_scale(ta, r * cos(phi)), v3_scale(tb, r * sin(phi))));
+            origin = x;
+        }
+    }
+    rad_photon_map map;
+    CHECK(rad_photon_map_build(ctx, photons, stored, 0.5, 2, &map) == RAD_OK);
+    /* 9x9 points per wall, 1 apart, at least 1 from the edges. */
+    rad_photon_near scratch[50];
+    double sum = 0;
+    int points = 0;
+    for (int wall = 0; wall < 3; ++wall)
+        for (int side = 0; side < 2; ++side)
+            for (int i = 1; i <= 9; ++i)
+                for (int j = 1; j <= 9; ++j) {
+                    double coord[3];
+                    coord[wall] = side ? 10 : 0;
+                    coord[(wall + 1) % 3] = i;
+                    coord[(wall + 2) % 3] = j;
+                    double nv[3] = {0, 0, 0};
+                    nv[wall] = side ? -1 : 1;
+                    double e[3];
+                    rad_photon_map_irradiance(&map, v3(coord[0], coord[1], coord[2]),
+                                              v3(nv[0], nv[1], nv[2]), 0.5, 50, scratch, e);
+                    sum += e[0];
+                    ++points;
+                }
+    double expected = RAD_PI * 1 / (1 - rho);
+    fprintf(stderr, "furnace irradiance: mean of %d estimates %.4f, expected %.4f\n", points,
+            sum / points, expected);
+    CHECK_NEAR(sum / points / expected, 1, 0.03);
+    rad_photon_map_free(ctx, &map);
+    rad_tracer_destroy(t);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
+/* ---- against the path tracer --------------------------------------------------------------- */
+
+static rad_image *photonmap_image(int threads, const char *name, int size, uint64_t photons) {
+    rad_context *ctx = make_context(threads, 21);
+    rad_scene *scene = NULL;
+    rad_image *image = NULL;
+    if (rad_scene_builtin(ctx, name, &scene) == RAD_OK) {
+        rad_photonmap_options o = {0};
+        o.width = o.height = size;
+        o.samples_per_pixel = 4;
+        o.gather_rays = 16;
+        o.photons = photons;
+        rad_photonmap(ctx, scene, &o, &image, NULL);
+    }
+    rad_scene_destroy(scene);
+    if (!image) rad_context_destroy(ctx); /* else it goes with the image: free_with_context */
+    return image;
+}
+
+static rad_image *pathtrace_image(const char *name, int size, int spp) {
+    rad_context *ctx = make_context(2, 22);
+    rad_scene *scene = NULL;
+    rad_image *image = NULL;
+    if (rad_scene_builtin(ctx, name, &scene) == RAD_OK) {
+        rad_pathtrace_options o = {0};
+        o.width = o.height = size;
+        o.samples_per_pixel = spp;
+        rad_pathtrace(ctx, scene, &o, &image, NULL);
+    }
+    rad_scene_destroy(scene);
+    if (!image) rad_context_destroy(ctx);
+    return image;
+}
+
+/* An image and the context it was made with (which frees it). */
+static void free_with_context(rad_image *image) {
+    if (!image) return;
+    rad_context *ctx = image->ctx;
+    rad_image_free(image);
+    rad_context_destroy(ctx);
+}
+
+/* The mean ratio and the worst 8x8 block's relative error over the blocks without a pixel
+ * brighter than 1 in either image (the light and its edge pixels: at 4 samples per pixel the
+ * light's edge pixels alone would move the mean by percents). */
+static void block_errors(const rad_image *test, const rad_image *ref, double *mean_ratio,
+                         double *rmse, double *worst) {
+    double test_sum = 0, ref_sum = 0, square_sum = 0;
+    int blocks = 0;
+    *worst = 0;
+    int w = ref->width, h = ref->height;
+    for (int by = 0; by + 8 <= h; by += 8)
+        for (int bx = 0; bx + 8 <= w; bx += 8) {
+            double t = 0, r = 0;
+            int bright = 0;
+            for (int y = by; y < by + 8; ++y)
+                for (int x = bx; x < bx + 8; ++x)
+                    for (int c = 0; c < 3; ++c) {
+                        size_t i = 3 * ((size_t)y * w + x) + c;
+                        t += test->pixels[i];
+                        r += ref->pixels[i];
+                        if (ref->pixels[i] > 1 || test->pixels[i] > 1) bright = 1;
+                    }
+            if (bright || !(r > 0)) continue;
+            test_sum += t;
+            ref_sum += r;
+            double e = fabs(t / r - 1);
+            if (e > *worst) *worst = e;
+            square_sum += e * e;
+            ++blocks;
+        }
+    *mean_ratio = test_sum / ref_sum;
+    *rmse = blocks ? sqrt(square_sum / blocks) : 0;
+}
+
+/* The path tracer's own noise bounds what a small test can see: on cornell-mirror at 32x32,
+ * 512 spp against 8192 spp is 4.6 % in 8x8-block RMSE and 11.8 % in the worst block (the caustic
+ * paths); at 1024 spp it is about half that. So the tolerances: the mean within 3 %, the block
+ * RMSE within 6 %, no block past 12 %. */
+static void test_against_pathtracer(void) {
+    const char *names[2] = {"cornell", "cornell-mirror"};
+    for (int s = 0; s < 2; ++s) {
+        rad_image *pm = photonmap_image(2, names[s], 32, 100000);
+        rad_image *pt = pathtrace_image(names[s], 32, 1024);
+        CHECK(pm && pt);
+        if (pm && pt) {
+            double ratio, rmse, worst;
+            block_errors(pm, pt, &ratio, &rmse, &worst);
+            fprintf(stderr,
+                    "%s 32x32: photon map / path tracer mean %.4f, 8x8 blocks RMSE %.2f%%, "
+                    "worst %.2f%%\n",
+                    names[s], ratio, 100 * rmse, 100 * worst);
+            CHECK_NEAR(ratio, 1, 0.03);
+            CHECK(rmse < 0.06);
+            CHECK(worst < 0.12);
+        }
+        free_with_context(pm);
+        free_with_context(pt);
+    }
+}
+
+static void test_threads(void) {
+    rad_image *one = photonmap_image(1, "cornell-mirror", 24, 30000);
+    rad_image *two = photonmap_image(2, "cornell-mirror", 24, 30000);
+    CHECK(one && two);
+    if (one && two)
+        CHECK(memcmp(one->pixels, two->pixels, sizeof(float) * 3 * 24 * 24) == 0);
+    free_with_context(one);
+    free_with_context(two);
+}
+
+static void test_bad_input(void) {
+    rad_context *ctx = make_context(1, 0);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_builtin(ctx, "cornell", &scene) == RAD_OK);
+    rad_photonmap_options o = {0};
+    rad_image *image = NULL;
+    o.radius = -1;
+    CHECK(rad_photonmap(ctx, scene, &o, &image, NULL) == RAD_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(rad_context_error(ctx), "radius") != NULL);
+    o.radius = NAN;
+    CHECK(rad_photonmap(ctx, scene, &o, &image, NULL) == RAD_ERROR_INVALID_ARGUMENT);
+    o.radius = 0;
+    o.photons = 1ull << 40; /* far over the 2 GiB budget: refused before allocating */
+    CHECK(rad_photonmap(ctx, scene, &o, &image, NULL) == RAD_ERROR_MEMORY_BUDGET);
+    CHECK(image == NULL);
+    rad_scene_destroy(scene);
+    /* No emitters: a black image, not a hang. */
+    rad_scene *dark;
+    CHECK(rad_scene_new(ctx, 1, "dark", &dark) == RAD_OK);
+    rad_material wall = {0};
+    wall.name = "wall";
+    wall.reflectance[0] = wall.reflectance[1] = wall.reflectance[2] = 0.5;
+    uint32_t material, surface;
+    rad_scene_add_material(dark, &wall, &material);
+    rad_scene_add_surface(dark, "floor", material, &surface);
+    add_quad(dark, surface, v3(-1, 0, -1), v3(-1, 0, 1), v3(1, 0, 1), v3(1, 0, -1));
+    dark->has_camera = 1;
+    dark->camera = (rad_camera){v3(0, 1, -2), v3(0, 0, 0), v3(0, 1, 0), 60};
+    o = (rad_photonmap_options){0};
+    o.width = o.height = 8;
+    CHECK(rad_photonmap(ctx, dark, &o, &image, NULL) == RAD_OK);
+    if (image) CHECK(image_mean(image) == 0);
+    rad_image_destroy(image);
+    rad_scene_destroy(dark);
+    rad_context_destroy(ctx);
+}
+
+int main(void) {
+    test_grid();
+    test_furnace_irradiance();
+    test_furnace();
+    test_against_pathtracer();
+    test_threads();
+    test_bad_input();
+    return test_finish();
+}
