@@ -830,8 +830,8 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
     }
     if (!im.ai && im.is_gltf && rad_gltf_extras_read(ctx, path, &im.gltf) != RAD_OK) {
         rad_gltf_extras_free(ctx, &im.gltf);
-        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: its glTF JSON is cut short or damaged, so "
-                        "assimp cannot read it", path);
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: assimp cannot read it: its glTF JSON is cut "
+                        "short or damaged", path);
     }
     rad_gltf_extras_free(ctx, &im.gltf);
     if (!im.ai) {
