@@ -44,7 +44,10 @@ done
 
 # 2. Memory: counts that claim far more than the file holds (the import child's address-space
 # limit, not a pre-check, stops them).
-printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n200000000 0 1 2\n' >keep-face.ply
+# (binary: an ASCII row that short is refused by the pre-check, see section 8)
+{ printf 'ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n'
+  printf '\0\0\0\0\0\0\0\0\0\0\0\0\0\0\200\77\0\0\0\0\0\0\0\0\0\0\0\0\0\0\200\77\0\0\0\0'
+  printf '\0\302\353\13\0\0\0\0\1\0\0\0\2\0\0\0'; } >keep-face.ply
 printf 'OFF\n350000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >keep-huge.off
 # (Not under ASan: it maps terabytes of shadow memory, so the child gets no address-space limit.)
 if ! nm -D "$radiosity" 2>/dev/null | grep -q __asan_init; then
@@ -131,5 +134,57 @@ check "formfactors --json: valid UTF-8 JSON" valid_json keep-ff.json surfaces
 check "bake glTF: valid UTF-8 JSON" valid_json keep-bake.gltf nodes
 check "bake glTF: valid UTF-8 JSON (meshes)" valid_json keep-bake.gltf meshes
 nothing_left "names that are not UTF-8"
+
+# 8. Files assimp reads wrong without a word: each is refused with its reason (or read right).
+bom=$'\xef\xbb\xbf'
+{ printf '%s' "$bom"; grep -v '^#' "$source_dir/scenes/room.obj"; } >keep-bom.obj
+expect 1 "keep-bom.obj:1: a UTF-8 byte-order mark before the first statement hides it" -- \
+    "$radiosity" solve keep-bom.obj
+{ printf '%s# a comment first is safe\n' "$bom"; grep -v '^#' "$source_dir/scenes/room.obj"; } >keep-bom-comment.obj
+expect 0 '' -- "$radiosity" solve keep-bom-comment.obj --quiet --threads 1 --elements 100
+printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >keep-few.ply
+expect 1 "keep-few.ply: the PLY file ends after 0 of the 1 'face' rows its header promises" -- \
+    "$radiosity" solve keep-few.ply
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n' >keep-short-row.ply
+expect 1 "keep-short-row.ply:13: this 'face' row has fewer values" -- "$radiosity" solve keep-short-row.ply
+# Blender 2.47 wrote a free text line into the header; assimp skips it, and so do we.
+printf 'ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org, source file: \nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >keep-blender.ply
+expect 0 '' -- "$radiosity" solve keep-blender.ply --quiet --threads 1
+gltf() { # FILE INDICES ROTATION: a unit square as a glTF with an embedded buffer
+    python3 - "$@" <<'PY'
+import base64, json, struct, sys
+path, indices, rotation = sys.argv[1], json.loads(sys.argv[2]), json.loads(sys.argv[3])
+vb = b''.join(struct.pack('<3f', *p) for p in [(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 0)])
+ib = b''.join(struct.pack('<H', i) for i in indices)
+node = {"mesh": 0, "name": "square"}
+if rotation is not None: node["rotation"] = rotation
+g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [node],
+     "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+     "buffers": [{"byteLength": len(vb + ib), "uri": "data:application/octet-stream;base64," +
+                  base64.b64encode(vb + ib).decode()}],
+     "bufferViews": [{"buffer": 0, "byteLength": len(vb)},
+                     {"buffer": 0, "byteOffset": len(vb), "byteLength": len(ib)}],
+     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+                    "min": [0, 0, 0], "max": [1, 1, 0]},
+                   {"bufferView": 1, "componentType": 5123, "count": len(indices), "type": "SCALAR"}]}
+json.dump(g, open(path, 'w'))
+PY
+}
+gltf keep-square.gltf '[0,1,2,1,3,2]' 'null'
+expect 0 '' -- "$radiosity" solve keep-square.gltf --quiet --threads 1
+gltf keep-past.gltf '[0,1,2,1,7,2]' 'null'
+expect 1 "keep-past.gltf: faces with vertex indices past their POSITION accessor" -- \
+    "$radiosity" solve keep-past.gltf
+gltf keep-zero-rotation.gltf '[0,1,2,1,3,2]' '[0,0,0,0]'
+expect 1 "keep-zero-rotation.gltf: node 0 ('square') has a rotation of length 0" -- \
+    "$radiosity" solve keep-zero-rotation.gltf
+head -c 600 keep-square.gltf >keep-cut.gltf
+expect 1 "keep-cut.gltf: assimp cannot read it: its glTF JSON is cut short or damaged" -- "$radiosity" solve keep-cut.gltf
+# Binary files of formats this assimp lacks: not OBJ syntax errors.
+for name in keep-bin.max keep-bin.usdc keep-bin.m3d; do
+    printf '3DMO\0\1\2\3\nl 1\nf 9 9 9\nv 1\n' >"$name"
+    expect 1 "$name: not a scene format assimp can read" -- "$radiosity" solve "$name"
+done
+nothing_left "files assimp reads wrong"
 
 finish

@@ -103,4 +103,75 @@ fi
 # A directory is refused before any work.
 expect_exit 1 'sub: is a directory, not a file' -- "$radiosity" solve "${small[@]}" --log sub
 
+# Hostile environments (issue 13): a read-only directory, two writers to one output, SIGKILL in
+# the middle of a command, a full disk. Each: the documented exit status and line, the target
+# whole (old or new, never partial), no temporary left (but after SIGKILL, where the writer
+# cannot clean up and docs/errors.md allows a FILE.tmp-XXXXXX beside the target).
+# A read-only directory: root writes anywhere, so as root the command runs as nobody.
+mkdir ro && echo old >ro/kept.csv && chmod 555 ro
+as_user=()
+if [[ $(id -u) == 0 ]]; then
+    if command -v setpriv >/dev/null; then
+        as_user=(setpriv --reuid=65534 --regid=65534 --clear-groups)
+        chmod 755 "$work"
+    else
+        as_user=(skip)
+    fi
+fi
+if [[ ${as_user[0]-} == skip ]]; then
+    echo "note: root without setpriv; the read-only directory checks are skipped"
+else
+    expect_exit 1 'ro/new.csv: cannot write: Permission denied' -- \
+        "${as_user[@]}" "$radiosity" solve "${small[@]}" --log ro/new.csv
+    expect_exit 1 'ro/kept.csv: cannot write: Permission denied' -- \
+        "${as_user[@]}" "$radiosity" solve "${small[@]}" --log ro/kept.csv
+    check "read-only directory: the old file kept, nothing added" \
+        test "$(cat ro/kept.csv)" = old -a "$(ls -a ro | wc -l)" -eq 3
+fi
+chmod 755 ro
+
+# Two writers to one output at once: the file ends up as one writer's whole output.
+render_to() { "$radiosity" render cornell --width "$1" --height "$1" --elements 100 --threads 1 \
+    --quiet -o "$2" >stdout 2>&1; }
+render_to 32 one.pfm
+render_to 48 two.pfm
+for round in 1 2 3; do
+    render_to 32 both.pfm &
+    render_to 48 both.pfm &
+    wait
+    check "two writers (round $round): one whole output" \
+        bash -c 'cmp -s both.pfm one.pfm || cmp -s both.pfm two.pfm'
+done
+check "two writers: no temporary left" test -z "$(ls -a | grep '\.tmp-')"
+
+# SIGKILL at any moment of a render: the target is the old file or the whole new image.
+"$radiosity" render cornell --width 256 --height 256 --elements 300 --threads 1 --quiet \
+    -o whole.pfm >stdout
+for delay in 0.05 0.2 0.5 1 2; do
+    echo old >killed.pfm
+    "$radiosity" render cornell --width 256 --height 256 --elements 300 --threads 1 --quiet \
+        -o killed.pfm >stdout 2>&1 &
+    sleep "$delay"
+    kill -KILL $! 2>/dev/null
+    wait $! 2>/dev/null
+    check "SIGKILL after $delay s: old or whole" \
+        bash -c '[[ $(cat killed.pfm) == old ]] || cmp -s killed.pfm whole.pfm'
+    rm -f killed.pfm.tmp-* # allowed after SIGKILL (docs/errors.md, "Interrupting")
+done
+
+# A full disk: a 64 KiB tmpfs where this process may mount one (root), else skipped.
+mkdir small
+if mount -t tmpfs -o size=64k tmpfs small 2>/dev/null; then
+    echo old >small/image.pfm
+    expect_exit 1 'small/image.pfm: write failed: No space left on device' -- \
+        "$radiosity" render cornell --width 128 --height 128 --elements 100 --threads 1 \
+        --quiet -o small/image.pfm
+    check "full disk: the old file kept" test "$(cat small/image.pfm)" = old
+    check "full disk: no temporary left" test "$(ls -a small | wc -l)" -eq 3
+    umount small
+else
+    echo "note: cannot mount a small tmpfs here (not root); the full-disk checks are skipped"
+fi
+rmdir small
+
 finish

@@ -410,7 +410,7 @@ static void test_bad_input(void) {
     /* assimp matches end_header case by case and loops forever on "End_header". */
     write_text(temp_path("end-case.ply"), "ply\nformat ascii 1.0\nelement vertex 0\n"
                                           "property float x\nEnd_header\n");
-    expect_failure(ctx, temp_path("end-case.ply"), RAD_ERROR_PARSE, "end-case.ply:5: not a PLY");
+    expect_failure(ctx, temp_path("end-case.ply"), RAD_ERROR_PARSE, "end-case.ply:5: 'End_header' must be written end_header");
 
     /* OBJ polylines of one vertex: assimp 5.2.5 writes past its vertex array (a heap overflow
      * that aborts in glibc) once two of them precede a longer polyline. Every way of writing

@@ -184,6 +184,11 @@ rad_status rad_atomic_commit(rad_atomic_file *f) {
     /* Devices and FIFOs have nothing to sync (fsync fails on them with EINVAL). */
     if (!failed && !f->direct) failed = fsync(fileno(f->file)) != 0;
     int saved = errno;
+    if (failed && !saved && !f->direct) {
+        /* stdio kept no errno from the write that failed: one byte more to the temporary
+         * (removed below) gives the reason, such as ENOSPC on a full disk. */
+        if (write(fileno(f->file), "", 1) < 0) saved = errno;
+    }
     if (fclose(f->file) != 0 && !failed) {
         failed = 1;
         saved = errno;

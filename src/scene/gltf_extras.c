@@ -2,10 +2,12 @@
  * small JSON walker: it understands all of JSON's syntax but keeps only
  *   materials[i].extensions.KHR_materials_emissive_strength.emissiveStrength
  *   cameras[i].perspective.yfov
+ *   nodes[i].rotation (checked to be a unit quaternion) and nodes[i].name
  * A .glb file is a 12-byte header followed by chunks; the first chunk is the JSON. */
 #include "scene/gltf_extras.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -182,6 +184,55 @@ typedef struct walker {
     int no_memory;
 } walker;
 
+/* One node: its name and its rotation quaternion (x, y, z, w), if it has one. */
+typedef struct gltf_node {
+    char name[64];
+    double rotation[4];
+    int rotation_values; /* how many numbers "rotation" held; -1 when it has none */
+} gltf_node;
+
+static void node_member(json *j, const char *key, void *user) {
+    gltf_node *node = user;
+    int first = 1;
+    if (strcmp(key, "name") == 0 && peek(j) == '"') {
+        read_string(j, node->name, sizeof node->name);
+    } else if (strcmp(key, "rotation") == 0 && enter(j, '[')) {
+        node->rotation_values = 0;
+        while (next_item(j, &first)) {
+            double value = read_number(j);
+            if (node->rotation_values < 4) node->rotation[node->rotation_values] = value;
+            node->rotation_values++;
+        }
+        leave(j);
+    } else
+        skip_value(j);
+}
+
+/* Each node's rotation must be a unit quaternion (glTF 2.0, 5.25); the first that is not is
+ * kept for the importer's error. */
+static void read_nodes(json *j, rad_gltf_extras *extras) {
+    int first = 1;
+    if (!enter(j, '[')) {
+        skip_value(j);
+        return;
+    }
+    for (long index = 0; next_item(j, &first); ++index) {
+        gltf_node node = {.rotation_values = -1};
+        each_member(j, node_member, &node);
+        if (node.rotation_values < 0 || extras->bad_rotation_node >= 0) continue;
+        double length = 0;
+        for (int i = 0; i < 4 && i < node.rotation_values; ++i)
+            length += node.rotation[i] * node.rotation[i];
+        length = sqrt(length);
+        if (node.rotation_values != 4 || !(fabs(length - 1) <= RAD_GLTF_UNIT_TOLERANCE)) {
+            extras->bad_rotation_node = index;
+            extras->bad_rotation_length = length;
+            memcpy(extras->bad_rotation_name, node.name, sizeof node.name);
+        }
+    }
+    leave(j);
+}
+
 /* Reads an array of objects, one double per item, each starting at `initial`. */
 static void read_array(json *j, walker *w, member_fn visit, double initial, double **values,
                        size_t *count) {
@@ -219,6 +270,8 @@ static void root_member(json *j, const char *key, void *user) {
                    &w->extras->material_count);
     else if (strcmp(key, "cameras") == 0)
         read_array(j, w, camera_member, 0.0, &w->extras->camera_yfov, &w->extras->camera_count);
+    else if (strcmp(key, "nodes") == 0)
+        read_nodes(j, w->extras);
     else skip_value(j);
 }
 
@@ -231,10 +284,12 @@ void rad_gltf_extras_free(rad_context *ctx, rad_gltf_extras *extras) {
     rad_free(ctx, extras->emissive_strength);
     rad_free(ctx, extras->camera_yfov);
     memset(extras, 0, sizeof *extras);
+    extras->bad_rotation_node = -1;
 }
 
 rad_status rad_gltf_extras_read(rad_context *ctx, const char *path, rad_gltf_extras *out) {
     memset(out, 0, sizeof *out);
+    out->bad_rotation_node = -1;
     FILE *file = fopen(path, "rb");
     if (!file) return rad_fail(ctx, RAD_ERROR_IO, "%s: %s", path, strerror(errno));
     size_t capacity = 1 << 16, length = 0;

@@ -1054,6 +1054,11 @@ static int has_extension(const char *path, const char *extension) {
     return 1;
 }
 
+/* An assimp log line; `user` points at a flag set when its glTF reader dropped faces. */
+static void import_log_listen(const char *message, char *user) {
+    if (strstr(message, "out-of-range indices")) *(int *)(void *)user = 1;
+}
+
 rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene **out) {
     *out = NULL;
     /* A clear message for a file that is not there, before assimp's own. */
@@ -1067,7 +1072,24 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
     im.ctx = ctx;
     im.path = path;
     im.is_gltf = has_extension(path, ".gltf") || has_extension(path, ".glb");
+    /* assimp's glTF reader drops faces whose indices are past the vertex array with only a log
+     * line; listen for it (import_log_listen) and refuse the file instead. */
+    int dropped_faces = 0;
+    struct aiLogStream listener = {import_log_listen, (char *)&dropped_faces};
+    aiAttachLogStream(&listener);
     im.ai = aiImportFile(path, 0);
+    aiDetachLogStream(&listener);
+    if (im.ai && dropped_faces) {
+        importer_free(&im);
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: faces with vertex indices past their "
+                        "POSITION accessor (assimp would drop them)", path);
+    }
+    if (!im.ai && im.is_gltf && rad_gltf_extras_read(ctx, path, &im.gltf) != RAD_OK) {
+        rad_gltf_extras_free(ctx, &im.gltf);
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: assimp cannot read it: its glTF JSON is cut "
+                        "short or damaged", path);
+    }
+    rad_gltf_extras_free(ctx, &im.gltf);
     if (!im.ai) {
         const char *why = aiGetErrorString();
         const char *dot = strrchr(path, '.');
@@ -1086,6 +1108,13 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
         rad_warn(ctx, "%s: emissive strength and camera field of view not read (%s)", path,
                  rad_context_error(ctx));
         rad_gltf_extras_free(ctx, &im.gltf);
+    } else if (im.is_gltf && im.gltf.bad_rotation_node >= 0) {
+        status = rad_fail(ctx, RAD_ERROR_PARSE, "%s: node %ld ('%s') has a rotation of length "
+                          "%g; glTF wants a unit quaternion (x, y, z, w), and [0, 0, 0, 1] for "
+                          "none", path, im.gltf.bad_rotation_node, im.gltf.bad_rotation_name,
+                          im.gltf.bad_rotation_length);
+        importer_free(&im);
+        return status;
     }
     im.material_of = rad_alloc(ctx, im.ai->mNumMaterials + 1, sizeof *im.material_of);
     if (!im.material_of) status = RAD_ERROR_NO_MEMORY;

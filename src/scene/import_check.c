@@ -27,8 +27,7 @@
  * most nine digits each count, up to the first token that is written otherwise. */
 #include "scene/import_check.h"
 
-#include <assimp/cimport.h>
-
+#include <ctype.h>
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -51,10 +50,64 @@ static int type_size(const char *type) {
     return 0;
 }
 
+/* The layout of the PLY elements, for the ASCII body check: per element its name, row count
+ * and its properties in order (1 a scalar, 2 a list). Headers with more are not body-checked. */
+#define PLY_MAX_ELEMENTS 16
+#define PLY_MAX_PROPERTIES 64
+typedef struct ply_element {
+    char name[64];
+    double rows;
+    int property_count;
+    unsigned char properties[PLY_MAX_PROPERTIES];
+} ply_element;
+
+/* ASCII PLY: assimp reads the values of the rows as one stream of numbers, so a file with fewer
+ * rows than its header promises (a vertex count one too high) has its faces read as vertices
+ * and faces invented from what follows. Each row is a line: it must hold the values its
+ * properties take (a list: its count, then that many), and every promised row must be there. */
+static rad_status check_ply_ascii_rows(rad_context *ctx, const char *path, FILE *file,
+                                       int header_lines, const ply_element *elements,
+                                       int element_count) {
+    char line[4096];
+    int line_number = header_lines;
+    for (int e = 0; e < element_count; ++e) {
+        const ply_element *element = &elements[e];
+        for (double row = 0; row < element->rows; ++row) {
+            char *text = NULL;
+            do { /* blank lines between rows are allowed */
+                text = fgets(line, sizeof line, file);
+                ++line_number;
+                /* a row longer than the buffer: the rest is left to assimp */
+                if (text && !strchr(line, '\n') && !feof(file)) return RAD_OK;
+            } while (text && strspn(line, " \t\r\n") == strlen(line));
+            if (!text)
+                return rad_fail(ctx, RAD_ERROR_PARSE, "%s: the PLY file ends after %.0f of the "
+                                "%.0f '%s' rows its header promises", path, row, element->rows,
+                                element->name);
+            char *at = line, *end;
+            for (int p = 0; p < element->property_count; ++p) {
+                double value = strtod(at, &end), items = 0;
+                if (end != at && element->properties[p] == 2) items = value >= 0 ? value : 0;
+                for (double item = 0; end != at && item < items; ++item) {
+                    at = end;
+                    strtod(at, &end);
+                }
+                if (end == at)
+                    return rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: this '%s' row has fewer "
+                                    "values than the header's properties take", path,
+                                    line_number, element->name);
+                at = end;
+            }
+        }
+    }
+    return RAD_OK;
+}
+
 static rad_status check_ply(rad_context *ctx, const char *path, FILE *file, double file_size) {
     char line[1024];
-    int binary = -1, line_number = 0, ended = 0;
+    int binary = -1, line_number = 0, ended = 0, layout_count = 0, layout_known = 1;
     double header_size = 0, needed = 0, element_count = 0, row_bytes = 0;
+    ply_element layout[PLY_MAX_ELEMENTS];
     rad_status status = RAD_OK;
     rewind(file);
     while (!status && fgets(line, sizeof line, file)) {
@@ -74,6 +127,13 @@ static rad_status check_ply(rad_context *ctx, const char *path, FILE *file, doub
             if (fields < 3 || *end || !(element_count >= 0))
                 status = rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: a PLY element needs a name and "
                                   "a count", path, line_number);
+            if (layout_count < PLY_MAX_ELEMENTS) {
+                ply_element *element = &layout[layout_count++];
+                snprintf(element->name, sizeof element->name, "%s", a);
+                element->rows = element_count;
+                element->property_count = 0;
+            } else
+                layout_known = 0;
         } else if (strcasecmp(word, "property") == 0) {
             int is_list = strcasecmp(a, "list") == 0;
             int size = type_size(is_list ? b : a);
@@ -81,15 +141,20 @@ static rad_status check_ply(rad_context *ctx, const char *path, FILE *file, doub
                 status = rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: unknown PLY property type",
                                   path, line_number);
             row_bytes += binary == 1 ? size : 2;
+            ply_element *element = layout_count ? &layout[layout_count - 1] : NULL;
+            if (element && element->property_count < PLY_MAX_PROPERTIES)
+                element->properties[element->property_count++] = (unsigned char)(1 + is_list);
+            else
+                layout_known = 0;
         } else if (strcmp(word, "end_header") == 0) {
             ended = 1;
             break;
-        } else if (line_number > 1 && strcasecmp(word, "comment") != 0 &&
-                   strcasecmp(word, "obj_info") != 0) {
-            /* assimp loops forever on a header line it does not know (fuzz_import timeout) */
-            status = rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: not a PLY header line (format, "
-                              "element, property, comment, obj_info, end_header)", path,
-                              line_number);
+        } else if (strcasecmp(word, "end_header") == 0) {
+            /* assimp matches end_header case by case, so it finds no end and loops forever
+             * (fuzz_import timeout). Other lines it does not know it skips, as here: Blender
+             * 2.47 wrote a free text line ("Created by Blender3D 247 ...") into the header. */
+            status = rad_fail(ctx, RAD_ERROR_PARSE, "%s:%d: '%s' must be written end_header "
+                              "(lower case) to end a PLY header", path, line_number, word);
         }
     }
     if (status) return status;
@@ -100,6 +165,8 @@ static rad_status check_ply(rad_context *ctx, const char *path, FILE *file, doub
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s: the PLY header promises at least %.0f bytes "
                         "of elements, the file has %.0f after the header", path, needed,
                         file_size - header_size);
+    if (binary == 0 && layout_known)
+        return check_ply_ascii_rows(ctx, path, file, line_number, layout, layout_count);
     return RAD_OK;
 }
 
@@ -184,29 +251,41 @@ static void obj_token_add(obj_token *t, int c) {
 /* 1 when the token counts as a vertex of the statement. */
 static int obj_token_end(obj_token *t) { return t->plain && obj_part_end(t); }
 
-/* Could assimp hand `path` to its OBJ reader? It picks the reader by extension; when no reader
- * or several claim the extension it looks at the contents, and may then take any text for OBJ.
- * So: a ".obj" name, or one that not exactly one reader claims. */
-static int obj_reader_possible(const char *path) {
+/* Could assimp hand `path` to its OBJ reader? A ".obj" name, or contents its OBJ reader
+ * claims: assimp 5.2.5 asks each reader in turn (ObjFileImporter::CanRead, whatever the
+ * extension), and OBJ's says yes when the first 200 bytes, lower-cased and with NULs removed,
+ * hold one of its keywords where the first occurrence has no letter just before it
+ * (BaseImporter::SearchFileHeaderForToken). Binary files (.max, .usdc, .m3d) seldom do, and
+ * then get assimp's "not a format it can read" rather than an OBJ syntax error. */
+static int obj_reader_possible(const char *path, FILE *file) {
     size_t length = strlen(path);
     if (length >= 4 && strcasecmp(path + length - 4, ".obj") == 0) return 1;
-    int claimers = 0;
-    size_t formats = aiGetImportFormatCount();
-    for (size_t i = 0; i < formats; ++i) {
-        const struct aiImporterDesc *desc = aiGetImportFormatDescription(i);
-        const char *list = desc ? desc->mFileExtensions : NULL;
-        while (list && *list) {
-            while (*list == ' ' || *list == '*' || *list == '.' || *list == ';') ++list;
-            size_t n = strcspn(list, " ;");
-            if (n > 0 && n < length && path[length - n - 1] == '.' &&
-                strncasecmp(path + length - n, list, n) == 0) {
-                ++claimers;
-                break;
-            }
-            list += n;
-        }
+    static const char *const keywords[] = {"mtllib", "usemtl", "v ", "vt ", "vn ",
+                                           "o ",     "g ",     "s ", "f "};
+    char head[201];
+    rewind(file);
+    size_t got = fread(head, 1, 200, file), kept = 0;
+    for (size_t i = 0; i < got; ++i)
+        if (head[i]) head[kept++] = (char)tolower((unsigned char)head[i]);
+    head[kept] = '\0';
+    for (size_t k = 0; k < sizeof keywords / sizeof keywords[0]; ++k) {
+        const char *at = strstr(head, keywords[k]);
+        if (at && (at == head || !isalpha((unsigned char)at[-1]))) return 1;
     }
-    return claimers != 1;
+    return 0;
+}
+
+/* Binary data in the first 200 bytes: a NUL or a control character other than tab, CR, LF and
+ * form feed. */
+static int binary_start(FILE *file) {
+    unsigned char head[200];
+    rewind(file);
+    size_t got = fread(head, 1, sizeof head, file);
+    for (size_t i = 0; i < got; ++i)
+        if (head[i] < 0x20 && head[i] != '\t' && head[i] != '\r' && head[i] != '\n' &&
+            head[i] != '\f')
+            return 1;
+    return 0;
 }
 
 static rad_status polyline_error(rad_context *ctx, const char *path, long line,
@@ -226,6 +305,17 @@ static rad_status check_obj(rad_context *ctx, const char *path, FILE *file) {
     long line_number = 1, statement_line = 1, vertices = 0;
     int before = -1, previous = -1, texcoords_seen = 0, counting = 0, in_token = 0;
     obj_token token;
+    /* A UTF-8 byte-order mark: assimp reads it as part of the first statement, which it then
+     * does not know and skips, so a first line "mtllib room.mtl" loses every material (and the
+     * lamp's emission) and a first "v" shifts every index. A comment or blank line is safe. */
+    unsigned char start[4] = {0};
+    rewind(file);
+    size_t start_length = fread(start, 1, sizeof start, file);
+    if (start_length >= 4 && memcmp(start, "\xef\xbb\xbf", 3) == 0 && start[3] != '#' &&
+        !obj_line_end(start[3]))
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s:1: a UTF-8 byte-order mark before the first "
+                        "statement hides it from assimp; remove the mark (the first 3 bytes) or "
+                        "start the file with a comment", path);
     rewind(file);
     for (size_t got = sizeof buffer; got == sizeof buffer;) {
         got = fread(buffer, 1, sizeof buffer, file);
@@ -298,8 +388,17 @@ rad_status rad_import_check(rad_context *ctx, const char *path) {
     if ((ply || glb) && fseek(file, 0, SEEK_END) == 0) {
         double file_size = (double)ftell(file);
         status = ply ? check_ply(ctx, path, file, file_size) : check_glb(ctx, path, file, file_size);
-    } else if (!ply && !glb && obj_reader_possible(path)) {
-        status = check_obj(ctx, path, file);
+    } else if (!ply && !glb && obj_reader_possible(path, file)) {
+        size_t length = strlen(path);
+        int obj_name = length >= 4 && strcasecmp(path + length - 4, ".obj") == 0;
+        /* A binary file of another format (a .max, .usdc or .m3d that no reader in this assimp
+         * claims) that assimp would take for OBJ text: say what it is, not an OBJ syntax error. */
+        if (!obj_name && binary_start(file))
+            status = rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "%s: not a scene format assimp can "
+                              "read (binary data that only its OBJ reader would take, as text)",
+                              path);
+        else
+            status = check_obj(ctx, path, file);
     }
     fclose(file);
     return status;
