@@ -74,6 +74,24 @@ int cli_lights_check(const char *command, cli_light_args *a) {
         }
         if (!*a->ies_path) return cli_error(EXIT_USAGE, "%s: --ies needs a file", command);
     }
+    a->specular_on = -1;
+    a->specular_photon_count = 0;
+    if (a->specular_first) {
+        if (strcmp(a->specular_first, "1") == 0) a->specular_on = 1;
+        else if (strcmp(a->specular_first, "0") == 0) a->specular_on = 0;
+        else
+            return cli_error(EXIT_USAGE, "%s: --specular-first takes 1 or 0, not '%s'", command,
+                             a->specular_first);
+    }
+    if (a->specular_photons) {
+        char *end;
+        const char *text = a->specular_photons;
+        unsigned long long n = strtoull(text, &end, 10);
+        if (end == text || *end || text[0] == '-' || text[0] == '+' || n < 1 || n > 1000000000ull)
+            return cli_error(EXIT_USAGE, "%s: --specular-photons takes a whole number from 1 to "
+                             "10^9, not '%s'", command, text);
+        a->specular_photon_count = n;
+    }
     registered = *a;
     have_registered = 1;
     return 0;
@@ -87,5 +105,7 @@ rad_status cli_lights_apply(rad_scene *scene) {
     if (!status && a->sun) status = rad_scene_add_light(scene, &a->sun_desc);
     if (!status && a->ies)
         status = rad_scene_set_light_ies(scene, a->ies_name[0] ? a->ies_name : NULL, a->ies_path);
+    if (!status && (a->specular_first || a->specular_photons))
+        status = rad_scene_set_specular_first(scene, a->specular_on, a->specular_photon_count);
     return status;
 }

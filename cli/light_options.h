@@ -13,6 +13,9 @@ typedef struct cli_light_args {
     rad_light_desc sun_desc;
     char ies_name[256];
     const char *ies_path;
+    const char *specular_first, *specular_photons; /* as given; NULL when not */
+    int specular_on;                                /* 1, 0, or -1: when mirrors or glass */
+    unsigned long long specular_photon_count;       /* 0: the default */
 } cli_light_args;
 
 /* The three entries of an option table: write CLI_LIGHT_OPTIONS(&args) among a command's own. */
@@ -22,6 +25,14 @@ typedef struct cli_light_args {
     {"--sun", CLI_STRING, &(args)->sun,                                                           \
      "X,Y,Z,E  sun towards X,Y,Z with irradiance E (W/m^2)"},                                     \
     {"--ies", CLI_STRING, &(args)->ies, "[NAME=]FILE  IES LM-63 profile for light NAME (all)"}
+
+/* The specular-first flags of solve, render and bake (docs/specular-first.md). */
+#define CLI_SPECULAR_OPTIONS(args)                                                                \
+    {"--specular-first", CLI_STRING, &(args)->specular_first,                                     \
+     "1|0  light through mirrors and glass as emission before the solve (default: 1 when the "    \
+     "scene has mirrors or glass)"},                                                              \
+    {"--specular-photons", CLI_STRING, &(args)->specular_photons,                                 \
+     "N  photons of the specular-first pass (default 1000000)"}
 
 /* Checks the values (usage error: message printed, EXIT_USAGE; 0 when fine) and registers the
  * flags so that cli_load_scene applies them to the scene it loads. */

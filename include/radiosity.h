@@ -844,6 +844,14 @@ typedef struct rad_sky_desc {
  * its openings, in the solve, render, bake and path tracer. */
 rad_status rad_scene_set_sky(rad_scene *scene, const rad_sky_desc *sky);
 
+/* The specular-first pass (docs/specular-first.md): before the solve, photons from the emitting
+ * surfaces are followed through mirrors and glass, and what they bring to a diffuse element
+ * becomes light it emits in the solution (solve, render, bake). `on`: 1 always, 0 never, -1 when
+ * the scene has a mirror or glass material (the default). `photons`: 1 .. 10^9, or 0 for the
+ * default (RAD_SPECULAR_PHOTONS). */
+#define RAD_SPECULAR_PHOTONS 1000000
+rad_status rad_scene_set_specular_first(rad_scene *scene, int on, uint64_t photons);
+
 #ifdef __cplusplus
 }
 #endif

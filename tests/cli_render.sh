@@ -53,6 +53,14 @@ expect_exit 2 'unknown shading' -- "$radiosity" render cornell --shading phong -
 expect_exit 2 'tone curve' -- "$radiosity" render cornell --tonemap film -o "$work/bad/x.png"
 expect_exit 2 'X,Y,Z' -- "$radiosity" render cornell --eye 1,2 -o "$work/bad/x.png"
 expect_exit 2 'unexpected argument' -- "$radiosity" render cornell cornell -o "$work/bad/x.png"
+for value in 2 yes "" -1; do
+    expect_exit 2 'specular-first takes 1 or 0' -- "$radiosity" render cornell-mirror --specular-first "$value" -o "$work/bad/x.png"
+done
+for value in 0 -5 1e6 nan 2000000000 12x; do
+    expect_exit 2 'specular-photons takes a whole number' -- "$radiosity" render cornell-mirror --specular-photons "$value" -o "$work/bad/x.png"
+    expect_exit 2 'specular-photons takes a whole number' -- "$radiosity" bake cornell-mirror --specular-photons "$value" -o "$work/bad/x.glb"
+done
+expect_exit 2 'specular-first takes 1 or 0' -- "$radiosity" solve cornell-mirror --specular-first on
 
 # Errors: exit 1, no file.
 expect_exit 1 'x.png' -- "$radiosity" render cornell -o "$work/missing-dir/x.png"

@@ -2,7 +2,7 @@
  * f * cos computed independently (uniform directions and rad_bsdf_eval), pdfs that integrate to
  * what sampling lands on, mirror and glass geometry, one-sided surfaces. */
 #include "core/rng.h"
-#include "render/bsdf.h"
+#include "scene/bsdf.h"
 #include "test.h"
 
 static rad_material material(rad_material_kind kind, double rho, double spec, double roughness) {

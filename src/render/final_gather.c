@@ -12,8 +12,10 @@
  *   y_i        the hits of N rays leaving x with density cos / pi; what they see is taken from
  *              the radiosity solution, but only its reflected part (B - E) / pi, because the
  *              light coming straight from the emitters is estimated by the emitter samples.
- *              (Rays that pass through mirrors or glass first take the full B / pi where they
- *              land: the emitter samples do not reach x that way.)
+ *              Rays that pass through mirrors or glass first take (B - E) / pi too
+ *              (second_pass.c): the light of an emitter by way of a mirror or glass is the
+ *              specular-first pass's (docs/specular-first.md), emitted by the element it landed
+ *              on and sampled there like any emitter.
  *
  * The emitted light is estimated twice, by the emitter samples and by the gather rays that hit
  * an emitter, and the two are combined with the power heuristic of multiple importance sampling

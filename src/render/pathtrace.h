@@ -1,5 +1,5 @@
 /* pathtrace.h - the reference path tracer (docs/pathtracing.md): unbiased for every material of
- * render/bsdf.h, next-event estimation over the emitters with multiple importance sampling
+ * scene/bsdf.h, next-event estimation over the emitters with multiple importance sampling
  * (Veach & Guibas 1995, power heuristic), Russian roulette, Owen-scrambled Sobol' samples (core/sampler.h) with a box filter.
  * The public entry point is rad_pathtrace (include/radiosity.h); the pieces below are shared
  * with the tests and the benchmark. */
@@ -8,7 +8,7 @@
 
 #include "core/sampler.h"
 #include "light/emitters.h"
-#include "render/bsdf.h"
+#include "scene/bsdf.h"
 #include "scene/camera.h"
 #include "scene/rays.h"
 

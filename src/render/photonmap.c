@@ -4,7 +4,7 @@
  * Pass 1, photon tracing: photons leave the emitter table (light/emitters.h) by power, cosine
  * distributed, with equal flux; at each surface with a diffuse or glossy lobe they are stored
  * (the global map; the caustic map too when every bounce so far was a mirror or glass one:
- * L S+ D paths), then scattered by the path tracer's BSDFs (render/bsdf.h) with Russian
+ * L S+ D paths), then scattered by the path tracer's BSDFs (scene/bsdf.h) with Russian
  * roulette on the scattering weight, so stored flux stays near the emitted flux. More photons
  * are traced for the caustic map alone (only specular bounces are followed).
  * Then irradiance is precomputed at every fourth global photon (Christensen 1999, "Faster photon
@@ -23,6 +23,7 @@
  * order, so the maps and the image do not depend on the thread count. */
 #include "render/pathtrace.h"
 #include "render/photon_map.h"
+#include "scene/photon_path.h"
 
 #include "image/image.h"
 
@@ -93,62 +94,30 @@ static rad_photon make_photon(rad_vec3 x, const double power[3], rad_vec3 normal
     return p;
 }
 
-/* Cosine-distributed direction around n. */
-static rad_vec3 cosine_direction(rad_vec3 n, double u1, double u2) {
-    rad_vec3 t, b;
-    v3_basis(n, &t, &b);
-    double r = sqrt(u1), phi = 2 * RAD_PI * u2;
-    double z = sqrt(fmax(0, 1 - u1));
-    return v3_normalize(v3_add(v3_scale(n, z), v3_add(v3_scale(t, r * cos(phi)),
-                                                       v3_scale(b, r * sin(phi)))));
+/* Where one photon is stored: the global map (unless caustic_only), and the caustic map for
+ * L S+ D paths. */
+typedef struct photon_stores {
+    rad_context *ctx;
+    int caustic_only;
+    photon_list *global, *caustic;
+} photon_stores;
+
+static int store_photon(void *user, const rad_photon_arrival *a) {
+    photon_stores *stores = user;
+    rad_photon p = make_photon(a->position, a->power, a->hit.normal, v3_scale(a->direction, -1));
+    if (!stores->caustic_only && !list_push(stores->ctx, stores->global, &p)) return 0;
+    if (a->specular_path && a->bounce > 0 && !list_push(stores->ctx, stores->caustic, &p)) return 0;
+    return 1;
 }
 
-/* One photon: emitted with flux L_e pi A_k / P_k (the emitted power over the probability of
- * its point, before dividing by the photon count), then scattered until absorbed. With
- * `caustic_only`, only L S+ D photons are followed and stored. Returns 0 when out of memory. */
+/* One photon (scene/photon_path.h), then scattered until absorbed. With `caustic_only`, only
+ * L S+ D photons are followed and stored. Returns 0 when out of memory. */
 static int trace_photon(const rad_tracer *t, uint64_t seed, uint64_t index, int caustic_only,
                         photon_list *global, photon_list *caustic, uint64_t *rays) {
-    rad_sampler sampler = rad_sampler_make(seed, index);
-    double u[4];
-    rad_sampler_4d(&sampler, u);
-    rad_vec3 origin;
-    size_t k = rad_emitter_table_sample_point(&t->emitters, u[0], u[1], &origin);
-    const rad_emitter *light = &t->emitters.emitters[k];
-    double scale = RAD_PI * light->area / rad_emitter_table_probability(&t->emitters, k);
-    double power[3];
-    for (int c = 0; c < 3; ++c) power[c] = light->radiance[c] * scale;
-    rad_vec3 direction = cosine_direction(light->normal, u[2], u[3]);
-    int specular_path = 1;
-    for (int bounce = 0; bounce < MAX_PHOTON_BOUNCES; ++bounce) {
-        rad_hit hit;
-        rad_vec3 x;
-        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x);
-        if (!m) break;
-        rad_vec3 wi = v3_scale(direction, -1);
-        /* Store where a diffuse or glossy lobe can reflect it towards the camera. */
-        if (rad_bsdf_has_smooth_lobe(m)) {
-            rad_photon p = make_photon(x, power, hit.normal, wi);
-            if (!caustic_only && !list_push(t->ctx, global, &p)) return 0;
-            if (specular_path && bounce > 0 && !list_push(t->ctx, caustic, &p)) return 0;
-        }
-        /* Scatter: the BSDF is symmetric, so sampling it from wi gives the outgoing direction
-         * and the flux weight f |cos_out| / pdf. */
-        rad_sampler_4d(&sampler, u);
-        rad_bsdf_sample s;
-        if (rad_bsdf_sample_direction(m, hit.normal, wi, u, &s) == RAD_LOBE_NONE) break;
-        if (caustic_only && !s.delta) break;
-        if (s.lobe == RAD_LOBE_TRANSMISSION) /* flux does not scale by eta^2 as radiance does */
-            for (int c = 0; c < 3; ++c) s.weight[c] = fmax(0, m->specular[c]);
-        specular_path = specular_path && s.delta;
-        /* Russian roulette: survive with the largest weight (at most 1), so a surviving photon
-         * keeps its flux when the surface is grey. */
-        double q = fmin(1, fmax(s.weight[0], fmax(s.weight[1], s.weight[2])));
-        if (!(u[3] < q)) break;
-        for (int c = 0; c < 3; ++c) power[c] *= s.weight[c] / q;
-        origin = x;
-        direction = s.direction;
-    }
-    return 1;
+    rad_photon_scene scene = {t->rays, t->polygon_material, &t->emitters};
+    photon_stores stores = {t->ctx, caustic_only, global, caustic};
+    return rad_photon_path_trace(&scene, seed, index, caustic_only, MAX_PHOTON_BOUNCES,
+                                 store_photon, &stores, rays);
 }
 
 typedef struct photon_block {
@@ -254,18 +223,6 @@ static void pass_free(rad_context *ctx, photon_pass *pass) {
     rad_photon_map_free(ctx, &pass->global);
     rad_photon_map_free(ctx, &pass->caustic);
     rad_photon_map_free(ctx, &pass->irradiance);
-}
-
-/* Nonzero when some material has a mirror or glass lobe (caustics are possible). */
-static int scene_has_specular(const rad_scene *scene) {
-    for (size_t i = 0; i < scene->material_count; ++i) {
-        const rad_material *m = &scene->materials[i];
-        if (m->kind == RAD_MATERIAL_GLASS ||
-            (m->kind == RAD_MATERIAL_MIRROR && m->roughness <= 0 &&
-             (m->specular[0] > 0 || m->specular[1] > 0 || m->specular[2] > 0)))
-            return 1;
-    }
-    return 0;
 }
 
 /* Total area of the surfaces where photons are stored. */
@@ -422,7 +379,7 @@ static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sam
                 gather->dimension = GATHER_DIM + 8 * (uint32_t)chain;
                 double v[2];
                 rad_sampler_2d(gather, v);
-                rad_vec3 wi = cosine_direction(hit.normal, v[0], v[1]);
+                rad_vec3 wi = rad_cosine_direction(hit.normal, v[0], v[1]);
                 double cos_i = v3_dot(wi, hit.normal);
                 if (!(cos_i > 0) || !rad_bsdf_eval(m, hit.normal, wo, wi, f, &pdf)) continue;
                 double incoming[3];
@@ -599,7 +556,7 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
     int iterations = o.iterations > 1 ? o.iterations : 1;
     uint64_t photons = o.photons ? o.photons : DEFAULT_PHOTONS;
     uint64_t caustic_photons = o.caustic_photons ? o.caustic_photons : photons;
-    if (!scene_has_specular(scene)) caustic_photons = 0; /* no mirror or glass: no caustics */
+    if (!rad_scene_has_specular(scene)) caustic_photons = 0; /* no mirror or glass: no caustics */
     double alpha = o.alpha > 0 ? o.alpha : DEFAULT_ALPHA;
     if ((uint64_t)spp * (uint64_t)iterations * (uint64_t)gather_rays > UINT32_MAX / 2)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,

@@ -9,7 +9,7 @@
  * Here a camera (or gather) ray is followed through
  *   - perfect mirrors: the reflected ray, weighted by the specular tint; a diffuse part of the
  *     mirror material is taken from the solution, like any diffuse surface;
- *   - glass and rough mirrors: one direction drawn from the BSDF (render/bsdf.h, shared with the
+ *   - glass and rough mirrors: one direction drawn from the BSDF (scene/bsdf.h, shared with the
  *     path tracer): Fresnel reflection or refraction, or a GGX lobe; at glossy points camera
  *     paths also sample the emitters, combined with the BSDF sample by multiple importance
  *     sampling (the glossy highlight of a light would otherwise be specks);
@@ -18,14 +18,16 @@
  * one) or hits the back of a
  * one-sided surface (black: surfaces reflect from their front only, as in the solution).
  *
- * What this cannot show (docs/rendering.md): light that reaches a diffuse surface by way of a
- * mirror or through glass (caustics, and the brightening next to the mirror), because the first
- * pass treats mirrors and glass as what their diffuse part says: absorbers that cast shadows.
- * The final gather leaves them out too: its gather rays could find an emitter through a mirror
- * or the glass, but a few rays per pixel would only scatter bright specks over the image. */
+ * Light that reaches a diffuse surface by way of a mirror or through glass (caustics, and the
+ * brightening next to the mirror) comes from the first pass: the specular-first pass
+ * (system/specular_first.c, docs/specular-first.md) makes it the emission of the element it
+ * lands on. The solver itself treats mirrors and glass as what their diffuse part says:
+ * absorbers that cast shadows. The final gather leaves it out here: its gather rays could find
+ * an emitter through a mirror or the glass, but a few rays per pixel would only scatter bright
+ * specks over the image (and count the deposit twice). */
 #include "render/render.h"
 
-#include "render/bsdf.h"
+#include "scene/bsdf.h"
 
 
 static double largest3(const double c[3]) { return fmax(c[0], fmax(c[1], c[2])); }

@@ -94,7 +94,15 @@ struct rad_scene {
     size_t light_count, light_capacity;
     rad_light *lights;
     rad_sky sky;
+
+    /* The specular-first pass of the solution (system/specular_first.c): 0 when the scene has
+     * mirror or glass materials, 1 always, -1 never; its photon count (0: the default). */
+    int specular_first;
+    uint64_t specular_photons;
 };
+
+/* Nonzero when some material has a perfect mirror or glass lobe (caustics are possible). */
+int rad_scene_has_specular(const rad_scene *scene);
 
 /* An empty scene of either kind. */
 rad_status rad_scene_new(rad_context *ctx, int geometric, const char *source, rad_scene **out);

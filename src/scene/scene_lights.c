@@ -140,3 +140,28 @@ rad_status rad_scene_set_sky(rad_scene *scene, const rad_sky_desc *d) {
     scene->sky.samples = d->samples ? d->samples : 64;
     return RAD_OK;
 }
+
+rad_status rad_scene_set_specular_first(rad_scene *scene, int on, uint64_t photons) {
+    if (!scene) return RAD_ERROR_INVALID_ARGUMENT;
+    if (on < -1 || on > 1)
+        return rad_fail(scene->ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "specular-first must be 1, 0 or -1 (when the scene has mirrors or glass), "
+                        "not %d", on);
+    if (photons > 1000000000u)
+        return rad_fail(scene->ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "specular-first photons %llu: need 1 .. 10^9", (unsigned long long)photons);
+    scene->specular_first = on == 1 ? 1 : on == 0 ? -1 : 0;
+    scene->specular_photons = photons;
+    return RAD_OK;
+}
+
+int rad_scene_has_specular(const rad_scene *scene) {
+    for (size_t i = 0; i < scene->material_count; ++i) {
+        const rad_material *m = &scene->materials[i];
+        if (m->kind == RAD_MATERIAL_GLASS ||
+            (m->kind == RAD_MATERIAL_MIRROR && m->roughness <= 0 &&
+             (m->specular[0] > 0 || m->specular[1] > 0 || m->specular[2] > 0)))
+            return 1;
+    }
+    return 0;
+}

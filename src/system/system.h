@@ -33,6 +33,9 @@ struct rad_system {
     rad_rgb *light_emission; /* the part of `emission` that is the direct light of the point,
                                 spot and directional lights and the sky reflected at once
                                 (lights_direct.c): rho E_direct; NULL without such sources */
+    rad_rgb *specular_emission; /* the part of `emission` that arrived from the emitters through
+                                   mirrors and glass (specular_first.c): rho E_specular; NULL
+                                   when the pass did not run */
     uint32_t *element_patch;
     uint32_t *element_surface;
 
@@ -82,8 +85,17 @@ void rad_system_surface_means(const rad_system *system, const rad_rgb *per_eleme
  * light_emission and added to emission, so every solver starts from it as emitted radiosity. */
 rad_status rad_system_add_light_emission(rad_system *system, const struct rad_scene *scene);
 
-/* The radiosity element e emits itself, channel c (its material's emission, without the light
- * of the pre-pass): what makes it a light source for the renderer. */
+/* The specular-first pass (specular_first.c; docs/specular-first.md): photons from the emitting
+ * surfaces through mirrors and glass; what lands on each element (its mean irradiance from
+ * L S+ D paths) is reflected once into specular_emission and added to emission, so every solver
+ * starts from it as emitted radiosity. Runs as scene->specular_first asks. */
+rad_status rad_system_add_specular_emission(rad_system *system, const struct rad_scene *scene);
+
+/* The radiosity element e emits itself, channel c: what makes it a light source for the
+ * renderer. Its material's emission and the light it got through mirrors and glass
+ * (specular_emission: the renderer's gather rays leave emitted light behind mirrors and glass
+ * out, second_pass.c, so the deposit is sampled as an emitter of its own), without the light of
+ * the lights' pre-pass (which the renderer samples from the lights themselves). */
 static inline double rad_system_own_emission(const rad_system *s, size_t e, int c) {
     return s->light_emission ? s->emission[e][c] - s->light_emission[e][c] : s->emission[e][c];
 }

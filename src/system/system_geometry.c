@@ -69,6 +69,7 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
         emits = 1;
         status = rad_system_add_light_emission(s, scene);
     }
+    if (!status) status = rad_system_add_specular_emission(s, scene);
     if (status) {
         rad_system_destroy(s);
         return status;

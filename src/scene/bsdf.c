@@ -4,7 +4,7 @@
  * rough surfaces" (GGX distribution, height-correlated Smith masking); Heitz 2018, "Sampling the
  * GGX distribution of visible normals"; Veach 1997, ch. 5 (non-symmetric scattering at
  * refraction); Born & Wolf (Fresnel equations). */
-#include "render/bsdf.h"
+#include "scene/bsdf.h"
 
 /* Index of refraction used when a material leaves it zero (zeroed structs are valid). */
 #define DEFAULT_IOR 1.5
@@ -245,4 +245,13 @@ rad_lobe rad_bsdf_sample_direction(const rad_material *m, rad_vec3 normal, rad_v
     out->delta = 0;
     out->lobe = diffuse ? RAD_LOBE_DIFFUSE : RAD_LOBE_GLOSSY;
     return out->lobe;
+}
+
+rad_vec3 rad_cosine_direction(rad_vec3 n, double u1, double u2) {
+    rad_vec3 t, b;
+    v3_basis(n, &t, &b);
+    double r = sqrt(u1), phi = 2 * RAD_PI * u2;
+    double z = sqrt(fmax(0, 1 - u1));
+    return v3_normalize(v3_add(v3_scale(n, z), v3_add(v3_scale(t, r * cos(phi)),
+                                                       v3_scale(b, r * sin(phi)))));
 }

@@ -1,5 +1,7 @@
 /* bsdf.h - how a material scatters light: sampling and evaluation shared by the path tracer
- * (render/pathtrace.c) and the ray-traced second pass.
+ * (render/pathtrace.c), the ray-traced second pass and the photon paths (scene/photon_path.h)
+ * of photon mapping and the specular-first pass. Beside the materials, below system/, so the
+ * pre-passes of the solution can use it.
  *
  * Lobes, by material kind (scene/scene.h):
  *   DIFFUSE  Lambert, albedo `reflectance`, from the front side only (surfaces are one-sided:
@@ -16,8 +18,8 @@
  * geometric front normal of the polygon that was hit. f excludes the cosine; weights include it:
  * weight = f * |cos(wi, normal)| / pdf. Radiance crossing a refracting boundary is scaled by
  * (eta_wo / eta_wi)^2 (Veach 1997, sec. 5.2), so a path traced from the camera carries radiance. */
-#ifndef RAD_RENDER_BSDF_H
-#define RAD_RENDER_BSDF_H
+#ifndef RAD_SCENE_BSDF_H
+#define RAD_SCENE_BSDF_H
 
 #include "scene/scene.h"
 
@@ -61,6 +63,9 @@ int rad_bsdf_eval(const rad_material *material, rad_vec3 normal, rad_vec3 wo, ra
  * cos_incident > 0 measured on the side of index eta_incident. 1 under total internal
  * reflection. */
 double rad_fresnel_dielectric(double cos_incident, double eta_incident, double eta_transmitted);
+
+/* A cosine-distributed direction about the unit normal n from two uniform numbers in [0, 1). */
+rad_vec3 rad_cosine_direction(rad_vec3 n, double u1, double u2);
 
 /* Mirror reflection of the unit direction w (pointing away) about the unit normal n. */
 static inline rad_vec3 rad_reflect(rad_vec3 w, rad_vec3 n) {
