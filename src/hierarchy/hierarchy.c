@@ -4,6 +4,7 @@
 #include "hierarchy/hierarchy.h"
 
 #include "formfactor/geometric.h"
+#include "formfactor/pair.h"
 #include "scene/rays.h"
 #include "scene/scene.h"
 
@@ -127,24 +128,11 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
     return RAD_OK;
 }
 
-/* The receiver's quadrature points: the 2 x 2 Gauss rule in the quad's bilinear parameters, or
- * the three-point rule (2/3, 1/6, 1/6) of a triangle. */
+/* A node's quadrature points: the pair kernel's rule (2 x 2 Gauss in a quad's bilinear
+ * parameters, the three-point rule (2/3, 1/6, 1/6) of a triangle). */
 static int quadrature_points(const rad_hier_node *n, rad_vec3 *out) {
-    const rad_vec3 *c = n->corner;
-    if (n->corner_count == 3) {
-        for (int k = 0; k < 3; ++k)
-            out[k] = v3_add(v3_scale(c[k], 2.0 / 3), v3_scale(v3_add(c[(k + 1) % 3], c[(k + 2) % 3]),
-                                                            1.0 / 6));
-        return 3;
-    }
-    const double g = 0.5 - 0.5 / sqrt(3.0);
-    const double uv[4][2] = {{g, g}, {1 - g, g}, {1 - g, 1 - g}, {g, 1 - g}};
-    for (int k = 0; k < 4; ++k) {
-        double u = uv[k][0], v = uv[k][1];
-        out[k] = v3_add(v3_add(v3_scale(c[0], (1 - u) * (1 - v)), v3_scale(c[1], u * (1 - v))),
-                        v3_add(v3_scale(c[2], u * v), v3_scale(c[3], (1 - u) * v)));
-    }
-    return 4;
+    const rad_ff_piece piece = {n->corner, n->corner_count, v3(0, 0, 0)}; /* the rule needs no normal */
+    return rad_ff_piece_quadrature(&piece, out);
 }
 
 /* ---- Links ------------------------------------------------------------------------------- */
