@@ -207,10 +207,6 @@ static double visible_pairs(const rad_hier *h, const rad_vec3 *x, int rn, const 
     return (double)visible / count;
 }
 
-static double visible_fraction(const rad_hier *h, const rad_vec3 *x, int rn, const rad_vec3 *y,
-                               int sn, int *partial) {
-    return visible_pairs(h, x, rn, y, sn, partial, NULL);
-}
 
 /* The link receiver <- source: its form factor and error bound. Returns 0 when no light can
  * pass (the two face away from each other). */
@@ -248,7 +244,23 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
      * error, so the oracle refines it where it matters. */
     int partial;
     sn = visibility_points(s, pair_hash(receiver, source, 2), y);
-    double fraction = visible_fraction(h, x, rn, y, sn, &partial);
+    uint8_t seen[16];
+    double fraction = visible_pairs(h, x, rn, y, sn, &partial, seen);
+    if (partial && fraction > 0) {
+        /* Weigh the rays by the point-to-point kernel cos cos / r^2: the part of a large source
+         * seen through an opening is the part overhead, where the kernel is largest (the sky
+         * over Sponza's atrium: the area fraction halved the floor's direct light). */
+        double all = 0, visible = 0;
+        for (int i = 0; i < rn; ++i)
+            for (int j = 0; j < sn; ++j) {
+                rad_vec3 ray = v3_sub(y[j], x[i]);
+                double r2 = v3_dot(ray, ray);
+                double k = fmax(0, v3_dot(nr, ray)) * fmax(0, -v3_dot(ns, ray)) / (r2 * r2);
+                all += k;
+                visible += seen[i * sn + j] ? k : 0;
+            }
+        if (all > 0) fraction = visible / all;
+    }
     double error = 0.25 * (hi - lo) * fraction + (partial ? form_factor : 0);
     out->receiver = receiver;
     out->source = source;
