@@ -166,6 +166,10 @@ typedef struct rad_mesh_options {
     double patch_size;
     double element_size;
     size_t elements; /* approximate total element count; used when element_size is zero */
+    /* Nonzero: one element per input polygon (larger polygons fanned into triangles), no
+     * contact cuts, no form-factor provider: for a solver that refines and draws its own leaves
+     * (RAD_SOLVER_OWN_LEAVES); the sizes above are then not used. */
+    int polygons_only;
 } rad_mesh_options;
 
 /* Per-method options: a bag of name = value pairs, as Mitsuba's plugins read their properties
@@ -297,6 +301,8 @@ typedef enum rad_solver_kind {
 #define RAD_SOLVER_NEEDS_CAMERA 8u  /* needs rad_solve_options.camera */
 #define RAD_SOLVER_KEEPS_UNSHOT 16u /* its solutions carry a true unshot radiosity */
 #define RAD_SOLVER_NEEDS_UNSHOT 32u /* resumes only from solutions that carry one */
+#define RAD_SOLVER_OWN_LEAVES 64u   /* refines its own leaves from the input polygons and draws
+                                       them: build its system with rad_mesh_options.polygons_only */
 
 /* One of a method's own options: its name (as the CLI spells it after "--") and what it does. */
 typedef struct rad_method_option {

@@ -100,6 +100,10 @@ static inline double rad_system_own_emission(const rad_system *s, size_t e, int 
     return s->light_emission ? s->emission[e][c] - s->light_emission[e][c] : s->emission[e][c];
 }
 
+/* One element per input polygon (polygon_mesh.c), for rad_mesh_options.polygons_only. */
+rad_status rad_system_polygon_mesh(rad_context *ctx, const struct rad_scene *scene,
+                                   struct rad_mesh **out);
+
 /* Geometric systems (src/mesh, src/formfactor): builds mesh and provider. */
 rad_status rad_system_from_geometry(rad_context *ctx, const struct rad_scene *scene,
                                     const rad_mesh_options *mesh, const rad_ff_options *ff,
