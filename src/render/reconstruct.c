@@ -218,7 +218,13 @@ static void element_deposit(const rad_renderer *r, size_t e, float out[3]) {
 
 /* The deposit is one value per element, often sharp (a caustic, the patch of light a sphere
  * throws on the ceiling): shown flat it draws the element grid. It is smoothed as the
- * radiosity is: area-weighted means at the vertices, the fitted plane on boundaries. */
+ * radiosity is (area-weighted means at the vertices, the fitted plane on boundaries), then each
+ * element's corners are scaled so the mean over the element stays its own deposit: smoothing
+ * must not move light from a bright element into dark neighbours (a caustic narrower than the
+ * elements would spread over three times its size). Where the scale would pass MAX_DEPOSIT_SCALE
+ * (a lone bright element), the element shows its deposit flat. */
+#define MAX_DEPOSIT_SCALE 4.0f
+
 static rad_status deposit_prepare(rad_renderer *r) {
     const rad_mesh *mesh = r->mesh;
     int any = 0;
@@ -227,28 +233,43 @@ static rad_status deposit_prepare(rad_renderer *r) {
         element_deposit(r, e, d);
         any = d[0] > 0 || d[1] > 0 || d[2] > 0;
     }
-    rad_free(r->ctx, r->vertex_deposit);
-    r->vertex_deposit = NULL;
+    rad_free(r->ctx, r->corner_deposit);
+    r->corner_deposit = NULL;
     if (!any) return RAD_OK;
-    float(*deposit)[3] = rad_alloc(r->ctx, mesh->element_count, sizeof *deposit);
+    float(*deposit)[3] = rad_alloc(r->ctx, mesh->element_count + 1, sizeof *deposit);
     double *weight = rad_alloc_zero(r->ctx, mesh->vertex_count + 1, sizeof *weight);
-    r->vertex_deposit = rad_alloc_zero(r->ctx, mesh->vertex_count + 1, sizeof *r->vertex_deposit);
-    rad_status status = deposit && weight && r->vertex_deposit ? RAD_OK : RAD_ERROR_NO_MEMORY;
+    float(*vertex)[3] = rad_alloc_zero(r->ctx, mesh->vertex_count + 1, sizeof *vertex);
+    r->corner_deposit = rad_alloc_zero(r->ctx, mesh->element_count + 1, sizeof *r->corner_deposit);
+    rad_status status = deposit && weight && vertex && r->corner_deposit ? RAD_OK : RAD_ERROR_NO_MEMORY;
     for (size_t e = 0; e < mesh->element_count && !status; ++e) {
         element_deposit(r, e, deposit[e]);
         for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) {
             uint32_t v = mesh->element_vertices[e][k];
             weight[v] += mesh->element_area[e];
-            for (int c = 0; c < 3; ++c)
-                r->vertex_deposit[v][c] += (float)(mesh->element_area[e] * deposit[e][c]);
+            for (int c = 0; c < 3; ++c) vertex[v][c] += (float)(mesh->element_area[e] * deposit[e][c]);
         }
     }
     for (size_t v = 0; v < mesh->vertex_count && !status; ++v)
-        for (int c = 0; c < 3; ++c)
-            r->vertex_deposit[v][c] = weight[v] > 0 ? (float)(r->vertex_deposit[v][c] / weight[v]) : 0;
-    if (!status) fit_boundary(r, deposit, r->vertex_deposit);
+        for (int c = 0; c < 3; ++c) vertex[v][c] = weight[v] > 0 ? (float)(vertex[v][c] / weight[v]) : 0;
+    if (!status) fit_boundary(r, deposit, vertex);
+    /* Each element's corners, scaled to keep its mean (the corner mean is the mean of the
+     * bilinear or barycentric interpolation over the element). */
+    for (size_t e = 0; e < mesh->element_count && !status; ++e) {
+        int corners = rad_mesh_corner_count(mesh, e);
+        for (int c = 0; c < 3; ++c) {
+            float mean = 0;
+            for (int k = 0; k < corners; ++k) mean += vertex[mesh->element_vertices[e][k]][c];
+            mean /= (float)corners;
+            int flat = !(mean > 0) || deposit[e][c] > MAX_DEPOSIT_SCALE * mean;
+            for (int k = 0; k < corners; ++k)
+                r->corner_deposit[e][k][c] =
+                    flat ? deposit[e][c]
+                         : vertex[mesh->element_vertices[e][k]][c] * (deposit[e][c] / mean);
+        }
+    }
     rad_free(r->ctx, deposit);
     rad_free(r->ctx, weight);
+    rad_free(r->ctx, vertex);
     return status;
 }
 
@@ -301,7 +322,7 @@ void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u,
 
 void rad_reconstruct_emission(const rad_renderer *r, uint32_t element, double u, double v,
                               double out[3]) {
-    if (r->settings.shading == RAD_SHADING_FLAT || !r->vertex_deposit) {
+    if (r->settings.shading == RAD_SHADING_FLAT || !r->corner_deposit) {
         for (int c = 0; c < 3; ++c) out[c] = r->element_emission[element][c];
         return;
     }
@@ -309,8 +330,6 @@ void rad_reconstruct_emission(const rad_renderer *r, uint32_t element, double u,
     double weight[4];
     int corners = rad_element_weights(r->mesh, element, u, v, weight);
     for (int c = 0; c < 3; ++c) out[c] = fmin(own[c], r->element_emission[element][c]);
-    for (int k = 0; k < corners; ++k) {
-        const float *deposit = r->vertex_deposit[r->mesh->element_vertices[element][k]];
-        for (int c = 0; c < 3; ++c) out[c] += weight[k] * deposit[c];
-    }
+    for (int k = 0; k < corners; ++k)
+        for (int c = 0; c < 3; ++c) out[c] += weight[k] * r->corner_deposit[element][k][c];
 }

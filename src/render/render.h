@@ -71,9 +71,9 @@ struct rad_renderer {
     float (*element_emission)[3];  /* E / pi per element */
     float (*element_reflectance)[3];
     /* The emission beyond the material's own (the specular-first deposit, E / pi minus the
-     * material's L) averaged at mesh vertices as vertex_radiance is, so the camera sees it smooth;
-     * NULL when no element has any (reconstruct.c). */
-    float (*vertex_deposit)[3];
+     * material's L) at each element's corners, smoothed but keeping each element's mean
+     * (reconstruct.c); NULL when no element has any. */
+    float (*corner_deposit)[4][3];
 
     /* Textured surfaces (texture_shading.c): the irradiance (B - E) / (pi rho) averaged at mesh
      * vertices; NULL when no surface is textured. */
@@ -129,7 +129,7 @@ static inline const rad_material *rad_renderer_material(const rad_renderer *r, u
 void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u, double v,
                               double out[3]);
 /* reconstruct.c: the radiance an element emits itself at (u, v): its material's emission, flat,
- * plus the deposit (vertex_deposit) interpolated as rad_reconstruct_radiance does (smooth
+ * plus the deposit (corner_deposit) interpolated as rad_reconstruct_radiance does (smooth
  * shading), or the element's E / pi (flat shading). */
 void rad_reconstruct_emission(const rad_renderer *r, uint32_t element, double u, double v,
                               double out[3]);
