@@ -44,6 +44,8 @@ static void leaves_free(rad_renderer *r) {
     rad_free(ctx, r->element_reflectance);
     rad_free(ctx, r->vertex_irradiance);
     r->vertex_irradiance = NULL;
+    rad_free(ctx, r->corner_deposit);
+    r->corner_deposit = NULL;
     r->rays = NULL;
     memset(&r->emitters, 0, sizeof r->emitters);
     r->element_emitter = NULL;

@@ -23,8 +23,9 @@
  * (system/specular_first.c, docs/specular-first.md) makes it the emission of the element it
  * lands on. The solver itself treats mirrors and glass as what their diffuse part says:
  * absorbers that cast shadows. The final gather leaves it out here: its gather rays could find
- * an emitter through a mirror or the glass, but a few rays per pixel would only scatter bright
- * specks over the image (and count the deposit twice). */
+ * a lamp through a mirror or the glass, but a few rays per pixel would only scatter bright
+ * specks over the image (and count the deposit twice). What they find behind a mirror or the
+ * glass on a diffuse surface, a deposit included, they take (D S+ D light at the pixel). */
 #include "render/render.h"
 
 #include "scene/bsdf.h"
@@ -34,8 +35,8 @@ static double largest3(const double c[3]) { return fmax(c[0], fmax(c[1], c[2]));
 
 /* The solution's radiance at a hit. Camera paths take it whole. Gather rays take the reflected
  * part (B - E) / pi, and the emitted part only at their first hit, weighted against the emitter
- * samples of the final gather; emitted light a gather ray finds behind a mirror or through glass
- * is a caustic, which the first pass does not carry either (see above), and is left out. */
+ * samples of the final gather; a lamp's light a gather ray finds behind a mirror or through
+ * glass is a caustic, which the first pass carries (see above), and is left out. */
 static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
                               const rad_gather_origin *gather, int depth, rad_vec3 direction,
                               rad_vec3 x, double out[3]) {
@@ -45,7 +46,14 @@ static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
     if (!gather) return;
     const float *emitted = r->element_emission[hit->element];
     if (!(emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) return;
-    double weight = depth == 0 ? rad_gather_emission_weight(r, gather, direction, hit) : 0;
+    if (depth > 0) {
+        /* Behind a mirror or glass only a lamp's own light is left out: a specular-first
+         * deposit there is light on a diffuse surface (L S+ D), and this ray carries it on. */
+        const double *lamp = rad_renderer_material(r, hit->element)->emission;
+        for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - fmin(lamp[c], emitted[c]));
+        return;
+    }
+    double weight = rad_gather_emission_weight(r, gather, direction, hit);
     for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - emitted[c]) + weight * emitted[c];
 }
 

@@ -68,6 +68,7 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
         return rad_fail(s->ctx, RAD_ERROR_UNSUPPORTED,
                         "the hierarchical solver does not take point, spot or directional lights "
                         "or a sky yet (docs/lights.md); use another solver");
+    run->leaves_out_specular = 1;
     if (s->specular_emission)
         rad_warn(s->ctx, "the hierarchical solver leaves out the specular-first light (light "
                          "through mirrors and glass, docs/specular-first.md)");
