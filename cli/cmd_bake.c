@@ -84,6 +84,8 @@ int cmd_bake(int argc, char **argv) {
     rad_solve_report report = {0};
     int exit_status = 0;
     rs = cli_pipeline_build(ctx, positional[0], &mesh, &ff, &scene, &system, NULL);
+    if (!rs && (exit_status = cli_check_outputs_against_scene("bake", scene, &output, 1)))
+        goto done; /* not the scene's .mtl, .bin, textures, ... */
     if (!rs && !rad_scene_is_geometric(scene)) {
         cli_progress_clear();
         exit_status = cli_error(1, "bake: %s is a patch system (.ffm): it has no geometry to bake",

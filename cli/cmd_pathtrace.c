@@ -5,6 +5,7 @@
 #include "camera_options.h"
 #include "light_options.h"
 #include "cli.h"
+#include "output_path.h"
 #include "pipeline.h"
 #include "progress.h"
 
@@ -83,6 +84,11 @@ int cmd_pathtrace(int argc, char **argv) {
     rad_pathtrace_stats stats = {0};
     double write_seconds = 0;
     rs = cli_load_scene(ctx, scene_name, &scene);
+    if (!rs && (status = cli_check_outputs_against_scene("pathtrace", scene, &a.output, 1))) {
+        rad_scene_destroy(scene); /* the output is the scene's .mtl, .bin, a texture, ... */
+        rad_context_destroy(ctx);
+        return status;
+    }
     if (!rs) {
         rad_camera_desc camera;
         cli_camera_get(&a.camera, scene, &camera);

@@ -4,6 +4,7 @@
  * traced, so a bad command fails at once and never leaves a file. */
 #include "camera_options.h"
 #include "cli.h"
+#include "output_path.h"
 #include "pipeline.h"
 #include "progress.h"
 
@@ -101,6 +102,11 @@ int cmd_photonmap(int argc, char **argv) {
     rad_photonmap_stats stats = {0};
     double write_seconds = 0;
     rs = cli_load_scene(ctx, scene_name, &scene);
+    if (!rs && (status = cli_check_outputs_against_scene("photonmap", scene, &a.output, 1))) {
+        rad_scene_destroy(scene); /* the output is the scene's .mtl, .bin, a texture, ... */
+        rad_context_destroy(ctx);
+        return status;
+    }
     if (!rs) {
         rad_camera_desc camera;
         cli_camera_get(&a.camera, scene, &camera);

@@ -173,6 +173,13 @@ int cmd_render(int argc, char **argv) {
         return usage ? EXIT_USAGE : 1;
     }
     rs = cli_pipeline_build(ctx, scene_name, &mesh, &ff, &scene, &system, &timings);
+    if (!rs && (status = cli_check_outputs_against_scene("render", scene, &output, 1))) {
+        rad_system_destroy(system); /* the output is the scene's .mtl, .bin, a texture, ... */
+        rad_scene_destroy(scene);
+        rad_context_destroy(ctx);
+        free(fallback_output);
+        return status;
+    }
     rad_camera_desc camera;
     if (!rs) {
         cli_camera_get(&a.camera, scene, &camera);

@@ -303,8 +303,10 @@ int cmd_scenes(int argc, char **argv) {
     rad_context *ctx = cli_context(1, 0, 0, quiet);
     rad_scene *scene = NULL;
     rad_status rs = cli_load_scene(ctx, export_scene, &scene);
-    if (!rs) rs = rad_scene_export_obj(ctx, scene, positional[0]);
-    int exit_status = rs ? cli_fail(ctx, rs) : 0;
+    const char *output = positional[0];
+    int exit_status = rs ? 0 : cli_check_outputs_against_scene("scenes", scene, &output, 1);
+    if (!rs && !exit_status) rs = rad_scene_export_obj(ctx, scene, positional[0]);
+    if (rs) exit_status = cli_fail(ctx, rs);
     rad_scene_destroy(scene);
     rad_context_destroy(ctx);
     return exit_status;

@@ -297,6 +297,9 @@ int cmd_solve(int argc, char **argv) {
     plot_series series = {0};
     int exit_status = 0;
     rad_status rs = cli_load_scene(ctx, positional[0], &scene);
+    const char *outputs[] = {a.save, a.log, a.plot}; /* none may be the scene's .mtl, .bin, ... */
+    if (!rs && (exit_status = cli_check_outputs_against_scene("solve", scene, outputs, 3)))
+        goto done;
     rad_camera_desc camera;
     if (!rs) cli_camera_get(&a.camera, scene, &camera);
     if (!rs && a.compare) {

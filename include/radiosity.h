@@ -146,6 +146,13 @@ void rad_scene_destroy(rad_scene *scene);
 /* Nonzero when the scene is geometry (form factors computed), zero for a patch system. */
 int rad_scene_is_geometric(const rad_scene *scene);
 
+/* The files the scene was read from: the scene file, its .mtl, .bin and textures (whatever the
+ * importer opened), MGF includes, IES profiles; each once, as opened (relative paths are
+ * relative to the working directory). None for built-in scenes. The string lives as long as the
+ * scene; NULL past the end. An output must never be one of these files (the CLI refuses). */
+size_t rad_scene_file_count(const rad_scene *scene);
+const char *rad_scene_file(const rad_scene *scene, size_t index);
+
 /* ---------------------------------------------------------------------------------------------
  * Systems: patches, elements, form factors and the solution
  * ------------------------------------------------------------------------------------------- */
