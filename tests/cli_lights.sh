@@ -9,17 +9,7 @@
 source "$(dirname "$0")/lib_cli.sh" "$@"
 cd "$work" || exit 1
 
-cat > plane.obj <<'OBJ'
-mtllib plane.mtl
-v -1 0 -1
-v -1 0 1
-v 1 0 1
-v 1 0 -1
-usemtl grey
-o floor
-f 1 2 3 4
-OBJ
-printf 'newmtl grey\nKd 0.5 0.5 0.5\n' > plane.mtl
+write_plane_obj
 
 # ratio OUT: the mean ratio test / reference of `radiosity compare`.
 ratio() { awk '/^mean/ { print $NF }' "$1"; }
