@@ -650,9 +650,31 @@ rad_status rad_hier_refine(rad_hier *h) {
                 pass_largest = fmax(pass_largest, relative);
         }
         largest = fmax(largest, pass_largest);
+        /* The nodes this pass makes: four for each distinct polygon leaf it splits (opening a
+         * cluster or an already split node makes none). */
+        size_t new_nodes = 0;
+        if (splits) {
+            uint8_t *marked = rad_alloc_zero(ctx, h->node_count, 1);
+            if (!marked) {
+                status = RAD_ERROR_NO_MEMORY;
+                break;
+            }
+            for (size_t i = 0; i < pending_count; ++i) {
+                uint32_t ends[2] = {pending[i].receiver, pending[i].source};
+                for (int end = 0; end < 2; ++end) {
+                    const rad_hier_node *n = &h->nodes[ends[end]];
+                    if ((decision[i] == 1 + end || decision[i] == 3) && !is_cluster(n) &&
+                        n->first_child == RAD_HIER_NO_NODE && !marked[ends[end]]) {
+                        marked[ends[end]] = 1;
+                        new_nodes += 4;
+                    }
+                }
+            }
+            rad_free(ctx, marked);
+        }
         if (splits &&
             check_memory(h, kept_count + pending_count + candidates,
-                         h->node_count + 4 * splits) == RAD_ERROR_MEMORY_BUDGET) {
+                         h->node_count + new_nodes) == RAD_ERROR_MEMORY_BUDGET) {
             /* Keep the solution so far: say why refinement stops, then stop refining. */
             rad_warn(ctx, "%s; refinement stops at %zu links, keeping the solution so far",
                      rad_context_error(ctx), kept_count + pending_count);
