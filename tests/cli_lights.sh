@@ -82,7 +82,11 @@ check "solve --ies bulb=good.ies: exit 0" test $? -eq 0
 check "the IES profile changes the solution" test "$(awk '$1 == "floor" { print $3 }' ies.out)" != \
     "$(awk '$1 == "floor" { print $3 }' plain.out)"
 
-# The hierarchical solver does not take lights yet: one line, exit 1.
-expect_exit 1 "does not take point, spot or directional lights" -- "$radiosity" solve plane.obj --sun 0,1,0,1 --solver hierarchical --elements 100
+# The hierarchical solver takes the lights' pre-pass as emission: the sun lights the plane.
+"$radiosity" solve plane.obj --sun 0,1,0,1 --solver hierarchical --elements 100 --quiet > hier.out
+check "solve --sun --solver hierarchical: exit 0" test $? -eq 0
+"$radiosity" solve plane.obj --sun 0,1,0,1 --elements 100 --quiet > shoot.out
+check "the hierarchy's sunlit plane matches shooting's" test \
+    "$(awk '$1 == "floor" { print $3 }' hier.out)" = "$(awk '$1 == "floor" { print $3 }' shoot.out)"
 
 finish

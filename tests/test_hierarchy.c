@@ -44,7 +44,7 @@ static void add_quad(rad_scene *scene, uint32_t surface, rad_vec3 a, rad_vec3 b,
 
 /* Refines and solves until no link refines. */
 static rad_hier *solve_hierarchy(rad_context *ctx, const rad_scene *scene, double link_error) {
-    rad_hier_options options = {link_error, 0, 0};
+    rad_hier_options options = {link_error, 0, 0, NULL, NULL};
     rad_hier *h = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
     if (!h) return NULL;
@@ -412,7 +412,7 @@ static rad_scene *tiled_room(rad_context *ctx) {
 static void test_clusters(void) {
     rad_context *ctx = context(2), *one = context(1);
     rad_scene *scene = tiled_room(ctx);
-    rad_hier_options options = {1e-4, 0, 0};
+    rad_hier_options options = {1e-4, 0, 0, NULL, NULL};
     rad_hier *clustered = NULL, *flat = NULL, *single = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &clustered) == RAD_OK);
     CHECK(rad_hier_create(one, scene, &options, &single) == RAD_OK);

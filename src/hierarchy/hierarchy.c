@@ -57,6 +57,10 @@ struct rad_hier {
     double emission_max, emitted_power;
     double min_area;  /* absolute */
     rad_hier_stats stats;
+    /* Light besides the materials' emission (rad_hier_options.light): per node, NULL without. */
+    void (*light_fn)(void *user, uint32_t polygon, const rad_vec3 *corners, int count, double out[3]);
+    void *light_user;
+    rgb *light;
 };
 
 static int threads(const rad_hier *h) { return rad_thread_count(h->ctx); }
@@ -75,6 +79,11 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
     rad_hier_node *grown = rad_realloc(h->ctx, h->nodes, wanted, sizeof *grown);
     if (!grown) return RAD_ERROR_NO_MEMORY;
     h->nodes = grown;
+    if (h->light) {
+        rgb *light = rad_realloc(h->ctx, h->light, wanted, sizeof *light);
+        if (!light) return RAD_ERROR_NO_MEMORY;
+        h->light = light;
+    }
     h->node_capacity = wanted;
     return RAD_OK;
 }
@@ -121,6 +130,8 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
     for (int k = 0; k < 4; ++k) {
         init_node(h, &h->nodes[first + k], child[k], count, parent.polygon, parent.root,
                   parent.depth + 1);
+        if (h->light)
+            h->light_fn(h->light_user, parent.polygon, child[k], count, h->light[first + k]);
         memcpy(h->nodes[first + k].radiosity, parent.radiosity, sizeof parent.radiosity);
     }
     h->node_count += 4;
@@ -207,10 +218,6 @@ static double visible_pairs(const rad_hier *h, const rad_vec3 *x, int rn, const 
     return (double)visible / count;
 }
 
-static double visible_fraction(const rad_hier *h, const rad_vec3 *x, int rn, const rad_vec3 *y,
-                               int sn, int *partial) {
-    return visible_pairs(h, x, rn, y, sn, partial, NULL);
-}
 
 /* The link receiver <- source: its form factor and error bound. Returns 0 when no light can
  * pass (the two face away from each other). */
@@ -248,7 +255,23 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
      * error, so the oracle refines it where it matters. */
     int partial;
     sn = visibility_points(s, pair_hash(receiver, source, 2), y);
-    double fraction = visible_fraction(h, x, rn, y, sn, &partial);
+    uint8_t seen[16];
+    double fraction = visible_pairs(h, x, rn, y, sn, &partial, seen);
+    if (partial && fraction > 0) {
+        /* Weigh the rays by the point-to-point kernel cos cos / r^2: the part of a large source
+         * seen through an opening is the part overhead, where the kernel is largest (the sky
+         * over Sponza's atrium: the area fraction halved the floor's direct light). */
+        double all = 0, visible = 0;
+        for (int i = 0; i < rn; ++i)
+            for (int j = 0; j < sn; ++j) {
+                rad_vec3 ray = v3_sub(y[j], x[i]);
+                double r2 = v3_dot(ray, ray);
+                double k = fmax(0, v3_dot(nr, ray)) * fmax(0, -v3_dot(ns, ray)) / (r2 * r2);
+                all += k;
+                visible += seen[i * sn + j] ? k : 0;
+            }
+        if (all > 0) fraction = visible / all;
+    }
     double error = 0.25 * (hi - lo) * fraction + (partial ? form_factor : 0);
     out->receiver = receiver;
     out->source = source;
@@ -713,8 +736,9 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
     double change = 0;
     if (n->first_child == RAD_HIER_NO_NODE) {
         const double *rho = h->reflectance[n->polygon], *e = h->emission[n->polygon];
+        const double zero[3] = {0, 0, 0}, *light = h->light ? h->light[index] : zero;
         for (int c = 0; c < 3; ++c) {
-            double b = e[c] + rho[c] * total[c];
+            double b = e[c] + light[c] + rho[c] * total[c];
             change = fmax(change, fabs(b - n->radiosity[c]));
             n->radiosity[c] = b;
         }
@@ -954,6 +978,8 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
     h->ctx = ctx;
     h->scene = scene;
     h->no_clusters = o.no_clusters;
+    h->light_fn = o.light;
+    h->light_user = o.light_user;
     size_t np = scene->polygon_count;
     h->polygon_root_first = rad_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_first);
     h->polygon_root_count = rad_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_count);
@@ -1006,6 +1032,20 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
         status = rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                           "%s: no polygon with a nonzero area", scene->source);
     if (!status) status = build_clusters(h);
+    if (!status && h->light_fn) {
+        /* The roots' light (after build_clusters renumbered them), counted as emitted. */
+        h->light = rad_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light);
+        if (!h->light) status = RAD_ERROR_NO_MEMORY;
+        for (size_t i = 0; i < h->root_count && !status; ++i) {
+            rad_hier_node *n = &h->nodes[i];
+            h->light_fn(h->light_user, n->polygon, n->corner, n->corner_count, h->light[i]);
+            double most = fmax(h->light[i][0], fmax(h->light[i][1], h->light[i][2]));
+            h->emission_max = fmax(h->emission_max, most);
+            h->emitted_power += most * n->area;
+            for (int c = 0; c < 3; ++c) n->radiosity[c] += h->light[i][c];
+        }
+        h->threshold = o.link_error * (h->emitted_power > 0 ? h->emitted_power : 1);
+    }
     if (!status) status = rad_rays_create(ctx, scene, &h->rays);
     if (status) {
         rad_hier_destroy(h);
@@ -1031,6 +1071,7 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->reflectance);
     rad_free(ctx, h->emission);
     rad_free(ctx, h->normal);
+    rad_free(ctx, h->light);
     rad_free(ctx, h->links);
     rad_free(ctx, h->group_first);
     rad_free(ctx, h);
@@ -1085,13 +1126,11 @@ static double inside(const rad_hier *h, const rad_hier_node *n, rad_vec3 x) {
     return worst;
 }
 
-void rad_hier_radiosity_at(const rad_hier *h, uint32_t polygon, rad_vec3 x, double out[3]) {
+/* The leaf of polygon `polygon` under x, or RAD_HIER_NO_NODE when the polygon has no root. */
+static uint32_t leaf_at(const rad_hier *h, uint32_t polygon, rad_vec3 x) {
     uint32_t count;
     const uint32_t *roots = rad_hier_polygon_roots(h, polygon, &count);
-    if (!roots) {
-        memset(out, 0, sizeof(double[3]));
-        return;
-    }
+    if (!roots) return RAD_HIER_NO_NODE;
     double best = -INFINITY;
     uint32_t index = roots[0];
     for (uint32_t k = 0; k < count; ++k) {
@@ -1107,5 +1146,17 @@ void rad_hier_radiosity_at(const rad_hier *h, uint32_t polygon, rad_vec3 x, doub
         }
         index = pick;
     }
-    memcpy(out, h->nodes[index].radiosity, sizeof(double[3]));
+    return index;
+}
+
+void rad_hier_radiosity_at(const rad_hier *h, uint32_t polygon, rad_vec3 x, double out[3]) {
+    uint32_t leaf = leaf_at(h, polygon, x);
+    if (leaf == RAD_HIER_NO_NODE) memset(out, 0, sizeof(double[3]));
+    else memcpy(out, h->nodes[leaf].radiosity, sizeof(double[3]));
+}
+
+void rad_hier_light_at(const rad_hier *h, uint32_t polygon, rad_vec3 x, double out[3]) {
+    uint32_t leaf = h->light ? leaf_at(h, polygon, x) : RAD_HIER_NO_NODE;
+    if (leaf == RAD_HIER_NO_NODE) memset(out, 0, sizeof(double[3]));
+    else memcpy(out, h->light[leaf], sizeof(double[3]));
 }

@@ -64,6 +64,11 @@ typedef struct rad_hier_options {
     double min_area;   /* nodes this small (relative to the scene's area) are not split; zero: 1e-6 */
     int no_clusters;   /* nonzero: rad_hier_link_roots links all pairs of roots (n^2), as
                           before clustering; for comparisons */
+    /* Optional: the radiosity a node of `polygon` with these corners emits besides its
+     * material's emission, e.g. the reflected direct light of point, spot and directional lights
+     * and the sky (src/system/lights_direct.c); asked once per node when it is made. */
+    void (*light)(void *user, uint32_t polygon, const rad_vec3 *corners, int count, double out[3]);
+    void *light_user;
 } rad_hier_options;
 
 typedef struct rad_hier_stats {
@@ -114,6 +119,9 @@ uint32_t rad_hier_top(const rad_hier *hier);
 
 /* The radiosity of the leaf under point x (on polygon `polygon`). */
 void rad_hier_radiosity_at(const rad_hier *hier, uint32_t polygon, rad_vec3 x, double out[3]);
+
+/* The light (rad_hier_options.light) of the leaf under point x; zero without lights. */
+void rad_hier_light_at(const rad_hier *hier, uint32_t polygon, rad_vec3 x, double out[3]);
 
 /* The root a node belongs to (a cluster: itself). */
 uint32_t rad_hier_root_of(const rad_hier *hier, uint32_t node);

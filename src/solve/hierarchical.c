@@ -9,6 +9,7 @@
 
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
+#include "scene/scene.h"
 #include "solve/hierarchical_view.h"
 
 #include <math.h>
@@ -17,10 +18,74 @@
 #define INNER_TOLERANCE 1e-5 /* gathering rounds stop when no leaf changes by more (relative) */
 #define INNER_ROUNDS 1000
 
+/* The lights' pre-pass (src/system/lights_direct.c) for the hierarchy: each polygon's elements
+ * (first[p] .. first[p + 1] in `element`), so a node takes the light of the elements whose
+ * centroids it covers, area-weighted (the nearest element's when it covers none). */
+typedef struct element_light {
+    const rad_system *system;
+    size_t *first;
+    uint32_t *element;
+} element_light;
+
+static void node_light(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
+                       double out[3]) {
+    const element_light *el = user;
+    const rad_system *s = el->system;
+    const rad_vec3 *centroids = s->mesh->element_centroid;
+    rad_vec3 normal = v3_cross(v3_sub(corners[1], corners[0]), v3_sub(corners[count - 1], corners[0]));
+    rad_vec3 centre = v3(0, 0, 0);
+    for (int k = 0; k < count; ++k) centre = v3_add(centre, v3_scale(corners[k], 1.0 / count));
+    double sum[3] = {0, 0, 0}, area = 0, nearest = INFINITY;
+    size_t best = SIZE_MAX;
+    for (size_t i = el->first[polygon]; i < el->first[polygon + 1]; ++i) {
+        uint32_t e = el->element[i];
+        rad_vec3 x = centroids[e];
+        int in = 1;
+        for (int k = 0; k < count && in; ++k) {
+            rad_vec3 a = corners[k], b = corners[(k + 1) % count];
+            in = v3_dot(v3_cross(v3_sub(b, a), v3_sub(x, a)), normal) >= 0;
+        }
+        double d = v3_length(v3_sub(x, centre));
+        if (d < nearest) nearest = d, best = e;
+        if (!in) continue;
+        for (int c = 0; c < 3; ++c) sum[c] += s->light_emission[e][c] * s->area[e];
+        area += s->area[e];
+    }
+    for (int c = 0; c < 3; ++c)
+        out[c] = area > 0 ? sum[c] / area : best != SIZE_MAX ? s->light_emission[best][c] : 0;
+}
+
+static rad_status element_light_create(const rad_system *s, element_light *out) {
+    size_t polygons = s->geometry->polygon_count, n = s->element_count;
+    out->system = s;
+    out->first = rad_alloc_zero(s->ctx, polygons + 2, sizeof *out->first);
+    out->element = rad_alloc(s->ctx, n ? n : 1, sizeof *out->element);
+    if (!out->first || !out->element) return RAD_ERROR_NO_MEMORY;
+    for (size_t e = 0; e < n; ++e) out->first[s->mesh->element_polygon[e] + 2]++;
+    for (size_t p = 0; p < polygons; ++p) out->first[p + 2] += out->first[p + 1];
+    for (size_t e = 0; e < n; ++e) out->element[out->first[s->mesh->element_polygon[e] + 1]++] = (uint32_t)e;
+    return RAD_OK;
+}
+
+static void element_light_destroy(const rad_system *s, element_light *el) {
+    if (!el) return;
+    rad_free(s->ctx, el->first);
+    rad_free(s->ctx, el->element);
+    rad_free(s->ctx, el);
+}
+
+/* The solver's state: the hierarchy and, with lights, what it reads their light from. */
+typedef struct hierarchical_state {
+    rad_hier *hier;
+    element_light *light;
+    int drawn; /* the system's view owns the hierarchy (rad_hier_view_install) */
+} hierarchical_state;
+
 /* Each element's radiosity. When the elements are the hierarchy's roots (one per polygon, or
  * one per fan triangle: rad_mesh_options.polygons_only), a root's radiosity, which push-pull
  * made the area-weighted mean of its leaves; otherwise the mean over the element's centroid and
- * the points halfway to its corners. */
+ * the points halfway to its corners; with lights, the element's own pre-pass light replaces the
+ * leaves' (which may be coarser). */
 static void evaluate(rad_system *s, const rad_hier *hier) {
     const rad_mesh *mesh = s->mesh;
     size_t node_count;
@@ -34,7 +99,7 @@ static void evaluate(rad_system *s, const rad_hier *hier) {
         size_t first = (size_t)e, last = (size_t)e + 1;
         while (first > 0 && mesh->element_polygon[first - 1] == polygon) --first;
         while (last < s->element_count && mesh->element_polygon[last] == polygon) ++last;
-        if (roots && last - first == root_count &&
+        if (!s->light_emission && roots && last - first == root_count &&
             fabs(nodes[roots[(size_t)e - first]].area - mesh->element_area[e]) <=
                 1e-9 * mesh->element_area[e]) {
             memcpy(s->radiosity[e], nodes[roots[(size_t)e - first]].radiosity, sizeof(rad_rgb));
@@ -50,6 +115,12 @@ static void evaluate(rad_system *s, const rad_hier *hier) {
             rad_hier_radiosity_at(hier, polygon, v3_lerp(centre, corner, 0.5), b);
             for (int c = 0; c < 3; ++c) sum[c] += b[c];
         }
+        if (s->light_emission) {
+            double light[3];
+            rad_hier_light_at(hier, mesh->element_polygon[e], centre, light);
+            for (int c = 0; c < 3; ++c)
+                sum[c] += (corners + 1) * (s->light_emission[e][c] - light[c]);
+        }
         for (int c = 0; c < 3; ++c) {
             s->radiosity[e][c] = sum[c] / (corners + 1);
             s->unshot[e][c] = 0;
@@ -64,10 +135,6 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
         return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "the hierarchical solver needs geometry; a patch system (.ffm) has only "
                         "its given form factors");
-    if (s->light_emission)
-        return rad_fail(s->ctx, RAD_ERROR_UNSUPPORTED,
-                        "the hierarchical solver does not take point, spot or directional lights "
-                        "or a sky yet (docs/lights.md); use another solver");
     if (s->specular_emission)
         rad_warn(s->ctx, "the hierarchical solver leaves out the specular-first light (light "
                          "through mirrors and glass, docs/specular-first.md)");
@@ -78,21 +145,28 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
     rad_hier_options options = {0};
     options.link_error = o->link_error > 0 ? o->link_error : o->tolerance;
     rad_hier *hier = NULL;
-    rad_status status = rad_hier_create(s->ctx, s->geometry, &options, &hier);
+    hierarchical_state *state = rad_alloc_zero(s->ctx, 1, sizeof *state);
+    if (!state) return RAD_ERROR_NO_MEMORY;
+    rad_status status = RAD_OK;
+    if (s->light_emission) {
+        /* Point, spot and directional lights and the sky: their direct light, reflected, is
+         * each node's emission besides its material's (docs/hierarchical.md). */
+        state->light = rad_alloc_zero(s->ctx, 1, sizeof *state->light);
+        status = state->light ? element_light_create(s, state->light) : RAD_ERROR_NO_MEMORY;
+        options.light = node_light;
+        options.light_user = state->light;
+    }
+    if (!status) status = rad_hier_create(s->ctx, s->geometry, &options, &hier);
     if (!status) status = rad_hier_link_roots(hier);
     if (!status) status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
-    if (status) {
-        rad_hier_destroy(hier);
-        return status;
-    }
+    state->hier = hier;
+    run->state = state;
+    if (status) return status; /* hierarchical_end frees the state */
     /* The outputs draw the leaves (hierarchical_view.c); the system owns the hierarchy now. */
     status = rad_hier_view_install(s, hier);
-    if (status) {
-        rad_hier_destroy(hier);
-        return status;
-    }
+    if (status) return status;
+    state->drawn = 1;
     evaluate(s, hier);
-    run->state = hier;
     return RAD_OK;
 }
 
@@ -107,7 +181,7 @@ static void report_step(rad_system *s, const rad_hier *hier, int iteration) {
 }
 
 static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *residual) {
-    rad_hier *hier = run->state;
+    rad_hier *hier = ((hierarchical_state *)run->state)->hier;
     rad_status status = rad_hier_refine(hier);
     if (status) return status;
     rad_hier_stats stats = rad_hier_get_stats(hier);
@@ -127,8 +201,15 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
     return status;
 }
 
-/* The hierarchy stays: the system's view draws its leaves. */
-static void hierarchical_end(rad_solver_run *run) { run->state = NULL; }
+/* The hierarchy stays when the system's view draws its leaves. */
+static void hierarchical_end(rad_solver_run *run) {
+    hierarchical_state *state = run->state;
+    if (!state) return;
+    if (!state->drawn) rad_hier_destroy(state->hier);
+    element_light_destroy(run->system, state->light);
+    rad_free(run->system->ctx, state);
+    run->state = NULL;
+}
 
 static const rad_method_option hierarchical_options[] = {
     {"link-error", "E  the oracle's threshold on a link's error, relative to the emitted power "
