@@ -135,6 +135,7 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
         return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "the hierarchical solver needs geometry; a patch system (.ffm) has only "
                         "its given form factors");
+    run->leaves_out_specular = 1;
     if (s->specular_emission)
         rad_warn(s->ctx, "the hierarchical solver leaves out the specular-first light (light "
                          "through mirrors and glass, docs/specular-first.md)");
