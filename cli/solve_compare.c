@@ -42,8 +42,12 @@ static void print_reached(double seconds, long steps, int shooting) {
     }
 }
 
-int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_options *mesh,
+int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_options *mesh_options,
                   const rad_ff_options *ff, const solve_args *a, const rad_camera_desc *camera) {
+    /* Every solver runs on the same element mesh (one that draws its own leaves too). */
+    rad_mesh_options shared_mesh = *mesh_options;
+    shared_mesh.polygons_only = 0;
+    const rad_mesh_options *mesh = &shared_mesh;
     rad_system *system = NULL;
     rad_status status = rad_system_create(ctx, scene, mesh, ff, &system);
     if (status) return cli_fail(ctx, status);

@@ -539,6 +539,11 @@ static rad_rgb *leaf_view_cornell(int threads, size_t *vertex_count, size_t *dra
         }
         CHECK(inside == 0);
         free(vertex_normal);
+        /* Without form factors, another solver is refused (and the leaves stay drawable). */
+        rad_solve_options shooting = {0};
+        shooting.solver = RAD_SOLVER_SHOOTING;
+        CHECK(rad_solve(system, &shooting, NULL) == RAD_ERROR_INVALID_ARGUMENT);
+        CHECK(strstr(rad_context_error(ctx), "needs form factors") != NULL);
     }
     rad_rgb *vertex = malloc((m->vertex_count ? m->vertex_count : 1) * sizeof *vertex);
     CHECK(rad_solution_vertex_radiosity(view, ctx, 0, vertex) == RAD_OK);

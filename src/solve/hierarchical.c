@@ -78,12 +78,13 @@ static void element_light_destroy(const rad_system *s, element_light *el) {
 typedef struct hierarchical_state {
     rad_hier *hier;
     element_light *light;
+    int drawn; /* the system's view owns the hierarchy (rad_hier_view_install) */
 } hierarchical_state;
 
 /* Each element's radiosity. When the elements are the hierarchy's roots (one per polygon, or
  * one per fan triangle: rad_mesh_options.polygons_only), a root's radiosity, which push-pull
  * made the area-weighted mean of its leaves; otherwise the mean over the element's centroid and
- * the points halfway to its corners. With lights, the element's own pre-pass light replaces the
+ * the points halfway to its corners; with lights, the element's own pre-pass light replaces the
  * leaves' (which may be coarser). */
 static void evaluate(rad_system *s, const rad_hier *hier) {
     const rad_mesh *mesh = s->mesh;
@@ -98,7 +99,7 @@ static void evaluate(rad_system *s, const rad_hier *hier) {
         size_t first = (size_t)e, last = (size_t)e + 1;
         while (first > 0 && mesh->element_polygon[first - 1] == polygon) --first;
         while (last < s->element_count && mesh->element_polygon[last] == polygon) ++last;
-        if (roots && last - first == root_count &&
+        if (!s->light_emission && roots && last - first == root_count &&
             fabs(nodes[roots[(size_t)e - first]].area - mesh->element_area[e]) <=
                 1e-9 * mesh->element_area[e]) {
             memcpy(s->radiosity[e], nodes[roots[(size_t)e - first]].radiosity, sizeof(rad_rgb));
@@ -159,16 +160,13 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
     if (!status) status = rad_hier_create(s->ctx, s->geometry, &options, &hier);
     if (!status) status = rad_hier_link_roots(hier);
     if (!status) status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
-    /* The outputs draw the leaves (hierarchical_view.c); the system owns the hierarchy then. */
-    if (!status) status = rad_hier_view_install(s, hier);
-    if (status) {
-        rad_hier_destroy(hier);
-        element_light_destroy(s, state->light);
-        rad_free(s->ctx, state);
-        return status;
-    }
     state->hier = hier;
     run->state = state;
+    if (status) return status; /* hierarchical_end frees the state */
+    /* The outputs draw the leaves (hierarchical_view.c); the system owns the hierarchy now. */
+    status = rad_hier_view_install(s, hier);
+    if (status) return status;
+    state->drawn = 1;
     evaluate(s, hier);
     return RAD_OK;
 }
@@ -204,11 +202,11 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
     return status;
 }
 
-/* The hierarchy stays: the system's view draws its leaves (no node is made after the solve, so
- * the lights' table the hierarchy read while refining can go). */
+/* The hierarchy stays when the system's view draws its leaves. */
 static void hierarchical_end(rad_solver_run *run) {
     hierarchical_state *state = run->state;
     if (!state) return;
+    if (!state->drawn) rad_hier_destroy(state->hier);
     element_light_destroy(run->system, state->light);
     rad_free(run->system->ctx, state);
     run->state = NULL;

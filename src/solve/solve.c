@@ -76,6 +76,13 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
     rad_status checked = rad_options_check(ctx, options->method_options, impl->info.options,
                                            impl->info.option_count, "solver", impl->info.name);
     if (checked) return checked;
+    /* A system built with one element per polygon (rad_mesh_options.polygons_only) has no
+     * form factors: only a solver that computes its own can run on it. */
+    if (!system->ff && !(impl->info.capabilities & RAD_SOLVER_OWN_LEAVES))
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "the %s solver needs form factors; this system was built with one "
+                        "element per polygon (polygons_only) for a solver that draws its own "
+                        "leaves", impl->info.name);
     /* A solver that still reads its option from the shared struct gets the bag's value there
      * (the hierarchical solver's link_error, until it reads "link-error" itself). */
     rad_solve_options resolved = *options;

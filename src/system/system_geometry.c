@@ -29,9 +29,14 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
                                 scene->source, m->name, m->emission[c]);
         }
     }
+    /* One element per polygon for a solver that draws its own leaves, unless lights or a sky
+     * ask for the uniform mesh: their direct light is resolved on its elements (the hierarchy
+     * reads it from them, src/solve/hierarchical.c). */
+    int polygons_only = mesh_options->polygons_only && !scene->light_count &&
+                        scene->sky.kind == RAD_SKY_OFF;
     rad_mesh *mesh = NULL;
-    rad_status status = mesh_options->polygons_only ? rad_system_polygon_mesh(ctx, scene, &mesh)
-                                                    : rad_mesh_create(ctx, scene, mesh_options, &mesh);
+    rad_status status = polygons_only ? rad_system_polygon_mesh(ctx, scene, &mesh)
+                                      : rad_mesh_create(ctx, scene, mesh_options, &mesh);
     if (status) return status;
     rad_system *s = NULL;
     status = rad_system_alloc(ctx, mesh->element_count, mesh->patch_count, scene->surface_count, &s);
@@ -65,7 +70,7 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
     rad_system_finish_areas(s);
     if (!status) status = rad_system_check_finite(s, scene->source);
     /* A solver that draws its own leaves computes its own form factors. */
-    if (!status && !mesh_options->polygons_only)
+    if (!status && !polygons_only)
         status = rad_ff_create(ctx, scene, mesh, ff_options, &s->ff);
     if (!status) status = rad_scene_copy_geometry(ctx, scene, &s->geometry);
     if (!status && (scene->light_count || scene->sky.kind != RAD_SKY_OFF)) {
