@@ -30,6 +30,8 @@ typedef struct cluster_info {
     double axis_area[6];   /* sum over members of A max(0, +n_x), A max(0, -n_x), ... y, z */
     rad_vec3 normal_sum;   /* sum over members of A n */
     double reflectance;    /* the largest member reflectance (any channel) */
+    double axis_power[6][3]; /* sum over members of B A max(0, +n_x), ... as axis_area: the
+                                light leaving toward each signed axis, per channel */
     uint32_t parent;       /* the parent cluster's node, or RAD_HIER_NO_NODE for the top */
 } cluster_info;
 
@@ -457,6 +459,28 @@ static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, 
     return make_link(h, receiver, source, out);
 }
 
+/* The radiosity a link's source sends toward its receiver. A cluster's is directional (Sillion
+ * 1995): the light its members send toward the receiver over their projected area, from the
+ * per-axis sums; its plain mean mixed the sky quad over Sponza with the roof beside it, which
+ * faces away (and halved the light sent down). */
+static void source_radiosity(const rad_hier *h, const rad_hier_link *link, double out[3]) {
+    const rad_hier_node *s = &h->nodes[link->source];
+    memcpy(out, s->radiosity, sizeof(double[3]));
+    if (!is_cluster(s)) return;
+    const cluster_info *ci = info(h, link->source);
+    const rad_hier_node *r = &h->nodes[link->receiver];
+    rad_vec3 w = v3_sub(is_cluster(r) ? info(h, link->receiver)->centre : surface_centre(r), ci->centre);
+    const double d[3] = {fabs(w.x), fabs(w.y), fabs(w.z)};
+    const int side[3] = {w.x < 0, w.y < 0, w.z < 0};
+    double area = 0, power[3] = {0, 0, 0};
+    for (int a = 0; a < 3; ++a) {
+        area += d[a] * ci->axis_area[2 * a + side[a]];
+        for (int i = 0; i < 3; ++i) power[i] += d[a] * ci->axis_power[2 * a + side[a]][i];
+    }
+    if (area > 0)
+        for (int i = 0; i < 3; ++i) out[i] = power[i] / area;
+}
+
 /* The oracle for a link with a cluster at one end or both: 0 keeps it, 1 opens (or splits) the
  * receiver, 2 the source, 3 a self-link into every pair of children. The end with the larger
  * bounding sphere is opened (Smits et al. 1994). */
@@ -757,11 +781,42 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
     return change;
 }
 
+/* Pulls up the clusters (children first): their radiosity is the area-weighted mean of their
+ * members', their axis_power the light their members send toward each signed axis. */
+static void pull_clusters(rad_hier *h) {
+    for (size_t c = h->cluster_count; c-- > 0;) {
+        rad_hier_node *n = &h->nodes[h->cluster_first + c];
+        cluster_info *ci = &h->clusters[c];
+        double sum[3] = {0, 0, 0};
+        memset(ci->axis_power, 0, sizeof ci->axis_power);
+        for (uint32_t k = 0; k < n->child_count; ++k) {
+            uint32_t child = n->first_child + k;
+            const rad_hier_node *m = &h->nodes[child];
+            for (int i = 0; i < 3; ++i) sum[i] += m->radiosity[i] * m->area;
+            if (is_cluster(m)) {
+                const cluster_info *mi = info(h, child);
+                for (int a = 0; a < 6; ++a)
+                    for (int i = 0; i < 3; ++i) ci->axis_power[a][i] += mi->axis_power[a][i];
+                continue;
+            }
+            rad_vec3 normal = h->normal[m->polygon];
+            const double d[3] = {normal.x, normal.y, normal.z};
+            for (int a = 0; a < 3; ++a)
+                for (int i = 0; i < 3; ++i) {
+                    ci->axis_power[2 * a][i] += m->radiosity[i] * m->area * fmax(0, d[a]);
+                    ci->axis_power[2 * a + 1][i] += m->radiosity[i] * m->area * fmax(0, -d[a]);
+                }
+        }
+        for (int i = 0; i < 3; ++i) n->radiosity[i] = n->area > 0 ? sum[i] / n->area : 0;
+    }
+}
+
 rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
     const long groups = (long)h->group_count, roots = (long)h->root_count;
     const long nodes = (long)h->node_count;
     double limit = tolerance * (h->emission_max > 0 ? h->emission_max : 1);
     int round = 0;
+    pull_clusters(h); /* the clusters start from their members as they are now */
     for (round = 1; round <= max_rounds; ++round) {
         /* Gather: every receiver sums its links in their fixed order. */
 #pragma omp parallel num_threads(threads(h)) if (nodes >= PARALLEL_MIN)
@@ -774,7 +829,8 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
                 size_t first = h->group_first[g], last = h->group_first[g + 1];
                 for (size_t l = first; l < last; ++l) {
                     const rad_hier_link *link = &h->links[l];
-                    const double *b = h->nodes[link->source].radiosity;
+                    double b[3];
+                    source_radiosity(h, link, b);
                     for (int c = 0; c < 3; ++c) sum[c] += (double)link->form_factor * b[c];
                 }
                 memcpy(h->nodes[h->links[first].receiver].irradiance, sum, sizeof sum);
@@ -797,16 +853,7 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
             const double *down = h->cluster_down[h->root_parent[r] - h->cluster_first];
             change = fmax(change, push_pull(h, (uint32_t)r, down));
         }
-        /* Pull up the clusters (children first): area-weighted means of their members. */
-        for (size_t c = h->cluster_count; c-- > 0;) {
-            rad_hier_node *n = &h->nodes[h->cluster_first + c];
-            double sum[3] = {0, 0, 0};
-            for (uint32_t k = 0; k < n->child_count; ++k) {
-                const rad_hier_node *m = &h->nodes[n->first_child + k];
-                for (int i = 0; i < 3; ++i) sum[i] += m->radiosity[i] * m->area;
-            }
-            for (int i = 0; i < 3; ++i) n->radiosity[i] = n->area > 0 ? sum[i] / n->area : 0;
-        }
+        pull_clusters(h);
         if (change <= limit) break;
         if (rad_progress(h->ctx, "hierarchical gathering", round, max_rounds))
             return rad_fail(h->ctx, RAD_ERROR_CANCELLED, "cancelled after %d gathering rounds",
