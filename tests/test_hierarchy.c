@@ -345,6 +345,9 @@ static void test_image(void) {
     CHECK(rad_render(scene, system, &options, &gathered) == RAD_OK);
     if (reference && smooth && gathered) {
         const rad_image *images[2] = {smooth, gathered};
+        /* Interpolated: the drawn leaves have no contact cuts (the uniform mesh had), so the
+         * vertex means at the blocks' footprints mix hidden floor in: 0.28 on the uniform
+         * mesh, 0.31 on the leaves (2026-12-02); the final gather is not affected. */
         const double mean_bound[2] = {0.04, 0.03}, block_bound[2] = {0.35, 0.15};
         for (int k = 0; k < 2; ++k) {
             double test = 0, ref = 0, worst = 0;

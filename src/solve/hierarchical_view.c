@@ -198,10 +198,10 @@ static rad_status build_mesh(hier_view *v) {
     builder b = {ctx, rad_alloc_zero(ctx, 1, sizeof *b.mesh), NULL, 0, 0};
     uint32_t (*corner_id)[4] = rad_alloc(ctx, leaves ? leaves : 1, sizeof *corner_id);
     rad_status status = RAD_OK;
+    if (b.mesh) b.mesh->ctx = ctx; /* before anything can fail: rad_mesh_destroy needs it */
     if (!map.keys || !map.ids || !b.mesh || !corner_id) status = RAD_ERROR_NO_MEMORY;
     if (!status) {
         memset(map.ids, 0xff, map.capacity * sizeof *map.ids);
-        b.mesh->ctx = ctx;
         status = reserve_elements(&b, leaves);
     }
     /* Every leaf corner, welded. */
