@@ -246,33 +246,19 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
 
 /* ---- the image ---------------------------------------------------------------------------- */
 
-/* Before any work: primary rays through a grid over the image must see the front of
- * something. */
+/* Before any work: the camera must see the front of something (scene/camera.h's rule). */
+static int tracer_see(const void *user, rad_vec3 eye, rad_vec3 direction, int *front,
+                      const char **surface) {
+    const rad_tracer *t = user;
+    rad_hit hit;
+    if (!rad_rays_intersect(t->rays, eye, direction, 0, INFINITY, &hit)) return 0;
+    *front = hit.front || t->polygon_material[hit.polygon]->kind == RAD_MATERIAL_GLASS;
+    *surface = t->scene->surfaces[t->scene->polygons[hit.polygon].surface].name;
+    return 1;
+}
+
 rad_status rad_tracer_check_view(const rad_tracer *t, const rad_view *view) {
-    int nx = view->width < 64 ? view->width : 64, ny = view->height < 64 ? view->height : 64;
-    int hits = 0, fronts = 0;
-    const char *back_surface = NULL;
-    for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
-            double px = (i + 0.5) * view->width / nx, py = (j + 0.5) * view->height / ny;
-            rad_hit hit;
-            if (!rad_rays_intersect(t->rays, view->eye, rad_view_direction(view, px, py), 0,
-                                    INFINITY, &hit))
-                continue;
-            ++hits;
-            if (hit.front || t->polygon_material[hit.polygon]->kind == RAD_MATERIAL_GLASS) ++fronts;
-            else if (!back_surface)
-                back_surface = t->scene->surfaces[t->scene->polygons[hit.polygon].surface].name;
-        }
-    if (hits == 0)
-        return rad_fail(t->ctx, RAD_ERROR_INVALID_ARGUMENT,
-                        "camera sees nothing: no surface in the view (check --eye, --look, --fov)");
-    if (fronts == 0)
-        return rad_fail(t->ctx, RAD_ERROR_INVALID_ARGUMENT,
-                        "camera is inside an object or behind the scene: it sees only the backs "
-                        "of surfaces (such as '%s'); place it with --eye and --look, or leave "
-                        "the file without a camera for the automatic one", back_surface);
-    return RAD_OK;
+    return rad_view_check(t->ctx, view, tracer_see, t);
 }
 
 rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
