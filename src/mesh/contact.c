@@ -35,6 +35,7 @@ typedef struct line {
 typedef struct contact {
     uint32_t receiver, other;
     line cut;
+    int covered; /* `other` lies on the receiver in its plane, facing the same way (step 2c) */
 } contact;
 
 typedef struct piece_list {
@@ -188,13 +189,13 @@ static int contact_line(const rad_scene *scene, const plane_info *info, uint32_t
  * B's corner count of lines to `out`; returns how many. */
 #define NEAR_GAP 0.05
 static size_t near_parallel_lines(const rad_scene *scene, const plane_info *info, uint32_t a,
-                                  uint32_t b, double eps, line *out) {
+                                  uint32_t b, double eps, int coplanar, line *out) {
     const plane_info *A = &info[a], *B = &info[b];
     const rad_polygon *pb = &scene->polygons[b];
     if (fabs(v3_dot(A->normal, B->normal)) < 1 - 1e-9 || pb->count > 64) return 0;
     double gap = v3_dot(A->normal, rad_polygon_vertex(scene, pb, 0)) - A->offset;
     double extent = v3_length(v3_sub(B->hi, B->lo));
-    if (!(gap > eps) || gap > NEAR_GAP * extent) return 0;
+    if (!coplanar && (!(gap > eps) || gap > NEAR_GAP * extent)) return 0;
     size_t count = 0;
     for (uint32_t k = 0; k < pb->count; ++k) {
         rad_vec3 p = rad_polygon_vertex(scene, pb, k), q = rad_polygon_vertex(scene, pb, (k + 1) % pb->count);
@@ -206,18 +207,40 @@ static size_t near_parallel_lines(const rad_scene *scene, const plane_info *info
     return count;
 }
 
-/* Is the corner mean of polygon b inside polygon a (eps within its edges, in a's plane)? */
-static int inside(const rad_scene *scene, const plane_info *info, uint32_t a, uint32_t b, double eps) {
-    const rad_polygon *pa = &scene->polygons[a], *pb = &scene->polygons[b];
-    rad_vec3 centre = v3(0, 0, 0);
-    for (uint32_t k = 0; k < pb->count; ++k) centre = v3_add(centre, rad_polygon_vertex(scene, pb, k));
-    centre = v3_scale(centre, 1.0 / pb->count);
+/* Is the point inside polygon a (eps within its edges, seen along a's normal)? */
+static int point_inside(const rad_scene *scene, const plane_info *info, uint32_t a, rad_vec3 centre,
+                        double eps) {
+    const rad_polygon *pa = &scene->polygons[a];
     for (uint32_t k = 0; k < pa->count; ++k) {
         rad_vec3 p = rad_polygon_vertex(scene, pa, k), q = rad_polygon_vertex(scene, pa, (k + 1) % pa->count);
         rad_vec3 inward = v3_normalize(v3_cross(info[a].normal, v3_sub(q, p)));
         if (v3_dot(inward, v3_sub(centre, p)) < eps) return 0;
     }
     return 1;
+}
+
+static rad_vec3 corner_mean(const rad_vec3 *p, size_t n) {
+    rad_vec3 centre = v3(0, 0, 0);
+    for (size_t k = 0; k < n; ++k) centre = v3_add(centre, p[k]);
+    return v3_scale(centre, 1.0 / (double)n);
+}
+
+/* Is the corner mean of polygon b inside polygon a? */
+static int inside(const rad_scene *scene, const plane_info *info, uint32_t a, uint32_t b, double eps) {
+    const rad_polygon *pb = &scene->polygons[b];
+    rad_vec3 corners[64];
+    uint32_t n = pb->count < 64 ? pb->count : 64;
+    for (uint32_t k = 0; k < n; ++k) corners[k] = rad_polygon_vertex(scene, pb, k);
+    return point_inside(scene, info, a, corner_mean(corners, n), eps);
+}
+
+/* Step 4 for coplanar overlaps: is the piece under a polygon lying on it (step 2c)? */
+static int covered(const rad_scene *scene, const plane_info *info, const contact *list,
+                   size_t count, const rad_vec3 *p, size_t n, double eps) {
+    rad_vec3 centre = corner_mean(p, n);
+    for (size_t i = 0; i < count; ++i)
+        if (list[i].covered && point_inside(scene, info, list[i].other, centre, eps)) return 1;
+    return 0;
 }
 
 static int by_receiver(const void *x, const void *y) {
@@ -277,7 +300,7 @@ rad_status rad_contact_cut_create(rad_context *ctx, const rad_scene *scene, rad_
     rad_vec3 *left = NULL, *right = NULL;
     rad_rays *rays = NULL;
     rad_status status = RAD_OK;
-    uint32_t coplanar[2] = {0, 0};
+    uint32_t coplanar[2] = {0, 0}, covering[2] = {0, 0};
     if (!info || !order || !cut) {
         status = RAD_ERROR_NO_MEMORY;
         goto done;
@@ -326,22 +349,33 @@ rad_status rad_contact_cut_create(rad_context *ctx, const rad_scene *scene, rad_
                 line l;
                 int kind = contact_line(scene, info, receiver, other, eps, &l);
                 if (kind == 2) {
-                    /* Coplanar: overlapping when the centre of one lies inside the other;
-                     * recorded for the note only. */
-                    if (way == 0 && (inside(scene, info, a, b, eps) || inside(scene, info, b, a, eps))) {
-                        if (!cut->coplanar_pairs) coplanar[0] = receiver, coplanar[1] = other;
+                    /* Coplanar: overlapping when the centre of one lies inside the other.
+                     * Step 2c: facing the same way (a rug on a floor, a decal, a face given
+                     * twice), the larger is cut along the smaller's outline and loses the pieces
+                     * under it, so the two never fight for the same place; facing opposite
+                     * ways (back to back), only the note. */
+                    if (way == 1 || !(inside(scene, info, a, b, eps) || inside(scene, info, b, a, eps))) break;
+                    if (v3_dot(info[a].normal, info[b].normal) < 0) {
+                        if (!cut->coplanar_pairs) coplanar[0] = a, coplanar[1] = b;
                         cut->coplanar_pairs++;
+                        break;
                     }
-                    break;
+                    double area_a = rad_polygon_area(scene, &scene->polygons[a]);
+                    double area_b = rad_polygon_area(scene, &scene->polygons[b]);
+                    receiver = area_a > area_b || (area_a == area_b && a > b) ? a : b;
+                    other = receiver == a ? b : a;
+                    if (!cut->covered_pairs) covering[0] = receiver, covering[1] = other;
+                    cut->covered_pairs++;
                 }
                 line near[64];
-                size_t lines = kind == 1 ? 1 : near_parallel_lines(scene, info, receiver, other, eps, near);
+                size_t lines = kind == 1 ? 1 : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, near);
                 if (kind == 1) near[0] = l;
                 if (grow(ctx, (void **)&contacts, &contact_capacity, contact_count + lines, sizeof *contacts)) {
                     status = RAD_ERROR_NO_MEMORY;
                     break;
                 }
-                for (size_t k = 0; k < lines; ++k) contacts[contact_count++] = (contact){receiver, other, near[k]};
+                for (size_t k = 0; k < lines; ++k) contacts[contact_count++] = (contact){receiver, other, near[k], kind == 2};
+                if (kind == 2) break;
             }
         }
     }
@@ -407,6 +441,10 @@ rad_status rad_contact_cut_create(rad_context *ctx, const rad_scene *scene, rad_
         for (size_t w = 0; w < work.pieces && !status; ++w) {
             if (work.count[w] == 0) continue;
             const rad_vec3 *p = work.points + work.first[w];
+            if (made && covered(scene, info, contacts + first_contact, lines, p, work.count[w], eps)) {
+                cut->covered_pieces++;
+                continue;
+            }
             if (made && hidden(scene, rays, info, contacts + first_contact, lines, p, work.count[w], eps)) {
                 cut->hidden_pieces++;
                 cut->hidden_area += polygon_area(p, work.count[w]);
@@ -427,9 +465,15 @@ rad_status rad_contact_cut_create(rad_context *ctx, const rad_scene *scene, rad_
     cut->points = list.points;
     cut->point_count = list.used;
     list.points = NULL;
+    if (cut->covered_pairs)
+        rad_warn(ctx, "%s: surface '%s' lies on '%s' in one plane (%zu pairs of polygons): the "
+                 "part of '%s' under it is left out of the mesh", scene->source,
+                 scene->surfaces[scene->polygons[covering[1]].surface].name,
+                 scene->surfaces[scene->polygons[covering[0]].surface].name, cut->covered_pairs,
+                 scene->surfaces[scene->polygons[covering[0]].surface].name);
     if (cut->coplanar_pairs)
-        rad_warn(ctx, "%s: surfaces '%s' and '%s' overlap in one plane (%zu pairs of polygons); "
-                 "they are meshed as they are and may flicker in renders",
+        rad_warn(ctx, "%s: surfaces '%s' and '%s' overlap back to back in one plane (%zu pairs of "
+                 "polygons); they are meshed as they are and may flicker in renders",
                  scene->source, scene->surfaces[scene->polygons[coplanar[0]].surface].name,
                  scene->surfaces[scene->polygons[coplanar[1]].surface].name, cut->coplanar_pairs);
     *out = cut;

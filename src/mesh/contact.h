@@ -33,12 +33,17 @@ typedef struct rad_contact_cut {
     size_t contact_lines; /* lines cut along, over all polygons */
     size_t hidden_pieces; /* pieces dropped: inside a solid standing on or passing through */
     double hidden_area;
-    size_t coplanar_pairs; /* polygons of two surfaces overlapping in one plane (not cut) */
+    size_t coplanar_pairs; /* polygons of two surfaces overlapping back to back in one plane
+                              (not cut) */
+    size_t covered_pairs;  /* a polygon lying on a larger one in its plane, facing the same way:
+                              the larger is cut along its outline ... */
+    size_t covered_pieces; /* ... and these pieces of it, under the smaller, are dropped */
 } rad_contact_cut;
 
 /* Finds the contacts of every polygon with the polygons of other surfaces and cuts. Polygons
- * the mesher would skip (zero area, not finite) are passed on uncut. Warns once, naming the
- * first two surfaces, when surfaces overlap coplanar (they are left as they are). */
+ * the mesher would skip (zero area, not finite) are passed on uncut. Where two polygons overlap
+ * in one plane facing the same way, the larger loses the part under the smaller; back to back
+ * they are left as they are. Warns once for each, naming the first two surfaces. */
 rad_status rad_contact_cut_create(rad_context *ctx, const struct rad_scene *scene,
                                   rad_contact_cut **out);
 void rad_contact_cut_destroy(rad_context *ctx, rad_contact_cut *cut);
