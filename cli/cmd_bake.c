@@ -21,7 +21,7 @@ int cmd_bake(int argc, char **argv) {
     const char *solution = NULL;
     double exposure = 0, scale = 0, aspect = 0, time_budget = 0;
     cli_light_args lights = {0};
-    enum { OWN_OPTIONS = 13 };
+    enum { OWN_OPTIONS = 14 };
     cli_option options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT + 1] = {
         {"-o", CLI_STRING, &output, "FILE  .glb, .gltf (writes FILE.bin beside it), .ply or .obj"},
         {"--output", CLI_STRING, &output, "FILE  the same as -o"},
@@ -36,6 +36,7 @@ int cmd_bake(int argc, char **argv) {
          "FILE  bake a solution saved by solve --save (same scene and meshing/ff options) "
          "instead of solving"},
         CLI_LIGHT_OPTIONS(&lights),
+        CLI_TWO_SIDED_OPTION(&lights),
         CLI_SPECULAR_OPTIONS(&lights),
     };
     cli_pipeline_options(&p, RAD_SOLVER_SHOOTING, options + OWN_OPTIONS);

@@ -42,6 +42,7 @@ int cmd_pathtrace(int argc, char **argv) {
         {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
         CLI_CAMERA_OPTIONS(&a.camera),
         CLI_LIGHT_OPTIONS(&a.lights),
+        CLI_TWO_SIDED_OPTION(&a.lights),
         {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
         {"--half", CLI_FLAG, &a.half, "EXR only: 16-bit half floats (default 32-bit float)"},

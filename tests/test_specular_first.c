@@ -133,6 +133,46 @@ int main(void) {
     CHECK(worst < 0.05);                          /* measured 1.4% (about 9000 photons each) */
     CHECK(fabs(flux / expected_flux - 1) < 0.01); /* measured 0.01% */
 
+    /* The second pass (D S+ D): the emitter element given a reflected radiosity of pi L on top
+     * of its emission, everything else black, is a diffuse source of radiance L where the
+     * emitter is: the floor gets the same image-source irradiance, now as specular_reflection,
+     * which the renderer finds through the mirror itself (not the floor's own emission). */
+    rad_rgb *emission = malloc(s->element_count * sizeof *emission);
+    CHECK(emission != NULL);
+    if (emission) memcpy(emission, s->emission, s->element_count * sizeof *emission);
+    for (size_t e = 0; e < s->element_count; ++e)
+        for (int c = 0; c < 3; ++c)
+            s->radiosity[e][c] = strcmp(s->surface_name[s->element_surface[e]], "light") == 0
+                                     ? 2 * RAD_PI * RADIANCE : 0;
+    CHECK(rad_system_add_specular_reflection(s) == RAD_OK);
+    CHECK(s->specular_reflection != NULL);
+    double worst2 = 0, flux2 = 0;
+    for (size_t e = 0; s->specular_reflection && e < s->element_count; ++e) {
+        if (strcmp(s->surface_name[s->element_surface[e]], "floor") != 0) {
+            CHECK(s->specular_reflection[e][0] == 0);
+            continue;
+        }
+        double expected = RHO * image_source_irradiance(s, e);
+        worst2 = fmax(worst2, fabs(s->specular_reflection[e][0] / expected - 1));
+        flux2 += s->specular_reflection[e][0] * s->area[e];
+        CHECK(s->radiosity[e][0] == s->specular_reflection[e][0]); /* added to the solution */
+        CHECK(fabs(rad_system_own_emission(s, e, 0) - s->specular_emission[e][0]) <= 1e-12);
+    }
+    printf("second pass: worst floor element %.2f%%, flux %.3f%% off the image source\n",
+           100 * worst2, 100 * (flux2 / expected_flux - 1));
+    CHECK(worst2 < 0.05);
+    CHECK(fabs(flux2 / expected_flux - 1) < 0.01);
+    /* Taken out again: the emission as before (a solve that starts over does this). */
+    rad_system_remove_specular_reflection(s);
+    CHECK(s->specular_reflection == NULL);
+    for (size_t e = 0; emission && e < s->element_count; ++e)
+        CHECK(fabs(s->emission[e][0] - emission[e][0]) <= 1e-12 * (1 + emission[e][0]));
+    free(emission);
+    /* A solve adds it once it has converged. */
+    rad_solve_options solve = {0};
+    CHECK(rad_solve(s, &solve, NULL) == RAD_OK);
+    CHECK(s->specular_reflection != NULL);
+
     /* The same bits for 1 and 2 threads. */
     rad_scene *again = mirror_scene(one, -1);
     rad_system *single = build(one, again);

@@ -188,6 +188,91 @@ rad_status rad_reconstruct_build(rad_renderer *r) {
     return status;
 }
 
+/* Boundary vertices: the fitted plane's value of the per-element values, kept between half the
+ * smallest and one and a half times the largest value it was fitted to, so a shadow edge cannot
+ * throw it far. */
+static void fit_boundary(const rad_renderer *r, float (*element_value)[3],
+                         float (*vertex_value)[3]) {
+    for (size_t i = 0; i < r->fit_count; ++i) {
+        const uint32_t *elements = r->fit_element + r->fit_first[i];
+        const double *weight = r->fit_weight + r->fit_first[i];
+        for (int c = 0; c < 3; ++c) {
+            double value = 0, lo = INFINITY, hi = 0;
+            for (uint32_t k = 0; k < r->fit_size[i]; ++k) {
+                double b = element_value[elements[k]][c];
+                value += weight[k] * b;
+                lo = fmin(lo, b);
+                hi = fmax(hi, b);
+            }
+            vertex_value[r->fit_vertex[i]][c] = (float)fmin(fmax(value, 0.5 * lo), 1.5 * hi);
+        }
+    }
+}
+
+/* The light an element emits beyond its material's own: the specular-first deposit
+ * (docs/specular-first.md), E / pi - L_material, at least 0. */
+static void element_deposit(const rad_renderer *r, size_t e, float out[3]) {
+    const double *own = rad_renderer_material(r, (uint32_t)e)->emission;
+    for (int c = 0; c < 3; ++c) out[c] = fmaxf(0.0f, r->element_emission[e][c] - (float)own[c]);
+}
+
+/* The deposit is one value per element, often sharp (a caustic, the patch of light a sphere
+ * throws on the ceiling): shown flat it draws the element grid. It is smoothed as the
+ * radiosity is (area-weighted means at the vertices, the fitted plane on boundaries), then each
+ * element's corners are scaled so the mean over the element stays its own deposit: smoothing
+ * must not move light from a bright element into dark neighbours (a caustic narrower than the
+ * elements would spread over three times its size). Where the scale would pass MAX_DEPOSIT_SCALE
+ * (a lone bright element), the element shows its deposit flat. */
+#define MAX_DEPOSIT_SCALE 4.0f
+
+static rad_status deposit_prepare(rad_renderer *r) {
+    const rad_mesh *mesh = r->mesh;
+    int any = 0;
+    for (size_t e = 0; e < mesh->element_count && !any; ++e) {
+        float d[3];
+        element_deposit(r, e, d);
+        any = d[0] > 0 || d[1] > 0 || d[2] > 0;
+    }
+    rad_free(r->ctx, r->corner_deposit);
+    r->corner_deposit = NULL;
+    if (!any) return RAD_OK;
+    float(*deposit)[3] = rad_alloc(r->ctx, mesh->element_count + 1, sizeof *deposit);
+    double *weight = rad_alloc_zero(r->ctx, mesh->vertex_count + 1, sizeof *weight);
+    float(*vertex)[3] = rad_alloc_zero(r->ctx, mesh->vertex_count + 1, sizeof *vertex);
+    r->corner_deposit = rad_alloc_zero(r->ctx, mesh->element_count + 1, sizeof *r->corner_deposit);
+    rad_status status = deposit && weight && vertex && r->corner_deposit ? RAD_OK : RAD_ERROR_NO_MEMORY;
+    for (size_t e = 0; e < mesh->element_count && !status; ++e) {
+        element_deposit(r, e, deposit[e]);
+        for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) {
+            uint32_t v = mesh->element_vertices[e][k];
+            weight[v] += mesh->element_area[e];
+            for (int c = 0; c < 3; ++c) vertex[v][c] += (float)(mesh->element_area[e] * deposit[e][c]);
+        }
+    }
+    for (size_t v = 0; v < mesh->vertex_count && !status; ++v)
+        for (int c = 0; c < 3; ++c) vertex[v][c] = weight[v] > 0 ? (float)(vertex[v][c] / weight[v]) : 0;
+    if (!status) fit_boundary(r, deposit, vertex);
+    /* Each element's corners, scaled to keep its mean (the corner mean is the mean of the
+     * bilinear or barycentric interpolation over the element). */
+    for (size_t e = 0; e < mesh->element_count && !status; ++e) {
+        int corners = rad_mesh_corner_count(mesh, e);
+        for (int c = 0; c < 3; ++c) {
+            float mean = 0;
+            for (int k = 0; k < corners; ++k) mean += vertex[mesh->element_vertices[e][k]][c];
+            mean /= (float)corners;
+            int flat = !(mean > 0) || deposit[e][c] > MAX_DEPOSIT_SCALE * mean;
+            for (int k = 0; k < corners; ++k)
+                r->corner_deposit[e][k][c] =
+                    flat ? deposit[e][c]
+                         : vertex[mesh->element_vertices[e][k]][c] * (deposit[e][c] / mean);
+        }
+    }
+    rad_free(r->ctx, deposit);
+    rad_free(r->ctx, weight);
+    rad_free(r->ctx, vertex);
+    return status;
+}
+
 rad_status rad_reconstruct_prepare(rad_renderer *r) {
     const rad_solution_view *solution = r->solution;
     const rad_mesh *mesh = r->mesh;
@@ -216,23 +301,8 @@ rad_status rad_reconstruct_prepare(rad_renderer *r) {
             r->element_reflectance[e][c] = (float)reflectance[c];
         }
     }
-    /* Boundary vertices: the fitted plane's value, kept between half the smallest and one and a
-     * half times the largest value it was fitted to, so a shadow edge cannot throw it far. */
-    for (size_t i = 0; i < r->fit_count; ++i) {
-        const uint32_t *elements = r->fit_element + r->fit_first[i];
-        const double *weight = r->fit_weight + r->fit_first[i];
-        for (int c = 0; c < 3; ++c) {
-            double value = 0, lo = INFINITY, hi = 0;
-            for (uint32_t k = 0; k < r->fit_size[i]; ++k) {
-                double b = r->element_radiance[elements[k]][c];
-                value += weight[k] * b;
-                lo = fmin(lo, b);
-                hi = fmax(hi, b);
-            }
-            r->vertex_radiance[r->fit_vertex[i]][c] = (float)fmin(fmax(value, 0.5 * lo), 1.5 * hi);
-        }
-    }
-    return RAD_OK;
+    fit_boundary(r, r->element_radiance, r->vertex_radiance);
+    return deposit_prepare(r);
 }
 
 void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u, double v,
@@ -248,4 +318,18 @@ void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u,
         const float *radiance = r->vertex_radiance[r->mesh->element_vertices[element][k]];
         for (int c = 0; c < 3; ++c) out[c] += weight[k] * radiance[c];
     }
+}
+
+void rad_reconstruct_emission(const rad_renderer *r, uint32_t element, double u, double v,
+                              double out[3]) {
+    if (r->settings.shading == RAD_SHADING_FLAT || !r->corner_deposit) {
+        for (int c = 0; c < 3; ++c) out[c] = r->element_emission[element][c];
+        return;
+    }
+    const double *own = rad_renderer_material(r, element)->emission;
+    double weight[4];
+    int corners = rad_element_weights(r->mesh, element, u, v, weight);
+    for (int c = 0; c < 3; ++c) out[c] = fmin(own[c], r->element_emission[element][c]);
+    for (int k = 0; k < corners; ++k)
+        for (int c = 0; c < 3; ++c) out[c] += weight[k] * r->corner_deposit[element][k][c];
 }

@@ -70,6 +70,10 @@ struct rad_renderer {
     float (*element_radiance)[3];  /* B / pi per element (flat) */
     float (*element_emission)[3];  /* E / pi per element */
     float (*element_reflectance)[3];
+    /* The emission beyond the material's own (the specular-first deposit, E / pi minus the
+     * material's L) at each element's corners, smoothed but keeping each element's mean
+     * (reconstruct.c); NULL when no element has any. */
+    float (*corner_deposit)[4][3];
 
     /* Textured surfaces (texture_shading.c): the irradiance (B - E) / (pi rho) averaged at mesh
      * vertices; NULL when no surface is textured. */
@@ -124,6 +128,11 @@ static inline const rad_material *rad_renderer_material(const rad_renderer *r, u
 /* reconstruct.c: the solution's radiance B / pi at (u, v) on an element (smooth or flat). */
 void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u, double v,
                               double out[3]);
+/* reconstruct.c: the radiance an element emits itself at (u, v): its material's emission, flat,
+ * plus the deposit (corner_deposit) interpolated as rad_reconstruct_radiance does (smooth
+ * shading), or the element's E / pi (flat shading). */
+void rad_reconstruct_emission(const rad_renderer *r, uint32_t element, double u, double v,
+                              double out[3]);
 /* Finds the boundary vertices and their fitting weights (geometry only, once). */
 rad_status rad_reconstruct_build(rad_renderer *r);
 /* Fills the radiance arrays from the system's current solution. */
@@ -170,6 +179,11 @@ int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, co
  * normal n) towards a short gather ray from `from`: one emitter sample and one gather ray. */
 void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
                       const rad_element_hit *hit, rad_vec3 y, rad_vec3 n, double out[3]);
+
+/* final_gather.c: whether point, spot or directional light i, arriving at x as `arrival`
+ * (rad_light_arrive), reaches it: one shadow ray, counted. */
+int rad_light_unblocked(const rad_renderer *r, size_t i, rad_vec3 x,
+                        const rad_light_arrival *arrival, rad_ray_counts *counts);
 
 /* second_pass.c: the radiance arriving at `origin` from `direction`, following mirrors and glass
  * up to max_depth bounces. Camera rays (`gather` NULL) take B / pi where they land, or a final

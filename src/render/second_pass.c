@@ -23,8 +23,9 @@
  * (system/specular_first.c, docs/specular-first.md) makes it the emission of the element it
  * lands on. The solver itself treats mirrors and glass as what their diffuse part says:
  * absorbers that cast shadows. The final gather leaves it out here: its gather rays could find
- * an emitter through a mirror or the glass, but a few rays per pixel would only scatter bright
- * specks over the image (and count the deposit twice). */
+ * a lamp through a mirror or the glass, but a few rays per pixel would only scatter bright
+ * specks over the image (and count the deposit twice). What they find behind a mirror or the
+ * glass on a diffuse surface, a deposit included, they take (D S+ D light at the pixel). */
 #include "render/render.h"
 
 #include "scene/bsdf.h"
@@ -34,8 +35,8 @@ static double largest3(const double c[3]) { return fmax(c[0], fmax(c[1], c[2]));
 
 /* The solution's radiance at a hit. Camera paths take it whole. Gather rays take the reflected
  * part (B - E) / pi, and the emitted part only at their first hit, weighted against the emitter
- * samples of the final gather; emitted light a gather ray finds behind a mirror or through glass
- * is a caustic, which the first pass does not carry either (see above), and is left out. */
+ * samples of the final gather; a lamp's light a gather ray finds behind a mirror or through
+ * glass is a caustic, which the first pass carries (see above), and is left out. */
 static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
                               const rad_gather_origin *gather, int depth, rad_vec3 direction,
                               rad_vec3 x, double out[3]) {
@@ -45,7 +46,14 @@ static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
     if (!gather) return;
     const float *emitted = r->element_emission[hit->element];
     if (!(emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) return;
-    double weight = depth == 0 ? rad_gather_emission_weight(r, gather, direction, hit) : 0;
+    if (depth > 0) {
+        /* Behind a mirror or glass only a lamp's own light is left out: a specular-first
+         * deposit there is light on a diffuse surface (L S+ D), and this ray carries it on. */
+        const double *lamp = rad_renderer_material(r, hit->element)->emission;
+        for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - fmin(lamp[c], emitted[c]));
+        return;
+    }
+    double weight = rad_gather_emission_weight(r, gather, direction, hit);
     for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - emitted[c]) + weight * emitted[c];
 }
 
@@ -66,6 +74,24 @@ static void glossy_direct(const rad_renderer *r, const double u[2], const rad_ma
     double cos_x = fabs(v3_dot(normal, light.direction));
     double weight = rad_power_heuristic(light.pdf, pdf_bsdf);
     for (int c = 0; c < 3; ++c) out[c] = f[c] * light.radiance[c] * cos_x / light.pdf * weight;
+}
+
+/* Light of the point, spot and directional lights reflected at a glossy point x towards wo:
+ * each is one point or direction, sampled exactly with no weight (no BSDF sample finds it), on
+ * camera and gather paths alike (without it a rough mirror shows no lamp at all). */
+static void glossy_lights(const rad_renderer *r, const rad_material *material, rad_vec3 x,
+                          rad_vec3 normal, rad_vec3 wo, rad_ray_counts *counts, double out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    for (size_t i = 0; i < r->light_count; ++i) {
+        rad_light_arrival arrival;
+        double f[3], pdf_bsdf;
+        if (!rad_light_arrive(&r->lights[i], x, &arrival) ||
+            !rad_bsdf_eval(material, normal, wo, arrival.direction, f, &pdf_bsdf) ||
+            !rad_light_unblocked(r, i, x, &arrival, counts))
+            continue;
+        double cos_x = fabs(v3_dot(normal, arrival.direction));
+        for (int c = 0; c < 3; ++c) out[c] += f[c] * arrival.irradiance[c] * cos_x;
+    }
 }
 
 void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
@@ -144,6 +170,11 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
             if (!gather && rad_bsdf_has_smooth_lobe(material)) {
                 double direct[3];
                 glossy_direct(r, u_light, material, x, normal, wo, counts, direct);
+                for (int c = 0; c < 3; ++c) out[c] += throughput[c] * direct[c];
+            }
+            if (r->light_count && rad_bsdf_has_smooth_lobe(material)) {
+                double direct[3];
+                glossy_lights(r, material, x, normal, wo, counts, direct);
                 for (int c = 0; c < 3; ++c) out[c] += throughput[c] * direct[c];
             }
             double u[3] = {u_choice[0], u_direction[0], u_direction[1]};

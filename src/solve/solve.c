@@ -94,7 +94,10 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
     run.tracing = options->trace != NULL;
     run.shooter_surface = run.shooter_patch = -1;
     run.unshot_fraction = NAN;
-    if (!options->resume) rad_system_reset(system);
+    if (!options->resume) {
+        rad_system_remove_specular_reflection(system); /* a previous solve's: added again below */
+        rad_system_reset(system);
+    }
     rad_status status = RAD_OK;
     if (run.tracing) {
         run.received = rad_alloc_zero(ctx, system->element_count, sizeof *run.received);
@@ -163,6 +166,26 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
     rad_free(ctx, run.received);
     rad_free(ctx, run.reflected);
     local.seconds = rad_seconds() - start - callback_seconds;
+    /* The specular-first pass's second half (docs/specular-first.md): the solved radiosity of
+     * the diffuse elements through mirrors and glass onto diffuse elements, which the form
+     * factors leave out; added as unshot light, then the solve resumes to spread it. */
+    if (!status && local.converged && !options->resume && !run.leaves_out_specular &&
+        system->specular_emission && !system->specular_reflection) {
+        status = rad_system_add_specular_reflection(system);
+        rad_solve_report second = {0};
+        rad_solve_options resumed = *options;
+        resumed.resume = 1;
+        if (!status && system->specular_reflection) {
+            status = rad_solve(system, &resumed, &second);
+            local.iterations += second.iterations;
+            local.seconds += second.seconds;
+            local.stop = second.stop;
+            local.converged = second.converged;
+            local.residual = second.residual;
+            local.unshot_fraction = second.unshot_fraction;
+        }
+        if (status) local.stop = RAD_STOP_ERROR;
+    }
     if (report) *report = local;
     return status;
 }

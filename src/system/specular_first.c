@@ -20,6 +20,13 @@
  * gather ray that reaches a lamp through a mirror or glass takes only the reflected part
  * (B - E) / pi of what it meets there (second_pass.c), so the same light is not counted twice.
  *
+ * The second half (rad_system_add_specular_reflection, called by the solve driver once a solve
+ * has converged): the same photons leave every element with its solved reflected radiosity
+ * B - pi L_material and follow mirrors and glass; what lands on diffuse elements (D S+ D light,
+ * which the form factors stop at mirrors and glass) becomes emitted and unshot radiosity too,
+ * and the solve resumes. The renderer finds that light with its own gather rays through mirrors
+ * and glass, so it is not the element's own emission (rad_system_own_emission).
+ *
  * Photons are traced in fixed blocks whose deposits are summed in block order: the result does
  * not depend on the thread count. */
 #include "system/system.h"
@@ -101,7 +108,8 @@ static rad_status build_emitters(rad_context *ctx, const rad_scene *scene,
 
 /* Traces the photons and sums their flux per element into `flux` (element_count entries). */
 static rad_status trace(rad_context *ctx, const rad_photon_scene *photons,
-                        const rad_element_rays *elements, uint64_t count, rad_rgb *flux) {
+                        const rad_element_rays *elements, uint64_t seed, uint64_t count,
+                        rad_rgb *flux) {
     size_t blocks = (size_t)((count + SPECULAR_BLOCK - 1) / SPECULAR_BLOCK);
     deposit_list *block = rad_alloc_zero(ctx, blocks ? blocks : 1, sizeof *block);
     if (!block) return RAD_ERROR_NO_MEMORY;
@@ -118,7 +126,7 @@ static rad_status trace(rad_context *ctx, const rad_photon_scene *photons,
         uint64_t begin = (uint64_t)b * SPECULAR_BLOCK;
         uint64_t end = count < begin + SPECULAR_BLOCK ? count : begin + SPECULAR_BLOCK;
         for (uint64_t i = begin; i < end; ++i)
-            if (!rad_photon_path_trace(photons, SPECULAR_SEED, i, 1, MAX_SPECULAR_BOUNCES, land,
+            if (!rad_photon_path_trace(photons, seed, i, 1, MAX_SPECULAR_BOUNCES, land,
                                        &block[b], &rays)) {
 #pragma omp atomic write
                 failed = 1;
@@ -155,7 +163,7 @@ rad_status rad_system_add_specular_emission(rad_system *s, const rad_scene *scen
     if (!status) status = rad_element_rays_create(ctx, mesh, &elements);
     if (!status) {
         rad_photon_scene photons = {rays, polygon_material, &emitters};
-        status = trace(ctx, &photons, elements, count, flux);
+        status = trace(ctx, &photons, elements, SPECULAR_SEED, count, flux);
     }
     if (!status) {
         rad_free(ctx, s->specular_emission);
@@ -171,6 +179,7 @@ rad_status rad_system_add_specular_emission(rad_system *s, const rad_scene *scen
             s->emission[e][c] += s->specular_emission[e][c];
         }
     }
+    if (!status) s->specular_photons = count;
 done:
     rad_element_rays_destroy(elements);
     rad_rays_destroy(rays);
@@ -178,4 +187,91 @@ done:
     rad_free(ctx, flux);
     rad_free(ctx, (void *)polygon_material);
     return status;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* The second pass: diffuse -> mirrors and glass -> diffuse                                     */
+
+/* Each element's triangles with the radiance of its reflected radiosity, (B - pi L_material) / pi,
+ * by power: light a diffuse surface sends on, which the form factors stop at mirrors and glass. */
+static rad_status build_reflectors(rad_context *ctx, const rad_system *s,
+                                   const rad_material **polygon_material, rad_emitter_table *table) {
+    const rad_mesh *mesh = s->mesh;
+    const rad_scene *scene = s->geometry;
+    for (size_t i = 0; i < scene->polygon_count; ++i)
+        polygon_material[i] = &scene->materials[scene->surfaces[scene->polygons[i].surface].material];
+    rad_status status = rad_emitter_table_reserve(ctx, table, 2 * mesh->element_count);
+    if (status) return status;
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        const rad_material *m = &scene->materials[scene->surfaces[s->element_surface[e]].material];
+        double radiance[3];
+        for (int c = 0; c < 3; ++c) radiance[c] = fmax(0, s->radiosity[e][c] / RAD_PI - m->emission[c]);
+        if (!(radiance[0] > 0 || radiance[1] > 0 || radiance[2] > 0)) continue;
+        const uint32_t *v = mesh->element_vertices[e];
+        rad_vec3 normal = mesh->element_normal[e];
+        rad_emitter_table_add(table, mesh->vertices[v[0]], mesh->vertices[v[1]], mesh->vertices[v[2]],
+                              normal, radiance, (uint32_t)e);
+        if (rad_mesh_corner_count(mesh, e) == 4)
+            rad_emitter_table_add(table, mesh->vertices[v[0]], mesh->vertices[v[2]],
+                                  mesh->vertices[v[3]], normal, radiance, (uint32_t)e);
+    }
+    rad_emitter_table_finish(table, RAD_EMITTERS_BY_POWER);
+    return RAD_OK;
+}
+
+rad_status rad_system_add_specular_reflection(rad_system *s) {
+    rad_context *ctx = s->ctx;
+    if (!s->specular_emission || s->specular_reflection || !s->mesh || !s->geometry ||
+        s->geometry->surface_count != s->surface_count)
+        return RAD_OK;
+    uint64_t count = s->specular_photons;
+    const rad_scene *scene = s->geometry;
+    const rad_material **polygon_material =
+        rad_alloc(ctx, scene->polygon_count + 1, sizeof *polygon_material);
+    rad_emitter_table reflectors;
+    memset(&reflectors, 0, sizeof reflectors);
+    rad_rays *rays = NULL;
+    rad_element_rays *elements = NULL;
+    rad_rgb *flux = rad_alloc_zero(ctx, s->element_count, sizeof *flux);
+    rad_rgb *added = rad_alloc_zero(ctx, s->element_count, sizeof *added);
+    rad_status status = polygon_material && flux && added ? RAD_OK : RAD_ERROR_NO_MEMORY;
+    if (!status) status = build_reflectors(ctx, s, polygon_material, &reflectors);
+    if (!status && reflectors.count == 0) goto done;
+    if (!status) status = rad_rays_create(ctx, scene, &rays);
+    if (!status) status = rad_element_rays_create(ctx, s->mesh, &elements);
+    if (!status) {
+        rad_photon_scene photons = {rays, polygon_material, &reflectors};
+        status = trace(ctx, &photons, elements, SPECULAR_SEED + 1, count, flux);
+    }
+    /* What lands is reflected once, as in the first pass, and joins the solution as light not
+     * yet shot. */
+    for (size_t e = 0; e < s->element_count && !status; ++e) {
+        if (!(s->area[e] > 0)) continue;
+        for (int c = 0; c < 3; ++c) {
+            added[e][c] = s->reflectance[e][c] * flux[e][c] / (double)count / s->area[e];
+            s->emission[e][c] += added[e][c];
+            s->radiosity[e][c] += added[e][c];
+            s->unshot[e][c] += added[e][c];
+        }
+    }
+    if (!status) {
+        s->specular_reflection = added;
+        added = NULL;
+    }
+done:
+    rad_element_rays_destroy(elements);
+    rad_rays_destroy(rays);
+    rad_emitter_table_free(ctx, &reflectors);
+    rad_free(ctx, flux);
+    rad_free(ctx, added);
+    rad_free(ctx, (void *)polygon_material);
+    return status;
+}
+
+void rad_system_remove_specular_reflection(rad_system *s) {
+    if (!s || !s->specular_reflection) return;
+    for (size_t e = 0; e < s->element_count; ++e)
+        for (int c = 0; c < 3; ++c) s->emission[e][c] -= s->specular_reflection[e][c];
+    rad_free(s->ctx, s->specular_reflection);
+    s->specular_reflection = NULL;
 }

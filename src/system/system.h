@@ -36,6 +36,11 @@ struct rad_system {
     rad_rgb *specular_emission; /* the part of `emission` that arrived from the emitters through
                                    mirrors and glass (specular_first.c): rho E_specular; NULL
                                    when the pass did not run */
+    rad_rgb *specular_reflection; /* the part of `emission` that left diffuse elements of the
+                                     solved radiosity and came back through mirrors and glass
+                                     (D S+ D, specular_first.c): rho E; NULL until a solve adds
+                                     it */
+    uint64_t specular_photons; /* photons of the specular-first pass (0 when it did not run) */
     uint32_t *element_patch;
     uint32_t *element_surface;
 
@@ -97,8 +102,22 @@ rad_status rad_system_add_specular_emission(rad_system *system, const struct rad
  * out, second_pass.c, so the deposit is sampled as an emitter of its own), without the light of
  * the lights' pre-pass (which the renderer samples from the lights themselves). */
 static inline double rad_system_own_emission(const rad_system *s, size_t e, int c) {
-    return s->light_emission ? s->emission[e][c] - s->light_emission[e][c] : s->emission[e][c];
+    double own = s->light_emission ? s->emission[e][c] - s->light_emission[e][c] : s->emission[e][c];
+    /* The D S+ D light is found by the renderer's own gather rays through mirrors and glass. */
+    return s->specular_reflection ? own - s->specular_reflection[e][c] : own;
 }
+
+/* One element per input polygon (polygon_mesh.c), for rad_mesh_options.polygons_only. */
+rad_status rad_system_polygon_mesh(rad_context *ctx, const struct rad_scene *scene,
+                                   struct rad_mesh **out);
+/* The second specular-first pass (specular_first.c): after a solve, photons leave every
+ * element with its reflected radiosity B - pi L_material and follow mirrors and glass; what
+ * lands on diffuse elements (D S+ D light, which the form factors leave out) is reflected once
+ * into specular_reflection and added to emission, radiosity and unshot, for the solver to
+ * spread on resuming. Does nothing (RAD_OK) when the first pass did not run or it was added
+ * already. rad_system_remove_specular_reflection takes it out of emission again. */
+rad_status rad_system_add_specular_reflection(rad_system *system);
+void rad_system_remove_specular_reflection(rad_system *system);
 
 /* Geometric systems (src/mesh, src/formfactor): builds mesh and provider. */
 rad_status rad_system_from_geometry(rad_context *ctx, const struct rad_scene *scene,
