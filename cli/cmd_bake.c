@@ -21,7 +21,7 @@ int cmd_bake(int argc, char **argv) {
     const char *solution = NULL;
     double exposure = 0, scale = 0, aspect = 0, time_budget = 0;
     cli_light_args lights = {0};
-    enum { OWN_OPTIONS = 13 };
+    enum { OWN_OPTIONS = 14 };
     cli_option options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT + 1] = {
         {"-o", CLI_STRING, &output, "FILE  .glb, .gltf (writes FILE.bin beside it), .ply or .obj"},
         {"--output", CLI_STRING, &output, "FILE  the same as -o"},
@@ -36,6 +36,7 @@ int cmd_bake(int argc, char **argv) {
          "FILE  bake a solution saved by solve --save (same scene and meshing/ff options) "
          "instead of solving"},
         CLI_LIGHT_OPTIONS(&lights),
+        CLI_TWO_SIDED_OPTION(&lights),
         CLI_SPECULAR_OPTIONS(&lights),
     };
     cli_pipeline_options(&p, RAD_SOLVER_SHOOTING, options + OWN_OPTIONS);
@@ -84,6 +85,8 @@ int cmd_bake(int argc, char **argv) {
     rad_solve_report report = {0};
     int exit_status = 0;
     rs = cli_pipeline_build(ctx, positional[0], &mesh, &ff, &scene, &system, NULL);
+    if (!rs && (exit_status = cli_check_outputs_against_scene("bake", scene, &output, 1)))
+        goto done; /* not the scene's .mtl, .bin, textures, ... */
     if (!rs && !rad_scene_is_geometric(scene)) {
         cli_progress_clear();
         exit_status = cli_error(1, "bake: %s is a patch system (.ffm): it has no geometry to bake",

@@ -5,6 +5,7 @@
 #include "camera_options.h"
 #include "light_options.h"
 #include "cli.h"
+#include "output_path.h"
 #include "pipeline.h"
 #include "progress.h"
 
@@ -41,6 +42,7 @@ int cmd_pathtrace(int argc, char **argv) {
         {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
         CLI_CAMERA_OPTIONS(&a.camera),
         CLI_LIGHT_OPTIONS(&a.lights),
+        CLI_TWO_SIDED_OPTION(&a.lights),
         {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
         {"--half", CLI_FLAG, &a.half, "EXR only: 16-bit half floats (default 32-bit float)"},
@@ -83,6 +85,11 @@ int cmd_pathtrace(int argc, char **argv) {
     rad_pathtrace_stats stats = {0};
     double write_seconds = 0;
     rs = cli_load_scene(ctx, scene_name, &scene);
+    if (!rs && (status = cli_check_outputs_against_scene("pathtrace", scene, &a.output, 1))) {
+        rad_scene_destroy(scene); /* the output is the scene's .mtl, .bin, a texture, ... */
+        rad_context_destroy(ctx);
+        return status;
+    }
     if (!rs) {
         rad_camera_desc camera;
         cli_camera_get(&a.camera, scene, &camera);

@@ -4,6 +4,8 @@
  * traced, so a bad command fails at once and never leaves a file. */
 #include "camera_options.h"
 #include "cli.h"
+#include "light_options.h"
+#include "output_path.h"
 #include "pipeline.h"
 #include "progress.h"
 
@@ -18,6 +20,7 @@ typedef struct photonmap_args {
     size_t seed, photons, caustic_photons;
     double radius, exposure, max_memory;
     cli_camera_args camera;
+    cli_light_args lights; /* --two-sided */
 } photonmap_args;
 
 int cmd_photonmap(int argc, char **argv) {
@@ -52,6 +55,7 @@ int cmd_photonmap(int argc, char **argv) {
         {"--width", CLI_INT, &a.width, "W  image width in pixels (512)"},
         {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
         CLI_CAMERA_OPTIONS(&a.camera),
+        CLI_TWO_SIDED_OPTION(&a.lights),
         {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
         {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
         {"--half", CLI_FLAG, &a.half, "EXR only: 16-bit half floats (default 32-bit float)"},
@@ -83,6 +87,7 @@ int cmd_photonmap(int argc, char **argv) {
     if (!isnan(a.radius) && !(a.radius > 0))
         return cli_error(EXIT_USAGE, "photonmap: --radius must be positive, not %g", a.radius);
     if ((status = cli_camera_check("photonmap", &a.camera))) return status;
+    if ((status = cli_lights_check("photonmap", &a.lights))) return status;
     if (a.max_memory < 0) return cli_error(EXIT_USAGE, "photonmap: --max-memory must be positive");
 
     rad_context *ctx = cli_context_with_progress(a.threads, (uint64_t)a.seed, a.max_memory, a.quiet);
@@ -101,6 +106,11 @@ int cmd_photonmap(int argc, char **argv) {
     rad_photonmap_stats stats = {0};
     double write_seconds = 0;
     rs = cli_load_scene(ctx, scene_name, &scene);
+    if (!rs && (status = cli_check_outputs_against_scene("photonmap", scene, &a.output, 1))) {
+        rad_scene_destroy(scene); /* the output is the scene's .mtl, .bin, a texture, ... */
+        rad_context_destroy(ctx);
+        return status;
+    }
     if (!rs) {
         rad_camera_desc camera;
         cli_camera_get(&a.camera, scene, &camera);

@@ -3,6 +3,7 @@
  * says what a scene holds (text, or one JSON object with --json). */
 #include "cli.h"
 #include "json.h"
+#include "light_options.h"
 #include "output_path.h"
 
 #include <errno.h>
@@ -71,6 +72,9 @@ static void keep_message(void *user, rad_log_level level, const char *message) {
 
 static void print_vector(const double v[3]) { printf("%g %g %g", v[0], v[1], v[2]); }
 
+/* Candela per W/sr and lux per W/m^2: the luminous efficacy of docs/units.md. */
+#define RAD_CANDELA_PER_WATT 179.0
+
 static void json_vector(const char *key, const double v[3], int last) {
     printf("\"%s\": ", key);
     json_rgb(stdout, v);
@@ -116,7 +120,40 @@ static void info_text(const char *name, const rad_scene *scene, const kept_log *
         if (e[0] > 0 || e[1] > 0 || e[2] > 0)
             printf("%s'%s' (radiance %g %g %g)", shown++ ? ", " : "", surface.name, e[0], e[1], e[2]);
     }
-    printf("%s\n", shown ? "" : "none: nothing emits");
+    size_t light_count = rad_scene_light_count(scene);
+    rad_sky_desc sky;
+    rad_scene_get_sky(scene, &sky);
+    int any = shown || light_count || sky.model != RAD_SKY_NONE;
+    printf("%s\n", any ? (shown ? "" : "(no emitting surface)") : "none: nothing emits");
+    for (size_t i = 0; i < light_count; ++i) {
+        rad_light_info l;
+        if (rad_scene_get_light(scene, i, &l)) continue;
+        const double *I = l.intensity, cd = RAD_CANDELA_PER_WATT;
+        if (l.type == RAD_LIGHT_TYPE_DIRECTIONAL) {
+            printf("  directional '%s' travelling ", l.name);
+            print_vector(l.direction);
+            printf(": irradiance %g %g %g W/m^2 (%g %g %g lux)\n", I[0], I[1], I[2], cd * I[0],
+                   cd * I[1], cd * I[2]);
+            continue;
+        }
+        printf("  %s '%s' at ", l.type == RAD_LIGHT_TYPE_SPOT ? "spot" : "point", l.name);
+        print_vector(l.position);
+        if (l.type == RAD_LIGHT_TYPE_SPOT) {
+            printf(", axis ");
+            print_vector(l.direction);
+            printf(", cone %g to %g degrees", l.inner_degrees, l.outer_degrees);
+        }
+        printf(": intensity %g %g %g W/sr (%g %g %g cd)", I[0], I[1], I[2], cd * I[0], cd * I[1],
+               cd * I[2]);
+        if (l.ies) printf(", IES profile %s", l.ies);
+        printf("\n");
+    }
+    if (sky.model != RAD_SKY_NONE)
+        printf("  sky %s, radiance %g %g %g W/(m^2 sr)%s, zenith %g %g %g\n",
+               sky.model == RAD_SKY_MODEL_CIE_OVERCAST ? "CIE overcast" : "uniform",
+               sky.radiance[0], sky.radiance[1], sky.radiance[2],
+               sky.model == RAD_SKY_MODEL_CIE_OVERCAST ? " at the zenith" : "", sky.up[0],
+               sky.up[1], sky.up[2]);
     printf("\nmaterials\n");
     for (size_t i = 0; i < info.material_count; ++i) {
         rad_material_info m;
@@ -210,6 +247,48 @@ static void info_json(const char *name, const rad_scene *scene, const kept_log *
             json_vector("radiance", m.emission, 1);
             printf("}");
         }
+        for (size_t i = 0; i < rad_scene_light_count(scene); ++i) {
+            rad_light_info l;
+            if (rad_scene_get_light(scene, i, &l)) continue;
+            static const char *const kinds[] = {"point", "spot", "directional"};
+            double photometric[3];
+            for (int c = 0; c < 3; ++c) photometric[c] = RAD_CANDELA_PER_WATT * l.intensity[c];
+            printf("%s\n  {\"kind\": \"%s\", \"name\": ", lights++ ? "," : "",
+                   kinds[l.type <= RAD_LIGHT_TYPE_DIRECTIONAL ? l.type : 0]);
+            json_string(stdout, l.name);
+            printf(", ");
+            if (l.type == RAD_LIGHT_TYPE_DIRECTIONAL) {
+                json_vector("direction", l.direction, 0);
+                json_vector("irradiance_w_m2", l.intensity, 0);
+                json_vector("illuminance_lux", photometric, 1);
+                printf("}");
+                continue;
+            }
+            json_vector("position", l.position, 0);
+            json_vector("direction", l.direction, 0);
+            json_vector("intensity_w_sr", l.intensity, 0);
+            json_vector("intensity_cd", photometric, 0);
+            if (l.type == RAD_LIGHT_TYPE_SPOT) {
+                printf("\"inner_degrees\": ");
+                json_number(stdout, l.inner_degrees);
+                printf(", \"outer_degrees\": ");
+                json_number(stdout, l.outer_degrees);
+                printf(", ");
+            }
+            printf("\"ies\": ");
+            if (l.ies) json_string(stdout, l.ies);
+            else printf("null");
+            printf("}");
+        }
+        rad_sky_desc sky;
+        rad_scene_get_sky(scene, &sky);
+        if (sky.model != RAD_SKY_NONE) {
+            printf("%s\n  {\"kind\": \"sky\", \"model\": \"%s\", ", lights++ ? "," : "",
+                   sky.model == RAD_SKY_MODEL_CIE_OVERCAST ? "cie-overcast" : "uniform");
+            json_vector("radiance", sky.radiance, 0);
+            json_vector("zenith", sky.up, 1);
+            printf("}");
+        }
         printf("]");
     }
     printf(",\n \"warnings\": [");
@@ -255,6 +334,7 @@ int cmd_scenes(int argc, char **argv) {
                                    "(without options: list the built-in scenes)";
     const char *export_scene = NULL, *generate = NULL, *info = NULL;
     int quiet = 0, json = 0;
+    cli_light_args lights = {0}; /* --info: the scene as solve and render would take it */
     double max_memory = 0;
     const cli_option options[] = {
         {"--export", CLI_STRING, &export_scene,
@@ -267,6 +347,8 @@ int cmd_scenes(int argc, char **argv) {
          "SCENE  what the scene holds: surfaces, materials and textures, lights, camera, bounds, "
          "polygon and triangle counts, warnings"},
         {"--json", CLI_FLAG, &json, "with --info: one JSON object on stdout"},
+        CLI_LIGHT_OPTIONS(&lights),
+        CLI_TWO_SIDED_OPTION(&lights),
         {"--max-memory", CLI_DOUBLE, &max_memory, "MiB  memory budget (default 2048)"},
         {0},
     };
@@ -279,6 +361,7 @@ int cmd_scenes(int argc, char **argv) {
         if (count)
             return cli_error(EXIT_USAGE, "scenes: unexpected argument '%s' (usage: radiosity "
                              "scenes --info SCENE [--json])", positional[0]);
+        if ((status = cli_lights_check("scenes", &lights))) return status;
         return cli_scenes_info(info, json, quiet, max_memory);
     }
     if (json)
@@ -303,8 +386,10 @@ int cmd_scenes(int argc, char **argv) {
     rad_context *ctx = cli_context(1, 0, 0, quiet);
     rad_scene *scene = NULL;
     rad_status rs = cli_load_scene(ctx, export_scene, &scene);
-    if (!rs) rs = rad_scene_export_obj(ctx, scene, positional[0]);
-    int exit_status = rs ? cli_fail(ctx, rs) : 0;
+    const char *output = positional[0];
+    int exit_status = rs ? 0 : cli_check_outputs_against_scene("scenes", scene, &output, 1);
+    if (!rs && !exit_status) rs = rad_scene_export_obj(ctx, scene, positional[0]);
+    if (rs) exit_status = cli_fail(ctx, rs);
     rad_scene_destroy(scene);
     rad_context_destroy(ctx);
     return exit_status;

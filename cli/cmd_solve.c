@@ -244,13 +244,14 @@ int cmd_solve(int argc, char **argv) {
         {"--exposure", CLI_DOUBLE, NULL, "EV  snapshot exposure in stops (0)"},
         {"--tonemap", CLI_STRING, NULL, "CURVE  snapshots: none|clamp|reinhard|aces (clamp)"},
         CLI_LIGHT_OPTIONS(&a.lights),
+        CLI_TWO_SIDED_OPTION(&a.lights),
         CLI_SPECULAR_OPTIONS(&a.lights),
     };
     void *own_targets[] = {&a.time_budget, &a.overshoot, &a.trace,  &a.json,      &a.log,
                            &a.plot,        &a.save,      &a.resume, &a.snapshots, &a.snapshot_every,
                            &a.compare,     a.camera.eye, a.camera.look, a.camera.up, &a.camera.fov,
                            &a.width,       &a.height,    &a.exposure, &a.tonemap,
-                           &a.lights.sky,  &a.lights.sun, &a.lights.ies,
+                           &a.lights.sky,  &a.lights.sun, &a.lights.ies, &a.lights.two_sided,
                            &a.lights.specular_first, &a.lights.specular_photons};
     enum { OWN = sizeof own / sizeof own[0] };
     /* The shared solver, form-factor and meshing options (cli/pipeline.h), then our own. */
@@ -297,6 +298,9 @@ int cmd_solve(int argc, char **argv) {
     plot_series series = {0};
     int exit_status = 0;
     rad_status rs = cli_load_scene(ctx, positional[0], &scene);
+    const char *outputs[] = {a.save, a.log, a.plot}; /* none may be the scene's .mtl, .bin, ... */
+    if (!rs && (exit_status = cli_check_outputs_against_scene("solve", scene, outputs, 3)))
+        goto done;
     rad_camera_desc camera;
     if (!rs) cli_camera_get(&a.camera, scene, &camera);
     if (!rs && a.compare) {

@@ -100,8 +100,8 @@ int cli_lights_check(const char *command, cli_light_args *a) {
 rad_status cli_lights_apply(rad_scene *scene) {
     if (!have_registered) return RAD_OK;
     const cli_light_args *a = &registered;
-    rad_status status = RAD_OK;
-    if (a->sky) status = rad_scene_set_sky(scene, &a->sky_desc);
+    rad_status status = a->two_sided ? rad_scene_set_two_sided(scene) : RAD_OK;
+    if (!status && a->sky) status = rad_scene_set_sky(scene, &a->sky_desc);
     if (!status && a->sun) status = rad_scene_add_light(scene, &a->sun_desc);
     if (!status && a->ies)
         status = rad_scene_set_light_ies(scene, a->ies_name[0] ? a->ies_name : NULL, a->ies_path);

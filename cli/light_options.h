@@ -1,5 +1,6 @@
 /* light_options.h - the light flags of the commands that solve or draw a scene (solve, render,
- * bake, pathtrace): --sky, --sun and --ies (docs/lights.md). Checked with the other flags (a
+ * bake, pathtrace): --sky, --sun and --ies (docs/lights.md), and --two-sided (also photonmap and
+ * scenes --info). Checked with the other flags (a
  * usage error, exit 2), then applied to the scene as it is loaded (cli_load_scene), before any
  * system is built from it. */
 #ifndef RAD_CLI_LIGHT_OPTIONS_H
@@ -16,6 +17,7 @@ typedef struct cli_light_args {
     const char *specular_first, *specular_photons; /* as given; NULL when not */
     int specular_on;                                /* 1, 0, or -1: when mirrors or glass */
     unsigned long long specular_photon_count;       /* 0: the default */
+    int two_sided;                                  /* --two-sided */
 } cli_light_args;
 
 /* The three entries of an option table: write CLI_LIGHT_OPTIONS(&args) among a command's own. */
@@ -33,6 +35,11 @@ typedef struct cli_light_args {
      "scene has mirrors or glass)"},                                                              \
     {"--specular-photons", CLI_STRING, &(args)->specular_photons,                                 \
      "N  photons of the specular-first pass (default 1000000)"}
+
+/* --two-sided (rad_scene_set_two_sided), applied with the light flags as the scene loads. */
+#define CLI_TWO_SIDED_OPTION(args)                                                                \
+    {"--two-sided", CLI_FLAG, &(args)->two_sided,                                                 \
+     "both faces of every surface receive and reflect (emitters and glass excepted)"}
 
 /* Checks the values (usage error: message printed, EXIT_USAGE; 0 when fine) and registers the
  * flags so that cli_load_scene applies them to the scene it loads. */

@@ -79,7 +79,9 @@ int cli_pipeline_check(const char *command, cli_pipeline_args *a, rad_solve_opti
     cli_solver_option(&a->solver_options, s.solver, "link-error", link_error);
     s.method_options = &a->solver_options;
     *solve = s;
-    *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements};
+    *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements, 0};
+    /* A solver that draws its own leaves needs no uniform mesh. */
+    mesh->polygons_only = (rad_solver_get(s.solver)->capabilities & RAD_SOLVER_OWN_LEAVES) != 0;
     a->ff_options = (rad_options){0};
     cli_ff_option(&a->ff_options, (rad_ff_method)method, "ff-samples", a->ff_samples);
     cli_ff_option(&a->ff_options, (rad_ff_method)method, "hemicube-res", a->hemicube_res);

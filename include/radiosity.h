@@ -146,6 +146,13 @@ void rad_scene_destroy(rad_scene *scene);
 /* Nonzero when the scene is geometry (form factors computed), zero for a patch system. */
 int rad_scene_is_geometric(const rad_scene *scene);
 
+/* The files the scene was read from: the scene file, its .mtl, .bin and textures (whatever the
+ * importer opened), MGF includes, IES profiles; each once, as opened (relative paths are
+ * relative to the working directory). None for built-in scenes. The string lives as long as the
+ * scene; NULL past the end. An output must never be one of these files (the CLI refuses). */
+size_t rad_scene_file_count(const rad_scene *scene);
+const char *rad_scene_file(const rad_scene *scene, size_t index);
+
 /* ---------------------------------------------------------------------------------------------
  * Systems: patches, elements, form factors and the solution
  * ------------------------------------------------------------------------------------------- */
@@ -166,6 +173,10 @@ typedef struct rad_mesh_options {
     double patch_size;
     double element_size;
     size_t elements; /* approximate total element count; used when element_size is zero */
+    /* Nonzero: one element per input polygon (larger polygons fanned into triangles), no
+     * contact cuts, no form-factor provider: for a solver that refines and draws its own leaves
+     * (RAD_SOLVER_OWN_LEAVES); the sizes above are then not used. */
+    int polygons_only;
 } rad_mesh_options;
 
 /* Per-method options: a bag of name = value pairs, as Mitsuba's plugins read their properties
@@ -297,6 +308,8 @@ typedef enum rad_solver_kind {
 #define RAD_SOLVER_NEEDS_CAMERA 8u  /* needs rad_solve_options.camera */
 #define RAD_SOLVER_KEEPS_UNSHOT 16u /* its solutions carry a true unshot radiosity */
 #define RAD_SOLVER_NEEDS_UNSHOT 32u /* resumes only from solutions that carry one */
+#define RAD_SOLVER_OWN_LEAVES 64u   /* refines its own leaves from the input polygons and draws
+                                       them: build its system with rad_mesh_options.polygons_only */
 
 /* One of a method's own options: its name (as the CLI spells it after "--") and what it does. */
 typedef struct rad_method_option {
@@ -844,6 +857,24 @@ typedef struct rad_sky_desc {
  * its openings, in the solve, render, bake and path tracer. */
 rad_status rad_scene_set_sky(rad_scene *scene, const rad_sky_desc *sky);
 
+/* What the scene's lights are (`radiosity scenes --info`; src/scene/scene_info.c): a point, spot
+ * or directional light (from its file, rad_scene_add_light or the sun) in the solver's units;
+ * 179 times the intensity is candela, 179 times the irradiance lux (docs/units.md). Strings
+ * live as long as the scene. */
+typedef struct rad_light_info {
+    const char *name;
+    rad_light_type type;
+    double position[3];      /* point, spot */
+    double direction[3];     /* unit: spot axis, or where a directional light travels */
+    double intensity[3];     /* point, spot: W/sr (on the axis); directional: irradiance W/m^2 */
+    double inner_degrees, outer_degrees; /* spot half angles */
+    const char *ies;         /* the IES LM-63 file it was given, or NULL */
+} rad_light_info;
+/* Light `index` < rad_scene_light_count; RAD_ERROR_INVALID_ARGUMENT past the end. */
+rad_status rad_scene_get_light(const rad_scene *scene, size_t index, rad_light_info *out);
+/* The scene's sky: its model (RAD_SKY_NONE without one) and radiance (rad_sky_desc). */
+void rad_scene_get_sky(const rad_scene *scene, rad_sky_desc *out);
+
 /* The specular-first pass (docs/specular-first.md): before the solve, photons from the emitting
  * surfaces are followed through mirrors and glass, and what they bring to a diffuse element
  * becomes light it emits in the solution (solve, render, bake). `on`: 1 always, 0 never, -1 when
@@ -851,6 +882,12 @@ rad_status rad_scene_set_sky(rad_scene *scene, const rad_sky_desc *sky);
  * default (RAD_SPECULAR_PHOTONS). */
 #define RAD_SPECULAR_PHOTONS 1000000
 rad_status rad_scene_set_specular_first(rad_scene *scene, int on, uint64_t photons);
+
+/* Makes every surface of a geometric scene two-sided (`--two-sided`; glTF doubleSided does it
+ * per material): both faces receive and reflect, as two one-sided surfaces back to back
+ * (surfaces "NAME (back)"). Emitting surfaces stay one-sided (a panel would emit twice its
+ * power), and glass has both sides already. A patch system: RAD_ERROR_INVALID_ARGUMENT. */
+rad_status rad_scene_set_two_sided(rad_scene *scene);
 
 #ifdef __cplusplus
 }

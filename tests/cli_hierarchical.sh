@@ -7,17 +7,20 @@ source "$(dirname "$0")/lib_cli.sh" "$@"
 
 "$radiosity" solve cornell --solver hierarchical --quiet >"$work/table"
 check "converges" grep -Eq '^hierarchical: [0-9]+ rounds, converged' "$work/table"
-check "the floor is lit" grep -Eq '^floor +[0-9]+ +0\.3[0-9]+ ' "$work/table"
+check "the floor is lit" grep -Eq '^floor +[0-9]+ +0\.[34][0-9]+ ' "$work/table"
 "$radiosity" solve two-squares --solver hierarchical --link-error 1e-4 --json >"$work/json"
 check "json solver" grep -q '"solver": "hierarchical", "iterations": [0-9]*, "converged": true' "$work/json"
-"$radiosity" solve cornell --solver hierarchical --save "$work/s.rad" --quiet >/dev/null
-check "saved" test -s "$work/s.rad"
-"$radiosity" render cornell --solution "$work/s.rad" -o "$work/saved.pfm" --width 16 --height 16 --spp 1 --final-gather 0 --quiet
-check "renders the saved solution" test -s "$work/saved.pfm"
+# The outputs draw the hierarchy's leaves; a solution file holds one value per element, so
+# --save is refused with one line (not supported yet).
+expect_exit 1 'solution files cannot hold it' -- "$radiosity" solve cornell --solver hierarchical --save "$work/s.rad" --quiet
 "$radiosity" render cornell --solver hierarchical -o "$work/h.pfm" --width 24 --height 24 --spp 2 --final-gather 0 --quiet
 check "renders" test -s "$work/h.pfm"
 "$radiosity" bake cornell --solver hierarchical -o "$work/h.ply" --quiet
 check "bakes" test -s "$work/h.ply"
+# The baked mesh is the drawn leaves (about 300 leaves and their anchoring fans), not 34
+# polygons nor the uniform mesh's 2,500 elements.
+faces=$(grep -a '^element face' "$work/h.ply" | awk '{print $3}')
+check "bakes the leaves" test "$faces" -gt 300 -a "$faces" -lt 2500
 
 # The memory budget reached while refining: a warning naming the links, the solution so far.
 "$radiosity" solve cornell --solver hierarchical --link-error 1e-5 --max-memory 2 >"$work/small" 2>"$work/warn"

@@ -2,23 +2,14 @@
 # cli_lights.sh - lights that are not surfaces from the command line (docs/lights.md): --sun on a
 # plane gives rho E cos in solve; --sky gives rho L on an open plane in render and pathtrace;
 # scenes/lights-room.gltf (a point and a spot light from the file) renders within 2% of the
-# path tracer in the mean; bake takes the flags; bad --sky/--sun values are usage errors (2) in
+# path tracer in the mean; a point light's highlight on a rough mirror renders as the path
+# tracer draws it; bake takes the flags; bad --sky/--sun values are usage errors (2) in
 # every command; a bad or missing IES file or light name is one line (exit 1).
 # Usage: cli_lights.sh RADIOSITY SOURCE_DIR
 source "$(dirname "$0")/lib_cli.sh" "$@"
 cd "$work" || exit 1
 
-cat > plane.obj <<'OBJ'
-mtllib plane.mtl
-v -1 0 -1
-v -1 0 1
-v 1 0 1
-v 1 0 -1
-usemtl grey
-o floor
-f 1 2 3 4
-OBJ
-printf 'newmtl grey\nKd 0.5 0.5 0.5\n' > plane.mtl
+write_plane_obj
 
 # ratio OUT: the mean ratio test / reference of `radiosity compare`.
 ratio() { awk '/^mean/ { print $NF }' "$1"; }
@@ -54,6 +45,36 @@ check "render lights-room: exit 0" test $? -eq 0
 check "lights-room render / path tracer within 2% (mean $(ratio c3.out))" within "$(ratio c3.out)" 1 0.02
 "$radiosity" bake "$room" --sun 0,1,0,1 --sky 0.1 --elements 500 -o room.ply --quiet
 check "bake with --sun and --sky: exit 0" test $? -eq 0 -a -s room.ply
+
+# A rough mirror under a point light, nothing else: every pixel is the lamp's glossy highlight,
+# which render's second pass must sample as the path tracer does (it used to be black).
+python3 - <<'PY'
+import base64, json, struct
+data = struct.pack('<12f', -2, 0, -2, -2, 0, 2, 2, 0, 2, 2, 0, -2) + struct.pack('<6H', 0, 1, 2, 0, 2, 3)
+json.dump({
+    "asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"],
+    "extensions": {"KHR_lights_punctual": {"lights": [
+        {"name": "bulb", "type": "point", "color": [1, 1, 1], "intensity": 100.0}]}},
+    "scene": 0, "scenes": [{"nodes": [0, 1]}],
+    "nodes": [{"name": "floor", "mesh": 0}, {"name": "bulb", "translation": [0, 1, 0.5],
+              "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+    "materials": [{"name": "glossy", "pbrMetallicRoughness": {
+        "baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 1.0, "roughnessFactor": 0.3}}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+    "buffers": [{"byteLength": len(data),
+                 "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+    "bufferViews": [{"buffer": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+                   "min": [-2, 0, -2], "max": [2, 0, 2]},
+                  {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+}, open("glossy-floor.gltf", "w"))
+PY
+view="--eye 0,1,-2 --look 0,0,1.5 --fov 50 --width 32 --height 32"
+"$radiosity" pathtrace glossy-floor.gltf $view --spp 64 -o gloss_pt.pfm --quiet
+"$radiosity" render glossy-floor.gltf $view --elements 100 -o gloss_r.pfm --quiet
+"$radiosity" compare gloss_r.pfm gloss_pt.pfm > c4.out
+check "point light on a rough mirror: render / path tracer within 2% (mean $(ratio c4.out))" \
+    within "$(ratio c4.out)" 1 0.02
 
 # Usage errors in every command.
 for command in solve render bake pathtrace; do

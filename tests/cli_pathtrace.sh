@@ -56,4 +56,23 @@ expect_exit 1 'no-such-scene' -- "$radiosity" pathtrace "$work/no-such-scene.obj
 expect_exit 1 'up must not be' -- "$radiosity" pathtrace -o "$work/x.png" "${small[@]}" --up 0,0,1
 check "errors leave no file" no_stray_files
 
+# One camera rule for every image command: the same refusal, word for word, from render,
+# pathtrace and photonmap; and the automatic camera of a room without one (scenes/lights-room.gltf,
+# which pathtrace and photonmap used to refuse as "inside an object") serves all three.
+inside=(--eye 368,165,351 --look 368,165,600 --width 16 --height 16)
+for command in render pathtrace photonmap; do
+    "$radiosity" $command cornell "${inside[@]}" -o "$work/x.png" 2> "$work/$command.err"
+    check "$command: the camera inside the tall block is refused" test $? -eq 1
+    grep -v '^radiosity: \[' "$work/$command.err" > "$work/$command.msg"
+done
+check "render and pathtrace: one message" cmp -s "$work/render.msg" "$work/pathtrace.msg"
+check "pathtrace and photonmap: one message" cmp -s "$work/pathtrace.msg" "$work/photonmap.msg"
+rm -f "$work"/*.err "$work"/*.msg
+room="$source_dir/scenes/lights-room.gltf"
+"$radiosity" pathtrace "$room" --width 16 --height 16 --spp 1 -o "$work/room_pt.pfm" --quiet
+check "pathtrace lights-room without --eye: exit 0" test $? -eq 0
+"$radiosity" photonmap "$room" --width 16 --height 16 --photons 1000 -o "$work/room_pm.pfm" --quiet 2>/dev/null
+check "photonmap lights-room without --eye: exit 0" test $? -eq 0
+rm -f "$work"/room_*.pfm
+
 finish

@@ -104,6 +104,31 @@ check "doubleSided: both faces of the panel receive light" python3 -c "import js
 p = {s['name']: s['radiosity'][0] for s in json.load(open('panel.json'))['patches']}
 assert p['panel'] > 0.05 and abs(p['panel (back)'] - p['panel']) < 0.02 * p['panel'], p"
 
+# Lights that are not surfaces: the file's point and spot lights with their units, the flags'
+# sun, sky and IES profile (scenes --info takes the light flags of solve and render).
+room="$source_dir/scenes/lights-room.gltf"
+printf 'TILT=NONE\n1 1000 1 2 1 1 2 0 0 0\n1 1 100\n0 90\n0\n500 500\n' > good.ies
+"$radiosity" scenes --info "$room" --sun 0,1,0,100 --sky 0.5 --ies bulb=good.ies >lights.txt 2>/dev/null
+check "text lights: exit 0" test $? -eq 0
+check "text lights: the point light, W/sr and cd, its IES file" grep -q \
+    "^  point 'bulb' at 1.2 2.5 1: intensity 1 0.9 0.8 W/sr (179 161.1 143.2 cd), IES profile good.ies" lights.txt
+check "text lights: the spot with its cone" grep -q "^  spot 'spot' at 2.8 2.9 2.6, axis .*cone 20.* to 29.* degrees: intensity 2.4 2.7 3 W/sr (429.6 483.3 537 cd)" lights.txt
+check "text lights: the sun" grep -q "^  directional 'sun' travelling -0 -1 -0: irradiance 100 100 100 W/m^2 (17900 17900 17900 lux)" lights.txt
+check "text lights: the sky" grep -q "^  sky uniform, radiance 0.5 0.5 0.5 W/(m^2 sr), zenith 0 1 0" lights.txt
+check "text lights: not 'nothing emits'" test "$(grep -c 'nothing emits' lights.txt)" -eq 0
+"$radiosity" scenes --info "$room" --json --sun 0,1,0,100 >lights.json 2>/dev/null
+check "json lights: kinds, positions, units" python3 - lights.json <<'PY'
+import json, sys
+lights = json.load(open(sys.argv[1]))["lights"]
+kinds = [l["kind"] for l in lights]
+assert kinds == ["point", "spot", "directional"], kinds
+bulb, spot, sun = lights
+assert bulb["name"] == "bulb" and abs(bulb["position"][1] - 2.5) < 1e-6 and bulb["ies"] is None, bulb
+assert abs(bulb["intensity_cd"][0] - 179) < 1e-3 and abs(bulb["intensity_w_sr"][0] - 1) < 1e-6, bulb
+assert abs(spot["outer_degrees"] - 29.79) < 0.01 and spot["inner_degrees"] < spot["outer_degrees"], spot
+assert sun["direction"] == [-0.0, -1.0, -0.0] and sun["irradiance_w_m2"] == [100, 100, 100], sun
+PY
+
 expect_exit 1 "nothere.obj" -- "$radiosity" scenes --info nothere.obj
 expect_exit 2 "json goes with --info" -- "$radiosity" scenes --json
 expect_exit 2 "unexpected argument" -- "$radiosity" scenes --info room.gltf extra

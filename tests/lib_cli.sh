@@ -38,6 +38,13 @@ expect_exit() {
     check "one line on stderr from $*" test "$(grep -vc '^radiosity: \[' "$work/err")" -le 1
 }
 
+# write_plane_obj: plane.obj and plane.mtl in the current directory, a 2 x 2 grey (0.5) square
+# at y = 0 facing +y, surface 'floor'.
+write_plane_obj() {
+    printf 'mtllib plane.mtl\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\nusemtl grey\no floor\nf 1 2 3 4\n' > plane.obj
+    printf 'newmtl grey\nKd 0.5 0.5 0.5\n' > plane.mtl
+}
+
 # finish: the closing line; the test's status.
 finish() {
     echo "$passed passed, $failed failed"

@@ -7,6 +7,8 @@
 #include "radiosity.h"
 #include "scene/scene.h"
 #include "system/system.h"
+#include "mesh/mesh.h"
+#include "system/solution_view.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -463,6 +465,100 @@ static void test_clusters(void) {
     rad_context_destroy(one);
 }
 
+
+/* The hierarchy's own view (src/solve/hierarchical_view.c) on the Cornell box, solved on one
+ * element per polygon (polygons_only): the drawn leaves cover every polygon exactly, the drawn
+ * mesh is conforming (no vertex of a surface lies inside another drawn edge of it: T-junctions
+ * were anchored by fans, so smooth shading has no cracks), and the vertex radiosities are the
+ * same bits for one and two threads. */
+static rad_rgb *leaf_view_cornell(int threads, size_t *vertex_count, size_t *drawn, size_t *leaves,
+                                  int check_mesh) {
+    rad_context *ctx = context(threads);
+    rad_scene *scene = NULL;
+    CHECK(rad_builtin_geometry(ctx, "cornell", &scene) == RAD_OK);
+    rad_mesh_options mesh_options = {0};
+    mesh_options.polygons_only = 1;
+    rad_system *system = NULL;
+    CHECK(rad_system_create(ctx, scene, &mesh_options, NULL, &system) == RAD_OK);
+    /* One element per polygon (all quads here), no form-factor provider. */
+    CHECK(system->ff == NULL && system->element_count == scene->polygon_count);
+    rad_scene_destroy(scene);
+    rad_solve_options options = {0};
+    options.solver = RAD_SOLVER_HIERARCHICAL;
+    options.link_error = 3e-4;
+    CHECK(rad_solve(system, &options, NULL) == RAD_OK);
+    const rad_solution_view *view = rad_system_view(system);
+    CHECK(strcmp(view->ops->name, "hierarchy leaves") == 0);
+    const rad_mesh *m = rad_solution_leaves(view);
+    CHECK(m != NULL);
+    *drawn = m->element_count;
+    *vertex_count = m->vertex_count;
+    /* Leaves: the drawn polygons' distinct nodes are the hierarchy's leaves. */
+    *leaves = 0;
+    for (size_t e = 0; e < m->element_count; ++e) {
+        double a[3], b[3];
+        view->ops->radiosity(view, e, 0.5, 0.5, a);
+        if (e == 0) ++*leaves;
+        else {
+            view->ops->radiosity(view, e - 1, 0.5, 0.5, b);
+            *leaves += memcmp(a, b, sizeof a) != 0 || m->element_polygon[e] != m->element_polygon[e - 1];
+        }
+    }
+    if (check_mesh) {
+        /* Areas per surface: the drawn leaves against the polygons. */
+        double drawn_area[16] = {0}, polygon_area[16] = {0};
+        CHECK(system->surface_count <= 16);
+        for (size_t e = 0; e < m->element_count; ++e) drawn_area[m->element_surface[e]] += m->element_area[e];
+        for (size_t e = 0; e < system->element_count; ++e) polygon_area[system->element_surface[e]] += system->area[e];
+        for (size_t i = 0; i < system->surface_count; ++i)
+            CHECK_NEAR(drawn_area[i], polygon_area[i], 1e-5 * polygon_area[i]); /* walls are not quite flat */
+        /* Conforming: no vertex strictly inside an edge of a drawn polygon of its surface and
+         * plane. */
+        rad_vec3 *vertex_normal = calloc(m->vertex_count, sizeof *vertex_normal);
+        for (size_t e = 0; e < m->element_count; ++e)
+            for (int k = 0; k < rad_mesh_corner_count(m, e); ++k)
+                vertex_normal[m->element_vertices[e][k]] = m->element_normal[e];
+        size_t inside = 0;
+        for (size_t e = 0; e < m->element_count; ++e) {
+            int n = rad_mesh_corner_count(m, e);
+            for (int k = 0; k < n; ++k) {
+                uint32_t ia = m->element_vertices[e][k], ib = m->element_vertices[e][(k + 1) % n];
+                rad_vec3 a = m->vertices[ia], ab = v3_sub(m->vertices[ib], a);
+                double length2 = v3_dot(ab, ab);
+                for (size_t v = 0; v < m->vertex_count; ++v) {
+                    if (v == ia || v == ib || m->vertex_surface[v] != m->element_surface[e] ||
+                        v3_dot(vertex_normal[v], m->element_normal[e]) < 0.999)
+                        continue;
+                    rad_vec3 av = v3_sub(m->vertices[v], a);
+                    double t = v3_dot(av, ab) / length2;
+                    if (t <= 1e-6 || t >= 1 - 1e-6) continue;
+                    rad_vec3 off = v3_sub(av, v3_scale(ab, t));
+                    inside += v3_dot(off, off) < 1e-12 * length2;
+                }
+            }
+        }
+        CHECK(inside == 0);
+        free(vertex_normal);
+    }
+    rad_rgb *vertex = malloc((m->vertex_count ? m->vertex_count : 1) * sizeof *vertex);
+    CHECK(rad_solution_vertex_radiosity(view, ctx, 0, vertex) == RAD_OK);
+    rad_system_destroy(system);
+    rad_context_destroy(ctx);
+    return vertex;
+}
+
+static void test_leaf_view(void) {
+    size_t v1, v2, drawn1, drawn2, leaves1, leaves2;
+    rad_rgb *one = leaf_view_cornell(1, &v1, &drawn1, &leaves1, 1);
+    rad_rgb *two = leaf_view_cornell(2, &v2, &drawn2, &leaves2, 0);
+    /* T-junctions existed and were anchored: more drawn polygons than leaves. */
+    CHECK(drawn1 > leaves1 && leaves1 > 28);
+    CHECK(v1 == v2 && drawn1 == drawn2);
+    CHECK(v1 == v2 && memcmp(one, two, v1 * sizeof *one) == 0);
+    free(one);
+    free(two);
+}
+
 int main(void) {
     test_image();
     test_closed_forms();
@@ -471,5 +567,6 @@ int main(void) {
     test_determinism();
     test_solver();
     test_clusters();
+    test_leaf_view();
     return test_finish();
 }

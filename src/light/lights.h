@@ -31,6 +31,7 @@ typedef struct rad_ies_profile {
     double *horizontal; /* degrees, ascending */
     double *candela;    /* horizontal_count rows of vertical_count values, multiplier applied */
     double max_candela;
+    char file[256]; /* the file it came from, for listings (rad_scene_get_light) */
 } rad_ies_profile;
 
 /* Parses LM-63 text (1986, 1991, 1995, 2002 headers; TILT=NONE or an inline TILT=INCLUDE table,

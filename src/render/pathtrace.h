@@ -23,6 +23,8 @@ typedef struct rad_tracer {
     int max_bounces;   /* 0: no limit (Russian roulette ends paths) */
     int next_event;    /* nonzero (the default): sample the emitters at every smooth vertex;
                           zero: BSDF sampling only (a slower estimator, for tests) */
+    double roulette_weight; /* Russian roulette continues with probability throughput / this
+                               (0.1); 1 is the textbook q = throughput (for tests) */
 } rad_tracer;
 
 rad_status rad_tracer_create(rad_context *ctx, const rad_scene *scene, int max_bounces,

@@ -122,38 +122,19 @@ static rad_status settings_from(rad_context *ctx, const rad_render_options *o,
 }
 
 /* Refuses cameras that see nothing or only the backs of one-sided surfaces: the image would be
- * black. A coarse grid of pixel centres first, then every pixel before giving up. */
+ * black (scene/camera.h's rule, the same for every image command). */
+static int renderer_see(const void *user, rad_vec3 eye, rad_vec3 direction, int *front,
+                        const char **surface) {
+    const rad_renderer *r = user;
+    rad_element_hit hit;
+    if (!rad_element_rays_intersect(r->rays, eye, direction, 0, INFINITY, &hit)) return 0;
+    *front = hit.front || rad_renderer_material(r, hit.element)->kind == RAD_MATERIAL_GLASS;
+    *surface = r->system->surface_name[r->mesh->element_surface[hit.element]];
+    return 1;
+}
+
 static rad_status probe_camera(const rad_renderer *r) {
-    const rad_view *view = &r->view;
-    int hits = 0, fronts = 0;
-    for (int pass = 0; pass < 2 && fronts == 0; ++pass) {
-        int nx = pass == 0 && view->width > PROBE_SIDE ? PROBE_SIDE : view->width;
-        int ny = pass == 0 && view->height > PROBE_SIDE ? PROBE_SIDE : view->height;
-        for (int j = 0; j < ny && fronts == 0; ++j)
-            for (int i = 0; i < nx; ++i) {
-                double px = (i + 0.5) * view->width / nx, py = (j + 0.5) * view->height / ny;
-                rad_element_hit hit;
-                rad_vec3 direction = rad_view_direction(view, px, py);
-                if (!rad_element_rays_intersect(r->rays, view->eye, direction, 0, INFINITY, &hit))
-                    continue;
-                ++hits;
-                const rad_material *m = rad_renderer_material(r, hit.element);
-                if (hit.front || m->kind == RAD_MATERIAL_GLASS) {
-                    ++fronts;
-                    break;
-                }
-            }
-        if (nx == view->width && ny == view->height) break;
-    }
-    if (fronts) return RAD_OK;
-    if (!hits)
-        return rad_fail(r->ctx, RAD_ERROR_INVALID_ARGUMENT,
-                        "the camera sees nothing: no surface is in view (check --eye, --look, "
-                        "--fov)");
-    return rad_fail(r->ctx, RAD_ERROR_INVALID_ARGUMENT,
-                    "the camera sees only the backs of one-sided surfaces: is it inside an "
-                    "object? (check --eye; place it with --eye and --look, or leave the file "
-                    "without a camera for the automatic one)");
+    return rad_view_check(r->ctx, &r->view, renderer_see, r);
 }
 
 rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,

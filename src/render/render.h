@@ -180,6 +180,11 @@ int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, co
 void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
                       const rad_element_hit *hit, rad_vec3 y, rad_vec3 n, double out[3]);
 
+/* final_gather.c: whether point, spot or directional light i, arriving at x as `arrival`
+ * (rad_light_arrive), reaches it: one shadow ray, counted. */
+int rad_light_unblocked(const rad_renderer *r, size_t i, rad_vec3 x,
+                        const rad_light_arrival *arrival, rad_ray_counts *counts);
+
 /* second_pass.c: the radiance arriving at `origin` from `direction`, following mirrors and glass
  * up to max_depth bounces. Camera rays (`gather` NULL) take B / pi where they land, or a final
  * gather when it is on. Gather rays take the reflected part (B - E) / pi at their first hit plus

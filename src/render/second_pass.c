@@ -76,6 +76,24 @@ static void glossy_direct(const rad_renderer *r, const double u[2], const rad_ma
     for (int c = 0; c < 3; ++c) out[c] = f[c] * light.radiance[c] * cos_x / light.pdf * weight;
 }
 
+/* Light of the point, spot and directional lights reflected at a glossy point x towards wo:
+ * each is one point or direction, sampled exactly with no weight (no BSDF sample finds it), on
+ * camera and gather paths alike (without it a rough mirror shows no lamp at all). */
+static void glossy_lights(const rad_renderer *r, const rad_material *material, rad_vec3 x,
+                          rad_vec3 normal, rad_vec3 wo, rad_ray_counts *counts, double out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    for (size_t i = 0; i < r->light_count; ++i) {
+        rad_light_arrival arrival;
+        double f[3], pdf_bsdf;
+        if (!rad_light_arrive(&r->lights[i], x, &arrival) ||
+            !rad_bsdf_eval(material, normal, wo, arrival.direction, f, &pdf_bsdf) ||
+            !rad_light_unblocked(r, i, x, &arrival, counts))
+            continue;
+        double cos_x = fabs(v3_dot(normal, arrival.direction));
+        for (int c = 0; c < 3; ++c) out[c] += f[c] * arrival.irradiance[c] * cos_x;
+    }
+}
+
 void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
                         rad_vec3 direction, const rad_gather_origin *gather, double out[3]) {
     rad_ray_counts *counts = sample->counts;
@@ -152,6 +170,11 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
             if (!gather && rad_bsdf_has_smooth_lobe(material)) {
                 double direct[3];
                 glossy_direct(r, u_light, material, x, normal, wo, counts, direct);
+                for (int c = 0; c < 3; ++c) out[c] += throughput[c] * direct[c];
+            }
+            if (r->light_count && rad_bsdf_has_smooth_lobe(material)) {
+                double direct[3];
+                glossy_lights(r, material, x, normal, wo, counts, direct);
                 for (int c = 0; c < 3; ++c) out[c] += throughput[c] * direct[c];
             }
             double u[3] = {u_choice[0], u_direction[0], u_direction[1]};

@@ -164,6 +164,41 @@ rad_status rad_view_make(rad_context *ctx, const rad_camera *camera, int width, 
     return RAD_OK;
 }
 
+/* ---- the one camera rule ------------------------------------------------------------------ */
+
+#define CHECK_GRID 64
+
+rad_status rad_view_check(rad_context *ctx, const rad_view *view, rad_view_see see,
+                          const void *user) {
+    int hits = 0, fronts = 0;
+    const char *back_surface = NULL;
+    for (int pass = 0; pass < 2 && fronts == 0; ++pass) {
+        int nx = pass == 0 && view->width > CHECK_GRID ? CHECK_GRID : view->width;
+        int ny = pass == 0 && view->height > CHECK_GRID ? CHECK_GRID : view->height;
+        for (int j = 0; j < ny && fronts == 0; ++j)
+            for (int i = 0; i < nx && fronts == 0; ++i) {
+                double px = (i + 0.5) * view->width / nx, py = (j + 0.5) * view->height / ny;
+                int front = 0;
+                const char *surface = NULL;
+                if (!see(user, view->eye, rad_view_direction(view, px, py), &front, &surface))
+                    continue;
+                ++hits;
+                if (front) ++fronts;
+                else if (!back_surface) back_surface = surface;
+            }
+        if (nx == view->width && ny == view->height) break;
+    }
+    if (fronts) return RAD_OK;
+    if (!hits)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "camera sees nothing: no surface in the view (check --eye, --look, --fov)");
+    return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                    "camera is inside an object or behind the scene: it sees only the backs of "
+                    "surfaces (such as '%s'); place it with --eye and --look, or leave the file "
+                    "without a camera for the automatic one",
+                    back_surface ? back_surface : "?");
+}
+
 /* ---- the public camera description ---------------------------------------------------- */
 
 void rad_scene_get_camera(const rad_scene *scene, rad_camera_desc *out) {

@@ -34,6 +34,17 @@ void rad_scene_auto_camera(rad_scene *scene);
 rad_status rad_view_make(rad_context *ctx, const rad_camera *camera, int width, int height,
                          rad_view *out);
 
+/* The one camera rule of every command that makes an image (render, pathtrace, photonmap):
+ * rays through a grid of pixel centres (at most 64 x 64), then through every pixel while none
+ * has met a front, must meet the front of something (or glass). `see` casts one ray and tells
+ * whether it hit, and if so whether it counts as a front and which surface it met. Errors:
+ * "camera sees nothing ..." when no ray hits, "camera is inside an object or behind the scene:
+ * it sees only the backs of surfaces (such as 'S') ..." when every hit is a back. */
+typedef int (*rad_view_see)(const void *user, rad_vec3 eye, rad_vec3 direction, int *front,
+                            const char **surface);
+rad_status rad_view_check(rad_context *ctx, const rad_view *view, rad_view_see see,
+                          const void *user);
+
 /* The public camera description and the internal camera, both ways (the one conversion). */
 void rad_camera_to_desc(const rad_camera *camera, rad_camera_desc *out);
 rad_camera rad_camera_from_desc(const rad_camera_desc *desc);

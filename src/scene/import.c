@@ -29,6 +29,7 @@
 #include "scene/scene.h"
 #include "scene/texture.h"
 
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/ObjMaterial.h>
 #include <assimp/material.h>
@@ -36,6 +37,8 @@
 #include <assimp/scene.h>
 
 #include <errno.h>
+#include <limits.h>
+#include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -222,6 +225,8 @@ typedef struct importer {
     uint32_t pending_corners[3];
 
     char label[256]; /* object_label's storage */
+    rad_file_list opened; /* every file read: assimp's (recording_open) and textures */
+    rad_status opened_status; /* RAD_ERROR_NO_MEMORY when a path could not be recorded */
 
     /* What was done, for the notes at the end. */
     size_t degenerate, points_and_lines, turned, cut, joined;
@@ -359,6 +364,9 @@ static rad_status material_texture(importer *im, const struct aiMaterial *m, rad
                 return RAD_OK;
             }
         status = rad_texture_read(im->ctx, name, &texture);
+        struct stat info; /* a texture there, read or not, is the scene's file */
+        if (stat(name, &info) == 0 && !im->opened_status)
+            im->opened_status = rad_file_list_add(im->ctx, &im->opened, name);
     }
     im->ctx->on_error = on_error;
     if (status == RAD_ERROR_NO_MEMORY) return status;
@@ -1040,7 +1048,65 @@ static void importer_free(importer *im) {
     rad_free(ctx, im->plane);
     rad_free(ctx, im->order);
     rad_gltf_extras_free(ctx, &im->gltf);
+    rad_file_list_free(ctx, &im->opened);
     if (im->ai) aiReleaseImport(im->ai);
+}
+
+/* assimp reads through these: stdio files, as its default IO system, and each file opened for
+ * reading is recorded in the importer's list (the .mtl, .bin and other files beside the scene
+ * file), which goes with the scene so that no output replaces one of them. */
+static size_t recording_read(struct aiFile *file, char *buffer, size_t size, size_t count) {
+    return fread(buffer, size, count, (FILE *)(void *)file->UserData);
+}
+static size_t recording_write(struct aiFile *file, const char *buffer, size_t size, size_t count) {
+    (void)file, (void)buffer, (void)size, (void)count;
+    return 0; /* importing never writes */
+}
+static size_t recording_tell(struct aiFile *file) {
+    long at = ftell((FILE *)(void *)file->UserData);
+    return at < 0 ? 0 : (size_t)at;
+}
+static size_t recording_size(struct aiFile *file) {
+    FILE *stream = (FILE *)(void *)file->UserData;
+    long at = ftell(stream), size = -1;
+    if (at >= 0 && fseek(stream, 0, SEEK_END) == 0) size = ftell(stream);
+    if (at >= 0) fseek(stream, at, SEEK_SET);
+    return size < 0 ? 0 : (size_t)size;
+}
+static enum aiReturn recording_seek(struct aiFile *file, size_t offset, enum aiOrigin origin) {
+    int whence = origin == aiOrigin_CUR ? SEEK_CUR : origin == aiOrigin_END ? SEEK_END : SEEK_SET;
+    if (offset > LONG_MAX) return aiReturn_FAILURE;
+    return fseek((FILE *)(void *)file->UserData, (long)offset, whence) == 0 ? aiReturn_SUCCESS
+                                                                           : aiReturn_FAILURE;
+}
+static void recording_flush(struct aiFile *file) { (void)file; }
+
+static struct aiFile *recording_open(struct aiFileIO *io, const char *path, const char *mode) {
+    importer *im = (importer *)(void *)io->UserData;
+    if (!path || !mode || strchr(mode, 'w') || strchr(mode, 'a') || strchr(mode, '+'))
+        return NULL; /* importing never writes */
+    FILE *stream = fopen(path, "rb");
+    if (!stream) return NULL;
+    struct aiFile *file = calloc(1, sizeof *file);
+    if (!file) {
+        fclose(stream);
+        return NULL;
+    }
+    file->ReadProc = recording_read;
+    file->WriteProc = recording_write;
+    file->TellProc = recording_tell;
+    file->FileSizeProc = recording_size;
+    file->SeekProc = recording_seek;
+    file->FlushProc = recording_flush;
+    file->UserData = (aiUserData)(void *)stream;
+    if (!im->opened_status) im->opened_status = rad_file_list_add(im->ctx, &im->opened, path);
+    return file;
+}
+static void recording_close(struct aiFileIO *io, struct aiFile *file) {
+    (void)io;
+    if (!file) return;
+    fclose((FILE *)(void *)file->UserData);
+    free(file);
 }
 
 static int has_extension(const char *path, const char *extension) {
@@ -1077,20 +1143,26 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
     int dropped_faces = 0;
     struct aiLogStream listener = {import_log_listen, (char *)&dropped_faces};
     aiAttachLogStream(&listener);
-    im.ai = aiImportFile(path, 0);
+    struct aiFileIO io = {recording_open, recording_close, (aiUserData)(void *)&im};
+    im.opened_status = rad_file_list_add(ctx, &im.opened, path);
+    if (!im.opened_status) im.ai = aiImportFileEx(path, 0, &io);
     aiDetachLogStream(&listener);
+    if (im.opened_status) {
+        importer_free(&im);
+        return im.opened_status;
+    }
     if (im.ai && dropped_faces) {
         importer_free(&im);
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s: faces with vertex indices past their "
                         "POSITION accessor (assimp would drop them)", path);
     }
     if (!im.ai && im.is_gltf && rad_gltf_extras_read(ctx, path, &im.gltf) != RAD_OK) {
-        rad_gltf_extras_free(ctx, &im.gltf);
+        importer_free(&im);
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s: assimp cannot read it: its glTF JSON is cut "
                         "short or damaged", path);
     }
-    rad_gltf_extras_free(ctx, &im.gltf);
     if (!im.ai) {
+        importer_free(&im);
         const char *why = aiGetErrorString();
         const char *dot = strrchr(path, '.');
         if (!dot || !aiIsExtensionSupported(dot))
@@ -1158,6 +1230,13 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
         importer_free(&im);
         return status;
     }
+    if (im.opened_status) { /* a texture's path could not be recorded */
+        rad_scene_destroy(im.scene);
+        importer_free(&im);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    im.scene->files = im.opened; /* the scene's list now */
+    memset(&im.opened, 0, sizeof im.opened);
     *out = im.scene;
     importer_free(&im);
     return RAD_OK;

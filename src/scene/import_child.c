@@ -65,7 +65,7 @@
 #define IMPORT_SLACK_BYTES (64u << 20)
 
 enum record_kind { RECORD_INFO, RECORD_WARNING, RECORD_ERROR, RECORD_SCENE, RECORD_END,
-                   RECORD_TEXTURES };
+                   RECORD_TEXTURES, RECORD_FILES };
 
 typedef struct record_header {
     uint32_t kind;
@@ -218,6 +218,17 @@ static int write_textures(const rad_scene *scene) {
     return 0;
 }
 
+/* The files the import read (scene.h, rad_file_list): a count, then each path. */
+static int write_files(const rad_scene *scene) {
+    uint64_t count = scene->files.count, length = sizeof count;
+    for (size_t i = 0; i < scene->files.count; ++i) length += string_bytes(scene->files.paths[i]);
+    record_header header = {RECORD_FILES, 0, length};
+    if (write_all(&header, sizeof header) || write_all(&count, sizeof count)) return -1;
+    for (size_t i = 0; i < scene->files.count; ++i)
+        if (write_string(scene->files.paths[i])) return -1;
+    return 0;
+}
+
 /* Pages mapped now, from /proc/self/statm; 0 when unknown. */
 static uint64_t mapped_bytes(void) {
     FILE *statm = fopen("/proc/self/statm", "r");
@@ -301,6 +312,7 @@ static _Noreturn void child_run(rad_context *ctx, const char *path, int write_fd
                                        strlen(ctx->error) + 1)
                         : write_scene(scene);
     if (!failed && !status) failed = write_textures(scene);
+    if (!failed && !status) failed = write_files(scene);
     if (!failed) failed = write_record(RECORD_END, 0, NULL, 0);
     rad_scene_destroy(scene);
     _exit(failed ? 3 : 0);
@@ -527,6 +539,19 @@ static rad_status read_textures(rad_context *ctx, cursor *c, rad_scene *scene) {
 }
 
 /* Replays the records into *status (and *out); returns 1 when they end with the end mark. */
+static rad_status read_files(rad_context *ctx, cursor *c, rad_scene *scene) {
+    uint64_t count;
+    if (take(c, &count, sizeof count)) return RAD_ERROR_PARSE;
+    for (uint64_t i = 0; i < count; ++i) {
+        char *path = NULL;
+        rad_status status = take_string(ctx, c, &path);
+        if (!status) status = rad_file_list_add(ctx, &scene->files, path);
+        rad_free(ctx, path);
+        if (status) return status;
+    }
+    return RAD_OK;
+}
+
 static int replay(rad_context *ctx, const char *path, const reply *r, rad_scene **out,
                   rad_status *status) {
     cursor all = {r->data, r->data + r->length};
@@ -551,8 +576,10 @@ static int replay(rad_context *ctx, const char *path, const reply *r, rad_scene 
                 *status = read;
                 return 1;
             }
-        } else if (header.kind == RECORD_TEXTURES && !*status && *out) {
-            rad_status read = read_textures(ctx, &body, *out);
+        } else if ((header.kind == RECORD_TEXTURES || header.kind == RECORD_FILES) &&
+                   !*status && *out) {
+            rad_status read = header.kind == RECORD_TEXTURES ? read_textures(ctx, &body, *out)
+                                                             : read_files(ctx, &body, *out);
             if (read == RAD_ERROR_PARSE) break;
             if (read) {
                 *status = read;

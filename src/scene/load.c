@@ -181,5 +181,9 @@ rad_status rad_scene_load(rad_context *ctx, const char *path, rad_scene **out) {
     }
     status = rad_scene_parse_ffm(ctx, text, length, path, out);
     rad_free(ctx, text);
+    if (!status && (status = rad_file_list_add(ctx, &(*out)->files, path))) {
+        rad_scene_destroy(*out);
+        *out = NULL;
+    }
     return status;
 }

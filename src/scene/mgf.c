@@ -830,7 +830,8 @@ static rad_status read_file(mgf_reader *r, const char *path, const mgf_transform
                         path, strerror(errno));
     }
     char *copy = rad_alloc(r->ctx, strlen(path) + 1, 1);
-    if (!copy) {
+    if (!copy || rad_file_list_add(r->ctx, &r->scene->files, path)) { /* a scene's file */
+        rad_free(r->ctx, copy);
         fclose(file);
         return RAD_ERROR_NO_MEMORY;
     }

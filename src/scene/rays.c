@@ -10,6 +10,42 @@ static void embree_error(void *user, enum RTCError code, const char *message) {
     rad_fail(ctx, RAD_ERROR_INTERNAL, "Embree error %d: %s", (int)code, message ? message : "");
 }
 
+rad_ray_frame rad_ray_frame_of_box(rad_vec3 lo, rad_vec3 hi) {
+    rad_ray_frame frame = {v3(0, 0, 0), 1};
+    double half = 0.5 * v3_length(v3_sub(hi, lo));
+    if (!(half > 0) || !isfinite(half)) return frame; /* empty, a point, or not finite */
+    frame.centre = v3_scale(v3_add(lo, hi), 0.5);
+    /* A power of two near 1 / half: scaling is then exact, and a scene scaled by a power of
+     * two meets Embree in the very same floats. */
+    int exponent;
+    frexp(half, &exponent);
+    frame.scale = ldexp(1, -exponent);
+    return frame;
+}
+
+double rad_ray_frame_ray(const rad_ray_frame *frame, struct RTCRay *ray, rad_vec3 origin,
+                         rad_vec3 direction, double tnear, double tfar) {
+    float org[3];
+    rad_ray_frame_point(frame, origin, org);
+    double length = v3_length(direction);
+    if (!(length > 0)) length = 1;
+    double to_frame = length * frame->scale; /* caller's t -> Embree's t along a unit direction */
+    ray->org_x = org[0];
+    ray->org_y = org[1];
+    ray->org_z = org[2];
+    ray->dir_x = (float)(direction.x / length);
+    ray->dir_y = (float)(direction.y / length);
+    ray->dir_z = (float)(direction.z / length);
+    ray->tnear = (float)(tnear * to_frame);
+    double far = tfar * to_frame;
+    ray->tfar = far < FLT_MAX ? (float)far : FLT_MAX;
+    ray->time = 0;
+    ray->mask = UINT32_MAX;
+    ray->id = 0;
+    ray->flags = 0;
+    return 1 / to_frame;
+}
+
 static void release_device(void *device) { rtcReleaseDevice((RTCDevice)device); }
 
 rad_status rad_embree_open(rad_context *ctx, RTCDevice *device, RTCScene *scene) {
@@ -66,11 +102,11 @@ rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **
         return rad_fail(ctx, RAD_ERROR_NO_MEMORY, "Embree: out of memory for %zu triangles",
                         triangles);
     }
-    for (size_t i = 0; i < scene->vertex_count; ++i) {
-        positions[3 * i + 0] = (float)scene->vertices[i].x;
-        positions[3 * i + 1] = (float)scene->vertices[i].y;
-        positions[3 * i + 2] = (float)scene->vertices[i].z;
-    }
+    rad_vec3 lo, hi;
+    rad_scene_bounds(scene, &lo, &hi);
+    rays->frame = scene->vertex_count ? rad_ray_frame_of_box(lo, hi) : rad_ray_frame_of_box(lo, lo);
+    for (size_t i = 0; i < scene->vertex_count; ++i)
+        rad_ray_frame_point(&rays->frame, scene->vertices[i], positions + 3 * i);
     size_t t = 0;
     for (size_t i = 0; i < scene->polygon_count; ++i) {
         const rad_polygon *polygon = &scene->polygons[i];
@@ -94,13 +130,10 @@ rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **
         rad_rays_destroy(rays);
         return RAD_ERROR_INTERNAL;
     }
-    rad_vec3 lo, hi;
-    rad_scene_bounds(scene, &lo, &hi);
     double diagonal = scene->vertex_count ? v3_length(v3_sub(hi, lo)) : 1;
-    double magnitude = fmax(v3_max_component(v3(fabs(lo.x), fabs(lo.y), fabs(lo.z))),
-                            v3_max_component(v3(fabs(hi.x), fabs(hi.y), fabs(hi.z))));
-    /* Larger than float rounding at the scene's coordinates, small against its features. */
-    rays->epsilon = fmax(diagonal * 1e-5, magnitude * 4e-6);
+    /* Larger than float rounding in the frame (about 1e-7 of the diagonal wherever the scene
+     * sits), small against the scene's features. */
+    rays->epsilon = diagonal * 1e-5;
     *out = rays;
     return RAD_OK;
 }
@@ -120,18 +153,7 @@ int rad_rays_occluded(const rad_rays *rays, rad_vec3 a, rad_vec3 b) {
     struct RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     struct RTCRay ray;
-    ray.org_x = (float)a.x;
-    ray.org_y = (float)a.y;
-    ray.org_z = (float)a.z;
-    ray.dir_x = (float)(d.x / length);
-    ray.dir_y = (float)(d.y / length);
-    ray.dir_z = (float)(d.z / length);
-    ray.tnear = (float)rays->epsilon;
-    ray.tfar = (float)(length - rays->epsilon);
-    ray.time = 0;
-    ray.mask = UINT32_MAX;
-    ray.id = 0;
-    ray.flags = 0;
+    rad_ray_frame_ray(&rays->frame, &ray, a, d, rays->epsilon / length, 1 - rays->epsilon / length);
     rtcOccluded1(rays->scene, &context, &ray);
     return ray.tfar < 0;
 }
@@ -141,23 +163,12 @@ int rad_rays_intersect(const rad_rays *rays, rad_vec3 origin, rad_vec3 direction
     struct RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     struct RTCRayHit rh;
-    rh.ray.org_x = (float)origin.x;
-    rh.ray.org_y = (float)origin.y;
-    rh.ray.org_z = (float)origin.z;
-    rh.ray.dir_x = (float)direction.x;
-    rh.ray.dir_y = (float)direction.y;
-    rh.ray.dir_z = (float)direction.z;
-    rh.ray.tnear = (float)tnear;
-    rh.ray.tfar = tfar < FLT_MAX ? (float)tfar : FLT_MAX;
-    rh.ray.time = 0;
-    rh.ray.mask = UINT32_MAX;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
+    double to_caller = rad_ray_frame_ray(&rays->frame, &rh.ray, origin, direction, tnear, tfar);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(rays->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return 0;
-    hit->t = rh.ray.tfar;
+    hit->t = rh.ray.tfar * to_caller;
     hit->polygon = rays->triangle_polygon[rh.hit.primID];
     /* Embree's Ng is (e1 x e2) for v0, v1, v2 = counter-clockwise: the front normal. */
     rad_vec3 n = v3_normalize(v3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
@@ -181,15 +192,13 @@ static int segment_ray(const rad_rays *rays, rad_vec3 a, rad_vec3 b, float org[3
     rad_vec3 d = v3_sub(b, a);
     double length = v3_length(d);
     if (length <= 2 * rays->epsilon) return 0;
-    double inverse = 1.0 / length;
-    org[0] = (float)a.x;
-    org[1] = (float)a.y;
-    org[2] = (float)a.z;
+    double inverse = 1.0 / length, scale = rays->frame.scale;
+    rad_ray_frame_point(&rays->frame, a, org);
     dir[0] = (float)(d.x * inverse);
     dir[1] = (float)(d.y * inverse);
     dir[2] = (float)(d.z * inverse);
-    *tnear = (float)rays->epsilon;
-    *tfar = (float)(length - rays->epsilon);
+    *tnear = (float)(rays->epsilon * scale);
+    *tfar = (float)((length - rays->epsilon) * scale);
     return 1;
 }
 
@@ -302,8 +311,19 @@ void rad_rays_trace_packet(const rad_rays *rays, rad_ray_packet *packet) {
     struct RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    double scale = rays->frame.scale;
     for (int i = 0; i < 16; ++i) {
         if (i >= packet->count) empty_lane(&packet->ray, i); /* unused lanes: filled, inactive */
+        else { /* into the frame: t stays in units of the (scaled) direction */
+            float org[3];
+            rad_ray_frame_point(&rays->frame, packet->origin[i], org);
+            packet->ray.org_x[i] = org[0];
+            packet->ray.org_y[i] = org[1];
+            packet->ray.org_z[i] = org[2];
+            packet->ray.dir_x[i] = (float)(packet->direction[i].x * scale);
+            packet->ray.dir_y[i] = (float)(packet->direction[i].y * scale);
+            packet->ray.dir_z[i] = (float)(packet->direction[i].z * scale);
+        }
         packet->valid[i] = i < packet->count && packet->ray.tnear[i] < packet->ray.tfar[i] ? -1 : 0;
     }
     rtcOccluded16(packet->valid, rays->scene, &context, &packet->ray);

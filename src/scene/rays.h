@@ -8,6 +8,35 @@
 
 #include <embree3/rtcore.h>
 
+/* The coordinates Embree sees. Embree works in single precision and its triangle tests
+ * multiply three coordinates together, which overflows for a scene measured in 1e15 units and
+ * underflows for one in 1e-15 units (issue 13: the room so scaled lost its lamp's shadow). So
+ * every point handed to Embree is first moved to the scene's centre and scaled to about unit
+ * size, in double precision: p' = (p - centre) * scale. Rays keep their parameter t: a
+ * direction d goes in as d * scale, or unit with t scaled (see rays.c). Results are then the
+ * same whatever the length unit and wherever the scene sits. */
+typedef struct rad_ray_frame {
+    rad_vec3 centre;
+    double scale;
+} rad_ray_frame;
+
+/* The frame of the box [lo, hi]: its centre, and a power of two within a factor 2 of 1 / half
+ * its diagonal (the identity for an empty, flat-to-a-point or non-finite box). */
+rad_ray_frame rad_ray_frame_of_box(rad_vec3 lo, rad_vec3 hi);
+
+/* A point in the frame, as Embree's floats. */
+static inline void rad_ray_frame_point(const rad_ray_frame *frame, rad_vec3 p, float out[3]) {
+    out[0] = (float)((p.x - frame->centre.x) * frame->scale);
+    out[1] = (float)((p.y - frame->centre.y) * frame->scale);
+    out[2] = (float)((p.z - frame->centre.z) * frame->scale);
+}
+
+/* Fills Embree's single ray from a world origin and direction (any length) and t in
+ * (tnear, tfar) in units of that direction: the direction goes in unit length, t scaled to
+ * match. Returns the factor that turns Embree's t back into the caller's. */
+double rad_ray_frame_ray(const rad_ray_frame *frame, struct RTCRay *ray, rad_vec3 origin,
+                         rad_vec3 direction, double tnear, double tfar);
+
 typedef struct rad_rays {
     rad_context *ctx;
     RTCDevice device;
@@ -15,6 +44,7 @@ typedef struct rad_rays {
     uint32_t *triangle_polygon; /* Embree primID -> input polygon */
     size_t triangle_count;
     double epsilon; /* scene-scaled offset that keeps rays off the surfaces they start on */
+    rad_ray_frame frame; /* world -> Embree coordinates */
 } rad_rays;
 
 rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **out);
@@ -45,6 +75,7 @@ typedef struct rad_ray_packet {
     struct RTCRay16 ray;
     RTC_ALIGN(64) int valid[16];
     int count;
+    rad_vec3 origin[16], direction[16]; /* world; moved into the rays' frame when traced */
 } rad_ray_packet;
 
 /* Empties a packet and sets what every lane shares (time, mask, id, flags). Call once before
@@ -56,12 +87,8 @@ void rad_ray_packet_init(rad_ray_packet *packet);
 static inline int rad_ray_packet_add(rad_ray_packet *packet, rad_vec3 origin, rad_vec3 direction,
                                      double tnear, double tfar) {
     int i = packet->count++;
-    packet->ray.org_x[i] = (float)origin.x;
-    packet->ray.org_y[i] = (float)origin.y;
-    packet->ray.org_z[i] = (float)origin.z;
-    packet->ray.dir_x[i] = (float)direction.x;
-    packet->ray.dir_y[i] = (float)direction.y;
-    packet->ray.dir_z[i] = (float)direction.z;
+    packet->origin[i] = origin;
+    packet->direction[i] = direction;
     packet->ray.tnear[i] = (float)tnear;
     packet->ray.tfar[i] = (float)tfar;
     return i;

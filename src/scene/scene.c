@@ -35,6 +35,7 @@ void rad_scene_destroy(rad_scene *scene) {
     rad_free(ctx, scene->polygons);
     rad_lights_free(ctx, scene->lights, scene->light_count);
     rad_free(ctx, scene->source);
+    rad_file_list_free(ctx, &scene->files);
     for (size_t i = 0; i < scene->texture_count; ++i) rad_texture_release(scene->textures[i]);
     rad_free(ctx, scene->textures);
     rad_free(ctx, scene->polygon_uvs);
@@ -178,4 +179,31 @@ rad_status rad_scene_set_last_uvs(rad_scene *scene, const float (*uv)[2], uint32
     memcpy(scene->polygon_uvs + first, uv, count * sizeof *uv);
     if (needed > scene->polygon_uv_count) scene->polygon_uv_count = needed;
     return RAD_OK;
+}
+
+rad_status rad_file_list_add(rad_context *ctx, rad_file_list *list, const char *path) {
+    for (size_t i = 0; i < list->count; ++i)
+        if (strcmp(list->paths[i], path) == 0) return RAD_OK;
+    rad_status status = grow(ctx, (void **)&list->paths, &list->capacity, list->count,
+                             sizeof *list->paths);
+    if (status) return status;
+    size_t length = strlen(path) + 1;
+    char *copy = rad_alloc(ctx, length, 1);
+    if (!copy) return RAD_ERROR_NO_MEMORY;
+    memcpy(copy, path, length);
+    list->paths[list->count++] = copy;
+    return RAD_OK;
+}
+
+void rad_file_list_free(rad_context *ctx, rad_file_list *list) {
+    for (size_t i = 0; i < list->count; ++i) rad_free(ctx, list->paths[i]);
+    rad_free(ctx, list->paths);
+    list->paths = NULL;
+    list->count = list->capacity = 0;
+}
+
+size_t rad_scene_file_count(const rad_scene *scene) { return scene ? scene->files.count : 0; }
+
+const char *rad_scene_file(const rad_scene *scene, size_t index) {
+    return scene && index < scene->files.count ? scene->files.paths[index] : NULL;
 }

@@ -55,10 +55,21 @@ typedef struct rad_ffm_patch {
     double emission[3]; /* radiosity units (B), as the .ffm file gives it */
 } rad_ffm_patch;
 
+/* Paths of files, each once (as they were opened: relative to the working directory). */
+typedef struct rad_file_list {
+    char **paths;
+    size_t count, capacity;
+} rad_file_list;
+
+/* Adds a copy of path unless it is there already. */
+rad_status rad_file_list_add(rad_context *ctx, rad_file_list *list, const char *path);
+void rad_file_list_free(rad_context *ctx, rad_file_list *list);
+
 struct rad_scene {
     rad_context *ctx;
     int geometric;
     char *source; /* file path or built-in name */
+    rad_file_list files; /* every file read for the scene (rad_scene_file_count) */
 
     /* A patch system: patches and a dense row-major form-factor matrix. */
     size_t patch_count;

@@ -1,5 +1,5 @@
 /* scene_info.c - what a scene holds, for listing (`radiosity scenes --info`): counts, bounds,
- * materials with their textures, surfaces with their polygons and areas. */
+ * materials with their textures, surfaces with their polygons and areas, lights and sky. */
 #include "scene/scene.h"
 #include "scene/texture.h"
 
@@ -68,4 +68,32 @@ rad_status rad_scene_get_surface(const rad_scene *scene, size_t index, rad_surfa
     }
     out->textured = textured && with_uv;
     return RAD_OK;
+}
+
+rad_status rad_scene_get_light(const rad_scene *scene, size_t index, rad_light_info *out) {
+    memset(out, 0, sizeof *out);
+    if (!scene || index >= scene->light_count) return RAD_ERROR_INVALID_ARGUMENT;
+    const rad_light *l = &scene->lights[index];
+    out->name = l->name;
+    out->type = l->kind == RAD_LIGHT_SPOT          ? RAD_LIGHT_TYPE_SPOT
+                : l->kind == RAD_LIGHT_DIRECTIONAL ? RAD_LIGHT_TYPE_DIRECTIONAL
+                                                   : RAD_LIGHT_TYPE_POINT;
+    const rad_vec3 p = l->position, d = l->direction;
+    out->position[0] = p.x, out->position[1] = p.y, out->position[2] = p.z;
+    out->direction[0] = d.x, out->direction[1] = d.y, out->direction[2] = d.z;
+    memcpy(out->intensity, l->intensity, sizeof out->intensity);
+    out->inner_degrees = l->inner_angle * 180 / RAD_PI;
+    out->outer_degrees = l->outer_angle * 180 / RAD_PI;
+    out->ies = l->ies ? l->ies->file : NULL;
+    return RAD_OK;
+}
+
+void rad_scene_get_sky(const rad_scene *scene, rad_sky_desc *out) {
+    memset(out, 0, sizeof *out);
+    if (!scene || scene->sky.kind == RAD_SKY_OFF) return;
+    out->model = scene->sky.kind == RAD_SKY_CIE_OVERCAST ? RAD_SKY_MODEL_CIE_OVERCAST
+                                                         : RAD_SKY_MODEL_UNIFORM;
+    memcpy(out->radiance, scene->sky.radiance, sizeof out->radiance);
+    out->up[0] = scene->sky.up.x, out->up[1] = scene->sky.up.y, out->up[2] = scene->sky.up.z;
+    out->samples = scene->sky.samples;
 }

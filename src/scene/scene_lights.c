@@ -3,6 +3,7 @@
 #include "scene/scene.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 rad_status rad_scene_append_light(rad_scene *scene, const rad_light *light) {
@@ -106,7 +107,12 @@ rad_status rad_scene_set_light_ies(rad_scene *scene, const char *light_name, con
             continue;
         rad_ies_profile *profile = NULL;
         rad_status status = rad_ies_load(ctx, path, &profile);
-        if (status) return status;
+        if (!status) status = rad_file_list_add(ctx, &scene->files, path); /* a scene's file */
+        if (status) {
+            rad_ies_free(ctx, profile);
+            return status;
+        }
+        snprintf(profile->file, sizeof profile->file, "%s", path);
         rad_ies_free(ctx, l->ies);
         l->ies = profile;
     }

@@ -9,6 +9,7 @@
 
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
+#include "solve/hierarchical_view.h"
 
 #include <math.h>
 #include <string.h>
@@ -16,19 +17,37 @@
 #define INNER_TOLERANCE 1e-5 /* gathering rounds stop when no leaf changes by more (relative) */
 #define INNER_ROUNDS 1000
 
-/* Each element's radiosity: the mean over its centroid and the points halfway to its corners. */
+/* Each element's radiosity. When the elements are the hierarchy's roots (one per polygon, or
+ * one per fan triangle: rad_mesh_options.polygons_only), a root's radiosity, which push-pull
+ * made the area-weighted mean of its leaves; otherwise the mean over the element's centroid and
+ * the points halfway to its corners. */
 static void evaluate(rad_system *s, const rad_hier *hier) {
     const rad_mesh *mesh = s->mesh;
+    size_t node_count;
+    const rad_hier_node *nodes = rad_hier_nodes(hier, &node_count);
 #pragma omp parallel for schedule(static) num_threads(rad_thread_count(s->ctx)) \
     if (s->element_count >= 1024)
     for (long e = 0; e < (long)s->element_count; ++e) {
+        uint32_t polygon = mesh->element_polygon[e], root_count;
+        const uint32_t *roots = rad_hier_polygon_roots(hier, polygon, &root_count);
+        /* This element's place among its polygon's elements (they are consecutive). */
+        size_t first = (size_t)e, last = (size_t)e + 1;
+        while (first > 0 && mesh->element_polygon[first - 1] == polygon) --first;
+        while (last < s->element_count && mesh->element_polygon[last] == polygon) ++last;
+        if (roots && last - first == root_count &&
+            fabs(nodes[roots[(size_t)e - first]].area - mesh->element_area[e]) <=
+                1e-9 * mesh->element_area[e]) {
+            memcpy(s->radiosity[e], nodes[roots[(size_t)e - first]].radiosity, sizeof(rad_rgb));
+            memset(s->unshot[e], 0, sizeof(rad_rgb));
+            continue;
+        }
         rad_vec3 centre = mesh->element_centroid[e];
         int corners = rad_mesh_corner_count(mesh, (size_t)e);
         double sum[3], b[3];
-        rad_hier_radiosity_at(hier, mesh->element_polygon[e], centre, sum);
+        rad_hier_radiosity_at(hier, polygon, centre, sum);
         for (int k = 0; k < corners; ++k) {
             rad_vec3 corner = mesh->vertices[mesh->element_vertices[e][k]];
-            rad_hier_radiosity_at(hier, mesh->element_polygon[e], v3_lerp(centre, corner, 0.5), b);
+            rad_hier_radiosity_at(hier, polygon, v3_lerp(centre, corner, 0.5), b);
             for (int c = 0; c < 3; ++c) sum[c] += b[c];
         }
         for (int c = 0; c < 3; ++c) {
@@ -63,6 +82,12 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
     rad_status status = rad_hier_create(s->ctx, s->geometry, &options, &hier);
     if (!status) status = rad_hier_link_roots(hier);
     if (!status) status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
+    if (status) {
+        rad_hier_destroy(hier);
+        return status;
+    }
+    /* The outputs draw the leaves (hierarchical_view.c); the system owns the hierarchy now. */
+    status = rad_hier_view_install(s, hier);
     if (status) {
         rad_hier_destroy(hier);
         return status;
@@ -103,10 +128,8 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
     return status;
 }
 
-static void hierarchical_end(rad_solver_run *run) {
-    rad_hier_destroy(run->state);
-    run->state = NULL;
-}
+/* The hierarchy stays: the system's view draws its leaves. */
+static void hierarchical_end(rad_solver_run *run) { run->state = NULL; }
 
 static const rad_method_option hierarchical_options[] = {
     {"link-error", "E  the oracle's threshold on a link's error, relative to the emitted power "
@@ -116,6 +139,6 @@ static const rad_method_option hierarchical_options[] = {
 const rad_solver_impl rad_solver_hierarchical = {
     {"hierarchical", "quadtrees over the input polygons and links refined by an oracle "
                      "(Hanrahan, Salzman & Aupperle 1991)",
-     RAD_SOLVER_ITERATIVE, hierarchical_options, 1, NULL, 0, 0},
+     RAD_SOLVER_ITERATIVE | RAD_SOLVER_OWN_LEAVES, hierarchical_options, 1, NULL, 0, 0},
     hierarchical_begin, hierarchical_step, hierarchical_end,
 };

@@ -34,11 +34,8 @@ static rad_status add_geometry(rad_element_rays *rays, int corners, size_t count
         return rad_fail(rays->ctx, RAD_ERROR_NO_MEMORY, "Embree: out of memory for %zu elements",
                         count);
     }
-    for (size_t i = 0; i < mesh->vertex_count; ++i) {
-        positions[3 * i + 0] = (float)mesh->vertices[i].x;
-        positions[3 * i + 1] = (float)mesh->vertices[i].y;
-        positions[3 * i + 2] = (float)mesh->vertices[i].z;
-    }
+    for (size_t i = 0; i < mesh->vertex_count; ++i)
+        rad_ray_frame_point(&rays->frame, mesh->vertices[i], positions + 3 * i);
     size_t primitive = 0;
     for (size_t e = 0; e < mesh->element_count; ++e) {
         if (rad_mesh_corner_count(mesh, e) != corners) continue;
@@ -74,6 +71,13 @@ rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_e
         rad_element_rays_destroy(rays);
         return status;
     }
+    rad_vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (size_t i = 0; i < mesh->vertex_count; ++i) {
+        rad_vec3 p = mesh->vertices[i];
+        lo = v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+        hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+    }
+    rays->frame = rad_ray_frame_of_box(lo, hi);
     status = add_geometry(rays, 4, quads, rays->quad_element, &rays->quad_geometry);
     if (!status)
         status = add_geometry(rays, 3, triangles, rays->triangle_element, &rays->triangle_geometry);
@@ -86,37 +90,11 @@ rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_e
         rad_element_rays_destroy(rays);
         return RAD_ERROR_INTERNAL;
     }
-    rad_vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
-    for (size_t i = 0; i < mesh->vertex_count; ++i) {
-        rad_vec3 p = mesh->vertices[i];
-        lo = v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-        hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
-    }
     double diagonal = mesh->vertex_count ? v3_length(v3_sub(hi, lo)) : 1;
-    double magnitude = mesh->vertex_count
-                           ? fmax(v3_max_component(v3(fabs(lo.x), fabs(lo.y), fabs(lo.z))),
-                                  v3_max_component(v3(fabs(hi.x), fabs(hi.y), fabs(hi.z))))
-                           : 1;
-    /* Larger than float rounding at the scene's coordinates, small against its features. */
-    rays->epsilon = fmax(diagonal * 1e-5, magnitude * 4e-6);
+    /* Larger than float rounding in the frame, small against the scene's features. */
+    rays->epsilon = diagonal * 1e-5;
     *out = rays;
     return RAD_OK;
-}
-
-static void set_ray(struct RTCRay *ray, rad_vec3 origin, rad_vec3 direction, double tnear,
-                    double tfar) {
-    ray->org_x = (float)origin.x;
-    ray->org_y = (float)origin.y;
-    ray->org_z = (float)origin.z;
-    ray->dir_x = (float)direction.x;
-    ray->dir_y = (float)direction.y;
-    ray->dir_z = (float)direction.z;
-    ray->tnear = (float)tnear;
-    ray->tfar = tfar < FLT_MAX ? (float)tfar : FLT_MAX;
-    ray->time = 0;
-    ray->mask = UINT32_MAX;
-    ray->id = 0;
-    ray->flags = 0;
 }
 
 int rad_element_rays_intersect(const rad_element_rays *rays, rad_vec3 origin, rad_vec3 direction,
@@ -124,12 +102,12 @@ int rad_element_rays_intersect(const rad_element_rays *rays, rad_vec3 origin, ra
     struct RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     struct RTCRayHit rh;
-    set_ray(&rh.ray, origin, direction, tnear, tfar);
+    double to_caller = rad_ray_frame_ray(&rays->frame, &rh.ray, origin, direction, tnear, tfar);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(rays->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return 0;
-    hit->t = rh.ray.tfar;
+    hit->t = rh.ray.tfar * to_caller;
     hit->element = rh.hit.geomID == rays->quad_geometry ? rays->quad_element[rh.hit.primID]
                                                         : rays->triangle_element[rh.hit.primID];
     hit->u = rh.hit.u;
@@ -147,7 +125,7 @@ int rad_element_rays_occluded(const rad_element_rays *rays, rad_vec3 a, rad_vec3
     struct RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     struct RTCRay ray;
-    set_ray(&ray, a, v3_scale(d, 1.0 / length), rays->epsilon, length - rays->epsilon);
+    rad_ray_frame_ray(&rays->frame, &ray, a, d, rays->epsilon / length, 1 - rays->epsilon / length);
     rtcOccluded1(rays->scene, &context, &ray);
     return ray.tfar < 0;
 }

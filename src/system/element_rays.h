@@ -11,6 +11,7 @@
 #define RAD_RENDER_ELEMENT_RAYS_H
 
 #include "mesh/mesh.h"
+#include "scene/rays.h"
 
 #include <embree3/rtcore.h>
 
@@ -23,6 +24,7 @@ typedef struct rad_element_rays {
     uint32_t *quad_element;     /* primID of the quad geometry -> element */
     uint32_t *triangle_element; /* primID of the triangle geometry -> element */
     double epsilon;             /* scene-scaled offset that keeps rays off their start surface */
+    rad_ray_frame frame;        /* world -> Embree coordinates (scene/rays.h) */
 } rad_element_rays;
 
 /* Builds the Embree scene of the mesh's elements. The mesh must outlive the result. */

@@ -107,6 +107,9 @@ static inline double rad_system_own_emission(const rad_system *s, size_t e, int 
     return s->specular_reflection ? own - s->specular_reflection[e][c] : own;
 }
 
+/* One element per input polygon (polygon_mesh.c), for rad_mesh_options.polygons_only. */
+rad_status rad_system_polygon_mesh(rad_context *ctx, const struct rad_scene *scene,
+                                   struct rad_mesh **out);
 /* The second specular-first pass (specular_first.c): after a solve, photons leave every
  * element with its reflected radiosity B - pi L_material and follow mirrors and glass; what
  * lands on diffuse elements (D S+ D light, which the form factors leave out) is reflected once

@@ -30,7 +30,8 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
         }
     }
     rad_mesh *mesh = NULL;
-    rad_status status = rad_mesh_create(ctx, scene, mesh_options, &mesh);
+    rad_status status = mesh_options->polygons_only ? rad_system_polygon_mesh(ctx, scene, &mesh)
+                                                    : rad_mesh_create(ctx, scene, mesh_options, &mesh);
     if (status) return status;
     rad_system *s = NULL;
     status = rad_system_alloc(ctx, mesh->element_count, mesh->patch_count, scene->surface_count, &s);
@@ -61,7 +62,9 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
         if (!(s->surface_name[i] = rad_strdup(ctx, scene->surfaces[i].name))) status = RAD_ERROR_NO_MEMORY;
     rad_system_finish_areas(s);
     if (!status) status = rad_system_check_finite(s, scene->source);
-    if (!status) status = rad_ff_create(ctx, scene, mesh, ff_options, &s->ff);
+    /* A solver that draws its own leaves computes its own form factors. */
+    if (!status && !mesh_options->polygons_only)
+        status = rad_ff_create(ctx, scene, mesh, ff_options, &s->ff);
     if (!status) status = rad_scene_copy_geometry(ctx, scene, &s->geometry);
     if (!status && (scene->light_count || scene->sky.kind != RAD_SKY_OFF)) {
         status = rad_system_add_light_emission(s, scene);
