@@ -3,6 +3,7 @@
  * (flags, the output path, the camera, the photon budget) is refused before any photon is
  * traced, so a bad command fails at once and never leaves a file. */
 #include "camera_options.h"
+#include "image_options.h"
 #include "cli.h"
 #include "light_options.h"
 #include "output_path.h"
@@ -12,13 +13,11 @@
 #include <math.h>
 #include <stdlib.h>
 
-#define MAX_SIDE 16384
-
 typedef struct photonmap_args {
-    const char *output, *tonemap;
-    int width, height, spp, gather, nearest, progressive, threads, quiet, stats, half;
+    int spp, gather, nearest, progressive, threads, quiet, stats;
     size_t seed, photons, caustic_photons;
-    double radius, exposure, max_memory;
+    double radius, max_memory;
+    cli_image_args image;
     cli_camera_args camera;
     cli_light_args lights; /* --two-sided */
 } photonmap_args;
@@ -27,8 +26,7 @@ int cmd_photonmap(int argc, char **argv) {
     static const char synopsis[] =
         "[SCENE] -o FILE [options]   (SCENE: a file or a built-in name; default cornell)";
     photonmap_args a = {0};
-    a.tonemap = "clamp";
-    a.width = a.height = 512;
+    cli_image_args_init(&a.image);
     a.spp = 4;
     a.gather = 16;
     a.nearest = 50;
@@ -37,8 +35,7 @@ int cmd_photonmap(int argc, char **argv) {
     a.radius = NAN;                 /* chosen from --nearest */
     cli_camera_args_init(&a.camera);
     const cli_option options[] = {
-        {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm, .exr (required)"},
-        {"--output", CLI_STRING, &a.output, "FILE  the same as -o"},
+        CLI_IMAGE_OUTPUT_OPTIONS(&a.image),
         {"--photons", CLI_SIZE, &a.photons, "N  photons emitted for the global map (200000)"},
         {"--caustic-photons", CLI_SIZE, &a.caustic_photons,
          "N  photons emitted more for the caustic map, when there is a mirror or glass (as many "
@@ -52,13 +49,10 @@ int cmd_photonmap(int argc, char **argv) {
         {"--progressive", CLI_INT, &a.progressive,
          "N  progressive photon mapping: N passes of fresh photons, radii shrinking (off)"},
         {"--seed", CLI_SIZE, &a.seed, "S  random seed; the same seed gives the same image (0)"},
-        {"--width", CLI_INT, &a.width, "W  image width in pixels (512)"},
-        {"--height", CLI_INT, &a.height, "H  image height in pixels (512)"},
+        CLI_IMAGE_SIZE_OPTIONS(&a.image),
         CLI_CAMERA_OPTIONS(&a.camera),
         CLI_TWO_SIDED_OPTION(&a.lights),
-        {"--exposure", CLI_DOUBLE, &a.exposure, "EV  exposure in stops, PNG only (0)"},
-        {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  none|clamp|reinhard|aces, PNG only (clamp)"},
-        {"--half", CLI_FLAG, &a.half, "EXR only: 16-bit half floats (default 32-bit float)"},
+        CLI_IMAGE_FILE_OPTIONS(&a.image),
         {"--threads", CLI_INT, &a.threads, "N  worker threads (all cores)"},
         {"--max-memory", CLI_DOUBLE, &a.max_memory, "MIB  memory budget for photons and image (2048)"},
         {"--stats", CLI_FLAG, &a.stats, "print the stages' times, photons per second and radii"},
@@ -70,11 +64,7 @@ int cmd_photonmap(int argc, char **argv) {
     int status =
         cli_parse("photonmap", synopsis, options, argc, argv, positional, 1, &positional_count);
     if (status) return status < 0 ? 0 : status;
-    if (!a.output)
-        return cli_error(EXIT_USAGE, "photonmap: an output file is required (-o FILE)");
-    if (a.width < 1 || a.width > MAX_SIDE || a.height < 1 || a.height > MAX_SIDE)
-        return cli_error(EXIT_USAGE, "photonmap: image size %dx%d: each side must be 1 to %d pixels",
-                         a.width, a.height, MAX_SIDE);
+    if ((status = cli_image_check("photonmap", &a.image))) return status;
     if (a.spp < 1) return cli_error(EXIT_USAGE, "photonmap: --spp must be at least 1");
     if (a.gather < 1) return cli_error(EXIT_USAGE, "photonmap: --gather must be at least 1");
     if (a.nearest < 2) return cli_error(EXIT_USAGE, "photonmap: --nearest must be at least 2");
@@ -91,22 +81,18 @@ int cmd_photonmap(int argc, char **argv) {
     if (a.max_memory < 0) return cli_error(EXIT_USAGE, "photonmap: --max-memory must be positive");
 
     rad_context *ctx = cli_context_with_progress(a.threads, (uint64_t)a.seed, a.max_memory, a.quiet);
-    rad_image_save_options save = {a.exposure, a.tonemap, a.half};
-    rad_status rs = rad_image_check_path(ctx, a.output, &save);
-    if (rs) {
-        /* A bad extension or tone curve is a usage error; an unwritable place is not. */
-        int usage = rs == RAD_ERROR_INVALID_ARGUMENT;
-        cli_fail(ctx, rs);
+    rad_image_save_options save;
+    if ((status = cli_image_check_path(ctx, &a.image, &save))) {
         rad_context_destroy(ctx);
-        return usage ? EXIT_USAGE : 1;
+        return status;
     }
     const char *scene_name = positional_count ? positional[0] : "cornell";
     rad_scene *scene = NULL;
     rad_image *image = NULL;
     rad_photonmap_stats stats = {0};
     double write_seconds = 0;
-    rs = cli_load_scene(ctx, scene_name, &scene);
-    if (!rs && (status = cli_check_outputs_against_scene("photonmap", scene, &a.output, 1))) {
+    rad_status rs = cli_load_scene(ctx, scene_name, &scene);
+    if (!rs && (status = cli_check_outputs_against_scene("photonmap", scene, &a.image.output, 1))) {
         rad_scene_destroy(scene); /* the output is the scene's .mtl, .bin, a texture, ... */
         rad_context_destroy(ctx);
         return status;
@@ -115,8 +101,8 @@ int cmd_photonmap(int argc, char **argv) {
         rad_camera_desc camera;
         cli_camera_get(&a.camera, scene, &camera);
         rad_photonmap_options o = {0};
-        o.width = a.width;
-        o.height = a.height;
+        o.width = a.image.width;
+        o.height = a.image.height;
         o.camera = &camera;
         o.samples_per_pixel = a.spp;
         o.gather_rays = a.gather;
@@ -126,13 +112,13 @@ int cmd_photonmap(int argc, char **argv) {
         o.nearest = a.nearest;
         o.iterations = a.progressive;
         cli_stage("photonmap", "%dx%d pixels, %d samples per pixel, %zu + %zu photons%s",
-                  a.width, a.height, a.spp, a.photons, a.caustic_photons,
+                  a.image.width, a.image.height, a.spp, a.photons, a.caustic_photons,
                   a.progressive > 1 ? ", progressive" : "");
         rs = rad_photonmap(ctx, scene, &o, &image, &stats);
     }
     if (!rs) {
         double start = cli_seconds();
-        rs = rad_image_save(image, a.output, &save);
+        rs = rad_image_save(image, a.image.output, &save);
         write_seconds = cli_seconds() - start;
     }
     cli_progress_clear();

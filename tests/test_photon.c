@@ -424,6 +424,7 @@ static void test_bad_input(void) {
     o.photons = 1ull << 40; /* far over the 2 GiB budget: refused before allocating */
     CHECK(rad_photonmap(ctx, scene, &o, &image, NULL) == RAD_ERROR_MEMORY_BUDGET);
     CHECK(image == NULL);
+    CHECK(rad_scene_is_lit(scene)); /* the Cornell box's lamp */
     rad_scene_destroy(scene);
     /* No emitters: a black image, not a hang. */
     rad_scene *dark;
@@ -442,6 +443,11 @@ static void test_bad_input(void) {
     CHECK(rad_photonmap(ctx, dark, &o, &image, NULL) == RAD_OK);
     if (image) CHECK(image_mean(image) == 0);
     rad_image_destroy(image);
+    /* The predicate every renderer asks: nothing lights it, until a sky does. */
+    CHECK(!rad_scene_is_lit(dark));
+    rad_sky_desc sky = {RAD_SKY_MODEL_UNIFORM, {1, 1, 1}, {0, 1, 0}, 0};
+    CHECK(rad_scene_set_sky(dark, &sky) == RAD_OK);
+    CHECK(rad_scene_is_lit(dark));
     rad_scene_destroy(dark);
     rad_context_destroy(ctx);
 }

@@ -285,7 +285,7 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
     status = rad_tracer_create(ctx, scene, o.max_bounces, &t);
     if (status) return status;
     status = rad_tracer_check_view(t, &view);
-    if (!status && t->emitters.count == 0 && scene->light_count == 0 && scene->sky.kind == RAD_SKY_OFF)
+    if (!status && !rad_scene_is_lit(scene))
         rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
     rad_image *image = NULL;
     if (!status) status = rad_image_new(ctx, width, height, &image);

@@ -595,9 +595,12 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
         rad_warn(ctx, "%s: photon mapping leaves out the point, spot and directional lights and "
                       "the sky (only emitting surfaces are traced); `pathtrace` renders them",
                  scene->source);
+    if (!status && !rad_scene_is_lit(scene))
+        rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
     if (!status && t->emitters.count == 0) {
-        /* Nothing to trace: a black image. */
-        rad_warn(ctx, "%s: no emitting surface: the image is black", scene->source);
+        /* Nothing to trace (lights and sky alone are warned about above): a black image. */
+        if (rad_scene_is_lit(scene))
+            rad_warn(ctx, "%s: no emitting surface: the image is black", scene->source);
         iterations = 0;
     }
     int threads = rad_thread_count(ctx);

@@ -115,6 +115,11 @@ struct rad_scene {
 /* Nonzero when some material has a perfect mirror or glass lobe (caustics are possible). */
 int rad_scene_has_specular(const rad_scene *scene);
 
+/* Nonzero when something lights the scene: a polygon whose material emits, a point, spot or
+ * directional light, or a sky. The one answer to "is the image black?" that the path tracer,
+ * photon mapping and the solvers' systems share. */
+int rad_scene_is_lit(const rad_scene *scene);
+
 /* An empty scene of either kind. */
 rad_status rad_scene_new(rad_context *ctx, int geometric, const char *source, rad_scene **out);
 

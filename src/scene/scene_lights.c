@@ -171,3 +171,12 @@ int rad_scene_has_specular(const rad_scene *scene) {
     }
     return 0;
 }
+
+int rad_scene_is_lit(const rad_scene *scene) {
+    if (scene->light_count || scene->sky.kind != RAD_SKY_OFF) return 1;
+    for (size_t i = 0; i < scene->polygon_count; ++i) {
+        const double *e = scene->materials[scene->surfaces[scene->polygons[i].surface].material].emission;
+        if (e[0] > 0 || e[1] > 0 || e[2] > 0) return 1;
+    }
+    return 0;
+}

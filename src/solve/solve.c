@@ -182,6 +182,8 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
         rad_solve_report second = {0};
         rad_solve_options resumed = *options;
         resumed.resume = 1;
+        if (options->time_budget > 0) /* what is left of it */
+            resumed.time_budget = fmax(options->time_budget - (rad_seconds() - start), 1e-3);
         if (!status && system->specular_reflection) {
             status = rad_solve(system, &resumed, &second);
             local.iterations += second.iterations;

@@ -45,7 +45,6 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
         return status;
     }
     s->mesh = mesh;
-    int emits = 0;
     for (size_t e = 0; e < mesh->element_count; ++e) {
         const rad_material *m = &scene->materials[scene->surfaces[mesh->element_surface[e]].material];
         s->area[e] = mesh->element_area[e];
@@ -54,7 +53,6 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
         for (int c = 0; c < 3; ++c) {
             s->reflectance[e][c] = m->reflectance[c];
             s->emission[e][c] = RAD_PI * m->emission[c];
-            if (m->emission[c] > 0) emits = 1;
         }
         /* A textured element reflects the texture's mean over it times the factor. */
         if (m->texture) {
@@ -74,7 +72,6 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
         status = rad_ff_create(ctx, scene, mesh, ff_options, &s->ff);
     if (!status) status = rad_scene_copy_geometry(ctx, scene, &s->geometry);
     if (!status && (scene->light_count || scene->sky.kind != RAD_SKY_OFF)) {
-        emits = 1;
         status = rad_system_add_light_emission(s, scene);
     }
     if (!status) status = rad_system_add_specular_emission(s, scene);
@@ -82,7 +79,8 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
         rad_system_destroy(s);
         return status;
     }
-    if (!emits) rad_warn(ctx, "%s: nothing emits light; the result will be black", scene->source);
+    if (!rad_scene_is_lit(scene))
+        rad_warn(ctx, "%s: nothing emits light; the result will be black", scene->source);
     rad_system_reset(s);
     *out = s;
     return RAD_OK;

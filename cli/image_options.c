@@ -1,0 +1,30 @@
+/* image_options.c - the output image flags shared by pathtrace and photonmap (image_options.h). */
+#include "image_options.h"
+
+void cli_image_args_init(cli_image_args *args) {
+    args->output = NULL;
+    args->tonemap = "clamp";
+    args->width = args->height = 512;
+    args->half = 0;
+    args->exposure = 0;
+}
+
+int cli_image_check(const char *command, const cli_image_args *args) {
+    if (!args->output)
+        return cli_error(EXIT_USAGE, "%s: an output file is required (-o FILE)", command);
+    if (args->width < 1 || args->width > CLI_IMAGE_MAX_SIDE || args->height < 1 ||
+        args->height > CLI_IMAGE_MAX_SIDE)
+        return cli_error(EXIT_USAGE, "%s: image size %dx%d: each side must be 1 to %d pixels",
+                         command, args->width, args->height, CLI_IMAGE_MAX_SIDE);
+    return 0;
+}
+
+int cli_image_check_path(rad_context *ctx, const cli_image_args *args, rad_image_save_options *save) {
+    *save = (rad_image_save_options){args->exposure, args->tonemap, args->half};
+    rad_status rs = rad_image_check_path(ctx, args->output, save);
+    if (!rs) return 0;
+    /* A bad extension or tone curve is a usage error; an unwritable place is not. */
+    int usage = rs == RAD_ERROR_INVALID_ARGUMENT;
+    cli_fail(ctx, rs);
+    return usage ? EXIT_USAGE : 1;
+}
