@@ -2,9 +2,10 @@
  * render.h and docs/rendering.md).
  *
  * Each pixel averages samples_per_pixel camera rays through jittered points of the pixel (a box
- * filter), as the path tracer does. Every pixel draws its random numbers from its
- * own PCG32 stream (seed, pixel index), so the image does not depend on the thread count or on
- * the order rows are handed out. */
+ * filter), as the path tracer does. Every pixel draws its samples (pixel position, gather
+ * directions, light points) as Owen-scrambled Sobol' points keyed by (seed, pixel, dimension)
+ * (core/sampler.h), so the image does not depend on the thread count or on the order rows are
+ * handed out. */
 #include "render/render.h"
 
 #include "image/image.h"
