@@ -585,6 +585,31 @@ static void mesher_free(mesher *m) {
     rad_contact_cut_destroy(ctx, m->contacts);
 }
 
+rad_mesh *rad_mesh_alloc(rad_context *ctx, size_t vertices, size_t elements) {
+    rad_mesh *mesh = rad_alloc_zero(ctx, 1, sizeof *mesh);
+    if (!mesh) return NULL;
+    size_t nv = vertices ? vertices : 1, ne = elements ? elements : 1;
+    mesh->ctx = ctx;
+    mesh->vertices = rad_alloc(ctx, nv, sizeof *mesh->vertices);
+    mesh->vertex_surface = rad_alloc_zero(ctx, nv, sizeof *mesh->vertex_surface);
+    mesh->element_vertices = rad_alloc(ctx, ne, sizeof *mesh->element_vertices);
+    mesh->element_normal = rad_alloc(ctx, ne, sizeof *mesh->element_normal);
+    mesh->element_centroid = rad_alloc(ctx, ne, sizeof *mesh->element_centroid);
+    mesh->element_area = rad_alloc(ctx, ne, sizeof *mesh->element_area);
+    mesh->element_polygon = rad_alloc(ctx, ne, sizeof *mesh->element_polygon);
+    mesh->element_surface = rad_alloc(ctx, ne, sizeof *mesh->element_surface);
+    mesh->element_patch = rad_alloc(ctx, ne, sizeof *mesh->element_patch);
+    mesh->patch_first = rad_alloc(ctx, ne + 1, sizeof *mesh->patch_first);
+    if (!mesh->vertices || !mesh->vertex_surface || !mesh->element_vertices ||
+        !mesh->element_normal || !mesh->element_centroid || !mesh->element_area ||
+        !mesh->element_polygon || !mesh->element_surface || !mesh->element_patch ||
+        !mesh->patch_first) {
+        rad_mesh_destroy(mesh);
+        return NULL;
+    }
+    return mesh;
+}
+
 void rad_mesh_destroy(rad_mesh *mesh) {
     if (!mesh) return;
     rad_context *ctx = mesh->ctx;
@@ -788,27 +813,11 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
         mesher_free(&m);
         return status;
     }
-    rad_mesh *mesh = rad_alloc_zero(ctx, 1, sizeof *mesh);
-    size_t nv = (size_t)vertices, ne = (size_t)elements;
+    size_t ne = (size_t)elements;
+    rad_mesh *mesh = rad_mesh_alloc(ctx, (size_t)vertices, ne);
     uint32_t *scratch = rad_alloc(ctx, (size_t)grid, sizeof *scratch);
     m.corner_vertex = rad_alloc(ctx, m.corner_count + 1, sizeof *m.corner_vertex);
-    if (mesh) {
-        mesh->ctx = ctx;
-        mesh->vertices = rad_alloc(ctx, nv, sizeof *mesh->vertices);
-        mesh->vertex_surface = rad_alloc(ctx, nv, sizeof *mesh->vertex_surface);
-        mesh->element_vertices = rad_alloc(ctx, ne, sizeof *mesh->element_vertices);
-        mesh->element_normal = rad_alloc(ctx, ne, sizeof *mesh->element_normal);
-        mesh->element_centroid = rad_alloc(ctx, ne, sizeof *mesh->element_centroid);
-        mesh->element_area = rad_alloc(ctx, ne, sizeof *mesh->element_area);
-        mesh->element_polygon = rad_alloc(ctx, ne, sizeof *mesh->element_polygon);
-        mesh->element_surface = rad_alloc(ctx, ne, sizeof *mesh->element_surface);
-        mesh->element_patch = rad_alloc(ctx, ne, sizeof *mesh->element_patch);
-        mesh->patch_first = rad_alloc(ctx, ne + 1, sizeof *mesh->patch_first);
-    }
-    if (!mesh || !scratch || !m.corner_vertex || !mesh->vertices || !mesh->vertex_surface ||
-        !mesh->element_vertices || !mesh->element_normal || !mesh->element_centroid ||
-        !mesh->element_area || !mesh->element_polygon || !mesh->element_surface ||
-        !mesh->element_patch || !mesh->patch_first) {
+    if (!mesh || !scratch || !m.corner_vertex) {
         rad_free(ctx, scratch);
         rad_mesh_destroy(mesh);
         mesher_free(&m);

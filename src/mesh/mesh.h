@@ -48,6 +48,9 @@ typedef struct rad_mesh {
 rad_status rad_mesh_create(rad_context *ctx, const struct rad_scene *scene,
                            const rad_mesh_options *options, rad_mesh **out);
 void rad_mesh_destroy(rad_mesh *mesh);
+/* An empty mesh with room for this many vertices and elements (vertex_surface zeroed, counts 0);
+ * NULL when memory runs out. rad_mesh_destroy frees it. */
+rad_mesh *rad_mesh_alloc(rad_context *ctx, size_t vertices, size_t elements);
 
 static inline int rad_mesh_corner_count(const rad_mesh *mesh, size_t element) {
     return mesh->element_vertices[element][3] == RAD_NO_VERTEX ? 3 : 4;

@@ -23,27 +23,11 @@ rad_status rad_system_polygon_mesh(rad_context *ctx, const rad_scene *scene, rad
         uint32_t n = scene->polygons[p].count;
         elements += n <= 4 ? 1 : n - 2;
     }
-    rad_mesh *m = rad_alloc_zero(ctx, 1, sizeof *m);
-    if (!m) return RAD_ERROR_NO_MEMORY;
-    m->ctx = ctx;
-    size_t nv = scene->vertex_count, ne = elements ? elements : 1;
-    m->vertices = rad_alloc(ctx, nv ? nv : 1, sizeof *m->vertices);
-    m->vertex_surface = rad_alloc_zero(ctx, nv ? nv : 1, sizeof *m->vertex_surface);
-    m->element_vertices = rad_alloc(ctx, ne, sizeof *m->element_vertices);
-    m->element_normal = rad_alloc(ctx, ne, sizeof *m->element_normal);
-    m->element_centroid = rad_alloc(ctx, ne, sizeof *m->element_centroid);
-    m->element_area = rad_alloc(ctx, ne, sizeof *m->element_area);
-    m->element_polygon = rad_alloc(ctx, ne, sizeof *m->element_polygon);
-    m->element_surface = rad_alloc(ctx, ne, sizeof *m->element_surface);
-    m->element_patch = rad_alloc(ctx, ne, sizeof *m->element_patch);
-    m->patch_first = rad_alloc(ctx, ne + 1, sizeof *m->patch_first);
-    if (!m->vertices || !m->vertex_surface || !m->element_vertices || !m->element_normal ||
-        !m->element_centroid || !m->element_area || !m->element_polygon || !m->element_surface ||
-        !m->element_patch || !m->patch_first) {
-        rad_mesh_destroy(m);
+    size_t nv = scene->vertex_count;
+    rad_mesh *m = rad_mesh_alloc(ctx, nv, elements);
+    if (!m)
         return rad_fail(ctx, RAD_ERROR_NO_MEMORY, "out of memory for a mesh of %zu polygons",
                         elements);
-    }
     if (nv) memcpy(m->vertices, scene->vertices, nv * sizeof *m->vertices);
     m->vertex_count = nv;
     double total = 0;
