@@ -164,25 +164,26 @@ static double unit(uint32_t bits) { return (bits >> 8) * (1.0 / 16777216.0); }
  * the atrium by its four Gauss points. Jittered per pair, the visible fraction is unbiased.
  * Receivers keep their quadrature points (jittered there too, neighbouring tiles under a box
  * differed by 10% from run-to-run noise). */
-static int visibility_points(const rad_hier_node *n, uint32_t seed, rad_vec3 *out) {
+static rad_vec3 visibility_point(const rad_hier_node *n, uint32_t seed, int k) {
     const rad_vec3 *c = n->corner;
-    for (int k = 0; k < 4; ++k) {
-        uint32_t bits = pair_hash(seed, (uint32_t)k, 0x5bd1e995u);
-        double a = unit(bits), b = unit(pair_hash(bits, (uint32_t)k, 0x27d4eb2fu));
-        if (n->corner_count == 4) {
-            double u = 0.5 * ((k & 1) + a), v = 0.5 * ((k >> 1) + b);
-            out[k] = v3_lerp(v3_lerp(c[0], c[1], u), v3_lerp(c[3], c[2], u), v);
-            continue;
-        }
-        /* A uniform point in midpoint triangle k (the corners' three, then the middle one). */
-        rad_vec3 m01 = v3_lerp(c[0], c[1], 0.5), m12 = v3_lerp(c[1], c[2], 0.5);
-        rad_vec3 m20 = v3_lerp(c[2], c[0], 0.5);
-        const rad_vec3 t[4][3] = {{c[0], m01, m20}, {m01, c[1], m12}, {m20, m12, c[2]},
-                                  {m12, m20, m01}};
-        if (a + b > 1) a = 1 - a, b = 1 - b;
-        out[k] = v3_add(t[k][0], v3_add(v3_scale(v3_sub(t[k][1], t[k][0]), a),
-                                        v3_scale(v3_sub(t[k][2], t[k][0]), b)));
+    uint32_t bits = pair_hash(seed, (uint32_t)k, 0x5bd1e995u);
+    double a = unit(bits), b = unit(pair_hash(bits, (uint32_t)k, 0x27d4eb2fu));
+    if (n->corner_count == 4) {
+        double u = 0.5 * ((k & 1) + a), v = 0.5 * ((k >> 1) + b);
+        return v3_lerp(v3_lerp(c[0], c[1], u), v3_lerp(c[3], c[2], u), v);
     }
+    /* A uniform point in midpoint triangle k (the corners' three, then the middle one). */
+    rad_vec3 m01 = v3_lerp(c[0], c[1], 0.5), m12 = v3_lerp(c[1], c[2], 0.5);
+    rad_vec3 m20 = v3_lerp(c[2], c[0], 0.5);
+    const rad_vec3 t[4][3] = {{c[0], m01, m20}, {m01, c[1], m12}, {m20, m12, c[2]},
+                              {m12, m20, m01}};
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    return v3_add(t[k][0], v3_add(v3_scale(v3_sub(t[k][1], t[k][0]), a),
+                                  v3_scale(v3_sub(t[k][2], t[k][0]), b)));
+}
+
+static int visibility_points(const rad_hier_node *n, uint32_t seed, rad_vec3 *out) {
+    for (int k = 0; k < 4; ++k) out[k] = visibility_point(n, seed, k);
     return 4;
 }
 
@@ -363,6 +364,14 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     return p;
 }
 
+/* project()'s estimate alone (spread zero), for the sampling walks. */
+static double project_estimate(const rad_hier *h, uint32_t index, rad_vec3 w) {
+    const rad_hier_node *n = &h->nodes[index];
+    if (!is_cluster(n)) return n->area * fmax(0, v3_dot(h->normal[n->polygon], w));
+    const double *a = info(h, index)->axis_area;
+    return fabs(w.x) * a[w.x < 0] + fabs(w.y) * a[2 + (w.y < 0)] + fabs(w.z) * a[4 + (w.z < 0)];
+}
+
 /* Up to four points on a node's surfaces for visibility rays toward unit direction w: a
  * polygon node's quadrature points; for a cluster, points on members reached by a fixed
  * pseudo-random walk (seeded by the pair) down it that picks each child in proportion to its projected area toward
@@ -370,26 +379,40 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
 static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
                          rad_vec3 *out) {
     if (!is_cluster(&h->nodes[index])) return visibility_points(&h->nodes[index], seed, out);
-    for (int k = 0; k < 4; ++k) {
-        uint32_t state = pair_hash(seed, index, (uint32_t)k), at = index;
-        while (is_cluster(&h->nodes[at])) {
-            const rad_hier_node *n = &h->nodes[at];
-            state = state * 1664525u + 1013904223u;
-            double weight[LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total = 0;
+    /* The four walks go down in step: walks at the same cluster share its children's weights
+     * (they all start at the top, so the upper levels are weighed once, not four times). */
+    uint32_t state[4], at[4];
+    double weight[4][LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total[4];
+    for (int k = 0; k < 4; ++k) state[k] = pair_hash(seed, index, (uint32_t)k), at[k] = index;
+    for (int walking = 1; walking;) {
+        walking = 0;
+        for (int k = 0; k < 4; ++k) {
+            if (!is_cluster(&h->nodes[at[k]])) continue;
+            walking = 1;
+            const rad_hier_node *n = &h->nodes[at[k]];
+            state[k] = state[k] * 1664525u + 1013904223u;
             uint32_t count = n->child_count <= LEAF_CLUSTER ? n->child_count : LEAF_CLUSTER;
-            for (uint32_t c = 0; c < count; ++c)
-                total += weight[c] = project(h, n->first_child + c, w, 0).estimate;
-            uint32_t pick = (state >> 16) % n->child_count;
-            if (total > 0 && n->child_count <= LEAF_CLUSTER) {
-                double u = (double)(state >> 8) / 16777216.0 * total;
-                for (pick = 0; pick + 1 < count && u >= weight[pick]; ++pick) u -= weight[pick];
+            int same = -1;
+            for (int j = 0; j < k && same < 0; ++j)
+                if (at[j] == at[k]) same = j;
+            if (same >= 0) {
+                memcpy(weight[k], weight[same], sizeof weight[k]);
+                total[k] = total[same];
+            } else {
+                total[k] = 0;
+                for (uint32_t c = 0; c < count; ++c)
+                    total[k] += weight[k][c] = project_estimate(h, n->first_child + c, w);
             }
-            at = n->first_child + pick;
+            uint32_t pick = (state[k] >> 16) % n->child_count;
+            if (total[k] > 0 && n->child_count <= LEAF_CLUSTER) {
+                double u = (double)(state[k] >> 8) / 16777216.0 * total[k];
+                for (pick = 0; pick + 1 < count && u >= weight[k][pick]; ++pick) u -= weight[k][pick];
+            }
+            at[k] = n->first_child + pick;
         }
-        rad_vec3 q[4];
-        visibility_points(&h->nodes[at], state, q);
-        out[k] = q[k];
+        /* A walk that reached a polygon keeps its node; the next round skips it. */
     }
+    for (int k = 0; k < 4; ++k) out[k] = visibility_point(&h->nodes[at[k]], state[k], k);
     return 4;
 }
 
@@ -463,13 +486,19 @@ static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, 
  * 1995): the light its members send toward the receiver over their projected area, from the
  * per-axis sums; its plain mean mixed the sky quad over Sponza with the roof beside it, which
  * faces away (and halved the light sent down). */
-static void source_radiosity(const rad_hier *h, const rad_hier_link *link, double out[3]) {
+static rad_vec3 receiver_centre(const rad_hier *h, uint32_t receiver) {
+    const rad_hier_node *r = &h->nodes[receiver];
+    return is_cluster(r) ? info(h, receiver)->centre : surface_centre(r);
+}
+
+/* `centre` is the receiver's (receiver_centre), which every link of a receiver shares. */
+static void source_radiosity(const rad_hier *h, const rad_hier_link *link, rad_vec3 centre,
+                             double out[3]) {
     const rad_hier_node *s = &h->nodes[link->source];
     memcpy(out, s->radiosity, sizeof(double[3]));
     if (!is_cluster(s)) return;
     const cluster_info *ci = info(h, link->source);
-    const rad_hier_node *r = &h->nodes[link->receiver];
-    rad_vec3 w = v3_sub(is_cluster(r) ? info(h, link->receiver)->centre : surface_centre(r), ci->centre);
+    rad_vec3 w = v3_sub(centre, ci->centre);
     const double d[3] = {fabs(w.x), fabs(w.y), fabs(w.z)};
     const int side[3] = {w.x < 0, w.y < 0, w.z < 0};
     double area = 0, power[3] = {0, 0, 0};
@@ -827,10 +856,11 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
             for (long g = 0; g < groups; ++g) {
                 double sum[3] = {0, 0, 0};
                 size_t first = h->group_first[g], last = h->group_first[g + 1];
+                rad_vec3 centre = receiver_centre(h, h->links[first].receiver);
                 for (size_t l = first; l < last; ++l) {
                     const rad_hier_link *link = &h->links[l];
                     double b[3];
-                    source_radiosity(h, link, b);
+                    source_radiosity(h, link, centre, b);
                     for (int c = 0; c < 3; ++c) sum[c] += (double)link->form_factor * b[c];
                 }
                 memcpy(h->nodes[h->links[first].receiver].irradiance, sum, sizeof sum);
