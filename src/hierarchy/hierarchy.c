@@ -63,9 +63,11 @@ struct rad_hier {
     double min_area;  /* absolute */
     rad_hier_stats stats;
     /* Light besides the materials' emission (rad_hier_options.light): per node, NULL without. */
-    void (*light_fn)(void *user, uint32_t polygon, const rad_vec3 *corners, int count, double out[3]);
+    void (*light_fn)(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
+                     uint64_t stream, double out[3], double *spread);
     void *light_user;
     rgb *light;
+    float *light_spread; /* per node: rad_hier_options.light's spread */
     /* Per root: how many sampled rays ended on it from a cluster link's other end, and how
      * many of those were unblocked (exposure() below). Integer sums: the same for any thread
      * count. */
@@ -92,6 +94,9 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
         rgb *light = rad_realloc(h->ctx, h->light, wanted, sizeof *light);
         if (!light) return RAD_ERROR_NO_MEMORY;
         h->light = light;
+        float *spread = rad_realloc(h->ctx, h->light_spread, wanted, sizeof *spread);
+        if (!spread) return RAD_ERROR_NO_MEMORY;
+        h->light_spread = spread;
     }
     h->node_capacity = wanted;
     return RAD_OK;
@@ -139,14 +144,32 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
     for (int k = 0; k < 4; ++k) {
         init_node(h, &h->nodes[first + k], child[k], count, parent.polygon, parent.root,
                   parent.depth + 1);
-        if (h->light)
-            h->light_fn(h->light_user, parent.polygon, child[k], count, h->light[first + k]);
+        if (h->light) { /* light_nodes() computes the children's own */
+            memcpy(h->light[first + k], h->light[index], sizeof(rgb));
+            h->light_spread[first + k] = 0;
+        }
         memcpy(h->nodes[first + k].radiosity, parent.radiosity, sizeof parent.radiosity);
     }
     h->node_count += 4;
     h->nodes[index].first_child = first;
     h->nodes[index].child_count = 4;
     return RAD_OK;
+}
+
+/* The light (rad_hier_options.light) of nodes first .. node_count - 1, in parallel (each node
+ * its own slot and its own index as the sampling stream). */
+static void light_nodes(rad_hier *h, size_t first) {
+    if (!h->light) return;
+    long last = (long)h->node_count;
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (last - (long)first >= 64)
+    for (long i = (long)first; i < last; ++i) {
+        rad_hier_node *n = &h->nodes[i];
+        if (n->corner_count == 0) continue; /* a cluster */
+        double spread = 0;
+        h->light_fn(h->light_user, n->polygon, n->corner, n->corner_count, (uint64_t)i,
+                    h->light[i], &spread);
+        h->light_spread[i] = (float)spread;
+    }
 }
 
 /* A node's quadrature points: the pair kernel's rule (2 x 2 Gauss in a quad's bilinear
@@ -683,6 +706,40 @@ static rad_status append_links(rad_context *ctx, rad_hier_link **array, size_t *
     return RAD_OK;
 }
 
+/* Splits the leaves whose light (rad_hier_options.light) changes across them by more than the
+ * threshold allows (a quarter of the spread times the area, as a link's error), and their new
+ * children likewise, until every leaf passes or cannot be split. Links stay where they are
+ * (push-pull hands their irradiance down). Returns the number of leaves split; *largest is
+ * the largest relative error of the leaves left. */
+static rad_status refine_light(rad_hier *h, size_t *splits, double *largest) {
+    *splits = 0;
+    if (!h->light) return RAD_OK;
+    for (size_t first = 0, last = h->node_count; first < last; first = last, last = h->node_count) {
+        size_t nodes_before = h->node_count;
+        for (size_t i = first; i < last; ++i) {
+            const rad_hier_node *n = &h->nodes[i];
+            if (n->corner_count == 0 || n->first_child != RAD_HIER_NO_NODE) continue;
+            double relative = 0.25 * h->light_spread[i] * n->area / h->threshold;
+            if (!(relative > 1) || !can_split(h, n)) {
+                *largest = fmax(*largest, relative);
+                continue;
+            }
+            rad_status status = check_memory(h, h->link_count, h->node_count + 4);
+            if (status == RAD_ERROR_MEMORY_BUDGET) {
+                rad_warn(h->ctx, "%s; the lights' shadow edges are not refined further",
+                         rad_context_error(h->ctx));
+                light_nodes(h, nodes_before);
+                return RAD_OK;
+            }
+            if (!status) status = subdivide(h, (uint32_t)i);
+            if (status) return status;
+            ++*splits;
+        }
+        light_nodes(h, nodes_before);
+    }
+    return RAD_OK;
+}
+
 rad_status rad_hier_refine(rad_hier *h) {
     rad_context *ctx = h->ctx;
     /* The links the oracle has yet to pass (at first all of them), those it passed, and the
@@ -695,7 +752,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     size_t refined = 0;
     double largest = 0;
     int budget = 0;
-    rad_status status = RAD_OK;
+    rad_status status = refine_light(h, &refined, &largest);
     while (pending_count && !status) {
         rad_free(ctx, decision);
         decision = rad_alloc(ctx, pending_count, 1);
@@ -757,7 +814,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         }
         refined += splits;
         /* Links the oracle passed are kept; the others are replaced by their children's. */
-        size_t count = 0;
+        size_t count = 0, nodes_before = h->node_count;
         fresh = splits ? rad_alloc(ctx, candidates, sizeof *fresh) : NULL;
         made = splits ? rad_alloc(ctx, candidates, 1) : NULL;
         if (splits && (!fresh || !made)) status = RAD_ERROR_NO_MEMORY;
@@ -786,6 +843,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         rad_free(ctx, pending);
         pending = NULL;
         pending_count = 0;
+        light_nodes(h, nodes_before);
         if (status || !splits) break;
         /* The new links' form factors, in parallel (each writes its own slot). */
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (count >= 64)
@@ -1164,10 +1222,11 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
     if (!status && h->light_fn) {
         /* The roots' light (after build_clusters renumbered them), counted as emitted. */
         h->light = rad_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light);
-        if (!h->light) status = RAD_ERROR_NO_MEMORY;
+        h->light_spread = rad_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light_spread);
+        if (!h->light || !h->light_spread) status = RAD_ERROR_NO_MEMORY;
+        if (!status) light_nodes(h, 0);
         for (size_t i = 0; i < h->root_count && !status; ++i) {
             rad_hier_node *n = &h->nodes[i];
-            h->light_fn(h->light_user, n->polygon, n->corner, n->corner_count, h->light[i]);
             double most = fmax(h->light[i][0], fmax(h->light[i][1], h->light[i][2]));
             h->emission_max = fmax(h->emission_max, most);
             h->emitted_power += most * n->area;
@@ -1201,6 +1260,7 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->emission);
     rad_free(ctx, h->normal);
     rad_free(ctx, h->light);
+    rad_free(ctx, h->light_spread);
     rad_free(ctx, h->member_rays);
     rad_free(ctx, h->member_seen);
     rad_free(ctx, h->links);

@@ -9,6 +9,7 @@
 
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
+#include "scene/rays.h"
 #include "scene/scene.h"
 #include "solve/hierarchical_view.h"
 
@@ -18,66 +19,20 @@
 #define INNER_TOLERANCE 1e-5 /* gathering rounds stop when no leaf changes by more (relative) */
 #define INNER_ROUNDS 1000
 
-/* The lights' pre-pass (src/system/lights_direct.c) for the hierarchy: each polygon's elements
- * (first[p] .. first[p + 1] in `element`), so a node takes the light of the elements whose
- * centroids it covers, area-weighted (the nearest element's when it covers none). */
-typedef struct element_light {
-    const rad_system *system;
-    size_t *first;
-    uint32_t *element;
-} element_light;
-
-static void node_light(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
-                       double out[3]) {
-    const element_light *el = user;
-    const rad_system *s = el->system;
-    const rad_vec3 *centroids = s->mesh->element_centroid;
-    rad_vec3 normal = v3_cross(v3_sub(corners[1], corners[0]), v3_sub(corners[count - 1], corners[0]));
-    rad_vec3 centre = v3(0, 0, 0);
-    for (int k = 0; k < count; ++k) centre = v3_add(centre, v3_scale(corners[k], 1.0 / count));
-    double sum[3] = {0, 0, 0}, area = 0, nearest = INFINITY;
-    size_t best = SIZE_MAX;
-    for (size_t i = el->first[polygon]; i < el->first[polygon + 1]; ++i) {
-        uint32_t e = el->element[i];
-        rad_vec3 x = centroids[e];
-        int in = 1;
-        for (int k = 0; k < count && in; ++k) {
-            rad_vec3 a = corners[k], b = corners[(k + 1) % count];
-            in = v3_dot(v3_cross(v3_sub(b, a), v3_sub(x, a)), normal) >= 0;
-        }
-        double d = v3_length(v3_sub(x, centre));
-        if (d < nearest) nearest = d, best = e;
-        if (!in) continue;
-        for (int c = 0; c < 3; ++c) sum[c] += s->light_emission[e][c] * s->area[e];
-        area += s->area[e];
-    }
-    for (int c = 0; c < 3; ++c)
-        out[c] = area > 0 ? sum[c] / area : best != SIZE_MAX ? s->light_emission[best][c] : 0;
-}
-
-static rad_status element_light_create(const rad_system *s, element_light *out) {
-    size_t polygons = s->geometry->polygon_count, n = s->element_count;
-    out->system = s;
-    out->first = rad_alloc_zero(s->ctx, polygons + 2, sizeof *out->first);
-    out->element = rad_alloc(s->ctx, n ? n : 1, sizeof *out->element);
-    if (!out->first || !out->element) return RAD_ERROR_NO_MEMORY;
-    for (size_t e = 0; e < n; ++e) out->first[s->mesh->element_polygon[e] + 2]++;
-    for (size_t p = 0; p < polygons; ++p) out->first[p + 2] += out->first[p + 1];
-    for (size_t e = 0; e < n; ++e) out->element[out->first[s->mesh->element_polygon[e] + 1]++] = (uint32_t)e;
-    return RAD_OK;
-}
-
-static void element_light_destroy(const rad_system *s, element_light *el) {
-    if (!el) return;
-    rad_free(s->ctx, el->first);
-    rad_free(s->ctx, el->element);
-    rad_free(s->ctx, el);
+/* Point, spot and directional lights and the sky for the hierarchy: each node's own direct
+ * light, reflected (src/system/lights_direct.c, rad_node_lights_reflected: exact point-to-node
+ * solid angles, Embree visibility, sky rays from the node's quarters), and how much it changes
+ * across the node, which makes the hierarchy split leaves at shadow edges. */
+static void node_lights_destroy(rad_context *ctx, rad_node_lights *nl) {
+    if (!nl) return;
+    rad_rays_destroy(nl->rays);
+    rad_free(ctx, nl);
 }
 
 /* The solver's state: the hierarchy and, with lights, what it reads their light from. */
 typedef struct hierarchical_state {
     rad_hier *hier;
-    element_light *light;
+    rad_node_lights *light;
     int drawn; /* the system's view owns the hierarchy (rad_hier_view_install) */
 } hierarchical_state;
 
@@ -99,7 +54,7 @@ static void evaluate(rad_system *s, const rad_hier *hier) {
         size_t first = (size_t)e, last = (size_t)e + 1;
         while (first > 0 && mesh->element_polygon[first - 1] == polygon) --first;
         while (last < s->element_count && mesh->element_polygon[last] == polygon) ++last;
-        if (!s->light_emission && roots && last - first == root_count &&
+        if (roots && last - first == root_count &&
             fabs(nodes[roots[(size_t)e - first]].area - mesh->element_area[e]) <=
                 1e-9 * mesh->element_area[e]) {
             memcpy(s->radiosity[e], nodes[roots[(size_t)e - first]].radiosity, sizeof(rad_rgb));
@@ -153,8 +108,10 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
         /* Point, spot and directional lights and the sky: their direct light, reflected, is
          * each node's emission besides its material's (docs/hierarchical.md). */
         state->light = rad_alloc_zero(s->ctx, 1, sizeof *state->light);
-        status = state->light ? element_light_create(s, state->light) : RAD_ERROR_NO_MEMORY;
-        options.light = node_light;
+        if (state->light) state->light->scene = s->geometry;
+        status = state->light ? rad_rays_create(s->ctx, s->geometry, &state->light->rays)
+                              : RAD_ERROR_NO_MEMORY;
+        options.light = rad_node_lights_reflected;
         options.light_user = state->light;
     }
     if (!status) status = rad_hier_create(s->ctx, s->geometry, &options, &hier);
@@ -207,7 +164,7 @@ static void hierarchical_end(rad_solver_run *run) {
     hierarchical_state *state = run->state;
     if (!state) return;
     if (!state->drawn) rad_hier_destroy(state->hier);
-    element_light_destroy(run->system, state->light);
+    node_lights_destroy(run->system->ctx, state->light);
     rad_free(run->system->ctx, state);
     run->state = NULL;
 }
