@@ -47,6 +47,8 @@ static void leaves_free(rad_renderer *r) {
     r->vertex_irradiance = NULL;
     rad_free(ctx, r->corner_deposit);
     r->corner_deposit = NULL;
+    rad_free(ctx, r->corner_radiance);
+    r->corner_radiance = NULL;
     r->rays = NULL;
     memset(&r->emitters, 0, sizeof r->emitters);
     r->element_emitter = NULL;

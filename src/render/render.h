@@ -74,6 +74,9 @@ struct rad_renderer {
      * material's L) at each element's corners, smoothed but keeping each element's mean
      * (reconstruct.c); NULL when no element has any. */
     float (*corner_deposit)[4][3];
+    /* B / pi at each element's corners, smooth but scaled so the element keeps its own mean:
+     * what gather rays read (reconstruct.c, rad_reconstruct_gather_radiance). */
+    float (*corner_radiance)[4][3];
 
     /* Textured surfaces (texture_shading.c): the irradiance (B - E) / (pi rho) averaged at mesh
      * vertices; NULL when no surface is textured. */
@@ -133,6 +136,10 @@ void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u,
  * shading), or the element's E / pi (flat shading). */
 void rad_reconstruct_emission(const rad_renderer *r, uint32_t element, double u, double v,
                               double out[3]);
+/* reconstruct.c: the radiance a gather ray reads at (u, v) on an element: smooth, but with each
+ * element's mean kept (flat shading: the element's value). */
+void rad_reconstruct_gather_radiance(const rad_renderer *r, uint32_t element, double u, double v,
+                                     double out[3]);
 /* Finds the boundary vertices and their fitting weights (geometry only, once). */
 rad_status rad_reconstruct_build(rad_renderer *r);
 /* Fills the radiance arrays from the system's current solution. */
