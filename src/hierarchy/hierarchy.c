@@ -312,6 +312,12 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
 
 static int is_cluster(const rad_hier_node *n) { return n->corner_count == 0; }
 
+/* Whether node `index` is a cluster, from its number alone (the clusters are numbered
+ * cluster_first .. + cluster_count, after the roots and before every split node). */
+static int cluster_index(const rad_hier *h, uint32_t index) {
+    return (size_t)index - h->cluster_first < h->cluster_count;
+}
+
 static const cluster_info *info(const rad_hier *h, uint32_t index) {
     return &h->clusters[index - h->cluster_first];
 }
@@ -477,7 +483,7 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
 
 /* Any link: the contour integral between two polygon nodes, the point estimate otherwise. */
 static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_hier_link *out) {
-    if (is_cluster(&h->nodes[receiver]) || is_cluster(&h->nodes[source]))
+    if (cluster_index(h, receiver) || cluster_index(h, source))
         return make_cluster_link(h, receiver, source, out);
     return make_link(h, receiver, source, out);
 }
@@ -539,7 +545,7 @@ static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *
 }
 
 static int decide_any(const rad_hier *h, const rad_hier_link *link, double *relative) {
-    if (is_cluster(&h->nodes[link->receiver]) || is_cluster(&h->nodes[link->source]))
+    if (cluster_index(h, link->receiver) || cluster_index(h, link->source))
         return decide_cluster(h, link, relative);
     return decide(h, link, relative);
 }
@@ -628,28 +634,12 @@ static size_t children_made(const rad_hier *h, const rad_hier_link *link, int de
     return decision == 1 ? cr : decision == 2 ? cs : decision == 3 ? cr * cs : 0;
 }
 
-/* Appends `count` links to a growing array. */
-static rad_status append_links(rad_context *ctx, rad_hier_link **array, size_t *size,
-                               size_t *capacity, const rad_hier_link *links, size_t count) {
-    if (*size + count > *capacity) {
-        size_t wanted = *capacity ? *capacity : 1024;
-        while (wanted < *size + count) wanted *= 2;
-        rad_hier_link *grown = rad_realloc(ctx, *array, wanted, sizeof *grown);
-        if (!grown) return RAD_ERROR_NO_MEMORY;
-        *array = grown;
-        *capacity = wanted;
-    }
-    if (count) memcpy(*array + *size, links, count * sizeof *links);
-    *size += count;
-    return RAD_OK;
-}
-
 rad_status rad_hier_refine(rad_hier *h) {
     rad_context *ctx = h->ctx;
     /* The links the oracle has yet to pass (at first all of them), those it passed, and the
      * new ones made by splitting. */
     rad_hier_link *pending = h->links, *kept = NULL, *fresh = NULL;
-    size_t pending_count = h->link_count, kept_count = 0, kept_capacity = 0;
+    size_t pending_count = h->link_count, kept_count = 0;
     h->links = NULL;
     h->link_count = 0;
     uint8_t *decision = NULL, *made = NULL;
@@ -717,32 +707,73 @@ rad_status rad_hier_refine(rad_hier *h) {
             splits = 0;
         }
         refined += splits;
-        /* Links the oracle passed are kept; the others are replaced by their children's. */
-        size_t count = 0;
+        /* Split the leaves the decisions ask for, in link order (receiver end first), so the
+         * nodes are numbered the same for any thread count. */
+        for (size_t i = 0; i < pending_count && splits && !status; ++i) {
+            if (!decision[i]) continue;
+            uint32_t rs[2] = {pending[i].receiver, pending[i].source};
+            for (int end = 0; end < 2 && !status; ++end)
+                if ((decision[i] == 1 + end || decision[i] == 3) && !cluster_index(h, rs[end]))
+                    status = subdivide(h, rs[end]);
+        }
+        /* Links the oracle passed are kept; the others are replaced by their children's. The
+         * pending links are cut into blocks whose kept and new links are counted in parallel;
+         * each block then writes its own slots, in link order. */
+        size_t count = 0, keep = pending_count - splits;
         fresh = splits ? rad_alloc(ctx, candidates, sizeof *fresh) : NULL;
         made = splits ? rad_alloc(ctx, candidates, 1) : NULL;
         if (splits && (!fresh || !made)) status = RAD_ERROR_NO_MEMORY;
-        for (size_t i = 0; i < pending_count && !status; ++i) {
-            if (!decision[i]) {
-                status = append_links(ctx, &kept, &kept_count, &kept_capacity, &pending[i], 1);
-                continue;
+        if (!status && keep) {
+            rad_hier_link *grown = rad_realloc(ctx, kept, kept_count + keep, sizeof *grown);
+            if (grown) kept = grown;
+            else status = RAD_ERROR_NO_MEMORY;
+        }
+        if (!status) {
+            enum { BLOCKS = 256 };
+            size_t keep_at[BLOCKS + 1], fresh_at[BLOCKS + 1];
+            size_t block = (pending_count + BLOCKS - 1) / BLOCKS;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (pending_count >= 4096)
+            for (long k = 0; k < BLOCKS; ++k) {
+                size_t kept_here = 0, fresh_here = 0;
+                size_t first = (size_t)k * block, last = first + block;
+                if (last > pending_count) last = pending_count;
+                for (size_t i = first; i < last; ++i)
+                    if (!decision[i]) kept_here++;
+                    else fresh_here += children_made(h, &pending[i], decision[i]);
+                keep_at[k + 1] = kept_here;
+                fresh_at[k + 1] = fresh_here;
             }
-            rad_hier_link link = pending[i];
-            uint32_t rs[2] = {link.receiver, link.source};
-            for (int end = 0; end < 2 && !status; ++end)
-                if ((decision[i] == 1 + end || decision[i] == 3) && !is_cluster(&h->nodes[rs[end]]))
-                    status = subdivide(h, rs[end]);
-            if (status) break;
-            const rad_hier_node *r = &h->nodes[link.receiver], *s = &h->nodes[link.source];
-            uint32_t r_first = link.receiver, r_count = 1, s_first = link.source, s_count = 1;
-            if (decision[i] != 2) r_first = r->first_child, r_count = r->child_count;
-            if (decision[i] != 1) s_first = s->first_child, s_count = s->child_count;
-            for (uint32_t a = 0; a < r_count; ++a)
-                for (uint32_t b = 0; b < s_count; ++b) {
-                    fresh[count].receiver = r_first + a;
-                    fresh[count].source = s_first + b;
-                    ++count;
+            keep_at[0] = kept_count;
+            fresh_at[0] = 0;
+            for (int k = 0; k < BLOCKS; ++k) {
+                keep_at[k + 1] += keep_at[k];
+                fresh_at[k + 1] += fresh_at[k];
+            }
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (pending_count >= 4096)
+            for (long k = 0; k < BLOCKS; ++k) {
+                size_t at_kept = keep_at[k], at_fresh = fresh_at[k];
+                size_t first = (size_t)k * block, last = first + block;
+                if (last > pending_count) last = pending_count;
+                for (size_t i = first; i < last; ++i) {
+                    if (!decision[i]) {
+                        kept[at_kept++] = pending[i];
+                        continue;
+                    }
+                    const rad_hier_link link = pending[i];
+                    const rad_hier_node *r = &h->nodes[link.receiver], *s = &h->nodes[link.source];
+                    uint32_t r_first = link.receiver, r_count = 1, s_first = link.source, s_count = 1;
+                    if (decision[i] != 2) r_first = r->first_child, r_count = r->child_count;
+                    if (decision[i] != 1) s_first = s->first_child, s_count = s->child_count;
+                    for (uint32_t a = 0; a < r_count; ++a)
+                        for (uint32_t b = 0; b < s_count; ++b) {
+                            fresh[at_fresh].receiver = r_first + a;
+                            fresh[at_fresh].source = s_first + b;
+                            ++at_fresh;
+                        }
                 }
+            }
+            kept_count = keep_at[BLOCKS];
+            count = fresh_at[BLOCKS];
         }
         rad_free(ctx, pending);
         pending = NULL;
@@ -1162,8 +1193,8 @@ rad_hier_stats rad_hier_get_stats(const rad_hier *h) {
     for (size_t i = 0; i < h->node_count; ++i)
         s.leaves += h->nodes[i].first_child == RAD_HIER_NO_NODE && !is_cluster(&h->nodes[i]);
     for (size_t i = 0; i < h->link_count; ++i)
-        s.cluster_links += is_cluster(&h->nodes[h->links[i].receiver]) ||
-                           is_cluster(&h->nodes[h->links[i].source]);
+        s.cluster_links += cluster_index(h, h->links[i].receiver) ||
+                           cluster_index(h, h->links[i].source);
     s.links = h->link_count;
     s.roots = h->root_count;
     s.clusters = h->cluster_count;
