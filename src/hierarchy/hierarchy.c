@@ -155,6 +155,7 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
         memcpy(h->nodes[first + k].radiosity, parent.radiosity, sizeof parent.radiosity);
     }
     h->node_count += 4;
+    h->stats.leaves += 3;
     h->nodes[index].first_child = first;
     h->nodes[index].child_count = 4;
     return RAD_OK;
@@ -564,26 +565,54 @@ static int decide_any(const rad_hier *h, const rad_hier_link *link, double *rela
 }
 
 /* Sorts `links` by receiver (stable) into h->links and rebuilds the receiver groups. Takes
- * ownership of `links`. */
+ * ownership of `links`. A counting sort in `parts` contiguous parts, one per thread: each part
+ * counts its receivers, part p's links of receiver n go after those of every part before p, so
+ * the result is the one stable order whatever the number of parts. */
 static rad_status adopt_links(rad_hier *h, rad_hier_link *links, size_t count) {
     rad_context *ctx = h->ctx;
-    size_t *start = rad_alloc_zero(ctx, h->node_count + 1, sizeof *start);
+    const size_t nodes = h->node_count;
+    const int parts = count >= 65536 ? threads(h) : 1;
+    const size_t part = (count + (size_t)parts - 1) / (size_t)parts;
+    size_t *start = rad_alloc_zero(ctx, (size_t)parts * nodes + 1, sizeof *start);
     rad_hier_link *sorted = rad_alloc(ctx, count ? count : 1, sizeof *sorted);
     size_t *groups = NULL;
     if (!start || !sorted) goto fail;
-    for (size_t i = 0; i < count; ++i) start[links[i].receiver + 1]++;
-    size_t group_count = 0;
-    for (size_t n = 0; n < h->node_count; ++n) {
-        group_count += start[n + 1] > 0;
-        start[n + 1] += start[n];
+    size_t cluster_links = 0;
+#pragma omp parallel for schedule(static, 1) num_threads(parts) reduction(+ : cluster_links)
+    for (int p = 0; p < parts; ++p) {
+        size_t *mine = start + (size_t)p * nodes;
+        size_t last = (size_t)(p + 1) * part < count ? (size_t)(p + 1) * part : count;
+        for (size_t i = (size_t)p * part; i < last; ++i) {
+            mine[links[i].receiver]++;
+            cluster_links += cluster_index(h, links[i].receiver) || cluster_index(h, links[i].source);
+        }
+    }
+    h->stats.cluster_links = cluster_links;
+    /* Each (receiver, part)'s first slot, receivers in order, parts in order within each. */
+    size_t group_count = 0, at = 0;
+    for (size_t n = 0; n < nodes; ++n) {
+        size_t here = at;
+        for (int p = 0; p < parts; ++p) {
+            size_t c = start[(size_t)p * nodes + n];
+            start[(size_t)p * nodes + n] = at;
+            at += c;
+        }
+        group_count += at > here;
     }
     groups = rad_alloc(ctx, group_count + 1, sizeof *groups);
     if (!groups) goto fail;
     group_count = 0;
-    for (size_t n = 0; n < h->node_count; ++n)
-        if (start[n + 1] > start[n]) groups[group_count++] = start[n];
+    for (size_t n = 0; n < nodes; ++n) {
+        size_t first = start[n], next = n + 1 < nodes ? start[n + 1] : count;
+        if (next > first) groups[group_count++] = first;
+    }
     groups[group_count] = count;
-    for (size_t i = 0; i < count; ++i) sorted[start[links[i].receiver]++] = links[i];
+#pragma omp parallel for schedule(static, 1) num_threads(parts)
+    for (int p = 0; p < parts; ++p) {
+        size_t *mine = start + (size_t)p * nodes;
+        size_t last = (size_t)(p + 1) * part < count ? (size_t)(p + 1) * part : count;
+        for (size_t i = (size_t)p * part; i < last; ++i) sorted[mine[links[i].receiver]++] = links[i];
+    }
     rad_free(ctx, start);
     rad_free(ctx, links);
     rad_free(ctx, h->links);
@@ -1194,6 +1223,7 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
     }
     h->stats.roots = h->root_count;
     h->stats.clusters = h->cluster_count;
+    h->stats.leaves = h->root_count;
     *out = h;
     return RAD_OK;
 }
@@ -1221,15 +1251,8 @@ void rad_hier_destroy(rad_hier *h) {
 }
 
 rad_hier_stats rad_hier_get_stats(const rad_hier *h) {
-    rad_hier_stats s = h->stats;
+    rad_hier_stats s = h->stats; /* leaves and cluster_links are counted as they change */
     s.nodes = h->node_count;
-    s.leaves = 0;
-    s.cluster_links = 0;
-    for (size_t i = 0; i < h->node_count; ++i)
-        s.leaves += h->nodes[i].first_child == RAD_HIER_NO_NODE && !is_cluster(&h->nodes[i]);
-    for (size_t i = 0; i < h->link_count; ++i)
-        s.cluster_links += cluster_index(h, h->links[i].receiver) ||
-                           cluster_index(h, h->links[i].source);
     s.links = h->link_count;
     s.roots = h->root_count;
     s.clusters = h->cluster_count;
