@@ -883,34 +883,44 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
     return change;
 }
 
-/* Pulls up the clusters (children first): their radiosity is the area-weighted mean of their
- * members', their axis_power the light their members send toward each signed axis. */
-static void pull_clusters(rad_hier *h) {
-    for (size_t c = h->cluster_count; c-- > 0;) {
-        rad_hier_node *n = &h->nodes[h->cluster_first + c];
-        cluster_info *ci = &h->clusters[c];
-        double sum[3] = {0, 0, 0};
-        memset(ci->axis_power, 0, sizeof ci->axis_power);
-        for (uint32_t k = 0; k < n->child_count; ++k) {
-            uint32_t child = n->first_child + k;
-            const rad_hier_node *m = &h->nodes[child];
-            for (int i = 0; i < 3; ++i) sum[i] += m->radiosity[i] * m->area;
-            if (is_cluster(m)) {
-                const cluster_info *mi = info(h, child);
-                for (int a = 0; a < 6; ++a)
-                    for (int i = 0; i < 3; ++i) ci->axis_power[a][i] += mi->axis_power[a][i];
-                continue;
-            }
-            rad_vec3 normal = h->normal[m->polygon];
-            const double d[3] = {normal.x, normal.y, normal.z};
-            for (int a = 0; a < 3; ++a)
-                for (int i = 0; i < 3; ++i) {
-                    ci->axis_power[2 * a][i] += m->radiosity[i] * m->area * fmax(0, d[a]);
-                    ci->axis_power[2 * a + 1][i] += m->radiosity[i] * m->area * fmax(0, -d[a]);
-                }
+/* Pulls up cluster c from its children: its radiosity is the area-weighted mean of its
+ * members', its axis_power the light its members send toward each signed axis. */
+static void pull_cluster(rad_hier *h, size_t c) {
+    rad_hier_node *n = &h->nodes[h->cluster_first + c];
+    cluster_info *ci = &h->clusters[c];
+    double sum[3] = {0, 0, 0};
+    memset(ci->axis_power, 0, sizeof ci->axis_power);
+    for (uint32_t k = 0; k < n->child_count; ++k) {
+        uint32_t child = n->first_child + k;
+        const rad_hier_node *m = &h->nodes[child];
+        for (int i = 0; i < 3; ++i) sum[i] += m->radiosity[i] * m->area;
+        if (is_cluster(m)) {
+            const cluster_info *mi = info(h, child);
+            for (int a = 0; a < 6; ++a)
+                for (int i = 0; i < 3; ++i) ci->axis_power[a][i] += mi->axis_power[a][i];
+            continue;
         }
-        for (int i = 0; i < 3; ++i) n->radiosity[i] = n->area > 0 ? sum[i] / n->area : 0;
+        rad_vec3 normal = h->normal[m->polygon];
+        const double d[3] = {normal.x, normal.y, normal.z};
+        for (int a = 0; a < 3; ++a)
+            for (int i = 0; i < 3; ++i) {
+                ci->axis_power[2 * a][i] += m->radiosity[i] * m->area * fmax(0, d[a]);
+                ci->axis_power[2 * a + 1][i] += m->radiosity[i] * m->area * fmax(0, -d[a]);
+            }
     }
+    for (int i = 0; i < 3; ++i) n->radiosity[i] = n->area > 0 ? sum[i] / n->area : 0;
+}
+
+/* Pulls up every cluster, children first: the leaf clusters (whose members are roots) in
+ * parallel, then the others from the last to the first (children are numbered after their
+ * parents). */
+static void pull_clusters(rad_hier *h) {
+    const long count = (long)h->cluster_count;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4 * PARALLEL_MIN)
+    for (long c = 0; c < count; ++c)
+        if (h->walk[c].leaf) pull_cluster(h, (size_t)c);
+    for (size_t c = h->cluster_count; c-- > 0;)
+        if (!h->walk[c].leaf) pull_cluster(h, c);
 }
 
 rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
