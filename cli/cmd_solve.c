@@ -351,6 +351,7 @@ int cmd_solve(int argc, char **argv) {
         cli_solver_option(own, solve.solver, "ambient", a.pipe.ambient || a.snapshots);
         cli_solver_option(own, solve.solver, "overshoot", a.overshoot);
         cli_solver_option(own, solve.solver, "link-error", link_error);
+        cli_solver_option(own, solve.solver, "importance", a.pipe.importance);
         solve.method_options = own;
         solve.time_budget = isnan(a.time_budget) ? 0 : a.time_budget;
         solve.resume = a.resume != NULL;

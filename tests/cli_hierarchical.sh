@@ -35,4 +35,14 @@ expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve corne
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" render cornell --solver hierarchical --link-error nan -o "$work/x.png"
 expect_exit 1 'needs geometry' -- "$radiosity" solve four-walls --solver hierarchical
 check "nothing written" test ! -e "$work/x.png"
+
+# Importance (Smits, Arvo & Salesin 1992): the oracle weighs links by what the camera sees.
+"$radiosity" solve cornell --solver hierarchical --importance --width 32 --height 32 >"$work/imp" 2>"$work/imp.err"
+check "importance: converges" grep -Eq '^hierarchical: [0-9]+ rounds, converged' "$work/imp"
+check "importance: what the camera sees" grep -q 'hierarchical importance: the camera sees surfaces in [0-9.]*% of a 32x32 view' "$work/imp.err"
+"$radiosity" render cornell --solver hierarchical --importance -o "$work/imp.pfm" --width 24 --height 24 --spp 2 --final-gather 0 --quiet
+check "importance: renders" test -s "$work/imp.pfm"
+expect_exit 2 'importance is for --solver hierarchical' -- "$radiosity" solve cornell --solver shooting --importance
+expect_exit 2 'importance is for --solver hierarchical' -- "$radiosity" render cornell --importance -o "$work/y.png"
+check "importance: nothing written" test ! -e "$work/y.png"
 finish

@@ -9,6 +9,7 @@
 
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
 #include "solve/hierarchical_view.h"
 
@@ -128,6 +129,31 @@ static void evaluate(rad_system *s, const rad_hier *hier) {
     }
 }
 
+/* Importance (Smits, Arvo & Salesin 1992): the oracle weighs links by what the camera of the
+ * solve options sees, at the size the importance solver uses. */
+static rad_status set_view(rad_solver_run *run, rad_hier *hier) {
+    const rad_solve_options *o = run->options;
+    rad_context *ctx = run->system->ctx;
+    if (!o->camera)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "the hierarchical solver's importance needs a camera "
+                        "(rad_solve_options.camera)");
+    int width, height;
+    rad_importance_view_size(o, &width, &height);
+    rad_camera camera = rad_camera_from_desc(o->camera);
+    rad_view view;
+    rad_status status = rad_view_make(ctx, &camera, width, height, &view);
+    if (!status) status = rad_hier_set_view(hier, &view);
+    if (!status) {
+        rad_hier_stats stats = rad_hier_get_stats(hier);
+        rad_info(ctx, "hierarchical importance: the camera sees surfaces in %.1f%% of a %dx%d view",
+                 100 * stats.seen_share, width, height);
+        if (!(stats.seen_share > 0))
+            rad_warn(ctx, "importance: the camera sees no surface; every link counts as unseen");
+    }
+    return status;
+}
+
 static rad_status hierarchical_begin(rad_solver_run *run) {
     rad_system *s = run->system;
     const rad_solve_options *o = run->options;
@@ -158,6 +184,7 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
         options.light_user = state->light;
     }
     if (!status) status = rad_hier_create(s->ctx, s->geometry, &options, &hier);
+    if (!status && rad_run_option(run, "importance", 0) != 0) status = set_view(run, hier);
     if (!status) status = rad_hier_link_roots(hier);
     if (!status) status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
     state->hier = hier;
@@ -215,11 +242,13 @@ static void hierarchical_end(rad_solver_run *run) {
 static const rad_method_option hierarchical_options[] = {
     {"link-error", "E  the oracle's threshold on a link's error, relative to the emitted power "
                    "(1e-3, or --tolerance)"},
+    {"importance", "refine links where the camera needs them: the oracle weighs each link by "
+                   "the importance of its receiver (Smits, Arvo & Salesin 1992)"},
 };
 
 const rad_solver_impl rad_solver_hierarchical = {
     {"hierarchical", "quadtrees over the input polygons and links refined by an oracle "
                      "(Hanrahan, Salzman & Aupperle 1991)",
-     RAD_SOLVER_ITERATIVE | RAD_SOLVER_OWN_LEAVES, hierarchical_options, 1, NULL, 0, 0},
+     RAD_SOLVER_ITERATIVE | RAD_SOLVER_OWN_LEAVES, hierarchical_options, 2, NULL, 0, 0},
     hierarchical_begin, hierarchical_step, hierarchical_end,
 };

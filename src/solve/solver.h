@@ -56,4 +56,9 @@ rad_status rad_gather_matrix(rad_system *system, float **out);
 /* Largest |B| over elements and channels (at least a tiny positive number). */
 double rad_max_radiosity(const rad_system *system);
 
+/* The image size importance is computed at (importance.c, and the hierarchical solver's
+ * --importance): the caller's view_width x view_height (256 x 256 when unset), scaled to at
+ * most 256 pixels a side. */
+void rad_importance_view_size(const rad_solve_options *options, int *width, int *height);
+
 #endif
