@@ -190,25 +190,26 @@ static double unit(uint32_t bits) { return (bits >> 8) * (1.0 / 16777216.0); }
  * the atrium by its four Gauss points. Jittered per pair, the visible fraction is unbiased.
  * Receivers keep their quadrature points (jittered there too, neighbouring tiles under a box
  * differed by 10% from run-to-run noise). */
-static int visibility_points(const rad_hier_node *n, uint32_t seed, rad_vec3 *out) {
+static rad_vec3 visibility_point(const rad_hier_node *n, uint32_t seed, int k) {
     const rad_vec3 *c = n->corner;
-    for (int k = 0; k < 4; ++k) {
-        uint32_t bits = pair_hash(seed, (uint32_t)k, 0x5bd1e995u);
-        double a = unit(bits), b = unit(pair_hash(bits, (uint32_t)k, 0x27d4eb2fu));
-        if (n->corner_count == 4) {
-            double u = 0.5 * ((k & 1) + a), v = 0.5 * ((k >> 1) + b);
-            out[k] = v3_lerp(v3_lerp(c[0], c[1], u), v3_lerp(c[3], c[2], u), v);
-            continue;
-        }
-        /* A uniform point in midpoint triangle k (the corners' three, then the middle one). */
-        rad_vec3 m01 = v3_lerp(c[0], c[1], 0.5), m12 = v3_lerp(c[1], c[2], 0.5);
-        rad_vec3 m20 = v3_lerp(c[2], c[0], 0.5);
-        const rad_vec3 t[4][3] = {{c[0], m01, m20}, {m01, c[1], m12}, {m20, m12, c[2]},
-                                  {m12, m20, m01}};
-        if (a + b > 1) a = 1 - a, b = 1 - b;
-        out[k] = v3_add(t[k][0], v3_add(v3_scale(v3_sub(t[k][1], t[k][0]), a),
-                                        v3_scale(v3_sub(t[k][2], t[k][0]), b)));
+    uint32_t bits = pair_hash(seed, (uint32_t)k, 0x5bd1e995u);
+    double a = unit(bits), b = unit(pair_hash(bits, (uint32_t)k, 0x27d4eb2fu));
+    if (n->corner_count == 4) {
+        double u = 0.5 * ((k & 1) + a), v = 0.5 * ((k >> 1) + b);
+        return v3_lerp(v3_lerp(c[0], c[1], u), v3_lerp(c[3], c[2], u), v);
     }
+    /* A uniform point in midpoint triangle k (the corners' three, then the middle one). */
+    rad_vec3 m01 = v3_lerp(c[0], c[1], 0.5), m12 = v3_lerp(c[1], c[2], 0.5);
+    rad_vec3 m20 = v3_lerp(c[2], c[0], 0.5);
+    const rad_vec3 t[4][3] = {{c[0], m01, m20}, {m01, c[1], m12}, {m20, m12, c[2]},
+                              {m12, m20, m01}};
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    return v3_add(t[k][0], v3_add(v3_scale(v3_sub(t[k][1], t[k][0]), a),
+                                  v3_scale(v3_sub(t[k][2], t[k][0]), b)));
+}
+
+static int visibility_points(const rad_hier_node *n, uint32_t seed, rad_vec3 *out) {
+    for (int k = 0; k < 4; ++k) out[k] = visibility_point(n, seed, k);
     return 4;
 }
 
@@ -350,6 +351,12 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
 
 static int is_cluster(const rad_hier_node *n) { return n->corner_count == 0; }
 
+/* Whether node `index` is a cluster, from its number alone (the clusters are numbered
+ * cluster_first .. + cluster_count, after the roots and before every split node). */
+static int cluster_index(const rad_hier *h, uint32_t index) {
+    return (size_t)index - h->cluster_first < h->cluster_count;
+}
+
 static const cluster_info *info(const rad_hier *h, uint32_t index) {
     return &h->clusters[index - h->cluster_first];
 }
@@ -402,6 +409,14 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     return p;
 }
 
+/* project()'s estimate alone (spread zero), for the sampling walks. */
+static double project_estimate(const rad_hier *h, uint32_t index, rad_vec3 w) {
+    const rad_hier_node *n = &h->nodes[index];
+    if (!is_cluster(n)) return n->area * fmax(0, v3_dot(h->normal[n->polygon], w));
+    const double *a = info(h, index)->axis_area;
+    return fabs(w.x) * a[w.x < 0] + fabs(w.y) * a[2 + (w.y < 0)] + fabs(w.z) * a[4 + (w.z < 0)];
+}
+
 /* Up to four points on a node's surfaces for visibility rays toward unit direction w: a
  * polygon node's quadrature points; for a cluster, points on members reached by a fixed
  * pseudo-random walk (seeded by the pair) down it that picks each child in proportion to its projected area toward
@@ -409,26 +424,40 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
 static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
                          rad_vec3 *out) {
     if (!is_cluster(&h->nodes[index])) return visibility_points(&h->nodes[index], seed, out);
-    for (int k = 0; k < 4; ++k) {
-        uint32_t state = pair_hash(seed, index, (uint32_t)k), at = index;
-        while (is_cluster(&h->nodes[at])) {
-            const rad_hier_node *n = &h->nodes[at];
-            state = state * 1664525u + 1013904223u;
-            double weight[LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total = 0;
+    /* The four walks go down in step: walks at the same cluster share its children's weights
+     * (they all start at the top, so the upper levels are weighed once, not four times). */
+    uint32_t state[4], at[4];
+    double weight[4][LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total[4];
+    for (int k = 0; k < 4; ++k) state[k] = pair_hash(seed, index, (uint32_t)k), at[k] = index;
+    for (int walking = 1; walking;) {
+        walking = 0;
+        for (int k = 0; k < 4; ++k) {
+            if (!is_cluster(&h->nodes[at[k]])) continue;
+            walking = 1;
+            const rad_hier_node *n = &h->nodes[at[k]];
+            state[k] = state[k] * 1664525u + 1013904223u;
             uint32_t count = n->child_count <= LEAF_CLUSTER ? n->child_count : LEAF_CLUSTER;
-            for (uint32_t c = 0; c < count; ++c)
-                total += weight[c] = project(h, n->first_child + c, w, 0).estimate;
-            uint32_t pick = (state >> 16) % n->child_count;
-            if (total > 0 && n->child_count <= LEAF_CLUSTER) {
-                double u = (double)(state >> 8) / 16777216.0 * total;
-                for (pick = 0; pick + 1 < count && u >= weight[pick]; ++pick) u -= weight[pick];
+            int same = -1;
+            for (int j = 0; j < k && same < 0; ++j)
+                if (at[j] == at[k]) same = j;
+            if (same >= 0) {
+                memcpy(weight[k], weight[same], sizeof weight[k]);
+                total[k] = total[same];
+            } else {
+                total[k] = 0;
+                for (uint32_t c = 0; c < count; ++c)
+                    total[k] += weight[k][c] = project_estimate(h, n->first_child + c, w);
             }
-            at = n->first_child + pick;
+            uint32_t pick = (state[k] >> 16) % n->child_count;
+            if (total[k] > 0 && n->child_count <= LEAF_CLUSTER) {
+                double u = (double)(state[k] >> 8) / 16777216.0 * total[k];
+                for (pick = 0; pick + 1 < count && u >= weight[k][pick]; ++pick) u -= weight[k][pick];
+            }
+            at[k] = n->first_child + pick;
         }
-        rad_vec3 q[4];
-        visibility_points(&h->nodes[at], state, q);
-        out[k] = q[k];
+        /* A walk that reached a polygon keeps its node; the next round skips it. */
     }
+    for (int k = 0; k < 4; ++k) out[k] = visibility_point(&h->nodes[at[k]], state[k], k);
     return 4;
 }
 
@@ -493,7 +522,7 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
 
 /* Any link: the contour integral between two polygon nodes, the point estimate otherwise. */
 static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_hier_link *out) {
-    if (is_cluster(&h->nodes[receiver]) || is_cluster(&h->nodes[source]))
+    if (cluster_index(h, receiver) || cluster_index(h, source))
         return make_cluster_link(h, receiver, source, out);
     return make_link(h, receiver, source, out);
 }
@@ -502,13 +531,19 @@ static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, 
  * 1995): the light its members send toward the receiver over their projected area, from the
  * per-axis sums; its plain mean mixed the sky quad over Sponza with the roof beside it, which
  * faces away (and halved the light sent down). */
-static void source_radiosity(const rad_hier *h, const rad_hier_link *link, double out[3]) {
+static rad_vec3 receiver_centre(const rad_hier *h, uint32_t receiver) {
+    const rad_hier_node *r = &h->nodes[receiver];
+    return is_cluster(r) ? info(h, receiver)->centre : surface_centre(r);
+}
+
+/* `centre` is the receiver's (receiver_centre), which every link of a receiver shares. */
+static void source_radiosity(const rad_hier *h, const rad_hier_link *link, rad_vec3 centre,
+                             double out[3]) {
     const rad_hier_node *s = &h->nodes[link->source];
     memcpy(out, s->radiosity, sizeof(double[3]));
     if (!is_cluster(s)) return;
     const cluster_info *ci = info(h, link->source);
-    const rad_hier_node *r = &h->nodes[link->receiver];
-    rad_vec3 w = v3_sub(is_cluster(r) ? info(h, link->receiver)->centre : surface_centre(r), ci->centre);
+    rad_vec3 w = v3_sub(centre, ci->centre);
     const double d[3] = {fabs(w.x), fabs(w.y), fabs(w.z)};
     const int side[3] = {w.x < 0, w.y < 0, w.z < 0};
     double area = 0, power[3] = {0, 0, 0};
@@ -552,7 +587,7 @@ static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *
 }
 
 static int decide_any(const rad_hier *h, const rad_hier_link *link, double *relative) {
-    if (is_cluster(&h->nodes[link->receiver]) || is_cluster(&h->nodes[link->source]))
+    if (cluster_index(h, link->receiver) || cluster_index(h, link->source))
         return decide_cluster(h, link, relative);
     return decide(h, link, relative);
 }
@@ -641,28 +676,12 @@ static size_t children_made(const rad_hier *h, const rad_hier_link *link, int de
     return decision == 1 ? cr : decision == 2 ? cs : decision == 3 ? cr * cs : 0;
 }
 
-/* Appends `count` links to a growing array. */
-static rad_status append_links(rad_context *ctx, rad_hier_link **array, size_t *size,
-                               size_t *capacity, const rad_hier_link *links, size_t count) {
-    if (*size + count > *capacity) {
-        size_t wanted = *capacity ? *capacity : 1024;
-        while (wanted < *size + count) wanted *= 2;
-        rad_hier_link *grown = rad_realloc(ctx, *array, wanted, sizeof *grown);
-        if (!grown) return RAD_ERROR_NO_MEMORY;
-        *array = grown;
-        *capacity = wanted;
-    }
-    if (count) memcpy(*array + *size, links, count * sizeof *links);
-    *size += count;
-    return RAD_OK;
-}
-
 rad_status rad_hier_refine(rad_hier *h) {
     rad_context *ctx = h->ctx;
     /* The links the oracle has yet to pass (at first all of them), those it passed, and the
      * new ones made by splitting. */
     rad_hier_link *pending = h->links, *kept = NULL, *fresh = NULL;
-    size_t pending_count = h->link_count, kept_count = 0, kept_capacity = 0;
+    size_t pending_count = h->link_count, kept_count = 0;
     h->links = NULL;
     h->link_count = 0;
     uint8_t *decision = NULL, *made = NULL;
@@ -730,32 +749,73 @@ rad_status rad_hier_refine(rad_hier *h) {
             splits = 0;
         }
         refined += splits;
-        /* Links the oracle passed are kept; the others are replaced by their children's. */
-        size_t count = 0;
+        /* Split the leaves the decisions ask for, in link order (receiver end first), so the
+         * nodes are numbered the same for any thread count. */
+        for (size_t i = 0; i < pending_count && splits && !status; ++i) {
+            if (!decision[i]) continue;
+            uint32_t rs[2] = {pending[i].receiver, pending[i].source};
+            for (int end = 0; end < 2 && !status; ++end)
+                if ((decision[i] == 1 + end || decision[i] == 3) && !cluster_index(h, rs[end]))
+                    status = subdivide(h, rs[end]);
+        }
+        /* Links the oracle passed are kept; the others are replaced by their children's. The
+         * pending links are cut into blocks whose kept and new links are counted in parallel;
+         * each block then writes its own slots, in link order. */
+        size_t count = 0, keep = pending_count - splits;
         fresh = splits ? rad_alloc(ctx, candidates, sizeof *fresh) : NULL;
         made = splits ? rad_alloc(ctx, candidates, 1) : NULL;
         if (splits && (!fresh || !made)) status = RAD_ERROR_NO_MEMORY;
-        for (size_t i = 0; i < pending_count && !status; ++i) {
-            if (!decision[i]) {
-                status = append_links(ctx, &kept, &kept_count, &kept_capacity, &pending[i], 1);
-                continue;
+        if (!status && keep) {
+            rad_hier_link *grown = rad_realloc(ctx, kept, kept_count + keep, sizeof *grown);
+            if (grown) kept = grown;
+            else status = RAD_ERROR_NO_MEMORY;
+        }
+        if (!status) {
+            enum { BLOCKS = 256 };
+            size_t keep_at[BLOCKS + 1], fresh_at[BLOCKS + 1];
+            size_t block = (pending_count + BLOCKS - 1) / BLOCKS;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (pending_count >= 4096)
+            for (long k = 0; k < BLOCKS; ++k) {
+                size_t kept_here = 0, fresh_here = 0;
+                size_t first = (size_t)k * block, last = first + block;
+                if (last > pending_count) last = pending_count;
+                for (size_t i = first; i < last; ++i)
+                    if (!decision[i]) kept_here++;
+                    else fresh_here += children_made(h, &pending[i], decision[i]);
+                keep_at[k + 1] = kept_here;
+                fresh_at[k + 1] = fresh_here;
             }
-            rad_hier_link link = pending[i];
-            uint32_t rs[2] = {link.receiver, link.source};
-            for (int end = 0; end < 2 && !status; ++end)
-                if ((decision[i] == 1 + end || decision[i] == 3) && !is_cluster(&h->nodes[rs[end]]))
-                    status = subdivide(h, rs[end]);
-            if (status) break;
-            const rad_hier_node *r = &h->nodes[link.receiver], *s = &h->nodes[link.source];
-            uint32_t r_first = link.receiver, r_count = 1, s_first = link.source, s_count = 1;
-            if (decision[i] != 2) r_first = r->first_child, r_count = r->child_count;
-            if (decision[i] != 1) s_first = s->first_child, s_count = s->child_count;
-            for (uint32_t a = 0; a < r_count; ++a)
-                for (uint32_t b = 0; b < s_count; ++b) {
-                    fresh[count].receiver = r_first + a;
-                    fresh[count].source = s_first + b;
-                    ++count;
+            keep_at[0] = kept_count;
+            fresh_at[0] = 0;
+            for (int k = 0; k < BLOCKS; ++k) {
+                keep_at[k + 1] += keep_at[k];
+                fresh_at[k + 1] += fresh_at[k];
+            }
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (pending_count >= 4096)
+            for (long k = 0; k < BLOCKS; ++k) {
+                size_t at_kept = keep_at[k], at_fresh = fresh_at[k];
+                size_t first = (size_t)k * block, last = first + block;
+                if (last > pending_count) last = pending_count;
+                for (size_t i = first; i < last; ++i) {
+                    if (!decision[i]) {
+                        kept[at_kept++] = pending[i];
+                        continue;
+                    }
+                    const rad_hier_link link = pending[i];
+                    const rad_hier_node *r = &h->nodes[link.receiver], *s = &h->nodes[link.source];
+                    uint32_t r_first = link.receiver, r_count = 1, s_first = link.source, s_count = 1;
+                    if (decision[i] != 2) r_first = r->first_child, r_count = r->child_count;
+                    if (decision[i] != 1) s_first = s->first_child, s_count = s->child_count;
+                    for (uint32_t a = 0; a < r_count; ++a)
+                        for (uint32_t b = 0; b < s_count; ++b) {
+                            fresh[at_fresh].receiver = r_first + a;
+                            fresh[at_fresh].source = s_first + b;
+                            ++at_fresh;
+                        }
                 }
+            }
+            kept_count = keep_at[BLOCKS];
+            count = fresh_at[BLOCKS];
         }
         rad_free(ctx, pending);
         pending = NULL;
@@ -869,10 +929,11 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
             for (long g = 0; g < groups; ++g) {
                 double sum[3] = {0, 0, 0};
                 size_t first = h->group_first[g], last = h->group_first[g + 1];
+                rad_vec3 centre = receiver_centre(h, h->links[first].receiver);
                 for (size_t l = first; l < last; ++l) {
                     const rad_hier_link *link = &h->links[l];
                     double b[3];
-                    source_radiosity(h, link, b);
+                    source_radiosity(h, link, centre, b);
                     for (int c = 0; c < 3; ++c) sum[c] += (double)link->form_factor * b[c];
                 }
                 memcpy(h->nodes[h->links[first].receiver].irradiance, sum, sizeof sum);
@@ -1382,8 +1443,8 @@ rad_hier_stats rad_hier_get_stats(const rad_hier *h) {
     for (size_t i = 0; i < h->node_count; ++i)
         s.leaves += h->nodes[i].first_child == RAD_HIER_NO_NODE && !is_cluster(&h->nodes[i]);
     for (size_t i = 0; i < h->link_count; ++i)
-        s.cluster_links += is_cluster(&h->nodes[h->links[i].receiver]) ||
-                           is_cluster(&h->nodes[h->links[i].source]);
+        s.cluster_links += cluster_index(h, h->links[i].receiver) ||
+                           cluster_index(h, h->links[i].source);
     s.links = h->link_count;
     s.roots = h->root_count;
     s.clusters = h->cluster_count;
