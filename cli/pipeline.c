@@ -49,6 +49,15 @@ void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, 
     for (int i = 0; i < CLI_PIPELINE_OPTION_COUNT; ++i) o[i] = shared[i];
 }
 
+void cli_pipeline_table(cli_option *table, const cli_option *own, size_t own_count,
+                        int shared_first, cli_pipeline_args *args,
+                        rad_solver_kind default_solver) {
+    cli_option *own_start = shared_first ? table + CLI_PIPELINE_OPTION_COUNT : table;
+    cli_pipeline_options(args, default_solver, shared_first ? table : table + own_count);
+    for (size_t i = 0; i < own_count; ++i) own_start[i] = own[i];
+    table[own_count + CLI_PIPELINE_OPTION_COUNT] = (cli_option){0};
+}
+
 int cli_pipeline_check_values(const char *command, const cli_pipeline_args *a) {
     if (a->max_memory < 0) return cli_error(EXIT_USAGE, "%s: --max-memory must be positive", command);
     if (a->patch_size < 0 || a->element_size < 0)
