@@ -46,7 +46,7 @@ static void add_quad(rad_scene *scene, uint32_t surface, rad_vec3 a, rad_vec3 b,
 
 /* Refines and solves until no link refines. */
 static rad_hier *solve_hierarchy(rad_context *ctx, const rad_scene *scene, double link_error) {
-    rad_hier_options options = {link_error, 0, 0, NULL, NULL};
+    rad_hier_options options = {link_error, 0, 0, NULL, NULL, 0};
     rad_hier *h = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
     if (!h) return NULL;
@@ -417,7 +417,7 @@ static rad_scene *tiled_room(rad_context *ctx) {
 static void test_clusters(void) {
     rad_context *ctx = context(2), *one = context(1);
     rad_scene *scene = tiled_room(ctx);
-    rad_hier_options options = {1e-4, 0, 0, NULL, NULL};
+    rad_hier_options options = {1e-4, 0, 0, NULL, NULL, 0};
     rad_hier *clustered = NULL, *flat = NULL, *single = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &clustered) == RAD_OK);
     CHECK(rad_hier_create(one, scene, &options, &single) == RAD_OK);
@@ -611,7 +611,7 @@ static rad_scene *two_rooms(rad_context *ctx) {
 /* Solves the two rooms at `link_error`, with importance from `view` when it is not NULL. */
 static rad_hier *solve_two_rooms(rad_context *ctx, const rad_scene *scene, double link_error,
                                  const rad_view *view) {
-    rad_hier_options options = {link_error, 0, 0, NULL, NULL};
+    rad_hier_options options = {link_error, 0, 0, NULL, NULL, 0};
     rad_hier *h = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
     if (!h) return NULL;

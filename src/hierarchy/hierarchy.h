@@ -70,6 +70,10 @@ typedef struct rad_hier_options {
      * and the sky (src/system/lights_direct.c); asked once per node when it is made. */
     void (*light)(void *user, uint32_t polygon, const rad_vec3 *corners, int count, double out[3]);
     void *light_user;
+    /* Nonzero: before any link, split nodes whose four children's light differs by more than
+     * the oracle allows (half the range times the area, against the threshold), so that light
+     * with sharp edges of its own (a caustic through glass) is held by leaves that resolve it. */
+    int light_split;
 } rad_hier_options;
 
 typedef struct rad_hier_stats {

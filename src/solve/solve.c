@@ -176,7 +176,7 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
     /* The specular-first pass's second half (docs/specular-first.md): the solved radiosity of
      * the diffuse elements through mirrors and glass onto diffuse elements, which the form
      * factors leave out; added as unshot light, then the solve resumes to spread it. */
-    if (!status && local.converged && !options->resume && !run.leaves_out_specular &&
+    if (!status && local.converged && !options->resume &&
         system->specular_emission && !system->specular_reflection) {
         status = rad_system_add_specular_reflection(system);
         rad_solve_report second = {0};

@@ -22,8 +22,6 @@ typedef struct rad_solver_run {
     int importance_shots;   /* set by the importance solver's begin */
     void *state;          /* the solver's own */
     int memory_budget_reached; /* set by a step that cannot go on within the memory budget */
-    int leaves_out_specular; /* set by a solver whose solution leaves the specular-first light
-                                out: no second pass (D S+ D) after it */
 } rad_solver_run;
 
 /* The number the solver's own option `name` is set to in the caller's option bag
