@@ -10,6 +10,7 @@ check "converges" grep -Eq '^hierarchical: [0-9]+ rounds, converged' "$work/tabl
 check "the floor is lit" grep -Eq '^floor +[0-9]+ +0\.[34][0-9]+ ' "$work/table"
 "$radiosity" solve two-squares --solver hierarchical --link-error 1e-4 --json >"$work/json"
 check "json solver" grep -q '"solver": "hierarchical", "iterations": [0-9]*, "converged": true' "$work/json"
+check "json links, leaves, largest error" grep -Eq '"links": [1-9][0-9]*, "leaves": [1-9][0-9]*, "largest_error": [0-9.e+-]+' "$work/json"
 # The outputs draw the hierarchy's leaves; a solution file holds one value per element, so
 # --save is refused with one line (not supported yet).
 expect_exit 1 'solution files cannot hold it' -- "$radiosity" solve cornell --solver hierarchical --save "$work/s.rad" --quiet
@@ -28,6 +29,7 @@ check "budget: still solved" grep -Eq '^floor +[0-9]+ +0\.[0-9]' "$work/small"
 check "budget: says so" grep -q 'links and [0-9]* nodes needs .* refinement stops at [0-9]* links' "$work/warn"
 check "budget: not converged" grep -Eq '^hierarchical: [0-9]+ rounds, not converged' "$work/small"
 "$radiosity" solve cornell --solver hierarchical >/dev/null 2>"$work/steps"
+check "solve stage: links and leaves" grep -Eq '^radiosity: \[solve\] hierarchical, [0-9]+ rounds, residual 0, converged, [0-9]+ links, [0-9]+ leaves' "$work/steps"
 check "step line" grep -Eq '^radiosity: hierarchical step 1: [0-9]+ links \([0-9]+ to clusters\), [0-9]+ leaves, [0-9]+ clusters, [0-9]+ refined, largest remaining error' "$work/steps"
 
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error 0

@@ -214,6 +214,11 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
         if (!status) evaluate(run->system, hier, ((hierarchical_state *)run->state)->light);
     }
     if (!status) report_step(run->system, hier, iteration);
+    if (!status) {
+        run->links = stats.links;
+        run->leaves = stats.leaves;
+        run->largest_error = stats.largest_error;
+    }
     if (!status && stats.budget_reached && stats.links <= 1)
         return RAD_ERROR_MEMORY_BUDGET; /* not even the top cluster's first links fit */
     if (!status && stats.budget_reached) {
@@ -241,9 +246,11 @@ static const rad_method_option hierarchical_options[] = {
                    "the importance of its receiver (Smits, Arvo & Salesin 1992)"},
 };
 
+static const rad_solver_variant hierarchical_variants[] = {{"hierarchical", 0, 0}};
+
 const rad_solver_impl rad_solver_hierarchical = {
     {"hierarchical", "quadtrees over the input polygons and links refined by an oracle "
                      "(Hanrahan, Salzman & Aupperle 1991)",
-     RAD_SOLVER_ITERATIVE | RAD_SOLVER_OWN_LEAVES, hierarchical_options, 2, NULL, 0, 0},
+     RAD_SOLVER_ITERATIVE | RAD_SOLVER_OWN_LEAVES, hierarchical_options, 2, hierarchical_variants, 1, 0},
     hierarchical_begin, hierarchical_step, hierarchical_end,
 };

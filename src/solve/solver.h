@@ -22,6 +22,8 @@ typedef struct rad_solver_run {
     int importance_shots;   /* set by the importance solver's begin */
     void *state;          /* the solver's own */
     int memory_budget_reached; /* set by a step that cannot go on within the memory budget */
+    size_t links, leaves;      /* set by hierarchical steps (rad_iteration_event) */
+    double largest_error;      /* set by hierarchical steps; NaN otherwise */
 } rad_solver_run;
 
 /* The number the solver's own option `name` is set to in the caller's option bag
