@@ -133,6 +133,11 @@ static void print_json(const rad_system *system, const rad_solve_options *option
     json_number(stdout, report->residual);
     printf(", \"stop\": \"%s\", \"seconds\": ", stop_name(report->stop));
     json_number(stdout, report->seconds);
+    if (report->links) {
+        printf(", \"links\": %zu, \"leaves\": %zu, \"largest_error\": ", report->links,
+               report->leaves);
+        json_number(stdout, report->largest_error);
+    }
     printf(",\n \"patches\": [");
     for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
         rad_surface_info info;
@@ -341,6 +346,7 @@ int cmd_solve(int argc, char **argv) {
         cli_solver_option(own, solve.solver, "ambient", a.pipe.ambient || a.snapshots);
         cli_solver_option(own, solve.solver, "overshoot", a.overshoot);
         cli_solver_option(own, solve.solver, "link-error", link_error);
+        cli_solver_option(own, solve.solver, "importance", a.pipe.importance);
         solve.method_options = own;
         solve.time_budget = isnan(a.time_budget) ? 0 : a.time_budget;
         solve.resume = a.resume != NULL;

@@ -12,13 +12,14 @@ typedef struct cli_pipeline_args {
     double tolerance, omega, max_memory, patch_size, element_size;
     size_t elements;
     size_t seed;
+    int importance; /* --importance: the hierarchical solver weighs links by the camera's view */
     /* Filled by cli_pipeline_check: the chosen solver's and form-factor method's own options,
      * which the option structs it writes point to. */
     rad_options solver_options, ff_options;
 } cli_pipeline_args;
 
 /* How many entries cli_pipeline_options writes. */
-#define CLI_PIPELINE_OPTION_COUNT 16
+#define CLI_PIPELINE_OPTION_COUNT 17
 
 /* Writes the shared options (--solver ... --quiet) into `options`, which must have room for
  * CLI_PIPELINE_OPTION_COUNT entries; `default_solver` is the solver shown as the default. */

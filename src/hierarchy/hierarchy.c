@@ -6,6 +6,7 @@
 #include "formfactor/geometric.h"
 #include "core/sampler.h"
 #include "formfactor/pair.h"
+#include "scene/camera.h"
 #include "scene/rays.h"
 #include "scene/scene.h"
 
@@ -81,9 +82,23 @@ struct rad_hier {
     void (*light_fn)(void *user, uint32_t polygon, const rad_vec3 *corners, int count, double out[3]);
     void *light_user;
     rgb *light;
+    /* Importance (Smits, Arvo & Salesin 1992), NULL without a view (rad_hier_set_view): where
+     * the camera's pixels meet the surfaces, and per node A Y (Y the importance of unit
+     * radiosity there, summed over the node's leaves), the emitted part A R of a leaf, and Y
+     * gathered over the transposed links. Per cluster: what its sending links gathered per
+     * signed axis, and Z = sum rho A Y of its members. */
+    uint32_t *hit_polygon;
+    rad_vec3 *hit_point;
+    size_t hit_count;
+    double hit_share;       /* of the image, per hit */
+    double *importance, *importance_emitted, *importance_gathered;
+    double (*cluster_axis_importance)[6], (*cluster_down_importance)[6], *cluster_z;
+    double importance_mean; /* sum A Y over the roots over their area: the oracle's unit */
 };
 
 static int threads(const rad_hier *h) { return rad_thread_count(h->ctx); }
+static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds);
+static uint32_t leaf_at(const rad_hier *h, uint32_t polygon, rad_vec3 x);
 
 /* ---- Nodes ------------------------------------------------------------------------------- */
 
@@ -103,6 +118,14 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
         rgb *light = rad_realloc(h->ctx, h->light, wanted, sizeof *light);
         if (!light) return RAD_ERROR_NO_MEMORY;
         h->light = light;
+    }
+    if (h->importance) {
+        double **arrays[3] = {&h->importance, &h->importance_emitted, &h->importance_gathered};
+        for (int k = 0; k < 3; ++k) {
+            double *grown_array = rad_realloc(h->ctx, *arrays[k], wanted, sizeof(double));
+            if (!grown_array) return RAD_ERROR_NO_MEMORY;
+            *arrays[k] = grown_array;
+        }
     }
     h->node_capacity = wanted;
     return RAD_OK;
@@ -153,6 +176,9 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
         if (h->light)
             h->light_fn(h->light_user, parent.polygon, child[k], count, h->light[first + k]);
         memcpy(h->nodes[first + k].radiosity, parent.radiosity, sizeof parent.radiosity);
+        if (h->importance) /* the parent's importance per unit area, until the next solve */
+            h->importance[first + k] =
+                parent.area > 0 ? h->importance[index] * h->nodes[first + k].area / parent.area : 0;
     }
     h->node_count += 4;
     h->stats.leaves += 3;
@@ -307,6 +333,18 @@ static int can_split(const rad_hier *h, const rad_hier_node *n) {
     return n->area > h->min_area && n->depth < MAX_DEPTH;
 }
 
+/* How much the view needs a receiver's light (Smits, Arvo & Salesin 1992): its importance per
+ * unit area over the mean of the whole scene's, so that a link's error rho B dF A becomes the
+ * error it makes in the image, on the scale of the plain oracle (a view that sees everything
+ * alike weighs every link by 1). 1 without a view. */
+static double importance_weight(const rad_hier *h, uint32_t receiver) {
+    if (!h->importance) return 1;
+    double area = h->nodes[receiver].area;
+    return area > 0 && h->importance_mean > 0
+               ? h->importance[receiver] / area / h->importance_mean
+               : 0;
+}
+
 /* The oracle: 0 keeps the link, 1 splits its receiver, 2 its source. *relative is its error
  * over the threshold. */
 static int decide(const rad_hier *h, const rad_hier_link *link, double *relative) {
@@ -314,7 +352,8 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
     const double *rho = h->reflectance[r->polygon];
     double carried = 0;
     for (int c = 0; c < 3; ++c) carried = fmax(carried, rho[c] * s->radiosity[c]);
-    double error = carried * fabs((double)link->error) * r->area;
+    double error = carried * fabs((double)link->error) * r->area *
+                   importance_weight(h, link->receiver);
     *relative = error / h->threshold;
     if (!(error > h->threshold)) return 0;
     int partial = link->error < 0;
@@ -540,7 +579,10 @@ static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *
     else
         for (int c = 0; c < 3; ++c) rho = fmax(rho, h->reflectance[r->polygon][c]);
     double brightest = fmax(s->radiosity[0], fmax(s->radiosity[1], s->radiosity[2]));
-    double error = rho * brightest * fabs((double)link->error) * r->area;
+    /* A link that carries nothing yet (overlapping ends) is refined whatever its importance:
+     * until it is, no importance crosses it either. */
+    double weight = fabs(link->error) >= UNKNOWN_ERROR ? 1 : importance_weight(h, link->receiver);
+    double error = rho * brightest * fabs((double)link->error) * r->area * weight;
     *relative = error / h->threshold;
     /* A cluster only sends. Gathered into a cluster, light would reach every member alike,
      * whatever its orientation and whatever hides it (it leaked under boxes standing on a
@@ -973,7 +1015,207 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
                             round);
     }
     h->stats.solve_rounds = round > max_rounds ? max_rounds : round;
+    return h->hit_point ? solve_importance(h, tolerance, max_rounds) : RAD_OK;
+}
+
+/* ---- Importance (Smits, Arvo & Salesin 1992) --------------------------------------------- */
+
+/* Importance is the adjoint of light. A pixel's ray that meets leaf l emits A R = (the share of
+ * the image it is) there; Y, the importance of unit radiosity, is what a leaf emits per unit
+ * area plus what reaches it over the transposed links: a link r <- s of factor F (light from s
+ * to r) carries Z_r F to s, where Z_r = sum rho A Y over the leaves under r (the image's change
+ * per unit of r's irradiance), so that the image changes by F B_s Z_r through it. A polygon
+ * source takes Z_r F / A_s per unit area (pushed down to its leaves like irradiance); a
+ * cluster source sends sum_a |w_a| power(a) / sum_a |w_a| area(a) (source_radiosity), so it
+ * takes Z_r F |w_a| / sum_a |w_a| area(a) per signed axis a, and a member with normal n gets
+ * sum_a of that times max(0, +-n_a) per unit area: the exact adjoint of the light's transport
+ * over the same links. Jacobi rounds, as for light. */
+
+/* The largest reflectance of a polygon: importance is one channel, and the largest carries the
+ * most of it on (conservative: more refinement, never less). */
+static double polygon_reflectance(const rad_hier *h, uint32_t polygon) {
+    const double *rho = h->reflectance[polygon];
+    return fmax(rho[0], fmax(rho[1], rho[2]));
+}
+
+/* Z of a node: sum rho A Y over its leaves. */
+static double node_z(const rad_hier *h, uint32_t index) {
+    const rad_hier_node *n = &h->nodes[index];
+    if (is_cluster(n)) return h->cluster_z[index - h->cluster_first];
+    return polygon_reflectance(h, n->polygon) * h->importance[index];
+}
+
+/* Pushes importance down one polygon tree (`down` per unit area, from clusters and ancestors),
+ * sets every leaf's A Y = A R + A (down + gathered) and pulls the sums up. Returns the largest
+ * change of a leaf's Y. */
+static double importance_push_pull(rad_hier *h, uint32_t index, double down) {
+    rad_hier_node *n = &h->nodes[index];
+    double total = down + h->importance_gathered[index];
+    if (n->first_child == RAD_HIER_NO_NODE) {
+        double y = (n->area > 0 ? h->importance_emitted[index] / n->area : 0) + total;
+        double change = fabs(y - (n->area > 0 ? h->importance[index] / n->area : 0));
+        h->importance[index] = y * n->area;
+        return change;
+    }
+    double change = 0, sum = 0;
+    for (uint32_t k = 0; k < n->child_count; ++k) {
+        uint32_t child = n->first_child + k;
+        change = fmax(change, importance_push_pull(h, child, total));
+        sum += h->importance[child];
+    }
+    h->importance[index] = sum;
+    return change;
+}
+
+/* Clusters' A Y and Z from their members, children first. */
+static void importance_pull_clusters(rad_hier *h) {
+    for (size_t c = h->cluster_count; c-- > 0;) {
+        uint32_t index = (uint32_t)(h->cluster_first + c);
+        const rad_hier_node *n = &h->nodes[index];
+        double y = 0, z = 0;
+        for (uint32_t k = 0; k < n->child_count; ++k) {
+            y += h->importance[n->first_child + k];
+            z += node_z(h, n->first_child + k);
+        }
+        h->importance[index] = y;
+        h->cluster_z[c] = z;
+    }
+}
+
+static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds) {
+    const long roots = (long)h->root_count;
+    /* What the pixels emit, on the leaves as they are now. */
+    memset(h->importance_emitted, 0, h->node_count * sizeof *h->importance_emitted);
+    double emitted_max = 0;
+    for (size_t i = 0; i < h->hit_count; ++i) {
+        uint32_t leaf = leaf_at(h, h->hit_polygon[i], h->hit_point[i]);
+        if (leaf != RAD_HIER_NO_NODE) h->importance_emitted[leaf] += h->hit_share;
+    }
+    for (size_t i = 0; i < h->node_count; ++i)
+        if (h->importance_emitted[i] > 0 && h->nodes[i].area > 0)
+            emitted_max = fmax(emitted_max, h->importance_emitted[i] / h->nodes[i].area);
+    double limit = tolerance * (emitted_max > 0 ? emitted_max : 1);
+    importance_pull_clusters(h);
+    for (int round = 1; round <= max_rounds; ++round) {
+        /* Gather over the transposed links, in link order (one thread: sources are shared). */
+        memset(h->importance_gathered, 0, h->node_count * sizeof *h->importance_gathered);
+        memset(h->cluster_axis_importance, 0, h->cluster_count * sizeof *h->cluster_axis_importance);
+        for (size_t l = 0; l < h->link_count; ++l) {
+            const rad_hier_link *link = &h->links[l];
+            double carried = node_z(h, link->receiver) * (double)link->form_factor;
+            if (!(carried > 0)) continue;
+            const rad_hier_node *s = &h->nodes[link->source];
+            if (!is_cluster(s)) {
+                if (s->area > 0) h->importance_gathered[link->source] += carried / s->area;
+                continue;
+            }
+            /* The adjoint of source_radiosity: per signed axis toward the receiver. */
+            const cluster_info *ci = info(h, link->source);
+            const rad_hier_node *r = &h->nodes[link->receiver];
+            rad_vec3 w = v3_sub(is_cluster(r) ? info(h, link->receiver)->centre : surface_centre(r),
+                                ci->centre);
+            const double d[3] = {fabs(w.x), fabs(w.y), fabs(w.z)};
+            const int side[3] = {w.x < 0, w.y < 0, w.z < 0};
+            double area = 0;
+            for (int a = 0; a < 3; ++a) area += d[a] * ci->axis_area[2 * a + side[a]];
+            if (area > 0)
+                for (int a = 0; a < 3; ++a)
+                    h->cluster_axis_importance[link->source - h->cluster_first][2 * a + side[a]] +=
+                        carried * d[a] / area;
+        }
+        /* Down the clusters (parents first), then down every polygon tree. */
+        for (size_t c = 0; c < h->cluster_count; ++c) {
+            uint32_t parent = h->clusters[c].parent;
+            for (int a = 0; a < 6; ++a)
+                h->cluster_down_importance[c][a] =
+                    h->cluster_axis_importance[c][a] +
+                    (parent == RAD_HIER_NO_NODE
+                         ? 0
+                         : h->cluster_down_importance[parent - h->cluster_first][a]);
+        }
+        double change = 0;
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (roots >= 64) \
+    reduction(max : change)
+        for (long r = 0; r < roots; ++r) {
+            const double *q = h->cluster_down_importance[h->root_parent[r] - h->cluster_first];
+            rad_vec3 normal = h->normal[h->nodes[r].polygon];
+            const double n[3] = {normal.x, normal.y, normal.z};
+            double down = 0;
+            for (int a = 0; a < 3; ++a)
+                down += q[2 * a] * fmax(0, n[a]) + q[2 * a + 1] * fmax(0, -n[a]);
+            change = fmax(change, importance_push_pull(h, (uint32_t)r, down));
+        }
+        importance_pull_clusters(h);
+        if (change <= limit) break;
+        if (rad_progress(h->ctx, "hierarchical importance", round, max_rounds))
+            return rad_fail(h->ctx, RAD_ERROR_CANCELLED, "cancelled after %d importance rounds",
+                            round);
+    }
+    double total = 0, area = 0;
+    for (size_t r = 0; r < h->root_count; ++r) {
+        total += h->importance[r];
+        area += h->nodes[r].area;
+    }
+    h->importance_mean = area > 0 ? total / area : 0;
     return RAD_OK;
+}
+
+rad_status rad_hier_set_view(rad_hier *h, const rad_view *view) {
+    rad_context *ctx = h->ctx;
+    size_t pixels = (size_t)view->width * (size_t)view->height;
+    uint32_t *polygon = rad_alloc(ctx, pixels ? pixels : 1, sizeof *polygon);
+    rad_vec3 *point = rad_alloc(ctx, pixels ? pixels : 1, sizeof *point);
+    if (!polygon || !point) {
+        rad_free(ctx, polygon);
+        rad_free(ctx, point);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    /* One ray through every pixel's centre; only fronts count (the light lives there). Each
+     * pixel writes its own slot, so the hits do not depend on the thread count. */
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads(h))
+    for (int y = 0; y < view->height; ++y)
+        for (int x = 0; x < view->width; ++x) {
+            size_t i = (size_t)y * (size_t)view->width + (size_t)x;
+            rad_vec3 direction = rad_view_direction(view, x + 0.5, y + 0.5);
+            rad_hit hit;
+            polygon[i] = RAD_HIER_NO_NODE;
+            if (rad_rays_intersect(h->rays, view->eye, direction, 0, INFINITY, &hit) && hit.front) {
+                polygon[i] = hit.polygon;
+                point[i] = v3_add(view->eye, v3_scale(direction, hit.t));
+            }
+        }
+    size_t count = 0;
+    for (size_t i = 0; i < pixels; ++i)
+        if (polygon[i] != RAD_HIER_NO_NODE && polygon[i] < h->scene->polygon_count &&
+            h->polygon_root_count[polygon[i]] > 0) {
+            polygon[count] = polygon[i];
+            point[count] = point[i];
+            ++count;
+        }
+    rad_free(ctx, h->hit_polygon);
+    rad_free(ctx, h->hit_point);
+    h->hit_polygon = polygon;
+    h->hit_point = point;
+    h->hit_count = count;
+    h->hit_share = pixels ? 1.0 / (double)pixels : 0;
+    if (!h->importance) {
+        h->importance = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance);
+        h->importance_emitted = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_emitted);
+        h->importance_gathered = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_gathered);
+        h->cluster_axis_importance = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_axis_importance);
+        h->cluster_down_importance = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_down_importance);
+        h->cluster_z = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_z);
+        if (!h->importance || !h->importance_emitted || !h->importance_gathered ||
+            !h->cluster_axis_importance || !h->cluster_down_importance || !h->cluster_z)
+            return RAD_ERROR_NO_MEMORY;
+    }
+    h->stats.seen_share = (double)count * h->hit_share;
+    return solve_importance(h, 1e-5, 1000);
+}
+
+double rad_hier_importance(const rad_hier *h, uint32_t node) {
+    if (!h->importance || node >= h->node_count || !(h->nodes[node].area > 0)) return 0;
+    return h->importance[node] / h->nodes[node].area;
 }
 
 /* ---- Clusters ---------------------------------------------------------------------------- */
@@ -1140,6 +1382,54 @@ static rad_status build_clusters(rad_hier *h) {
     return status;
 }
 
+/* Splits every root whose light (rad_hier_options.light) its children would hold differently
+ * by more than the oracle allows: half the range of the children's light (the largest channel)
+ * times the node's area, against the threshold; then the same for the children, depth first.
+ * Light with edges of its own (the specular-first caustic under a glass sphere) is otherwise
+ * spread over whatever leaves the links made. */
+static rad_status split_by_light(rad_hier *h) {
+    size_t count = h->root_count, capacity = count + 64;
+    uint32_t *stack = rad_alloc(h->ctx, capacity, sizeof *stack);
+    if (!stack) return RAD_ERROR_NO_MEMORY;
+    for (size_t i = 0; i < count; ++i) stack[i] = (uint32_t)(count - 1 - i);
+    rad_status status = RAD_OK;
+    while (count && !status) {
+        uint32_t index = stack[--count];
+        const rad_hier_node *n = &h->nodes[index];
+        if (is_cluster(n) || !can_split(h, n)) continue;
+        if (n->first_child == RAD_HIER_NO_NODE) {
+            /* Its children's light, before making them. */
+            rad_hier_node probe = *n;
+            double lo = INFINITY, hi = -INFINITY;
+            if ((status = subdivide(h, index))) break;
+            for (uint32_t k = 0; k < 4; ++k)
+                for (int c = 0; c < 3; ++c) {
+                    lo = fmin(lo, h->light[h->nodes[index].first_child + k][c]);
+                    hi = fmax(hi, h->light[h->nodes[index].first_child + k][c]);
+                }
+            if (!(0.5 * (hi - lo) * probe.area > h->threshold)) {
+                /* Resolved: take the children back (they are the last four nodes made). */
+                h->node_count -= 4;
+                h->nodes[index].first_child = RAD_HIER_NO_NODE;
+                h->nodes[index].child_count = 0;
+                continue;
+            }
+        }
+        if (count + 4 > capacity) {
+            capacity *= 2;
+            uint32_t *grown = rad_realloc(h->ctx, stack, capacity, sizeof *stack);
+            if (!grown) {
+                status = RAD_ERROR_NO_MEMORY;
+                break;
+            }
+            stack = grown;
+        }
+        for (uint32_t k = 0; k < 4; ++k) stack[count++] = h->nodes[index].first_child + 3 - k;
+    }
+    rad_free(h->ctx, stack);
+    return status;
+}
+
 /* ---- Set-up and queries ------------------------------------------------------------------ */
 
 rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
@@ -1226,6 +1516,7 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
         }
         h->threshold = o.link_error * (h->emitted_power > 0 ? h->emitted_power : 1);
     }
+    if (!status && h->light && o.light_split) status = split_by_light(h);
     if (!status) status = rad_rays_create(ctx, scene, &h->rays);
     if (status) {
         rad_hier_destroy(h);
@@ -1255,6 +1546,14 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->emission);
     rad_free(ctx, h->normal);
     rad_free(ctx, h->light);
+    rad_free(ctx, h->hit_polygon);
+    rad_free(ctx, h->hit_point);
+    rad_free(ctx, h->importance);
+    rad_free(ctx, h->importance_emitted);
+    rad_free(ctx, h->importance_gathered);
+    rad_free(ctx, h->cluster_axis_importance);
+    rad_free(ctx, h->cluster_down_importance);
+    rad_free(ctx, h->cluster_z);
     rad_free(ctx, h->links);
     rad_free(ctx, h->group_first);
     rad_free(ctx, h);
