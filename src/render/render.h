@@ -17,6 +17,7 @@
 
 #include "core/sampler.h"
 #include "light/emitters.h"
+#include "render/photon_map.h"
 #include "scene/camera.h"
 #include "system/element_rays.h"
 #include "scene/scene.h"
@@ -78,6 +79,10 @@ struct rad_renderer {
     /* Textured surfaces (texture_shading.c): the irradiance (B - E) / (pi rho) averaged at mesh
      * vertices; NULL when no surface is textured. */
     float (*vertex_irradiance)[3];
+
+    /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
+    rad_photon_map caustics;
+    double caustic_radius; /* the largest radius of its density estimate */
 };
 
 /* Counters one thread keeps while rendering. */
@@ -202,5 +207,14 @@ rad_status rad_texture_shading_prepare(rad_renderer *r);
  * interpolated irradiance. 0 (out untouched) when the element is not textured. */
 int rad_texture_shading_radiance(const rad_renderer *r, const rad_element_hit *hit, rad_vec3 x,
                                  double out[3]);
+
+/* caustics.c: the caustic map from the specular-first pass's landings (system.h), at renderer
+ * creation; nothing when the pass landed none. */
+rad_status rad_caustics_build(rad_renderer *r);
+/* caustics.c: what a camera path sees a diffuse point emit at x: with a caustic map, the
+ * material's own emission plus the map's caustic (the deposit left to the solve); without one,
+ * rad_reconstruct_emission (the deposit smoothed). */
+void rad_visible_emission(const rad_renderer *r, const rad_element_hit *hit, rad_vec3 x,
+                          rad_vec3 n, const float rho[3], double out[3]);
 
 #endif
