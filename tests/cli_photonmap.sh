@@ -51,4 +51,11 @@ expect_exit 1 'camera sees nothing' -- "$radiosity" photonmap -o "$work/x.png" "
 expect_exit 1 'cannot write' -- "$radiosity" photonmap -o "$work/no/such/dir/x.png" "${small[@]}"
 check "errors leave no file" no_stray_files
 
+# render's caustic map (docs/specular-first.md): its photons past a quarter of the budget are a
+# warning, and the render goes on with the deposit.
+"$radiosity" render cornell-mirror --width 16 --height 16 --spp 1 --max-memory 16 -o "$work/keep_caustic.png" \
+    2> "$work/err" > /dev/null
+check "caustic map over the budget: exit 0" test $? -eq 0
+check "caustic map over the budget: a warning" grep -q 'not kept for the caustic map' "$work/err"
+
 finish

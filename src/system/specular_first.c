@@ -150,8 +150,16 @@ static rad_status trace(rad_context *ctx, const rad_photon_scene *photons,
     for (size_t b = 0; b < blocks; ++b) total += block[b].count;
     rad_caustic_landing *keep = NULL;
     if (landings && !failed && total) {
-        keep = rad_alloc(ctx, total, sizeof *keep);
-        if (!keep) failed = 1;
+        /* The caustic map is an image's refinement: past a quarter of the memory budget it is
+         * left out (the render then draws the deposit), with a warning. */
+        if ((double)total * sizeof *keep > 0.25 * (double)ctx->max_memory) {
+            rad_warn(ctx, "the specular-first pass's %zu landed photons are not kept for the "
+                          "caustic map: over a quarter of the memory budget (--max-memory)",
+                     total);
+        } else {
+            keep = rad_alloc(ctx, total, sizeof *keep);
+            if (!keep) failed = 1;
+        }
     }
     for (size_t b = 0; b < blocks; ++b) {
         for (size_t i = 0; i < block[b].count && keep; ++i) {
