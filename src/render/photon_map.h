@@ -38,6 +38,17 @@ rad_status rad_photon_map_build(rad_context *ctx, rad_photon *photons, size_t co
                                  int threads, rad_photon_map *out);
 void rad_photon_map_free(rad_context *ctx, rad_photon_map *map);
 
+/* A run of photons: the map can be built from several, in order, without joining them first. */
+typedef struct rad_photon_run {
+    const rad_photon *photons;
+    size_t count;
+} rad_photon_run;
+
+/* The same map over the runs' photons in their order (not taken: the caller frees them), each
+ * photon's power divided by `divisor` as it is copied into the map. */
+rad_status rad_photon_map_build_runs(rad_context *ctx, const rad_photon_run *runs, size_t run_count,
+                                     double divisor, double cell, int threads, rad_photon_map *out);
+
 /* A neighbour found by rad_photon_map_nearest. */
 typedef struct rad_photon_near {
     const rad_photon *photon;
