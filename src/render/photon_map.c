@@ -12,10 +12,24 @@
 
 static int64_t cell_of(double coordinate, double cell) { return (int64_t)floor(coordinate / cell); }
 
+/* The low 21 bits of v spread to every third bit. */
+static uint64_t spread3(uint64_t v) {
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffull;
+    v = (v | v << 16) & 0x1f0000ff0000ffull;
+    v = (v | v << 8) & 0x100f00f00f00f00full;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+    v = (v | v << 2) & 0x1249249249249249ull;
+    return v;
+}
+
+/* A cell's bucket: the low bits of its Morton code (Morton 1966), so neighbouring cells share
+ * nearby buckets and the photons sorted by bucket lie in space order: a query's 27 cells, and
+ * the queries of photons taken in array order, read memory that is near (cells a period of
+ * 2^(m/3) apart per axis share a bucket, which costs only distance tests). */
 static uint32_t bucket_of(int64_t cx, int64_t cy, int64_t cz, size_t bucket_count) {
-    uint64_t h = rad_mix64((uint64_t)cx * 0x9e3779b97f4a7c15ull ^
-                           rad_mix64((uint64_t)cy + 0x632be59bd9b4e019ull * (uint64_t)cz));
-    return (uint32_t)(h & (bucket_count - 1));
+    uint64_t code = spread3((uint64_t)cx) | spread3((uint64_t)cy) << 1 | spread3((uint64_t)cz) << 2;
+    return (uint32_t)(code & (bucket_count - 1));
 }
 
 rad_status rad_photon_map_build_runs(rad_context *ctx, const rad_photon_run *runs, size_t run_count,

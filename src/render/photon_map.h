@@ -1,9 +1,9 @@
 /* photon_map.h - a photon map (Jensen 1996): photons stored where they hit surfaces with a
  * diffuse or glossy lobe, in a hash grid of cells one search radius wide (docs/photonmapping.md).
  *
- * The grid: each photon's cell (floor(p / cell) per axis) is hashed into a table of 2^m buckets;
- * the photons are sorted by bucket (keys in parallel, a stable counting sort), so a bucket is one
- * run of the array. A query visits the 27 cells around x, each bucket once. The order of the
+ * The grid: each photon's cell (floor(p / cell) per axis) goes to one of 2^m buckets by the low
+ * bits of its Morton code; the photons are sorted by bucket (keys in parallel, a stable counting
+ * sort), so a bucket is one run of the array and the array is in space order. A query visits the 27 cells around x, each bucket once. The order of the
  * photons is the order they were given in: the map, and every estimate from it, is the same for
  * any thread count. */
 #ifndef RAD_RENDER_PHOTON_MAP_H
