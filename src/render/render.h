@@ -203,8 +203,8 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
 int rad_renderer_albedo(const rad_renderer *r, uint32_t element, rad_vec3 x, float rho[3]);
 /* Fills vertex_irradiance from the current solution (after rad_reconstruct_prepare). */
 rad_status rad_texture_shading_prepare(rad_renderer *r);
-/* The radiance a camera ray sees at x on a textured element: E / pi + rho(x) times the
- * interpolated irradiance. 0 (out untouched) when the element is not textured. */
+/* The radiance a camera ray sees at x on a textured element: E / pi (rad_reconstruct_emission)
+ * + rho(x) times the interpolated irradiance. 0 (out untouched) when the element is not textured. */
 int rad_texture_shading_radiance(const rad_renderer *r, const rad_element_hit *hit, rad_vec3 x,
                                  double out[3]);
 
