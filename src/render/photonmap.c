@@ -54,16 +54,18 @@ static double cpu_seconds(void) {
 }
 
 /* The next surface along origin + t direction: its material, the hit and the point; NULL when the
- * ray leaves the scene or meets the back of a one-sided surface (absorbed). */
+ * ray leaves the scene or meets the back of a one-sided surface (absorbed). A textured material
+ * comes back as a copy in *textured reflecting its texture at the point (as the path tracer's). */
 static const rad_material *next_surface(const rad_tracer *t, rad_vec3 origin, rad_vec3 direction,
-                                        uint64_t *rays, rad_hit *hit, rad_vec3 *x) {
+                                        uint64_t *rays, rad_hit *hit, rad_vec3 *x,
+                                        rad_material *textured) {
     ++*rays;
     if (!rad_rays_intersect(t->rays, origin, direction, t->rays->epsilon, INFINITY, hit))
         return NULL;
     const rad_material *m = t->polygon_material[hit->polygon];
     if (!hit->front && m->kind != RAD_MATERIAL_GLASS) return NULL;
     *x = v3_add(origin, v3_scale(direction, hit->t));
-    return m;
+    return rad_photon_scene_material(t->scene, m, hit->polygon, *x, textured);
 }
 
 /* ---- photon tracing ----------------------------------------------------------------------- */
@@ -114,7 +116,7 @@ static int store_photon(void *user, const rad_photon_arrival *a) {
  * L S+ D photons are followed and stored. Returns 0 when out of memory. */
 static int trace_photon(const rad_tracer *t, uint64_t seed, uint64_t index, int caustic_only,
                         photon_list *global, photon_list *caustic, uint64_t *rays) {
-    rad_photon_scene scene = {t->rays, t->polygon_material, &t->emitters};
+    rad_photon_scene scene = {t->rays, t->polygon_material, &t->emitters, t->scene};
     photon_stores stores = {t->ctx, caustic_only, global, caustic};
     return rad_photon_path_trace(&scene, seed, index, caustic_only, MAX_PHOTON_BOUNCES,
                                  store_photon, &stores, rays);
@@ -337,7 +339,8 @@ static void gather_ray(const render_state *r, rad_sampler *sampler, rad_vec3 x, 
     for (int chain = 0; chain < MAX_SPECULAR_CHAIN; ++chain) {
         rad_hit hit;
         rad_vec3 y;
-        const rad_material *m = next_surface(t, x, direction, rays, &hit, &y);
+        rad_material textured;
+        const rad_material *m = next_surface(t, x, direction, rays, &hit, &y, &textured);
         if (!m) return;
         if (!rad_bsdf_is_delta(m)) {
             double l[3];
@@ -367,7 +370,8 @@ static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sam
     for (int chain = 0; chain < MAX_SPECULAR_CHAIN; ++chain) {
         rad_hit hit;
         rad_vec3 x;
-        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x);
+        rad_material textured;
+        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x, &textured);
         if (!m) return;
         rad_vec3 wo = v3_scale(direction, -1);
         /* Emission seen directly or through mirrors and glass. */

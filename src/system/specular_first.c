@@ -204,7 +204,7 @@ rad_status rad_system_add_specular_emission(rad_system *s, const rad_scene *scen
     if (!status) status = rad_rays_create(ctx, scene, &rays);
     if (!status) status = rad_element_rays_create(ctx, mesh, &elements);
     if (!status) {
-        rad_photon_scene photons = {rays, polygon_material, &emitters};
+        rad_photon_scene photons = {rays, polygon_material, &emitters, scene};
         rad_free(ctx, s->caustic_landings);
         s->caustic_landings = NULL;
         s->caustic_landing_count = 0;
@@ -286,7 +286,7 @@ rad_status rad_system_add_specular_reflection(rad_system *s) {
     if (!status) status = rad_rays_create(ctx, scene, &rays);
     if (!status) status = rad_element_rays_create(ctx, s->mesh, &elements);
     if (!status) {
-        rad_photon_scene photons = {rays, polygon_material, &reflectors};
+        rad_photon_scene photons = {rays, polygon_material, &reflectors, scene};
         status = trace(ctx, &photons, elements, SPECULAR_SEED + 1, count, flux, NULL, NULL);
     }
     /* What lands is reflected once, as in the first pass, and joins the solution as light not
