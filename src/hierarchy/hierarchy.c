@@ -675,7 +675,7 @@ static int decide_any(const rad_hier *h, const rad_hier_link *link, double *rela
 static rad_status adopt_links(rad_hier *h, rad_hier_link *links, size_t count) {
     rad_context *ctx = h->ctx;
     const size_t nodes = h->node_count;
-    const int parts = count >= 65536 ? threads(h) : 1;
+    const int parts = count >= 4096 ? threads(h) : 1;
     const size_t part = (count + (size_t)parts - 1) / (size_t)parts;
     size_t *start = rad_alloc_zero(ctx, (size_t)parts * nodes + 1, sizeof *start);
     rad_hier_link *sorted = rad_alloc(ctx, count ? count : 1, sizeof *sorted);
@@ -1064,7 +1064,7 @@ static void pull_cluster(rad_hier *h, size_t c) {
  * parents). */
 static void pull_clusters(rad_hier *h) {
     const long count = (long)h->cluster_count;
-#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4 * PARALLEL_MIN)
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 64)
     for (long c = 0; c < count; ++c)
         if (h->walk[c].leaf) pull_cluster(h, (size_t)c);
     for (size_t c = h->cluster_count; c-- > 0;)
