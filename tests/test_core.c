@@ -1,10 +1,12 @@
 /* test_core.c - the radiosity system in matrix form: the lecture's four-surface room round by
  * round and shot by shot, exact small systems, closed enclosures, and every solver against the
- * direct solution. */
+ * direct solution; and the worker threads the solver's rows run on. */
+#include "core/team.h"
 #include "radiosity.h"
 #include "test.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -353,8 +355,58 @@ static void test_reference_error(void) {
     rad_system_destroy(system);
 }
 
+/* core/team.h: every index runs once, on a worker in range, whatever the thread count; a loop
+ * started from inside a loop runs on its caller alone; the team stops with its context. */
+typedef struct {
+    rad_context *context;
+    int threads, nested;
+    _Atomic int runs[1000];
+    _Atomic int bad_worker, inner_runs;
+} team_job;
+
+static void team_inner(void *user, long index, int worker) {
+    team_job *job = user;
+    (void)index;
+    if (worker != 0) atomic_fetch_add(&job->bad_worker, 1);
+    atomic_fetch_add(&job->inner_runs, 1);
+}
+
+static void team_task(void *user, long index, int worker) {
+    team_job *job = user;
+    atomic_fetch_add(&job->runs[index], 1);
+    /* A few microseconds each, so the workers wake up and take their share. */
+    volatile double work = 0;
+    for (int k = 0; k < 2000; ++k) work += k;
+    if (worker < 0 || worker >= job->threads) atomic_fetch_add(&job->bad_worker, 1);
+    if (job->nested && index % 100 == 0) rad_team_for(job->context, 3, team_inner, job);
+}
+
+static void test_team(void) {
+    for (int threads = 1; threads <= 4; threads *= 2) {
+        rad_context_options options = {.threads = threads};
+        rad_context *context;
+        CHECK(rad_context_create(&options, &context) == RAD_OK);
+        for (int round = 0; round < 20; ++round) {
+            static team_job job;
+            memset(&job, 0, sizeof job);
+            job.context = context;
+            job.threads = threads;
+            job.nested = round % 2;
+            long count = round == 0 ? 1 : 1000;
+            rad_team_for(context, count, team_task, &job);
+            int once = 1;
+            for (long i = 0; i < 1000; ++i) once &= atomic_load(&job.runs[i]) == (i < count);
+            CHECK(once);
+            CHECK(atomic_load(&job.bad_worker) == 0);
+            CHECK(atomic_load(&job.inner_runs) == (job.nested ? 30 : 0));
+        }
+        rad_context_destroy(context);
+    }
+}
+
 int main(void) {
     CHECK(rad_context_create(NULL, &ctx) == RAD_OK);
+    test_team();
     test_jacobi_rounds();
     test_shooting_shots();
     test_solvers_agree("four-walls");

@@ -1,5 +1,6 @@
 /* context.c - the library context: allocator, errors, logging, progress and limits. */
 #include "core/context.h"
+#include "core/team.h"
 
 #include <omp.h>
 #include <stdio.h>
@@ -76,6 +77,7 @@ rad_status rad_context_create(const rad_context_options *options, rad_context **
 void rad_context_destroy(rad_context *ctx) {
     if (!ctx) return;
     if (ctx->ray_device && ctx->release_ray_device) ctx->release_ray_device(ctx->ray_device);
+    rad_team_destroy(ctx);
     ctx->allocator.release(ctx->allocator.user, ctx);
 }
 

@@ -27,6 +27,9 @@ struct rad_context {
      * (scene/rays.c creates it on first use and sets the release); released with the context. */
     void *ray_device;
     void (*release_ray_device)(void *device);
+    /* The worker threads of rad_team_for (core/team.c), started on first use; stopped with
+     * the context. */
+    struct rad_team *team;
 };
 
 #if defined(__GNUC__)

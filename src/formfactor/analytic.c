@@ -18,106 +18,104 @@
 
 #include <string.h>
 
-static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *out) {
-    rad_ff_row row;
-    rad_ff_row_begin((rad_ff_common *)self, patch, &row);
-    const rad_mesh *mesh = row.mesh;
-    const rad_ff_patch *p = row.p;
-    const rad_vec3 np = row.np;
-    const double epsilon = row.epsilon;
-    const int samples = row.samples;
+static void analytic_block(const rad_ff_row *row, long block, float *out, uint64_t counts[2]) {
+    const rad_mesh *mesh = row->mesh;
+    const rad_ff_patch *p = row->p;
+    const rad_vec3 np = row->np;
+    const double epsilon = row->epsilon;
+    const int samples = row->samples;
+    rad_ff_block b;
+    rad_ff_block_begin(row, block, &b);
     uint64_t receivers = 0, cast = 0;
-
-#pragma omp parallel for schedule(dynamic, 1) num_threads(row.threads) reduction(+ : receivers, cast)
-    for (long block = 0; block < row.blocks; ++block) {
-        rad_ff_block b;
-        rad_ff_block_begin(&row, block, &b);
-        const long first = b.first, last = b.last;
-        /* Per receiver: the unoccluded factor, and for those that need rays the kernel weight
-         * of all points and of the points seen. */
-        double factor[RAD_FF_BLOCK], all[RAD_FF_BLOCK], seen[RAD_FF_BLOCK] = {0};
-        double simple[3][RAD_FF_BLOCK], simple_normal[3][RAD_FF_BLOCK];
-        int simple_slot[RAD_FF_BLOCK], simple_count = 0;
-        for (long e = first; e < last; ++e) {
-            const int slot = (int)(e - first);
-            factor[slot] = 0;
-            all[slot] = 0;
-            if (!rad_ff_block_receives(&row, &b, e)) continue;
-            ++receivers;
-            const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
-            if (!rad_ff_near(row.c, p, (size_t)e, 4)) {
-                /* The common case, a quadrilateral patch whole in front of the centroid's
-                 * tangent plane: queued for the vectorised contour integral; otherwise (clipped,
-                 * or a patch of triangles) done here. */
-                int whole = p->corner_count == 4 && v3_dot(np, v3_sub(y, p->corners[0])) > 0;
-                for (int k = 0; k < p->corner_count && whole; ++k)
-                    whole = v3_dot(ny, v3_sub(p->corners[k], y)) > 0;
-                if (whole) {
-                    simple[0][simple_count] = y.x;
-                    simple[1][simple_count] = y.y;
-                    simple[2][simple_count] = y.z;
-                    simple_normal[0][simple_count] = ny.x;
-                    simple_normal[1][simple_count] = ny.y;
-                    simple_normal[2][simple_count] = ny.z;
-                    simple_slot[simple_count++] = slot;
-                    factor[slot] = -1; /* to come */
-                } else {
-                    factor[slot] = rad_ff_point_polygon_front(y, ny, p->corners, p->corner_count, np);
-                }
+    const long first = b.first, last = b.last;
+    /* Per receiver: the unoccluded factor, and for those that need rays the kernel weight
+     * of all points and of the points seen. */
+    double factor[RAD_FF_BLOCK], all[RAD_FF_BLOCK], seen[RAD_FF_BLOCK] = {0};
+    double simple[3][RAD_FF_BLOCK], simple_normal[3][RAD_FF_BLOCK];
+    int simple_slot[RAD_FF_BLOCK], simple_count = 0;
+    for (long e = first; e < last; ++e) {
+        const int slot = (int)(e - first);
+        factor[slot] = 0;
+        all[slot] = 0;
+        if (!rad_ff_block_receives(row, &b, e)) continue;
+        ++receivers;
+        const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
+        if (!rad_ff_near(row->c, p, (size_t)e, 4)) {
+            /* The common case, a quadrilateral patch whole in front of the centroid's
+             * tangent plane: queued for the vectorised contour integral; otherwise (clipped,
+             * or a patch of triangles) done here. */
+            int whole = p->corner_count == 4 && v3_dot(np, v3_sub(y, p->corners[0])) > 0;
+            for (int k = 0; k < p->corner_count && whole; ++k)
+                whole = v3_dot(ny, v3_sub(p->corners[k], y)) > 0;
+            if (whole) {
+                simple[0][simple_count] = y.x;
+                simple[1][simple_count] = y.y;
+                simple[2][simple_count] = y.z;
+                simple_normal[0][simple_count] = ny.x;
+                simple_normal[1][simple_count] = ny.y;
+                simple_normal[2][simple_count] = ny.z;
+                simple_slot[simple_count++] = slot;
+                factor[slot] = -1; /* to come */
             } else {
-                /* Close to the patch the factor varies across the element (the centroid's
-                 * value is 1-2% low next to a shared edge): average it over the 2 x 2 Gauss
-                 * points. Out to 4 times the radii this costs 8% and takes a fifth off the row
-                 * error (bench_formfactors, section 3). */
-                const rad_ff_element_map map = rad_ff_element_map_make(mesh, (size_t)e);
-                static const double g[2] = {RAD_FF_GAUSS_LOW, RAD_FF_GAUSS_HIGH};
-                rad_vec3 points[4];
-                for (int k = 0; k < 4; ++k)
-                    points[k] = rad_ff_element_map_point(&map, g[k & 1], g[k >> 1]);
-                factor[slot] = rad_ff_pair_mean_factor(points, 4, ny, p->corners,
-                                                       p->corner_count, np, NULL, NULL);
+                factor[slot] = rad_ff_point_polygon_front(y, ny, p->corners, p->corner_count, np);
             }
+        } else {
+            /* Close to the patch the factor varies across the element (the centroid's
+             * value is 1-2% low next to a shared edge): average it over the 2 x 2 Gauss
+             * points. Out to 4 times the radii this costs 8% and takes a fifth off the row
+             * error (bench_formfactors, section 3). */
+            const rad_ff_element_map map = rad_ff_element_map_make(mesh, (size_t)e);
+            static const double g[2] = {RAD_FF_GAUSS_LOW, RAD_FF_GAUSS_HIGH};
+            rad_vec3 points[4];
+            for (int k = 0; k < 4; ++k)
+                points[k] = rad_ff_element_map_point(&map, g[k & 1], g[k >> 1]);
+            factor[slot] = rad_ff_pair_mean_factor(points, 4, ny, p->corners,
+                                                   p->corner_count, np, NULL, NULL);
         }
-        if (simple_count) {
-            double values[RAD_FF_BLOCK];
-            const double *points[3] = {simple[0], simple[1], simple[2]};
-            const double *normals[3] = {simple_normal[0], simple_normal[1], simple_normal[2]};
-            rad_ff_contour_quads(p->corners, simple_count, points, normals, values);
-            for (int i = 0; i < simple_count; ++i) factor[simple_slot[i]] = values[i];
-        }
-        for (long e = first; e < last; ++e) {
-            const int slot = (int)(e - first);
-            if (factor[slot] <= 0 || !rad_ff_block_needs_rays(&row, &b, e, 0)) continue;
-            const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
-            /* Visibility: the kernel-weighted fraction of rays that reach the patch. */
-            const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));
-            rad_rng rng = rad_rng_make(row.seed, (uint64_t)e);
-            const rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
-            rad_ff_cursor cursor = rad_ff_cursor_make(&row.source, &jitter, samples);
-            for (int s = 0; s < samples; ++s) {
-                double weight;
-                rad_vec3 x = rad_ff_cursor_next(&cursor, &weight);
-                double kernel = rad_ff_point_kernel(y, ny, x, np, weight);
-                if (kernel <= 0) continue;
-                all[slot] += kernel;
-                cast += (uint64_t)rad_ff_queue_segment(&b.queue, row.rays, seen, from,
-                                                       v3_add(x, v3_scale(np, epsilon)), kernel, slot);
-            }
-            /* All points behind one of the planes while part of the patch is in front: one
-             * ray to the centre of the part in front decides. */
-            if (all[slot] <= 0) {
-                all[slot] = 1;
-                cast += (uint64_t)rad_ff_queue_segment(&b.queue, row.rays, seen, from,
-                                                       v3_add(p->centre, v3_scale(np, epsilon)), 1, slot);
-            }
-        }
-        rad_ff_queue_flush(&b.queue, row.rays, seen);
-        for (int slot = 0; slot < (int)(last - first); ++slot)
-            if (all[slot] > 0) factor[slot] *= seen[slot] / all[slot];
-        rad_ff_block_write(&row, &b, factor, out);
     }
-    rad_ff_row_end((rad_ff_common *)self, receivers, cast);
-    return RAD_OK;
+    if (simple_count) {
+        double values[RAD_FF_BLOCK];
+        const double *points[3] = {simple[0], simple[1], simple[2]};
+        const double *normals[3] = {simple_normal[0], simple_normal[1], simple_normal[2]};
+        rad_ff_contour_quads(p->corners, simple_count, points, normals, values);
+        for (int i = 0; i < simple_count; ++i) factor[simple_slot[i]] = values[i];
+    }
+    for (long e = first; e < last; ++e) {
+        const int slot = (int)(e - first);
+        if (factor[slot] <= 0 || !rad_ff_block_needs_rays(row, &b, e, 0)) continue;
+        const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
+        /* Visibility: the kernel-weighted fraction of rays that reach the patch. */
+        const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));
+        rad_rng rng = rad_rng_make(row->seed, (uint64_t)e);
+        const rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
+        rad_ff_cursor cursor = rad_ff_cursor_make(&row->source, &jitter, samples);
+        for (int s = 0; s < samples; ++s) {
+            double weight;
+            rad_vec3 x = rad_ff_cursor_next(&cursor, &weight);
+            double kernel = rad_ff_point_kernel(y, ny, x, np, weight);
+            if (kernel <= 0) continue;
+            all[slot] += kernel;
+            cast += (uint64_t)rad_ff_queue_segment(&b.queue, row->rays, seen, from,
+                                                   v3_add(x, v3_scale(np, epsilon)), kernel, slot);
+        }
+        /* All points behind one of the planes while part of the patch is in front: one
+         * ray to the centre of the part in front decides. */
+        if (all[slot] <= 0) {
+            all[slot] = 1;
+            cast += (uint64_t)rad_ff_queue_segment(&b.queue, row->rays, seen, from,
+                                                   v3_add(p->centre, v3_scale(np, epsilon)), 1, slot);
+        }
+    }
+    rad_ff_queue_flush(&b.queue, row->rays, seen);
+    for (int slot = 0; slot < (int)(last - first); ++slot)
+        if (all[slot] > 0) factor[slot] *= seen[slot] / all[slot];
+    rad_ff_block_write(row, &b, factor, out);
+    counts[0] += receivers;
+    counts[1] += cast;
+}
+
+static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *out) {
+    return rad_ff_row_run((rad_ff_common *)self, patch, analytic_block, out);
 }
 
 static void analytic_destroy(rad_ff_provider *self) { rad_ff_common_destroy((rad_ff_common *)self); }

@@ -3,9 +3,11 @@
 #include "formfactor/geometric.h"
 
 #include "core/options.h"
+#include "core/team.h"
 #include "scene/scene.h"
 
 #include <limits.h>
+#include <stdatomic.h>
 #include <math.h>
 #include <string.h>
 
@@ -199,7 +201,6 @@ void rad_ff_row_begin(rad_ff_common *common, size_t patch, rad_ff_row *row) {
     row->epsilon = c->rays->epsilon;
     row->inverse_area = 1.0 / row->p->area;
     row->samples = c->options.samples;
-    row->threads = rad_thread_count(c->ctx);
     row->seed = rad_ff_row_seed(c, patch);
     row->n = (long)c->mesh->element_count;
     row->blocks = (row->n + RAD_FF_BLOCK - 1) / RAD_FF_BLOCK;
@@ -209,4 +210,29 @@ void rad_ff_row_end(rad_ff_common *common, uint64_t receivers, uint64_t rays) {
     common->stats.rows++;
     common->stats.receivers += receivers;
     common->stats.rays += rays;
+}
+
+typedef struct {
+    const rad_ff_row *row;
+    rad_ff_block_fn block;
+    float *out;
+    _Atomic uint64_t receivers, rays;
+} row_run;
+
+static void row_run_block(void *user, long block, int worker) {
+    (void)worker;
+    row_run *run = user;
+    uint64_t counts[2] = {0, 0};
+    run->block(run->row, block, run->out, counts);
+    atomic_fetch_add_explicit(&run->receivers, counts[0], memory_order_relaxed);
+    atomic_fetch_add_explicit(&run->rays, counts[1], memory_order_relaxed);
+}
+
+rad_status rad_ff_row_run(rad_ff_common *common, size_t patch, rad_ff_block_fn block, float *out) {
+    rad_ff_row row;
+    rad_ff_row_begin(common, patch, &row);
+    row_run run = {&row, block, out, 0, 0};
+    rad_team_for(common->c.ctx, row.blocks, row_run_block, &run);
+    rad_ff_row_end(common, atomic_load(&run.receivers), atomic_load(&run.rays));
+    return RAD_OK;
 }

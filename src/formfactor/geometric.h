@@ -365,7 +365,7 @@ typedef struct rad_ff_row {
     size_t patch;
     rad_vec3 np;           /* its normal */
     double epsilon, inverse_area;
-    int samples, threads;
+    int samples;
     uint64_t seed;
     long n, blocks;
 } rad_ff_row;
@@ -375,6 +375,16 @@ void rad_ff_row_begin(rad_ff_common *common, size_t patch, rad_ff_row *row);
 
 /* Adds a finished row to the provider's statistics. */
 void rad_ff_row_end(rad_ff_common *common, uint64_t receivers, uint64_t rays);
+
+/* One block of a row: writes F for elements [block * RAD_FF_BLOCK, ...) into `out` and adds the
+ * receivers it handled to counts[0], the rays it cast to counts[1]. */
+typedef void (*rad_ff_block_fn)(const rad_ff_row *row, long block, float *out, uint64_t counts[2]);
+
+/* The row of `patch`: rad_ff_row_begin, `block` over every block of the row on the context's
+ * worker threads (core/team.h: they sleep between rows, where an OpenMP region per row left them
+ * spinning), then rad_ff_row_end. Blocks write disjoint elements, so the row is the same for
+ * any thread count. */
+rad_status rad_ff_row_run(rad_ff_common *common, size_t patch, rad_ff_block_fn block, float *out);
 
 typedef struct rad_ff_block {
     long first, last;      /* its elements */

@@ -23,7 +23,9 @@
 
 #include "formfactor/geometric.h"
 
-#include <omp.h>
+#include "core/team.h"
+
+#include <stdatomic.h>
 #include <string.h>
 
 #define FIXED_ONE 1152921504606846976.0 /* 2^60 */
@@ -239,100 +241,147 @@ static void rasterise(hemicube_provider *h, const tile *t, size_t e, double near
     }
 }
 
+/* One row's work, shared out to the context's worker threads (core/team.h), which sleep
+ * between rows where an OpenMP region per row left them spinning. */
+typedef struct hemicube_job {
+    hemicube_provider *h;
+    const rad_mesh *mesh;
+    float *row;
+    rad_vec3 t, b, normal, centre;
+    double near;
+    size_t first, last; /* the shooting patch's own elements */
+    long n, nv;
+    _Atomic uint64_t receivers;
+} hemicube_job;
+
+#define HEMICUBE_CHUNK 1024 /* vertices or elements per task of the per-element loops */
+
+/* Vertices into the hemicube frame, with their outcodes. */
+static void frame_vertices(void *user, long chunk, int worker) {
+    (void)worker;
+    hemicube_job *job = user;
+    hemicube_provider *h = job->h;
+    long end = (chunk + 1) * HEMICUBE_CHUNK < job->nv ? (chunk + 1) * HEMICUBE_CHUNK : job->nv;
+    for (long v = chunk * HEMICUBE_CHUNK; v < end; ++v) {
+        rad_vec3 d = v3_sub(job->mesh->vertices[v], job->centre);
+        double *local = h->local + 3 * v;
+        local[0] = v3_dot(d, job->t);
+        local[1] = v3_dot(d, job->b);
+        local[2] = v3_dot(d, job->normal);
+        h->outcode[v] = vertex_outcode(local, job->near);
+    }
+}
+
+/* Which faces each element may show on, which must clip it, whether it receives. */
+static void classify_elements(void *user, long chunk, int worker) {
+    (void)worker;
+    hemicube_job *job = user;
+    hemicube_provider *h = job->h;
+    const rad_mesh *mesh = job->mesh;
+    uint64_t receivers = 0;
+    long end = (chunk + 1) * HEMICUBE_CHUNK < job->n ? (chunk + 1) * HEMICUBE_CHUNK : job->n;
+    for (long e = chunk * HEMICUBE_CHUNK; e < end; ++e) {
+        if ((size_t)e >= job->first && (size_t)e < job->last) {
+            h->faces[e] = 0;
+            h->clip[e] = 0;
+            h->receives[e] = 0;
+            continue;
+        }
+        /* Face f shows e unless all corners are outside one of its planes; it must clip e
+         * when some corner is outside some plane. */
+        const uint32_t *corner = mesh->element_vertices[e];
+        uint32_t all = h->outcode[corner[0]], any = all;
+        for (int k = 1; k < rad_mesh_corner_count(mesh, (size_t)e); ++k) {
+            all &= h->outcode[corner[k]];
+            any |= h->outcode[corner[k]];
+        }
+        uint8_t faces = 0, clip = 0;
+        for (int f = 0; f < 5; ++f) {
+            if (!((all >> (5 * f)) & 0x1f)) faces |= (uint8_t)(1u << f);
+            if ((any >> (5 * f)) & 0x1f) clip |= (uint8_t)(1u << f);
+        }
+        h->faces[e] = faces;
+        h->clip[e] = clip;
+        h->receives[e] = h->faces[e] &&
+                         v3_dot(mesh->element_normal[e],
+                                v3_sub(job->centre, mesh->element_centroid[e])) > 0;
+        receivers += h->receives[e];
+    }
+    atomic_fetch_add_explicit(&job->receivers, receivers, memory_order_relaxed);
+}
+
+/* One tile: clear it, rasterise every element that may show on its face, and add each pixel's
+ * delta form factor to the worker's own fixed-point sums. */
+static void rasterise_tile(void *user, long k, int worker) {
+    hemicube_job *job = user;
+    hemicube_provider *h = job->h;
+    const int R = h->resolution;
+    const tile *tl = &h->tiles[k];
+    const int f = tl->face;
+    int64_t *sums = h->sums + (size_t)worker * (size_t)job->n;
+    for (int j = tl->j0; j < tl->j1; ++j) {
+        memset(h->depth[f] + (size_t)j * R + tl->i0, 0, (size_t)(tl->i1 - tl->i0) * sizeof(float));
+        for (int i = tl->i0; i < tl->i1; ++i) h->item[f][(size_t)j * R + i] = -1;
+    }
+    for (long e = 0; e < job->n; ++e)
+        if (h->faces[e] & (1u << f)) rasterise(h, tl, (size_t)e, job->near);
+    const int64_t *ff = f == 0 ? h->top_ff : h->side_ff;
+    for (int j = tl->j0; j < tl->j1; ++j)
+        for (int i = tl->i0; i < tl->i1; ++i) {
+            int32_t id = h->item[f][(size_t)j * R + i];
+            if (id >= 0 && h->receives[id]) sums[id] += ff[(size_t)j * R + i];
+        }
+}
+
+/* Add the workers' fixed-point sums: exact, so independent of who did what. */
+static void add_sums(void *user, long chunk, int worker) {
+    (void)worker;
+    hemicube_job *job = user;
+    hemicube_provider *h = job->h;
+    const size_t n = (size_t)job->n;
+    long end = (chunk + 1) * HEMICUBE_CHUNK < job->n ? (chunk + 1) * HEMICUBE_CHUNK : job->n;
+    for (long e = chunk * HEMICUBE_CHUNK; e < end; ++e) {
+        int64_t total = 0;
+        for (int k = 0; k < h->threads; ++k) {
+            total += h->sums[(size_t)k * n + (size_t)e];
+            h->sums[(size_t)k * n + (size_t)e] = 0;
+        }
+        job->row[e] = (float)((double)total / FIXED_ONE);
+    }
+}
+
 static rad_status hemicube_row(rad_ff_provider *self, size_t patch, float *row) {
     hemicube_provider *h = (hemicube_provider *)self;
     const rad_ff_context *c = &h->common.c;
     const rad_mesh *mesh = c->mesh;
     const rad_ff_patch *p = &c->patches[patch];
-    const long n = (long)mesh->element_count, nv = (long)mesh->vertex_count;
-    const size_t first = mesh->patch_first[patch], last = mesh->patch_first[patch + 1];
-    const double near = 1e-12 * sqrt(p->area);
-    const int R = h->resolution, threads = h->threads;
+    hemicube_job job = {.h = h, .mesh = mesh, .row = row};
+    job.n = (long)mesh->element_count;
+    job.nv = (long)mesh->vertex_count;
+    job.first = mesh->patch_first[patch];
+    job.last = mesh->patch_first[patch + 1];
+    job.near = 1e-12 * sqrt(p->area);
+    atomic_init(&job.receivers, 0);
 
     /* The frame: the patch normal and a random turn about it. */
     rad_rng rng = rad_rng_make(rad_ff_row_seed(c, patch), 0);
     double angle = 2 * RAD_PI * rad_rng_uniform(&rng);
-    rad_vec3 t0, b0, normal = p->normal, centre = p->centre;
-    v3_basis(normal, &t0, &b0);
-    rad_vec3 t = v3_add(v3_scale(t0, cos(angle)), v3_scale(b0, sin(angle)));
-    rad_vec3 b = v3_cross(normal, t);
-    uint64_t receivers = 0;
+    rad_vec3 t0, b0;
+    job.normal = p->normal;
+    job.centre = p->centre;
+    v3_basis(job.normal, &t0, &b0);
+    job.t = v3_add(v3_scale(t0, cos(angle)), v3_scale(b0, sin(angle)));
+    job.b = v3_cross(job.normal, job.t);
 
-#pragma omp parallel num_threads(threads)
-    {
-        const int me = omp_get_thread_num();
-        int64_t *sums = h->sums + (size_t)me * (size_t)n;
-
-#pragma omp for schedule(static)
-        for (long v = 0; v < nv; ++v) {
-            rad_vec3 d = v3_sub(mesh->vertices[v], centre);
-            double *local = h->local + 3 * v;
-            local[0] = v3_dot(d, t);
-            local[1] = v3_dot(d, b);
-            local[2] = v3_dot(d, normal);
-            h->outcode[v] = vertex_outcode(local, near);
-        }
-
-#pragma omp for schedule(static) reduction(+ : receivers)
-        for (long e = 0; e < n; ++e) {
-            if ((size_t)e >= first && (size_t)e < last) {
-                h->faces[e] = 0;
-                h->clip[e] = 0;
-                h->receives[e] = 0;
-                continue;
-            }
-            /* Face f shows e unless all corners are outside one of its planes; it must clip e
-             * when some corner is outside some plane. */
-            const uint32_t *corner = mesh->element_vertices[e];
-            uint32_t all = h->outcode[corner[0]], any = all;
-            for (int k = 1; k < rad_mesh_corner_count(mesh, (size_t)e); ++k) {
-                all &= h->outcode[corner[k]];
-                any |= h->outcode[corner[k]];
-            }
-            uint8_t faces = 0, clip = 0;
-            for (int f = 0; f < 5; ++f) {
-                if (!((all >> (5 * f)) & 0x1f)) faces |= (uint8_t)(1u << f);
-                if ((any >> (5 * f)) & 0x1f) clip |= (uint8_t)(1u << f);
-            }
-            h->faces[e] = faces;
-            h->clip[e] = clip;
-            h->receives[e] = h->faces[e] &&
-                             v3_dot(mesh->element_normal[e],
-                                    v3_sub(centre, mesh->element_centroid[e])) > 0;
-            receivers += h->receives[e];
-        }
-
-#pragma omp for schedule(dynamic, 1)
-        for (int k = 0; k < TILE_COUNT; ++k) {
-            const tile *tl = &h->tiles[k];
-            const int f = tl->face;
-            for (int j = tl->j0; j < tl->j1; ++j) {
-                memset(h->depth[f] + (size_t)j * R + tl->i0, 0, (size_t)(tl->i1 - tl->i0) * sizeof(float));
-                for (int i = tl->i0; i < tl->i1; ++i) h->item[f][(size_t)j * R + i] = -1;
-            }
-            for (long e = 0; e < n; ++e)
-                if (h->faces[e] & (1u << f)) rasterise(h, tl, (size_t)e, near);
-            const int64_t *ff = f == 0 ? h->top_ff : h->side_ff;
-            for (int j = tl->j0; j < tl->j1; ++j)
-                for (int i = tl->i0; i < tl->i1; ++i) {
-                    int32_t id = h->item[f][(size_t)j * R + i];
-                    if (id >= 0 && h->receives[id]) sums[id] += ff[(size_t)j * R + i];
-                }
-        }
-
-        /* Add the threads' fixed-point sums: exact, so independent of who did what. */
-#pragma omp for schedule(static)
-        for (long e = 0; e < n; ++e) {
-            int64_t total = 0;
-            for (int k = 0; k < threads; ++k) {
-                total += h->sums[(size_t)k * (size_t)n + (size_t)e];
-                h->sums[(size_t)k * (size_t)n + (size_t)e] = 0;
-            }
-            row[e] = (float)((double)total / FIXED_ONE);
-        }
-    }
+    rad_context *ctx = c->ctx;
+    const long vertex_chunks = (job.nv + HEMICUBE_CHUNK - 1) / HEMICUBE_CHUNK;
+    const long element_chunks = (job.n + HEMICUBE_CHUNK - 1) / HEMICUBE_CHUNK;
+    rad_team_for(ctx, vertex_chunks, frame_vertices, &job);
+    rad_team_for(ctx, element_chunks, classify_elements, &job);
+    rad_team_for(ctx, TILE_COUNT, rasterise_tile, &job);
+    rad_team_for(ctx, element_chunks, add_sums, &job);
     h->common.stats.rows++;
-    h->common.stats.receivers += receivers;
+    h->common.stats.receivers += atomic_load(&job.receivers);
     return RAD_OK;
 }
 

@@ -14,65 +14,63 @@
 
 #include "formfactor/geometric.h"
 
-static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *out) {
-    rad_ff_row row;
-    rad_ff_row_begin((rad_ff_common *)self, patch, &row);
-    const rad_mesh *mesh = row.mesh;
-    const rad_ff_patch *p = row.p;
-    const rad_vec3 np = row.np;
-    const double epsilon = row.epsilon;
-    const int samples = row.samples;
+static void montecarlo_block(const rad_ff_row *row, long block, float *out, uint64_t counts[2]) {
+    const rad_mesh *mesh = row->mesh;
+    const rad_ff_patch *p = row->p;
+    const rad_vec3 np = row->np;
+    const double epsilon = row->epsilon;
+    const int samples = row->samples;
+    rad_ff_block b;
+    rad_ff_block_begin(row, block, &b);
     uint64_t receivers = 0, cast = 0;
-
-#pragma omp parallel for schedule(dynamic, 1) num_threads(row.threads) reduction(+ : receivers, cast)
-    for (long block = 0; block < row.blocks; ++block) {
-        rad_ff_block b;
-        rad_ff_block_begin(&row, block, &b);
-        double sums[RAD_FF_BLOCK] = {0};
-        for (long e = b.first; e < b.last; ++e) {
-            const int slot = (int)(e - b.first);
-            if (!rad_ff_block_receives(&row, &b, e)) continue;
-            ++receivers;
-            const int test = rad_ff_block_needs_rays(&row, &b, e, 1);
-            const rad_vec3 ny = mesh->element_normal[e];
-            const rad_ff_element_map receiver = rad_ff_element_map_make(mesh, (size_t)e);
-            rad_rng rng = rad_rng_make(row.seed, (uint64_t)e);
-            const rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
-            const double r1 = rad_rng_uniform(&rng), r2 = rad_rng_uniform(&rng);
-            /* Near pairs: the kernel's 1 / r^2 gives the point-pair estimate unbounded variance
-             * where elements touch; there the source integral is taken in closed form at each
-             * receiver point, F(dA_y -> p), and only y (and visibility) are sampled. */
-            const int near = rad_ff_near(row.c, p, (size_t)e, 2);
-            rad_ff_cursor cursor = rad_ff_cursor_make(&row.source, &jitter, samples);
-            for (int s = 0; s < samples; ++s) {
-                double weight, u, v, f;
-                rad_vec3 x = rad_ff_cursor_next(&cursor, &weight);
-                /* The receiver's lattice runs with the axes swapped, so pairs do not line up. */
-                rad_r2_point(s, r1, r2, &v, &u);
-                rad_vec3 y = rad_ff_element_map_point(&receiver, u, v);
-                rad_vec3 d = v3_sub(x, y);
-                double cos_y = v3_dot(ny, d), cos_x = -v3_dot(np, d);
-                if (near) {
-                    /* Closed form over the source; the pair only decides visibility. */
-                    f = rad_ff_point_polygon(y, ny, p->corners, p->corner_count) / samples;
-                    if (f <= 0) continue;
-                } else {
-                    if (cos_y <= 0 || cos_x <= 0) continue;
-                    double distance2 = v3_dot(d, d);
-                    f = weight * cos_x * cos_y / (RAD_PI * distance2 * distance2);
-                }
-                if (test)
-                    cast += (uint64_t)rad_ff_queue_segment(&b.queue, row.rays, sums,
-                                                           v3_add(y, v3_scale(ny, epsilon)),
-                                                           v3_add(x, v3_scale(np, epsilon)), f, slot);
-                else sums[slot] += f;
+    double sums[RAD_FF_BLOCK] = {0};
+    for (long e = b.first; e < b.last; ++e) {
+        const int slot = (int)(e - b.first);
+        if (!rad_ff_block_receives(row, &b, e)) continue;
+        ++receivers;
+        const int test = rad_ff_block_needs_rays(row, &b, e, 1);
+        const rad_vec3 ny = mesh->element_normal[e];
+        const rad_ff_element_map receiver = rad_ff_element_map_make(mesh, (size_t)e);
+        rad_rng rng = rad_rng_make(row->seed, (uint64_t)e);
+        const rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
+        const double r1 = rad_rng_uniform(&rng), r2 = rad_rng_uniform(&rng);
+        /* Near pairs: the kernel's 1 / r^2 gives the point-pair estimate unbounded variance
+         * where elements touch; there the source integral is taken in closed form at each
+         * receiver point, F(dA_y -> p), and only y (and visibility) are sampled. */
+        const int near = rad_ff_near(row->c, p, (size_t)e, 2);
+        rad_ff_cursor cursor = rad_ff_cursor_make(&row->source, &jitter, samples);
+        for (int s = 0; s < samples; ++s) {
+            double weight, u, v, f;
+            rad_vec3 x = rad_ff_cursor_next(&cursor, &weight);
+            /* The receiver's lattice runs with the axes swapped, so pairs do not line up. */
+            rad_r2_point(s, r1, r2, &v, &u);
+            rad_vec3 y = rad_ff_element_map_point(&receiver, u, v);
+            rad_vec3 d = v3_sub(x, y);
+            double cos_y = v3_dot(ny, d), cos_x = -v3_dot(np, d);
+            if (near) {
+                /* Closed form over the source; the pair only decides visibility. */
+                f = rad_ff_point_polygon(y, ny, p->corners, p->corner_count) / samples;
+                if (f <= 0) continue;
+            } else {
+                if (cos_y <= 0 || cos_x <= 0) continue;
+                double distance2 = v3_dot(d, d);
+                f = weight * cos_x * cos_y / (RAD_PI * distance2 * distance2);
             }
+            if (test)
+                cast += (uint64_t)rad_ff_queue_segment(&b.queue, row->rays, sums,
+                                                       v3_add(y, v3_scale(ny, epsilon)),
+                                                       v3_add(x, v3_scale(np, epsilon)), f, slot);
+            else sums[slot] += f;
         }
-        rad_ff_queue_flush(&b.queue, row.rays, sums);
-        rad_ff_block_write(&row, &b, sums, out);
     }
-    rad_ff_row_end((rad_ff_common *)self, receivers, cast);
-    return RAD_OK;
+    rad_ff_queue_flush(&b.queue, row->rays, sums);
+    rad_ff_block_write(row, &b, sums, out);
+    counts[0] += receivers;
+    counts[1] += cast;
+}
+
+static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *out) {
+    return rad_ff_row_run((rad_ff_common *)self, patch, montecarlo_block, out);
 }
 
 static void montecarlo_destroy(rad_ff_provider *self) {

@@ -17,80 +17,78 @@
 
 #include "formfactor/geometric.h"
 
-static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *out) {
-    rad_ff_row row;
-    rad_ff_row_begin((rad_ff_common *)self, patch, &row);
-    const rad_mesh *mesh = row.mesh;
-    const rad_ff_patch *p = row.p;
-    const rad_vec3 np = row.np;
-    const double epsilon = row.epsilon, near = 2 * p->radius;
+static void raycast_block(const rad_ff_row *row, long block, float *out, uint64_t counts[2]) {
+    const rad_mesh *mesh = row->mesh;
+    const rad_ff_patch *p = row->p;
+    const rad_vec3 np = row->np;
+    const double epsilon = row->epsilon, near = 2 * p->radius;
+    rad_ff_block b;
+    rad_ff_block_begin(row, block, &b);
     uint64_t receivers = 0, cast = 0;
-
-#pragma omp parallel for schedule(dynamic, 1) num_threads(row.threads) reduction(+ : receivers, cast)
-    for (long block = 0; block < row.blocks; ++block) {
-        rad_ff_block b;
-        rad_ff_block_begin(&row, block, &b);
-        double sums[RAD_FF_BLOCK] = {0};
-        for (long e = b.first; e < b.last; ++e) {
-            const int slot = (int)(e - b.first);
-            if (!rad_ff_block_receives(&row, &b, e)) continue;
-            ++receivers;
-            const int test = rad_ff_block_needs_rays(&row, &b, e, 1);
-            const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
-            const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));
-            rad_rng rng = rad_rng_make(row.seed, (uint64_t)e);
-            const rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
-            /* Where the source is not small against the distance the disc approximation fails:
-             * cut the source finer (Wallace et al. 1989), up to 16 times the samples. */
-            int points = row.samples;
-            double distance = v3_length(v3_sub(y, p->centre));
-            if (distance < near) {
-                double finer = distance > near / 4 ? ceil(near * near / (distance * distance)) : 16;
-                points = row.samples * (int)finer;
+    double sums[RAD_FF_BLOCK] = {0};
+    for (long e = b.first; e < b.last; ++e) {
+        const int slot = (int)(e - b.first);
+        if (!rad_ff_block_receives(row, &b, e)) continue;
+        ++receivers;
+        const int test = rad_ff_block_needs_rays(row, &b, e, 1);
+        const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
+        const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));
+        rad_rng rng = rad_rng_make(row->seed, (uint64_t)e);
+        const rad_ff_jitter jitter = rad_ff_jitter_make(&rng);
+        /* Where the source is not small against the distance the disc approximation fails:
+         * cut the source finer (Wallace et al. 1989), up to 16 times the samples. */
+        int points = row->samples;
+        double distance = v3_length(v3_sub(y, p->centre));
+        if (distance < near) {
+            double finer = distance > near / 4 ? ceil(near * near / (distance * distance)) : 16;
+            points = row->samples * (int)finer;
+        }
+        rad_ff_cursor cursor = rad_ff_cursor_make(&row->source, &jitter, points);
+        for (int start = 0; start < points; start += RAD_FF_BATCH) {
+            const int count = points - start < RAD_FF_BATCH ? points - start : RAD_FF_BATCH;
+            /* The points first (the cursor walks in order), then the arithmetic in a loop
+             * the compiler vectorises, then the rays. */
+            double px[RAD_FF_BATCH], py[RAD_FF_BATCH], pz[RAD_FF_BATCH], weight[RAD_FF_BATCH];
+            double f[RAD_FF_BATCH], margin[RAD_FF_BATCH];
+            for (int k = 0; k < count; ++k) {
+                rad_vec3 x = rad_ff_cursor_next(&cursor, &weight[k]);
+                px[k] = x.x;
+                py[k] = x.y;
+                pz[k] = x.z;
             }
-            rad_ff_cursor cursor = rad_ff_cursor_make(&row.source, &jitter, points);
-            for (int start = 0; start < points; start += RAD_FF_BATCH) {
-                const int count = points - start < RAD_FF_BATCH ? points - start : RAD_FF_BATCH;
-                /* The points first (the cursor walks in order), then the arithmetic in a loop
-                 * the compiler vectorises, then the rays. */
-                double px[RAD_FF_BATCH], py[RAD_FF_BATCH], pz[RAD_FF_BATCH], weight[RAD_FF_BATCH];
-                double f[RAD_FF_BATCH], margin[RAD_FF_BATCH];
-                for (int k = 0; k < count; ++k) {
-                    rad_vec3 x = rad_ff_cursor_next(&cursor, &weight[k]);
-                    px[k] = x.x;
-                    py[k] = x.y;
-                    pz[k] = x.z;
-                }
 #pragma omp simd
-                for (int k = 0; k < count; ++k) {
-                    double dx = px[k] - y.x, dy = py[k] - y.y, dz = pz[k] - y.z;
-                    double cos_e = ny.x * dx + ny.y * dy + ny.z * dz;
-                    double cos_p = -(np.x * dx + np.y * dy + np.z * dz);
-                    /* Disc of area w at distance r: w cos cos / (pi r^2 + w), cosines
-                     * unnormalised; the ray's ends are kept epsilon / r from the surfaces. */
-                    double r2 = dx * dx + dy * dy + dz * dz, inverse_r = rad_inverse_sqrt(r2);
-                    int faces = cos_e > 0 && cos_p > 0;
-                    f[k] = faces ? rad_ff_disc_factor(weight[k], cos_e, cos_p, r2, inverse_r) : 0;
-                    margin[k] = epsilon * inverse_r;
-                }
-                for (int k = 0; k < count; ++k) {
-                    if (f[k] <= 0) continue;
-                    if (test) {
-                        rad_vec3 to = v3(px[k] + epsilon * np.x, py[k] + epsilon * np.y,
-                                         pz[k] + epsilon * np.z);
-                        cast += (uint64_t)rad_ff_queue_ray(&b.queue, row.rays, sums, from,
-                                                           v3_sub(to, from), margin[k], f[k], slot);
-                    } else {
-                        sums[slot] += f[k];
-                    }
+            for (int k = 0; k < count; ++k) {
+                double dx = px[k] - y.x, dy = py[k] - y.y, dz = pz[k] - y.z;
+                double cos_e = ny.x * dx + ny.y * dy + ny.z * dz;
+                double cos_p = -(np.x * dx + np.y * dy + np.z * dz);
+                /* Disc of area w at distance r: w cos cos / (pi r^2 + w), cosines
+                 * unnormalised; the ray's ends are kept epsilon / r from the surfaces. */
+                double r2 = dx * dx + dy * dy + dz * dz, inverse_r = rad_inverse_sqrt(r2);
+                int faces = cos_e > 0 && cos_p > 0;
+                f[k] = faces ? rad_ff_disc_factor(weight[k], cos_e, cos_p, r2, inverse_r) : 0;
+                margin[k] = epsilon * inverse_r;
+            }
+            for (int k = 0; k < count; ++k) {
+                if (f[k] <= 0) continue;
+                if (test) {
+                    rad_vec3 to = v3(px[k] + epsilon * np.x, py[k] + epsilon * np.y,
+                                     pz[k] + epsilon * np.z);
+                    cast += (uint64_t)rad_ff_queue_ray(&b.queue, row->rays, sums, from,
+                                                       v3_sub(to, from), margin[k], f[k], slot);
+                } else {
+                    sums[slot] += f[k];
                 }
             }
         }
-        rad_ff_queue_flush(&b.queue, row.rays, sums);
-        rad_ff_block_write(&row, &b, sums, out);
     }
-    rad_ff_row_end((rad_ff_common *)self, receivers, cast);
-    return RAD_OK;
+    rad_ff_queue_flush(&b.queue, row->rays, sums);
+    rad_ff_block_write(row, &b, sums, out);
+    counts[0] += receivers;
+    counts[1] += cast;
+}
+
+static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *out) {
+    return rad_ff_row_run((rad_ff_common *)self, patch, raycast_block, out);
 }
 
 static void raycast_destroy(rad_ff_provider *self) { rad_ff_common_destroy((rad_ff_common *)self); }

@@ -36,6 +36,21 @@ typedef struct cluster_info {
     uint32_t parent;       /* the parent cluster's node, or RAD_HIER_NO_NODE for the top */
 } cluster_info;
 
+/* The cluster tree as the sampling walks read it, compact (two clusters to a cache line): a
+ * cluster's signed-axis areas as floats and where its children are. An internal cluster's two
+ * children are clusters `first` and `first + 1` (numbered from cluster_first); a leaf cluster's
+ * `count` children are the roots `first` .. (their area and normal in a root_walk each). */
+typedef struct walk_cluster {
+    float axis_area[6];
+    uint32_t first;
+    uint16_t count;
+    uint16_t leaf;
+} walk_cluster;
+
+typedef struct walk_root {
+    float area, normal[3];
+} walk_root;
+
 struct rad_hier {
     rad_context *ctx;
     const rad_scene *scene;
@@ -48,6 +63,9 @@ struct rad_hier {
     cluster_info *clusters;
     size_t cluster_first, cluster_count; /* cluster nodes are cluster_first .. + cluster_count */
     rgb *cluster_down;            /* irradiance pushed down to each cluster's members */
+    walk_cluster *walk;           /* per cluster, aligned to 64 bytes within walk_memory */
+    walk_root *root_walk;         /* per root */
+    void *walk_memory;
     int no_clusters;
     rgb *reflectance, *emission; /* per polygon */
     rad_vec3 *normal;            /* per polygon */
@@ -163,6 +181,7 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
                 parent.area > 0 ? h->importance[index] * h->nodes[first + k].area / parent.area : 0;
     }
     h->node_count += 4;
+    h->stats.leaves += 3;
     h->nodes[index].first_child = first;
     h->nodes[index].child_count = 4;
     return RAD_OK;
@@ -409,55 +428,50 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     return p;
 }
 
-/* project()'s estimate alone (spread zero), for the sampling walks. */
-static double project_estimate(const rad_hier *h, uint32_t index, rad_vec3 w) {
-    const rad_hier_node *n = &h->nodes[index];
-    if (!is_cluster(n)) return n->area * fmax(0, v3_dot(h->normal[n->polygon], w));
-    const double *a = info(h, index)->axis_area;
-    return fabs(w.x) * a[w.x < 0] + fabs(w.y) * a[2 + (w.y < 0)] + fabs(w.z) * a[4 + (w.z < 0)];
-}
-
 /* Up to four points on a node's surfaces for visibility rays toward unit direction w: a
- * polygon node's quadrature points; for a cluster, points on members reached by a fixed
- * pseudo-random walk (seeded by the pair) down it that picks each child in proportion to its projected area toward
- * w (members facing away, whose own bodies would block the rays, are not sampled). */
+ * polygon node's jittered points; for a cluster, points on members reached by a fixed
+ * pseudo-random walk (seeded by the pair) down it that picks each child in proportion to its
+ * projected area toward w (members facing away, whose own bodies would block the rays, are not
+ * sampled). The walk reads the compact tables (walk_cluster, walk_root): one cache line a level,
+ * where the nodes and cluster_info cost three (the walk was two fifths of the solve at 10^6). */
 static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
                          rad_vec3 *out) {
     if (!is_cluster(&h->nodes[index])) return visibility_points(&h->nodes[index], seed, out);
-    /* The four walks go down in step: walks at the same cluster share its children's weights
-     * (they all start at the top, so the upper levels are weighed once, not four times). */
-    uint32_t state[4], at[4];
-    double weight[4][LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total[4];
-    for (int k = 0; k < 4; ++k) state[k] = pair_hash(seed, index, (uint32_t)k), at[k] = index;
-    for (int walking = 1; walking;) {
-        walking = 0;
-        for (int k = 0; k < 4; ++k) {
-            if (!is_cluster(&h->nodes[at[k]])) continue;
-            walking = 1;
-            const rad_hier_node *n = &h->nodes[at[k]];
-            state[k] = state[k] * 1664525u + 1013904223u;
-            uint32_t count = n->child_count <= LEAF_CLUSTER ? n->child_count : LEAF_CLUSTER;
-            int same = -1;
-            for (int j = 0; j < k && same < 0; ++j)
-                if (at[j] == at[k]) same = j;
-            if (same >= 0) {
-                memcpy(weight[k], weight[same], sizeof weight[k]);
-                total[k] = total[same];
-            } else {
-                total[k] = 0;
-                for (uint32_t c = 0; c < count; ++c)
-                    total[k] += weight[k][c] = project_estimate(h, n->first_child + c, w);
+    const float wx = (float)fabs(w.x), wy = (float)fabs(w.y), wz = (float)fabs(w.z);
+    const int sx = w.x < 0, sy = 2 + (w.y < 0), sz = 4 + (w.z < 0);
+    for (int k = 0; k < 4; ++k) {
+        uint32_t state = pair_hash(seed, index, (uint32_t)k);
+        const walk_cluster *c = &h->walk[index - h->cluster_first];
+        uint32_t root;
+        for (;;) {
+            state = state * 1664525u + 1013904223u;
+            float weight[LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total = 0;
+            uint32_t count = c->count <= LEAF_CLUSTER ? c->count : LEAF_CLUSTER;
+            for (uint32_t i = 0; i < count; ++i) {
+                if (c->leaf) {
+                    const walk_root *r = &h->root_walk[c->first + i];
+                    float facing = r->normal[0] * (float)w.x + r->normal[1] * (float)w.y +
+                                   r->normal[2] * (float)w.z;
+                    weight[i] = facing > 0 ? r->area * facing : 0;
+                } else {
+                    const float *a = h->walk[c->first + i].axis_area;
+                    weight[i] = wx * a[sx] + wy * a[sy] + wz * a[sz];
+                }
+                total += weight[i];
             }
-            uint32_t pick = (state[k] >> 16) % n->child_count;
-            if (total[k] > 0 && n->child_count <= LEAF_CLUSTER) {
-                double u = (double)(state[k] >> 8) / 16777216.0 * total[k];
-                for (pick = 0; pick + 1 < count && u >= weight[k][pick]; ++pick) u -= weight[k][pick];
+            uint32_t pick = (state >> 16) % c->count;
+            if (total > 0 && c->count <= LEAF_CLUSTER) {
+                float u = (float)((state >> 8) * (1.0 / 16777216.0)) * total;
+                for (pick = 0; pick + 1 < count && u >= weight[pick]; ++pick) u -= weight[pick];
             }
-            at[k] = n->first_child + pick;
+            if (c->leaf) {
+                root = c->first + pick;
+                break;
+            }
+            c = &h->walk[c->first + pick];
         }
-        /* A walk that reached a polygon keeps its node; the next round skips it. */
+        out[k] = visibility_point(&h->nodes[root], state, k);
     }
-    for (int k = 0; k < 4; ++k) out[k] = visibility_point(&h->nodes[at[k]], state[k], k);
     return 4;
 }
 
@@ -593,26 +607,54 @@ static int decide_any(const rad_hier *h, const rad_hier_link *link, double *rela
 }
 
 /* Sorts `links` by receiver (stable) into h->links and rebuilds the receiver groups. Takes
- * ownership of `links`. */
+ * ownership of `links`. A counting sort in `parts` contiguous parts, one per thread: each part
+ * counts its receivers, part p's links of receiver n go after those of every part before p, so
+ * the result is the one stable order whatever the number of parts. */
 static rad_status adopt_links(rad_hier *h, rad_hier_link *links, size_t count) {
     rad_context *ctx = h->ctx;
-    size_t *start = rad_alloc_zero(ctx, h->node_count + 1, sizeof *start);
+    const size_t nodes = h->node_count;
+    const int parts = count >= 65536 ? threads(h) : 1;
+    const size_t part = (count + (size_t)parts - 1) / (size_t)parts;
+    size_t *start = rad_alloc_zero(ctx, (size_t)parts * nodes + 1, sizeof *start);
     rad_hier_link *sorted = rad_alloc(ctx, count ? count : 1, sizeof *sorted);
     size_t *groups = NULL;
     if (!start || !sorted) goto fail;
-    for (size_t i = 0; i < count; ++i) start[links[i].receiver + 1]++;
-    size_t group_count = 0;
-    for (size_t n = 0; n < h->node_count; ++n) {
-        group_count += start[n + 1] > 0;
-        start[n + 1] += start[n];
+    size_t cluster_links = 0;
+#pragma omp parallel for schedule(static, 1) num_threads(parts) reduction(+ : cluster_links)
+    for (int p = 0; p < parts; ++p) {
+        size_t *mine = start + (size_t)p * nodes;
+        size_t last = (size_t)(p + 1) * part < count ? (size_t)(p + 1) * part : count;
+        for (size_t i = (size_t)p * part; i < last; ++i) {
+            mine[links[i].receiver]++;
+            cluster_links += cluster_index(h, links[i].receiver) || cluster_index(h, links[i].source);
+        }
+    }
+    h->stats.cluster_links = cluster_links;
+    /* Each (receiver, part)'s first slot, receivers in order, parts in order within each. */
+    size_t group_count = 0, at = 0;
+    for (size_t n = 0; n < nodes; ++n) {
+        size_t here = at;
+        for (int p = 0; p < parts; ++p) {
+            size_t c = start[(size_t)p * nodes + n];
+            start[(size_t)p * nodes + n] = at;
+            at += c;
+        }
+        group_count += at > here;
     }
     groups = rad_alloc(ctx, group_count + 1, sizeof *groups);
     if (!groups) goto fail;
     group_count = 0;
-    for (size_t n = 0; n < h->node_count; ++n)
-        if (start[n + 1] > start[n]) groups[group_count++] = start[n];
+    for (size_t n = 0; n < nodes; ++n) {
+        size_t first = start[n], next = n + 1 < nodes ? start[n + 1] : count;
+        if (next > first) groups[group_count++] = first;
+    }
     groups[group_count] = count;
-    for (size_t i = 0; i < count; ++i) sorted[start[links[i].receiver]++] = links[i];
+#pragma omp parallel for schedule(static, 1) num_threads(parts)
+    for (int p = 0; p < parts; ++p) {
+        size_t *mine = start + (size_t)p * nodes;
+        size_t last = (size_t)(p + 1) * part < count ? (size_t)(p + 1) * part : count;
+        for (size_t i = (size_t)p * part; i < last; ++i) sorted[mine[links[i].receiver]++] = links[i];
+    }
     rad_free(ctx, start);
     rad_free(ctx, links);
     rad_free(ctx, h->links);
@@ -883,34 +925,44 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
     return change;
 }
 
-/* Pulls up the clusters (children first): their radiosity is the area-weighted mean of their
- * members', their axis_power the light their members send toward each signed axis. */
-static void pull_clusters(rad_hier *h) {
-    for (size_t c = h->cluster_count; c-- > 0;) {
-        rad_hier_node *n = &h->nodes[h->cluster_first + c];
-        cluster_info *ci = &h->clusters[c];
-        double sum[3] = {0, 0, 0};
-        memset(ci->axis_power, 0, sizeof ci->axis_power);
-        for (uint32_t k = 0; k < n->child_count; ++k) {
-            uint32_t child = n->first_child + k;
-            const rad_hier_node *m = &h->nodes[child];
-            for (int i = 0; i < 3; ++i) sum[i] += m->radiosity[i] * m->area;
-            if (is_cluster(m)) {
-                const cluster_info *mi = info(h, child);
-                for (int a = 0; a < 6; ++a)
-                    for (int i = 0; i < 3; ++i) ci->axis_power[a][i] += mi->axis_power[a][i];
-                continue;
-            }
-            rad_vec3 normal = h->normal[m->polygon];
-            const double d[3] = {normal.x, normal.y, normal.z};
-            for (int a = 0; a < 3; ++a)
-                for (int i = 0; i < 3; ++i) {
-                    ci->axis_power[2 * a][i] += m->radiosity[i] * m->area * fmax(0, d[a]);
-                    ci->axis_power[2 * a + 1][i] += m->radiosity[i] * m->area * fmax(0, -d[a]);
-                }
+/* Pulls up cluster c from its children: its radiosity is the area-weighted mean of its
+ * members', its axis_power the light its members send toward each signed axis. */
+static void pull_cluster(rad_hier *h, size_t c) {
+    rad_hier_node *n = &h->nodes[h->cluster_first + c];
+    cluster_info *ci = &h->clusters[c];
+    double sum[3] = {0, 0, 0};
+    memset(ci->axis_power, 0, sizeof ci->axis_power);
+    for (uint32_t k = 0; k < n->child_count; ++k) {
+        uint32_t child = n->first_child + k;
+        const rad_hier_node *m = &h->nodes[child];
+        for (int i = 0; i < 3; ++i) sum[i] += m->radiosity[i] * m->area;
+        if (is_cluster(m)) {
+            const cluster_info *mi = info(h, child);
+            for (int a = 0; a < 6; ++a)
+                for (int i = 0; i < 3; ++i) ci->axis_power[a][i] += mi->axis_power[a][i];
+            continue;
         }
-        for (int i = 0; i < 3; ++i) n->radiosity[i] = n->area > 0 ? sum[i] / n->area : 0;
+        rad_vec3 normal = h->normal[m->polygon];
+        const double d[3] = {normal.x, normal.y, normal.z};
+        for (int a = 0; a < 3; ++a)
+            for (int i = 0; i < 3; ++i) {
+                ci->axis_power[2 * a][i] += m->radiosity[i] * m->area * fmax(0, d[a]);
+                ci->axis_power[2 * a + 1][i] += m->radiosity[i] * m->area * fmax(0, -d[a]);
+            }
     }
+    for (int i = 0; i < 3; ++i) n->radiosity[i] = n->area > 0 ? sum[i] / n->area : 0;
+}
+
+/* Pulls up every cluster, children first: the leaf clusters (whose members are roots) in
+ * parallel, then the others from the last to the first (children are numbered after their
+ * parents). */
+static void pull_clusters(rad_hier *h) {
+    const long count = (long)h->cluster_count;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4 * PARALLEL_MIN)
+    for (long c = 0; c < count; ++c)
+        if (h->walk[c].leaf) pull_cluster(h, (size_t)c);
+    for (size_t c = h->cluster_count; c-- > 0;)
+        if (!h->walk[c].leaf) pull_cluster(h, c);
 }
 
 rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
@@ -1241,9 +1293,12 @@ static rad_status build_clusters(rad_hier *h) {
             h->nodes[k].root = (uint32_t)k;
             h->polygon_roots[order[k]] = (uint32_t)k;
         }
+        h->walk_memory = rad_alloc(ctx, count + 4, sizeof *h->walk);
+        h->root_walk = rad_alloc(ctx, n, sizeof *h->root_walk);
         h->clusters = rad_alloc_zero(ctx, count, sizeof *h->clusters);
         h->cluster_down = rad_alloc_zero(ctx, count, sizeof *h->cluster_down);
-        if (!h->clusters || !h->cluster_down) status = RAD_ERROR_NO_MEMORY;
+        if (!h->clusters || !h->cluster_down || !h->walk_memory || !h->root_walk)
+            status = RAD_ERROR_NO_MEMORY;
     }
     if (!status) {
         h->cluster_first = n;
@@ -1301,6 +1356,23 @@ static rad_status build_clusters(rad_hier *h) {
             ci->centre = v3_scale(v3_add(ci->lo, ci->hi), 0.5);
             ci->radius = 0.5 * v3_length(v3_sub(ci->hi, ci->lo));
             for (int i = 0; i < 3; ++i) node->radiosity[i] = node->area > 0 ? power[i] / node->area : 0;
+        }
+        /* The walks' compact tables. An internal cluster's children are numbered 2j + 1 and
+         * 2j + 2, so the table starts 32 bytes into a cache line and each pair shares one. */
+        uintptr_t line = ((uintptr_t)h->walk_memory + 63) & ~(uintptr_t)63;
+        h->walk = (walk_cluster *)line + 1;
+        for (size_t c = 0; c < count; ++c) {
+            const rad_hier_node *node = &h->nodes[n + c];
+            walk_cluster *wc = &h->walk[c];
+            for (int a = 0; a < 6; ++a) wc->axis_area[a] = (float)h->clusters[c].axis_area[a];
+            wc->leaf = ranges[c].count <= LEAF_CLUSTER;
+            wc->first = (uint32_t)(wc->leaf ? node->first_child : node->first_child - n);
+            wc->count = (uint16_t)node->child_count;
+        }
+        for (size_t k = 0; k < n; ++k) {
+            rad_vec3 normal = h->normal[h->nodes[k].polygon];
+            h->root_walk[k] = (walk_root){(float)h->nodes[k].area,
+                                          {(float)normal.x, (float)normal.y, (float)normal.z}};
         }
     }
     rad_free(ctx, order);
@@ -1452,6 +1524,7 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
     }
     h->stats.roots = h->root_count;
     h->stats.clusters = h->cluster_count;
+    h->stats.leaves = h->root_count;
     *out = h;
     return RAD_OK;
 }
@@ -1467,6 +1540,8 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->root_parent);
     rad_free(ctx, h->clusters);
     rad_free(ctx, h->cluster_down);
+    rad_free(ctx, h->walk_memory);
+    rad_free(ctx, h->root_walk);
     rad_free(ctx, h->reflectance);
     rad_free(ctx, h->emission);
     rad_free(ctx, h->normal);
@@ -1485,15 +1560,8 @@ void rad_hier_destroy(rad_hier *h) {
 }
 
 rad_hier_stats rad_hier_get_stats(const rad_hier *h) {
-    rad_hier_stats s = h->stats;
+    rad_hier_stats s = h->stats; /* leaves and cluster_links are counted as they change */
     s.nodes = h->node_count;
-    s.leaves = 0;
-    s.cluster_links = 0;
-    for (size_t i = 0; i < h->node_count; ++i)
-        s.leaves += h->nodes[i].first_child == RAD_HIER_NO_NODE && !is_cluster(&h->nodes[i]);
-    for (size_t i = 0; i < h->link_count; ++i)
-        s.cluster_links += cluster_index(h, h->links[i].receiver) ||
-                           cluster_index(h, h->links[i].source);
     s.links = h->link_count;
     s.roots = h->root_count;
     s.clusters = h->cluster_count;

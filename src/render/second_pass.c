@@ -42,7 +42,8 @@ static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
                               rad_vec3 x, double out[3]) {
     /* Camera paths on textured surfaces: the texture times the irradiance (texture_shading.c). */
     if (!gather && rad_texture_shading_radiance(r, hit, x, out)) return;
-    rad_reconstruct_radiance(r, hit->element, hit->u, hit->v, out);
+    if (gather) rad_reconstruct_gather_radiance(r, hit->element, hit->u, hit->v, out);
+    else rad_reconstruct_radiance(r, hit->element, hit->u, hit->v, out);
     if (!gather) return;
     const float *emitted = r->element_emission[hit->element];
     if (!(emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) return;

@@ -20,6 +20,8 @@
  * ambient = R * sum(dB_i A_i) / sum(A_i), R = 1 / (1 - mean reflectance). */
 #include "solve/shooting.h"
 
+#include "core/team.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -33,46 +35,64 @@ static size_t chunk_count(const rad_system *s) {
     return (s->patch_count + CHUNK_PATCHES - 1) / CHUNK_PATCHES;
 }
 
-/* One pass over the elements: when `power` is given, first add the light it sends through
- * `row` (every element j receives power F_pj / A_j and reflects rho_j of it); always recount
- * every patch's unshot power and the unshot totals. */
+typedef struct {
+    rad_solver_run *run;
+    rad_shooting *state;
+    const float *row;
+    const double *power;
+} pass_job;
+
+/* One chunk of patches: when `power` is given, first add the light it sends through `row`
+ * (every element j receives power F_pj / A_j and reflects rho_j of it); always recount the
+ * chunk's patches' unshot powers and its share of the unshot totals. */
+static void pass_chunk(void *user, long chunk, int worker) {
+    (void)worker;
+    const pass_job *job = user;
+    rad_solver_run *run = job->run;
+    rad_system *s = run->system;
+    const float *row = job->row;
+    const double *power = job->power;
+    const int tracing = run->tracing && power;
+    double unshot[3] = {0, 0, 0};
+    size_t first = (size_t)chunk * CHUNK_PATCHES, last = first + CHUNK_PATCHES;
+    if (last > s->patch_count) last = s->patch_count;
+    for (size_t p = first; p < last; ++p) {
+        double patch_power = 0;
+        for (size_t j = s->patch_first[p]; j < s->patch_first[p + 1]; ++j) {
+            if (power) {
+                double f = (double)row[j] / s->area[j];
+                for (int c = 0; c < 3; ++c) {
+                    double received = power[c] * f;
+                    double reflected = s->reflectance[j][c] * received;
+                    s->radiosity[j][c] += reflected;
+                    s->unshot[j][c] += reflected;
+                    if (tracing) {
+                        run->received[j][c] = received;
+                        run->reflected[j][c] = reflected;
+                    }
+                }
+            }
+            patch_power += (s->unshot[j][0] + s->unshot[j][1] + s->unshot[j][2]) * s->area[j];
+            for (int c = 0; c < 3; ++c) unshot[c] += s->unshot[j][c] * s->area[j];
+        }
+        job->state->patch_power[p] = patch_power;
+    }
+    memcpy(job->state->chunk_unshot[chunk], unshot, sizeof unshot);
+}
+
+/* One pass over the elements, chunk by chunk (pass_chunk); the chunks' shares are then added
+ * in chunk order. Large systems share the chunks out to the context's worker threads, which
+ * sleep between shots (core/team.h). */
 static void pass(rad_solver_run *run, rad_shooting *state, const float *row, const double *power) {
     rad_system *s = run->system;
     const long chunks = (long)chunk_count(s);
-    const int tracing = run->tracing && power;
-    double (*share)[3] = state->chunk_unshot;
-#pragma omp parallel for schedule(static) num_threads(rad_thread_count(s->ctx)) \
-    if (s->element_count >= PARALLEL_ELEMENTS)
-    for (long chunk = 0; chunk < chunks; ++chunk) {
-        double unshot[3] = {0, 0, 0};
-        size_t first = (size_t)chunk * CHUNK_PATCHES, last = first + CHUNK_PATCHES;
-        if (last > s->patch_count) last = s->patch_count;
-        for (size_t p = first; p < last; ++p) {
-            double patch_power = 0;
-            for (size_t j = s->patch_first[p]; j < s->patch_first[p + 1]; ++j) {
-                if (power) {
-                    double f = (double)row[j] / s->area[j];
-                    for (int c = 0; c < 3; ++c) {
-                        double received = power[c] * f;
-                        double reflected = s->reflectance[j][c] * received;
-                        s->radiosity[j][c] += reflected;
-                        s->unshot[j][c] += reflected;
-                        if (tracing) {
-                            run->received[j][c] = received;
-                            run->reflected[j][c] = reflected;
-                        }
-                    }
-                }
-                patch_power += (s->unshot[j][0] + s->unshot[j][1] + s->unshot[j][2]) * s->area[j];
-                for (int c = 0; c < 3; ++c) unshot[c] += s->unshot[j][c] * s->area[j];
-            }
-            state->patch_power[p] = patch_power;
-        }
-        memcpy(share[chunk], unshot, sizeof unshot);
-    }
+    pass_job job = {run, state, row, power};
+    if (s->element_count >= PARALLEL_ELEMENTS) rad_team_for(s->ctx, chunks, pass_chunk, &job);
+    else
+        for (long chunk = 0; chunk < chunks; ++chunk) pass_chunk(&job, chunk, 0);
     double total[3] = {0, 0, 0};
     for (long chunk = 0; chunk < chunks; ++chunk)
-        for (int c = 0; c < 3; ++c) total[c] += share[chunk][c];
+        for (int c = 0; c < 3; ++c) total[c] += state->chunk_unshot[chunk][c];
     memcpy(state->unshot_total, total, sizeof total);
 }
 
