@@ -1,6 +1,7 @@
 /* cmd_bake.c - `radiosity bake`: solve a scene and write the solution as vertex colours that
  * other tools open: glTF 2.0 (.glb, .gltf + .bin), PLY or OBJ (docs/bake.md). The solver,
  * form-factor and meshing options are the ones every solving command shares (pipeline.h). */
+#include "camera_options.h"
 #include "cli.h"
 #include "light_options.h"
 #include "output_path.h"
@@ -97,6 +98,13 @@ int cmd_bake(int argc, char **argv) {
         rs = rad_system_load_solution(system, solution, NULL);
         if (!rs) cli_stage("solve", "loaded from %s", solution);
     } else if (!rs) {
+        /* --importance weighs the hierarchy's links by what the scene's camera sees (the one
+         * the baked glTF carries). */
+        rad_camera_desc camera;
+        cli_camera_args view;
+        cli_camera_args_init(&view);
+        cli_camera_get(&view, scene, &camera);
+        solve.camera = &camera;
         rs = cli_pipeline_solve(system, &solve, &report, NULL);
     }
     if (!rs) cli_stage("bake", "%s", output);

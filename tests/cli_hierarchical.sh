@@ -44,6 +44,8 @@ check "importance: converges" grep -Eq '^hierarchical: [0-9]+ rounds, converged'
 check "importance: what the camera sees" grep -q 'hierarchical importance: the camera sees surfaces in [0-9.]*% of a 32x32 view' "$work/imp.err"
 "$radiosity" render cornell --solver hierarchical --importance -o "$work/imp.pfm" --width 24 --height 24 --spp 2 --final-gather 0 --quiet
 check "importance: renders" test -s "$work/imp.pfm"
+"$radiosity" bake cornell --solver hierarchical --importance -o "$work/imp.ply" --quiet
+check "importance: bakes with the scene's camera" test -s "$work/imp.ply"
 expect_exit 2 'importance is for --solver hierarchical' -- "$radiosity" solve cornell --solver shooting --importance
 expect_exit 2 'importance is for --solver hierarchical' -- "$radiosity" render cornell --importance -o "$work/y.png"
 check "importance: nothing written" test ! -e "$work/y.png"
