@@ -413,7 +413,8 @@ static rad_scene *tiled_room(rad_context *ctx) {
 /* Clustering against all pairs of roots on the tiled room at link error 1e-4: the floor's mean
  * within 1% and every tile's mean within 5% of the floor's mean (measured: 0.3% and 1.7%), from
  * one initial link instead of n^2 pairs, with links from clusters left in the solution; and the
- * same bits for one and two threads. */
+ * same bits for one and two threads (its 26,257 links and 125 clusters pass the thresholds of the
+ * parallel refinement blocks, the parallel sort by receiver and the parallel cluster pull-up). */
 static void test_clusters(void) {
     rad_context *ctx = context(2), *one = context(1);
     rad_scene *scene = tiled_room(ctx);

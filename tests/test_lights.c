@@ -4,8 +4,10 @@
  * open plane (pi L, 7 pi L_z / 9), a shadow, a spot cone, photometric units, every solver
  * starting from the same pre-pass, the lights of scenes/lights-room.gltf through the import
  * child, and IES LM-63 files good and bad (file:line). */
+#include "hierarchy/hierarchy.h"
 #include "light/lights.h"
 #include "mesh/mesh.h"
+#include "scene/rays.h"
 #include "scene/scene.h"
 #include "system/system.h"
 #include "test.h"
@@ -383,6 +385,80 @@ static void ies_files(rad_context *ctx) {
     }
 }
 
+/* The hierarchy lights its own nodes (rad_node_lights_reflected, docs/hierarchical.md): the
+ * sun straight down on a 4 x 4 floor with a 1.3 x 1.3 square held over it, its edges off the
+ * quadtree's lines. Leaves split where the shadow's edge crosses them, not on the open floor;
+ * each leaf's light is rho E where it is wholly lit, zero where wholly shadowed, and the
+ * floor's area-weighted light is rho E times the lit fraction (16 - 1.69) / 16. */
+static void hierarchy_refines_at_shadow_edges(rad_context *ctx) {
+    const double rho = 0.5;
+    rad_scene *scene = plane_scene(ctx, 2, rho);
+    uint32_t surface;
+    rad_scene_add_surface(scene, "shade", 0, &surface);
+    const double lo = -0.7, hi = 0.6; /* the shade's sides, and so its shadow's */
+    rad_vec3 shade[4] = {v3(lo, 1, lo), v3(hi, 1, lo), v3(hi, 1, hi), v3(lo, 1, hi)};
+    CHECK(rad_scene_add_polygon_points(scene, surface, shade, 4) == RAD_OK);
+    rad_light_desc sun = {0};
+    sun.type = RAD_LIGHT_TYPE_DIRECTIONAL;
+    sun.direction[1] = -1;
+    sun.strength = 1;
+    CHECK(rad_scene_add_light(scene, &sun) == RAD_OK);
+    rad_node_lights hs = {scene, NULL};
+    CHECK(rad_rays_create(ctx, scene, &hs.rays) == RAD_OK);
+    rad_hier_options options = {0};
+    options.link_error = 1e-3;
+    options.light = rad_node_lights_reflected;
+    options.light_user = &hs;
+    rad_hier *h = NULL;
+    CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
+    CHECK(rad_hier_link_roots(h) == RAD_OK);
+    for (int step = 0; step < 30; ++step) {
+        CHECK(rad_hier_solve(h, 1e-7, 1000) == RAD_OK);
+        CHECK(rad_hier_refine(h) == RAD_OK);
+        if (rad_hier_get_stats(h).refined == 0) break;
+    }
+    size_t count;
+    const rad_hier_node *nodes = rad_hier_nodes(h, &count);
+    double light_sum = 0, area = 0, worst_lit = 0, worst_dark = 0, near_area = 0, open_area = 0;
+    size_t near_edge = 0, open_floor = 0;
+    for (size_t i = 0; i < count; ++i) {
+        const rad_hier_node *n = &nodes[i];
+        if (n->corner_count == 0 || n->polygon != 0 || n->first_child != RAD_HIER_NO_NODE) continue;
+        double lo_x = INFINITY, hi_x = -INFINITY, lo_z = INFINITY, hi_z = -INFINITY;
+        for (int k = 0; k < n->corner_count; ++k) {
+            lo_x = fmin(lo_x, n->corner[k].x), hi_x = fmax(hi_x, n->corner[k].x);
+            lo_z = fmin(lo_z, n->corner[k].z), hi_z = fmax(hi_z, n->corner[k].z);
+        }
+        rad_vec3 centre = v3(0.5 * (lo_x + hi_x), 0, 0.5 * (lo_z + hi_z));
+        double light[3];
+        rad_hier_light_at(h, 0, centre, light);
+        light_sum += light[0] * n->area;
+        area += n->area;
+        int inside = lo_x >= lo && hi_x <= hi && lo_z >= lo && hi_z <= hi;
+        int outside = hi_x <= lo || lo_x >= hi || hi_z <= lo || lo_z >= hi;
+        if (inside) worst_dark = fmax(worst_dark, light[0]);
+        if (outside) worst_lit = fmax(worst_lit, fabs(light[0] - rho) / rho);
+        /* Leaves that the shadow's edge crosses, against those more than 0.75 m from it. */
+        double dx = fmax(lo - centre.x, centre.x - hi), dz = fmax(lo - centre.z, centre.z - hi);
+        if (!inside && !outside) ++near_edge, near_area += n->area;
+        else if (fmax(dx, dz) > 0.75) ++open_floor, open_area += n->area;
+    }
+    double lit = (16 - (hi - lo) * (hi - lo)) / 16;
+    printf("sun on the hierarchy: %zu leaves crossed by the shadow's edge (mean area %.4f m^2), "
+           "%zu on the open floor (%.4f m^2); floor light %.4f against %.4f; worst lit leaf "
+           "%.2g off, darkest shadowed leaf %.2g\n",
+           near_edge, near_area / near_edge, open_floor, open_area / open_floor,
+           light_sum / area, rho * lit, worst_lit, worst_dark);
+    CHECK(near_edge > 0 && open_floor > 0);
+    CHECK(near_area / near_edge < open_area / open_floor / 16);
+    CHECK_NEAR(light_sum / area, rho * lit, 0.01 * rho);
+    CHECK(worst_lit < 1e-9);
+    CHECK(worst_dark < 1e-9);
+    rad_hier_destroy(h);
+    rad_rays_destroy(hs.rays);
+    rad_scene_destroy(scene);
+}
+
 int main(void) {
     rad_context *ctx = make_context();
     point_light_above_plane(ctx);
@@ -392,6 +468,7 @@ int main(void) {
     every_solver_starts_lit(ctx);
     imported_lights(ctx);
     ies_files(ctx);
+    hierarchy_refines_at_shadow_edges(ctx);
     rad_context_destroy(ctx);
     return test_finish();
 }

@@ -31,8 +31,11 @@ typedef struct cluster_info {
     double axis_area[6];   /* sum over members of A max(0, +n_x), A max(0, -n_x), ... y, z */
     rad_vec3 normal_sum;   /* sum over members of A n */
     double reflectance;    /* the largest member reflectance (any channel) */
-    double axis_power[6][3]; /* sum over members of B A max(0, +n_x), ... as axis_area: the
-                                light leaving toward each signed axis, per channel */
+    double axis_power[6][3]; /* sum over members of e B A max(0, +n_x), ... as axis_area: the
+                                light leaving toward each signed axis, per channel, each member
+                                weighted by its exposure e (exposure() below) */
+    double axis_exposed[6];  /* sum over members of e A max(0, +n_x), ...: what axis_power is
+                                the power of */
     uint32_t parent;       /* the parent cluster's node, or RAD_HIER_NO_NODE for the top */
 } cluster_info;
 
@@ -79,9 +82,15 @@ struct rad_hier {
     double min_area;  /* absolute */
     rad_hier_stats stats;
     /* Light besides the materials' emission (rad_hier_options.light): per node, NULL without. */
-    void (*light_fn)(void *user, uint32_t polygon, const rad_vec3 *corners, int count, double out[3]);
+    void (*light_fn)(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
+                     uint64_t stream, double out[3], double *spread);
     void *light_user;
     rgb *light;
+    float *light_spread; /* per node: rad_hier_options.light's spread */
+    /* Per root: how many sampled rays ended on it from a cluster link's other end, and how
+     * many of those were unblocked (exposure() below). Integer sums: the same for any thread
+     * count. */
+    uint32_t *member_rays, *member_seen;
     /* Importance (Smits, Arvo & Salesin 1992), NULL without a view (rad_hier_set_view): where
      * the camera's pixels meet the surfaces, and per node A Y (Y the importance of unit
      * radiosity there, summed over the node's leaves), the emitted part A R of a leaf, and Y
@@ -118,6 +127,9 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
         rgb *light = rad_realloc(h->ctx, h->light, wanted, sizeof *light);
         if (!light) return RAD_ERROR_NO_MEMORY;
         h->light = light;
+        float *spread = rad_realloc(h->ctx, h->light_spread, wanted, sizeof *spread);
+        if (!spread) return RAD_ERROR_NO_MEMORY;
+        h->light_spread = spread;
     }
     if (h->importance) {
         double **arrays[3] = {&h->importance, &h->importance_emitted, &h->importance_gathered};
@@ -173,8 +185,10 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
     for (int k = 0; k < 4; ++k) {
         init_node(h, &h->nodes[first + k], child[k], count, parent.polygon, parent.root,
                   parent.depth + 1);
-        if (h->light)
-            h->light_fn(h->light_user, parent.polygon, child[k], count, h->light[first + k]);
+        if (h->light) { /* light_nodes() computes the children's own */
+            memcpy(h->light[first + k], h->light[index], sizeof(rgb));
+            h->light_spread[first + k] = 0;
+        }
         memcpy(h->nodes[first + k].radiosity, parent.radiosity, sizeof parent.radiosity);
         if (h->importance) /* the parent's importance per unit area, until the next solve */
             h->importance[first + k] =
@@ -185,6 +199,22 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
     h->nodes[index].first_child = first;
     h->nodes[index].child_count = 4;
     return RAD_OK;
+}
+
+/* The light (rad_hier_options.light) of nodes first .. node_count - 1, in parallel (each node
+ * its own slot and its own index as the sampling stream). */
+static void light_nodes(rad_hier *h, size_t first) {
+    if (!h->light) return;
+    long last = (long)h->node_count;
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (last - (long)first >= 64)
+    for (long i = (long)first; i < last; ++i) {
+        rad_hier_node *n = &h->nodes[i];
+        if (n->corner_count == 0) continue; /* a cluster */
+        double spread = 0;
+        h->light_fn(h->light_user, n->polygon, n->corner, n->corner_count, (uint64_t)i,
+                    h->light[i], &spread);
+        h->light_spread[i] = (float)spread;
+    }
 }
 
 /* A node's quadrature points: the pair kernel's rule (2 x 2 Gauss in a quad's bilinear
@@ -435,7 +465,7 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
  * sampled). The walk reads the compact tables (walk_cluster, walk_root): one cache line a level,
  * where the nodes and cluster_info cost three (the walk was two fifths of the solve at 10^6). */
 static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
-                         rad_vec3 *out) {
+                         rad_vec3 *out, uint32_t *members) {
     if (!is_cluster(&h->nodes[index])) return visibility_points(&h->nodes[index], seed, out);
     const float wx = (float)fabs(w.x), wy = (float)fabs(w.y), wz = (float)fabs(w.z);
     const int sx = w.x < 0, sy = 2 + (w.y < 0), sz = 4 + (w.z < 0);
@@ -471,8 +501,27 @@ static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t
             c = &h->walk[c->first + pick];
         }
         out[k] = visibility_point(&h->nodes[root], state, k);
+        if (members) members[k] = root;
     }
     return 4;
+}
+
+/* A cluster's members are weighted by their exposure when it sends (pull_cluster): the
+ * fraction of the rays of cluster links that ended on the member unblocked, (seen + 1) /
+ * (rays + 1). A cluster's mean over every member facing the receiver counts members hidden
+ * inside it (the backs of pillars' bases against walls, the insides of mouldings), darker than
+ * the ones seen: on Sponza the member points that cluster links' visible rays reach carry 13%
+ * more light than that mean (docs/hierarchical.md, "Accuracy"). The rays are those of the
+ * links' own form factors, so the exposure costs no ray. */
+static void count_exposure(const rad_hier *h, uint32_t member, uint32_t rays, uint32_t seen) {
+#pragma omp atomic
+    h->member_rays[member] += rays;
+#pragma omp atomic
+    h->member_seen[member] += seen;
+}
+
+static double exposure(const rad_hier *h, uint32_t root) {
+    return (h->member_seen[root] + 1.0) / (h->member_rays[root] + 1.0);
 }
 
 /* The link receiver <- source when either is a cluster: the point estimate between the
@@ -507,12 +556,25 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
      * the upper bound. */
     rad_vec3 x[4], y[4];
     uint8_t seen[16];
+    uint32_t receiver_members[4], source_members[4];
     int rn = is_cluster(&h->nodes[receiver])
-                 ? sample_points(h, receiver, w, pair_hash(receiver, source, 1), x)
+                 ? sample_points(h, receiver, w, pair_hash(receiver, source, 1), x, receiver_members)
                  : quadrature_points(&h->nodes[receiver], x);
-    int sn = sample_points(h, source, v3_scale(w, -1), pair_hash(receiver, source, 2), y);
+    int sn = sample_points(h, source, v3_scale(w, -1), pair_hash(receiver, source, 2), y,
+                           source_members);
     int partial;
     visible_pairs(h, x, rn, y, sn, &partial, seen);
+    /* Count, for each member a ray ended on, whether it was seen (exposure()). */
+    for (int i = 0; i < rn && is_cluster(&h->nodes[receiver]); ++i) {
+        uint32_t visible = 0;
+        for (int j = 0; j < sn; ++j) visible += seen[i * sn + j];
+        count_exposure(h, receiver_members[i], (uint32_t)sn, visible);
+    }
+    for (int j = 0; j < sn && is_cluster(&h->nodes[source]); ++j) {
+        uint32_t visible = 0;
+        for (int i = 0; i < rn; ++i) visible += seen[i * sn + j];
+        count_exposure(h, source_members[j], (uint32_t)rn, visible);
+    }
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
     double sum = 0;
     for (int i = 0; i < rn; ++i)
@@ -562,7 +624,7 @@ static void source_radiosity(const rad_hier *h, const rad_hier_link *link, rad_v
     const int side[3] = {w.x < 0, w.y < 0, w.z < 0};
     double area = 0, power[3] = {0, 0, 0};
     for (int a = 0; a < 3; ++a) {
-        area += d[a] * ci->axis_area[2 * a + side[a]];
+        area += d[a] * ci->axis_exposed[2 * a + side[a]];
         for (int i = 0; i < 3; ++i) power[i] += d[a] * ci->axis_power[2 * a + side[a]][i];
     }
     if (area > 0)
@@ -613,7 +675,7 @@ static int decide_any(const rad_hier *h, const rad_hier_link *link, double *rela
 static rad_status adopt_links(rad_hier *h, rad_hier_link *links, size_t count) {
     rad_context *ctx = h->ctx;
     const size_t nodes = h->node_count;
-    const int parts = count >= 65536 ? threads(h) : 1;
+    const int parts = count >= 4096 ? threads(h) : 1;
     const size_t part = (count + (size_t)parts - 1) / (size_t)parts;
     size_t *start = rad_alloc_zero(ctx, (size_t)parts * nodes + 1, sizeof *start);
     rad_hier_link *sorted = rad_alloc(ctx, count ? count : 1, sizeof *sorted);
@@ -718,6 +780,40 @@ static size_t children_made(const rad_hier *h, const rad_hier_link *link, int de
     return decision == 1 ? cr : decision == 2 ? cs : decision == 3 ? cr * cs : 0;
 }
 
+/* Splits the leaves whose light (rad_hier_options.light) changes across them by more than the
+ * threshold allows (a quarter of the spread times the area, as a link's error), and their new
+ * children likewise, until every leaf passes or cannot be split. Links stay where they are
+ * (push-pull hands their irradiance down). Returns the number of leaves split; *largest is
+ * the largest relative error of the leaves left. */
+static rad_status refine_light(rad_hier *h, size_t *splits, double *largest) {
+    *splits = 0;
+    if (!h->light) return RAD_OK;
+    for (size_t first = 0, last = h->node_count; first < last; first = last, last = h->node_count) {
+        size_t nodes_before = h->node_count;
+        for (size_t i = first; i < last; ++i) {
+            const rad_hier_node *n = &h->nodes[i];
+            if (n->corner_count == 0 || n->first_child != RAD_HIER_NO_NODE) continue;
+            double relative = 0.25 * h->light_spread[i] * n->area / h->threshold;
+            if (!(relative > 1) || !can_split(h, n)) {
+                *largest = fmax(*largest, relative);
+                continue;
+            }
+            rad_status status = check_memory(h, h->link_count, h->node_count + 4);
+            if (status == RAD_ERROR_MEMORY_BUDGET) {
+                rad_warn(h->ctx, "%s; the lights' shadow edges are not refined further",
+                         rad_context_error(h->ctx));
+                light_nodes(h, nodes_before);
+                return RAD_OK;
+            }
+            if (!status) status = subdivide(h, (uint32_t)i);
+            if (status) return status;
+            ++*splits;
+        }
+        light_nodes(h, nodes_before);
+    }
+    return RAD_OK;
+}
+
 rad_status rad_hier_refine(rad_hier *h) {
     rad_context *ctx = h->ctx;
     /* The links the oracle has yet to pass (at first all of them), those it passed, and the
@@ -730,7 +826,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     size_t refined = 0;
     double largest = 0;
     int budget = 0;
-    rad_status status = RAD_OK;
+    rad_status status = refine_light(h, &refined, &largest);
     while (pending_count && !status) {
         rad_free(ctx, decision);
         decision = rad_alloc(ctx, pending_count, 1);
@@ -793,6 +889,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         refined += splits;
         /* Split the leaves the decisions ask for, in link order (receiver end first), so the
          * nodes are numbered the same for any thread count. */
+        size_t nodes_before = h->node_count;
         for (size_t i = 0; i < pending_count && splits && !status; ++i) {
             if (!decision[i]) continue;
             uint32_t rs[2] = {pending[i].receiver, pending[i].source};
@@ -800,6 +897,7 @@ rad_status rad_hier_refine(rad_hier *h) {
                 if ((decision[i] == 1 + end || decision[i] == 3) && !cluster_index(h, rs[end]))
                     status = subdivide(h, rs[end]);
         }
+        light_nodes(h, nodes_before);
         /* Links the oracle passed are kept; the others are replaced by their children's. The
          * pending links are cut into blocks whose kept and new links are counted in parallel;
          * each block then writes its own slots, in link order. */
@@ -926,29 +1024,37 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
 }
 
 /* Pulls up cluster c from its children: its radiosity is the area-weighted mean of its
- * members', its axis_power the light its members send toward each signed axis. */
+ * members', its axis_power the light its members send toward each signed axis and
+ * axis_exposed the area it leaves from, each member weighted by its exposure. */
 static void pull_cluster(rad_hier *h, size_t c) {
     rad_hier_node *n = &h->nodes[h->cluster_first + c];
     cluster_info *ci = &h->clusters[c];
     double sum[3] = {0, 0, 0};
     memset(ci->axis_power, 0, sizeof ci->axis_power);
+    memset(ci->axis_exposed, 0, sizeof ci->axis_exposed);
     for (uint32_t k = 0; k < n->child_count; ++k) {
         uint32_t child = n->first_child + k;
         const rad_hier_node *m = &h->nodes[child];
         for (int i = 0; i < 3; ++i) sum[i] += m->radiosity[i] * m->area;
         if (is_cluster(m)) {
             const cluster_info *mi = info(h, child);
-            for (int a = 0; a < 6; ++a)
+            for (int a = 0; a < 6; ++a) {
+                ci->axis_exposed[a] += mi->axis_exposed[a];
                 for (int i = 0; i < 3; ++i) ci->axis_power[a][i] += mi->axis_power[a][i];
+            }
             continue;
         }
         rad_vec3 normal = h->normal[m->polygon];
         const double d[3] = {normal.x, normal.y, normal.z};
-        for (int a = 0; a < 3; ++a)
+        double exposed = exposure(h, child) * m->area;
+        for (int a = 0; a < 3; ++a) {
+            ci->axis_exposed[2 * a] += exposed * fmax(0, d[a]);
+            ci->axis_exposed[2 * a + 1] += exposed * fmax(0, -d[a]);
             for (int i = 0; i < 3; ++i) {
-                ci->axis_power[2 * a][i] += m->radiosity[i] * m->area * fmax(0, d[a]);
-                ci->axis_power[2 * a + 1][i] += m->radiosity[i] * m->area * fmax(0, -d[a]);
+                ci->axis_power[2 * a][i] += m->radiosity[i] * exposed * fmax(0, d[a]);
+                ci->axis_power[2 * a + 1][i] += m->radiosity[i] * exposed * fmax(0, -d[a]);
             }
+        }
     }
     for (int i = 0; i < 3; ++i) n->radiosity[i] = n->area > 0 ? sum[i] / n->area : 0;
 }
@@ -958,7 +1064,7 @@ static void pull_cluster(rad_hier *h, size_t c) {
  * parents). */
 static void pull_clusters(rad_hier *h) {
     const long count = (long)h->cluster_count;
-#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4 * PARALLEL_MIN)
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 64)
     for (long c = 0; c < count; ++c)
         if (h->walk[c].leaf) pull_cluster(h, (size_t)c);
     for (size_t c = h->cluster_count; c-- > 0;)
@@ -1402,6 +1508,7 @@ static rad_status split_by_light(rad_hier *h) {
             rad_hier_node probe = *n;
             double lo = INFINITY, hi = -INFINITY;
             if ((status = subdivide(h, index))) break;
+            light_nodes(h, h->nodes[index].first_child);
             for (uint32_t k = 0; k < 4; ++k)
                 for (int c = 0; c < 3; ++c) {
                     lo = fmin(lo, h->light[h->nodes[index].first_child + k][c]);
@@ -1502,13 +1609,19 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
         status = rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                           "%s: no polygon with a nonzero area", scene->source);
     if (!status) status = build_clusters(h);
+    if (!status) {
+        h->member_rays = rad_alloc_zero(ctx, h->root_count, sizeof *h->member_rays);
+        h->member_seen = rad_alloc_zero(ctx, h->root_count, sizeof *h->member_seen);
+        if (!h->member_rays || !h->member_seen) status = RAD_ERROR_NO_MEMORY;
+    }
     if (!status && h->light_fn) {
         /* The roots' light (after build_clusters renumbered them), counted as emitted. */
         h->light = rad_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light);
-        if (!h->light) status = RAD_ERROR_NO_MEMORY;
+        h->light_spread = rad_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light_spread);
+        if (!h->light || !h->light_spread) status = RAD_ERROR_NO_MEMORY;
+        if (!status) light_nodes(h, 0);
         for (size_t i = 0; i < h->root_count && !status; ++i) {
             rad_hier_node *n = &h->nodes[i];
-            h->light_fn(h->light_user, n->polygon, n->corner, n->corner_count, h->light[i]);
             double most = fmax(h->light[i][0], fmax(h->light[i][1], h->light[i][2]));
             h->emission_max = fmax(h->emission_max, most);
             h->emitted_power += most * n->area;
@@ -1546,6 +1659,9 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->emission);
     rad_free(ctx, h->normal);
     rad_free(ctx, h->light);
+    rad_free(ctx, h->light_spread);
+    rad_free(ctx, h->member_rays);
+    rad_free(ctx, h->member_seen);
     rad_free(ctx, h->hit_polygon);
     rad_free(ctx, h->hit_point);
     rad_free(ctx, h->importance);

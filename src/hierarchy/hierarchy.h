@@ -67,8 +67,13 @@ typedef struct rad_hier_options {
                           before clustering; for comparisons */
     /* Optional: the radiosity a node of `polygon` with these corners emits besides its
      * material's emission, e.g. the reflected direct light of point, spot and directional lights
-     * and the sky (src/system/lights_direct.c); asked once per node when it is made. */
-    void (*light)(void *user, uint32_t polygon, const rad_vec3 *corners, int count, double out[3]);
+     * and the sky (src/system/lights_direct.c); asked once per node when it is made, from
+     * several threads at once, `stream` the node's index (for deterministic sampling).
+     * *spread is how much that radiosity changes across the node (largest channel): a leaf
+     * whose spread times a quarter of its area exceeds the oracle's threshold is split, so the
+     * leaves follow shadow edges of the lights as they follow those of the links. */
+    void (*light)(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
+                  uint64_t stream, double out[3], double *spread);
     void *light_user;
     /* Nonzero: before any link, split nodes whose four children's light differs by more than
      * the oracle allows (half the range times the area, against the threshold), so that light

@@ -1,6 +1,7 @@
 /* scene_copy.c - a copy of a geometric scene's geometry and materials (scene.h), kept by the
  * system so that the hierarchical solver can build its quadtrees and rays from the input
- * polygons after the caller has destroyed the scene. */
+ * polygons (and light its nodes from the lights and the sky) after the caller has destroyed the
+ * scene. */
 #include "scene/scene.h"
 #include "scene/texture.h"
 
@@ -42,6 +43,12 @@ rad_status rad_scene_copy_geometry(rad_context *ctx, const rad_scene *scene, rad
     copy->polygon_uvs = copy_array(ctx, scene->polygon_uvs, scene->polygon_uv_count,
                                    sizeof *scene->polygon_uvs, &ok);
     copy->polygon_uv_count = copy->polygon_uv_capacity = ok ? scene->polygon_uv_count : 0;
+    /* The lights and the sky, which the hierarchy evaluates on its own nodes. */
+    if (ok && scene->light_count) {
+        ok = rad_lights_copy(ctx, scene->lights, scene->light_count, &copy->lights) == RAD_OK;
+        copy->light_count = copy->light_capacity = ok ? scene->light_count : 0;
+    }
+    copy->sky = scene->sky;
     copy->has_camera = scene->has_camera;
     copy->camera = scene->camera;
     copy->camera_automatic = scene->camera_automatic;

@@ -10,6 +10,7 @@
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
 #include "scene/camera.h"
+#include "scene/rays.h"
 #include "scene/scene.h"
 #include "solve/hierarchical_view.h"
 
@@ -19,17 +20,22 @@
 #define INNER_TOLERANCE 1e-5 /* gathering rounds stop when no leaf changes by more (relative) */
 #define INNER_ROUNDS 1000
 
-/* Light the system's elements hold besides their materials' emission, for the hierarchy: the
- * lights' pre-pass (src/system/lights_direct.c: point, spot and directional lights, the sky)
- * and light through mirrors and glass (src/system/specular_first.c: the first pass's deposit,
- * and after a converged solve the second pass's). Each polygon's elements are first[p] ..
- * first[p + 1] in `element`, so a node takes the light of the elements whose centroids it
- * covers, area-weighted (the nearest element's when it covers none). */
+/* Light the nodes hold besides their materials' emission. Point, spot and directional lights
+ * and the sky on each node itself (src/system/lights_direct.c, rad_node_lights_reflected:
+ * exact point-to-node solid angles, Embree visibility from 16 points, sky rays from the node's
+ * quarters), with how much it changes across the node, which makes the hierarchy split leaves
+ * at shadow edges. Light through mirrors and glass (src/system/specular_first.c: the first
+ * pass's deposit, and after a converged solve the second pass's) from the system's elements:
+ * each polygon's elements are first[p] .. first[p + 1] in `element`, so a node takes the
+ * deposit of the elements whose centroids it covers, area-weighted (the nearest element's when
+ * it covers none). */
 typedef struct element_light {
     const rad_system *system;
     size_t *first;
     uint32_t *element;
-    rad_rgb *value; /* per element: the sum of the light above */
+    rad_rgb *value;    /* per element: the lights' pre-pass and the deposits (evaluate()) */
+    rad_rgb *specular; /* per element: the deposits alone; NULL without */
+    rad_node_lights lights; /* rays NULL without lights or sky */
 } element_light;
 
 static int has_element_light(const rad_system *s) {
@@ -37,10 +43,18 @@ static int has_element_light(const rad_system *s) {
 }
 
 static void node_light(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
-                       double out[3]) {
-    const element_light *el = user;
-    rad_hier_elements_mean(el->system, el->value, el->element, el->first[polygon],
-                           el->first[polygon + 1], corners, count, out);
+                       uint64_t stream, double out[3], double *spread) {
+    element_light *el = user;
+    out[0] = out[1] = out[2] = 0;
+    *spread = 0;
+    if (el->lights.rays)
+        rad_node_lights_reflected(&el->lights, polygon, corners, count, stream, out, spread);
+    if (el->specular) {
+        double deposit[3];
+        rad_hier_elements_mean(el->system, el->specular, el->element, el->first[polygon],
+                               el->first[polygon + 1], corners, count, deposit);
+        for (int c = 0; c < 3; ++c) out[c] += deposit[c];
+    }
 }
 
 static rad_status element_light_create(const rad_system *s, element_light *out) {
@@ -49,14 +63,26 @@ static rad_status element_light_create(const rad_system *s, element_light *out) 
     out->first = rad_alloc_zero(s->ctx, polygons + 2, sizeof *out->first);
     out->element = rad_alloc(s->ctx, n ? n : 1, sizeof *out->element);
     out->value = rad_alloc_zero(s->ctx, n ? n : 1, sizeof *out->value);
-    if (!out->first || !out->element || !out->value) return RAD_ERROR_NO_MEMORY;
+    if (s->specular_emission || s->specular_reflection)
+        out->specular = rad_alloc_zero(s->ctx, n ? n : 1, sizeof *out->specular);
+    if (!out->first || !out->element || !out->value ||
+        ((s->specular_emission || s->specular_reflection) && !out->specular))
+        return RAD_ERROR_NO_MEMORY;
+    if (s->geometry->light_count || s->geometry->sky.kind != RAD_SKY_OFF) {
+        out->lights.scene = s->geometry;
+        rad_status status = rad_rays_create(s->ctx, s->geometry, &out->lights.rays);
+        if (status) return status;
+    }
     for (size_t e = 0; e < n; ++e) out->first[s->mesh->element_polygon[e] + 2]++;
     for (size_t p = 0; p < polygons; ++p) out->first[p + 2] += out->first[p + 1];
     for (size_t e = 0; e < n; ++e) out->element[out->first[s->mesh->element_polygon[e] + 1]++] = (uint32_t)e;
     rad_rgb *parts[3] = {s->light_emission, s->specular_emission, s->specular_reflection};
     for (int k = 0; k < 3; ++k)
         for (size_t e = 0; parts[k] && e < n; ++e)
-            for (int c = 0; c < 3; ++c) out->value[e][c] += parts[k][e][c];
+            for (int c = 0; c < 3; ++c) {
+                out->value[e][c] += parts[k][e][c];
+                if (k > 0) out->specular[e][c] += parts[k][e][c];
+            }
     return RAD_OK;
 }
 
@@ -65,6 +91,8 @@ static void element_light_destroy(const rad_system *s, element_light *el) {
     rad_free(s->ctx, el->first);
     rad_free(s->ctx, el->element);
     rad_free(s->ctx, el->value);
+    rad_free(s->ctx, el->specular);
+    rad_rays_destroy(el->lights.rays);
     rad_free(s->ctx, el);
 }
 
@@ -94,7 +122,7 @@ static void evaluate(rad_system *s, const rad_hier *hier, const element_light *l
         size_t first = (size_t)e, last = (size_t)e + 1;
         while (first > 0 && mesh->element_polygon[first - 1] == polygon) --first;
         while (last < s->element_count && mesh->element_polygon[last] == polygon) ++last;
-        if (!has_element_light(s) && roots && last - first == root_count &&
+        if (roots && last - first == root_count &&
             fabs(nodes[roots[(size_t)e - first]].area - mesh->element_area[e]) <=
                 1e-9 * mesh->element_area[e]) {
             memcpy(s->radiosity[e], nodes[roots[(size_t)e - first]].radiosity, sizeof(rad_rgb));

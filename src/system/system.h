@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 struct rad_mesh;
+struct rad_rays;
 
 typedef double rad_rgb[3];
 
@@ -104,6 +105,28 @@ void rad_system_surface_means(const rad_system *system, const rad_rgb *per_eleme
  * scene's point, spot and directional lights and its sky, with visibility, reflected once into
  * light_emission and added to emission, so every solver starts from it as emitted radiosity. */
 rad_status rad_system_add_light_emission(rad_system *system, const struct rad_scene *scene);
+
+/* The same direct irradiance for one planar polygon of 3 or 4 corners (counter-clockwise about
+ * its front normal), for solvers with their own elements (the hierarchy's nodes): point and
+ * spot lights by the exact solid angle of the polygon, directional lights by its cosine, both
+ * with visibility from the centres of its 16 sixteenths (quarters of quarters); the sky by
+ * scene->sky.samples rays from its four quarters, seeded by `stream`. With `spread`, how much
+ * the irradiance changes across it (a shadow edge, the rim of an opening): the largest
+ * difference between the points' (lights) and between the quarters' estimates beyond their
+ * noise (sky), largest channel. Thread-safe. */
+void rad_lights_polygon_irradiance(const struct rad_scene *scene, const struct rad_rays *rays,
+                                   const rad_vec3 *corners, int count, rad_vec3 normal,
+                                   uint64_t stream, double out[3], double *spread);
+
+/* The same times the reflectance of input polygon `polygon` (whose piece `corners` is): the
+ * radiosity the piece reflects of the direct light, and its spread. `user` is a
+ * rad_node_lights; the signature is rad_hier_options.light's (the hierarchy's nodes). */
+typedef struct rad_node_lights {
+    const struct rad_scene *scene;
+    struct rad_rays *rays;
+} rad_node_lights;
+void rad_node_lights_reflected(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
+                               uint64_t stream, double out[3], double *spread);
 
 /* The specular-first pass (specular_first.c; docs/specular-first.md): photons from the emitting
  * surfaces through mirrors and glass; what lands on each element (its mean irradiance from

@@ -29,12 +29,11 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
                                 scene->source, m->name, m->emission[c]);
         }
     }
-    /* One element per polygon for a solver that draws its own leaves, unless lights, a sky or
-     * light through mirrors and glass ask for the uniform mesh: their direct light is resolved on its elements (the hierarchy
-     * reads it from them, src/solve/hierarchical.c). */
-    int polygons_only = mesh_options->polygons_only && !scene->light_count &&
-                        scene->sky.kind == RAD_SKY_OFF &&
-                        /* the specular-first deposit too (specular_first.c) */
+    /* One element per polygon for a solver that draws its own leaves (with lights or a sky too:
+     * the hierarchy computes their light on its own nodes, src/solve/hierarchical.c), unless
+     * light through mirrors and glass asks for the uniform mesh: the specular-first deposit is
+     * resolved on its elements (specular_first.c) and the hierarchy reads it from them. */
+    int polygons_only = mesh_options->polygons_only &&
                         !(scene->specular_first > 0 ||
                           (scene->specular_first == 0 && rad_scene_has_specular(scene)));
     rad_mesh *mesh = NULL;
