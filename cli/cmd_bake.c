@@ -21,8 +21,7 @@ int cmd_bake(int argc, char **argv) {
     const char *solution = NULL;
     double exposure = 0, scale = 0, aspect = 0, time_budget = 0;
     cli_light_args lights = {0};
-    enum { OWN_OPTIONS = 14 };
-    cli_option options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT + 1] = {
+    const cli_option own[] = {
         {"-o", CLI_STRING, &output, "FILE  .glb, .gltf (writes FILE.bin beside it), .ply or .obj"},
         {"--output", CLI_STRING, &output, "FILE  the same as -o"},
         {"--exposure", CLI_DOUBLE, &exposure, "STOPS  PLY and OBJ display colours: exposure (0)"},
@@ -39,8 +38,8 @@ int cmd_bake(int argc, char **argv) {
         CLI_TWO_SIDED_OPTION(&lights),
         CLI_SPECULAR_OPTIONS(&lights),
     };
-    cli_pipeline_options(&p, RAD_SOLVER_SHOOTING, options + OWN_OPTIONS);
-    options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT] = (cli_option){0};
+    cli_option options[CLI_PIPELINE_TABLE_SIZE(own)];
+    cli_pipeline_table(options, own, sizeof own / sizeof own[0], 0, &p, RAD_SOLVER_SHOOTING);
 
     const char *positional[1];
     int count;

@@ -11,7 +11,6 @@
 #include "pipeline.h"
 #include "progress.h"
 
-#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -80,10 +79,8 @@ int cmd_render(int argc, char **argv) {
     a.spp = 16;
     a.final_gather = 4;
     cli_camera_args_init(&a.camera);
-    /* render's own options, then the shared solver, form-factor and meshing ones, then the
-     * terminator (the array is zeroed past what is listed here). */
-    enum { OWN_OPTIONS = 25 };
-    cli_option options[OWN_OPTIONS + CLI_PIPELINE_OPTION_COUNT + 1] = {
+    /* render's own options; the shared solver, form-factor and meshing ones follow them. */
+    const cli_option own[] = {
         {"-o", CLI_STRING, &a.output, "FILE  output image: .png, .hdr, .pfm, .exr (SCENE.png)"},
         {"--output", CLI_STRING, &a.output, "FILE  the same as -o"},
         {"--width", CLI_INT, &a.width, "W  image width in pixels (512)"},
@@ -110,10 +107,9 @@ int cmd_render(int argc, char **argv) {
          "FILE  render a solution saved by solve --save (same scene and meshing/ff options) "
          "instead of solving"},
     };
-    size_t count = 0;
-    while (options[count].name) ++count;
-    assert(count == OWN_OPTIONS);
-    cli_pipeline_options(&a.pipeline, RAD_SOLVER_SHOOTING, options + count);
+    cli_option options[CLI_PIPELINE_TABLE_SIZE(own)];
+    cli_pipeline_table(options, own, sizeof own / sizeof own[0], 0, &a.pipeline,
+                       RAD_SOLVER_SHOOTING);
     const char *positional[1];
     int positional_count;
     int status = cli_parse("render", synopsis, options, argc, argv, positional, 1, &positional_count);

@@ -133,6 +133,11 @@ static void print_json(const rad_system *system, const rad_solve_options *option
     json_number(stdout, report->residual);
     printf(", \"stop\": \"%s\", \"seconds\": ", stop_name(report->stop));
     json_number(stdout, report->seconds);
+    if (report->links) {
+        printf(", \"links\": %zu, \"leaves\": %zu, \"largest_error\": ", report->links,
+               report->leaves);
+        json_number(stdout, report->largest_error);
+    }
     printf(",\n \"patches\": [");
     for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
         rad_surface_info info;
@@ -223,45 +228,35 @@ int cmd_solve(int argc, char **argv) {
     snprintf(eye_help, sizeof eye_help, "X,Y,Z  camera position (%s, snapshots)", viewers);
     snprintf(width_help, sizeof width_help, "W  image width for %s and snapshots (256)", viewers);
     const cli_option own[] = {
-        {"--time-budget", CLI_DOUBLE, NULL, "S  stop after S seconds with the solution so far"},
-        {"--overshoot", CLI_FLAG, NULL, overshoot_help},
-        {"--trace", CLI_FLAG, NULL, "show every round or shot"},
-        {"--json", CLI_FLAG, NULL, "print one JSON object"},
-        {"--log", CLI_STRING, NULL, "FILE.csv  one row per round or shot"},
-        {"--plot", CLI_STRING, NULL, "FILE.svg  residual (or error) against time"},
-        {"--save", CLI_STRING, NULL, "FILE  save the solution (to go on with --resume)"},
-        {"--resume", CLI_STRING, NULL, "FILE  go on from a saved solution"},
-        {"--snapshots", CLI_STRING, NULL, "DIR  write an image every --snapshot-every steps"},
-        {"--snapshot-every", CLI_INT, NULL, "K  shots or rounds between snapshots (100; 1)"},
-        {"--compare-solvers", CLI_FLAG, NULL,
+        {"--time-budget", CLI_DOUBLE, &a.time_budget,
+         "S  stop after S seconds with the solution so far"},
+        {"--overshoot", CLI_FLAG, &a.overshoot, overshoot_help},
+        {"--trace", CLI_FLAG, &a.trace, "show every round or shot"},
+        {"--json", CLI_FLAG, &a.json, "print one JSON object"},
+        {"--log", CLI_STRING, &a.log, "FILE.csv  one row per round or shot"},
+        {"--plot", CLI_STRING, &a.plot, "FILE.svg  residual (or error) against time"},
+        {"--save", CLI_STRING, &a.save, "FILE  save the solution (to go on with --resume)"},
+        {"--resume", CLI_STRING, &a.resume, "FILE  go on from a saved solution"},
+        {"--snapshots", CLI_STRING, &a.snapshots, "DIR  write an image every --snapshot-every steps"},
+        {"--snapshot-every", CLI_INT, &a.snapshot_every,
+         "K  shots or rounds between snapshots (100; 1)"},
+        {"--compare-solvers", CLI_FLAG, &a.compare,
          "run every solver and compare their convergence (table; chart with --plot)"},
-        {"--eye", CLI_VEC3, NULL, eye_help},
-        {"--look", CLI_VEC3, NULL, "X,Y,Z  point the camera looks at"},
-        {"--up", CLI_VEC3, NULL, "X,Y,Z  camera up direction"},
-        {"--fov", CLI_DOUBLE, NULL, "DEG  vertical field of view"},
-        {"--width", CLI_INT, NULL, width_help},
-        {"--height", CLI_INT, NULL, "H  image height (256)"},
-        {"--exposure", CLI_DOUBLE, NULL, "EV  snapshot exposure in stops (0)"},
-        {"--tonemap", CLI_STRING, NULL, "CURVE  snapshots: none|clamp|reinhard|aces (clamp)"},
+        {"--eye", CLI_VEC3, a.camera.eye, eye_help},
+        {"--look", CLI_VEC3, a.camera.look, "X,Y,Z  point the camera looks at"},
+        {"--up", CLI_VEC3, a.camera.up, "X,Y,Z  camera up direction"},
+        {"--fov", CLI_DOUBLE, &a.camera.fov, "DEG  vertical field of view"},
+        {"--width", CLI_INT, &a.width, width_help},
+        {"--height", CLI_INT, &a.height, "H  image height (256)"},
+        {"--exposure", CLI_DOUBLE, &a.exposure, "EV  snapshot exposure in stops (0)"},
+        {"--tonemap", CLI_STRING, &a.tonemap, "CURVE  snapshots: none|clamp|reinhard|aces (clamp)"},
         CLI_LIGHT_OPTIONS(&a.lights),
         CLI_TWO_SIDED_OPTION(&a.lights),
         CLI_SPECULAR_OPTIONS(&a.lights),
     };
-    void *own_targets[] = {&a.time_budget, &a.overshoot, &a.trace,  &a.json,      &a.log,
-                           &a.plot,        &a.save,      &a.resume, &a.snapshots, &a.snapshot_every,
-                           &a.compare,     a.camera.eye, a.camera.look, a.camera.up, &a.camera.fov,
-                           &a.width,       &a.height,    &a.exposure, &a.tonemap,
-                           &a.lights.sky,  &a.lights.sun, &a.lights.ies, &a.lights.two_sided,
-                           &a.lights.specular_first, &a.lights.specular_photons};
-    enum { OWN = sizeof own / sizeof own[0] };
     /* The shared solver, form-factor and meshing options (cli/pipeline.h), then our own. */
-    cli_option options[CLI_PIPELINE_OPTION_COUNT + OWN + 1];
-    cli_pipeline_options(&a.pipe, RAD_SOLVER_SHOOTING, options);
-    for (int i = 0; i < OWN; ++i) {
-        options[CLI_PIPELINE_OPTION_COUNT + i] = own[i];
-        options[CLI_PIPELINE_OPTION_COUNT + i].target = own_targets[i];
-    }
-    options[CLI_PIPELINE_OPTION_COUNT + OWN] = (cli_option){0};
+    cli_option options[CLI_PIPELINE_TABLE_SIZE(own)];
+    cli_pipeline_table(options, own, sizeof own / sizeof own[0], 1, &a.pipe, RAD_SOLVER_SHOOTING);
     const char *positional[1];
     int count;
     int status = cli_parse("solve", synopsis, options, argc, argv, positional, 1, &count);
@@ -351,6 +346,7 @@ int cmd_solve(int argc, char **argv) {
         cli_solver_option(own, solve.solver, "ambient", a.pipe.ambient || a.snapshots);
         cli_solver_option(own, solve.solver, "overshoot", a.overshoot);
         cli_solver_option(own, solve.solver, "link-error", link_error);
+        cli_solver_option(own, solve.solver, "importance", a.pipe.importance);
         solve.method_options = own;
         solve.time_budget = isnan(a.time_budget) ? 0 : a.time_budget;
         solve.resume = a.resume != NULL;

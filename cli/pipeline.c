@@ -16,13 +16,14 @@ double cli_seconds(void) {
 void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, cli_option *o) {
     /* The help lines that list or name solvers and methods, from the registries. */
     static char solver_help[256], ff_help[160], ambient_help[160], link_help[200],
-        resolution_help[160], names[200];
+        resolution_help[160], names[200], importance_help[240];
     snprintf(solver_help, sizeof solver_help, "NAME  %s (%s)",
              cli_solver_names(names, sizeof names, NULL, "|", "|"),
              rad_solver_kind_name(default_solver));
     snprintf(ff_help, sizeof ff_help, "METHOD  %s", cli_ff_method_names(names, sizeof names, "|"));
     cli_solver_option_help(ambient_help, sizeof ambient_help, "ambient");
     cli_solver_option_help(link_help, sizeof link_help, "link-error");
+    cli_solver_option_help(importance_help, sizeof importance_help, "importance");
     cli_ff_option_help(resolution_help, sizeof resolution_help, "N", "hemicube-res");
     const cli_option shared[CLI_PIPELINE_OPTION_COUNT] = {
         {"--solver", CLI_STRING, &a->solver, solver_help},
@@ -43,8 +44,18 @@ void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, 
         {"--seed", CLI_SIZE, &a->seed, "S  random seed (0)"},
         {"--quiet", CLI_FLAG, &a->quiet, "no notes or progress on stderr"},
         {"--link-error", CLI_STRING, &a->link_error, link_help},
+        {"--importance", CLI_FLAG, &a->importance, importance_help},
     };
     for (int i = 0; i < CLI_PIPELINE_OPTION_COUNT; ++i) o[i] = shared[i];
+}
+
+void cli_pipeline_table(cli_option *table, const cli_option *own, size_t own_count,
+                        int shared_first, cli_pipeline_args *args,
+                        rad_solver_kind default_solver) {
+    cli_option *own_start = shared_first ? table + CLI_PIPELINE_OPTION_COUNT : table;
+    cli_pipeline_options(args, default_solver, shared_first ? table : table + own_count);
+    for (size_t i = 0; i < own_count; ++i) own_start[i] = own[i];
+    table[own_count + CLI_PIPELINE_OPTION_COUNT] = (cli_option){0};
 }
 
 int cli_pipeline_check_values(const char *command, const cli_pipeline_args *a) {
@@ -69,6 +80,9 @@ int cli_pipeline_check(const char *command, cli_pipeline_args *a, rad_solve_opti
     double link_error;
     status = cli_pipeline_link_error(command, a, &link_error);
     if (status) return status;
+    if (a->importance && !cli_solver_takes((rad_solver_kind)kind, "importance"))
+        return cli_error(EXIT_USAGE, "%s: --importance is for --solver hierarchical (--solver "
+                                     "importance weighs its shots by the camera itself)", command);
     s.solver = (rad_solver_kind)kind;
     s.max_iterations = a->iterations;
     s.tolerance = a->tolerance;
@@ -77,6 +91,7 @@ int cli_pipeline_check(const char *command, cli_pipeline_args *a, rad_solve_opti
     a->solver_options = (rad_options){0};
     cli_solver_option(&a->solver_options, s.solver, "ambient", a->ambient);
     cli_solver_option(&a->solver_options, s.solver, "link-error", link_error);
+    cli_solver_option(&a->solver_options, s.solver, "importance", a->importance);
     s.method_options = &a->solver_options;
     *solve = s;
     *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements, 0};

@@ -12,18 +12,30 @@ typedef struct cli_pipeline_args {
     double tolerance, omega, max_memory, patch_size, element_size;
     size_t elements;
     size_t seed;
+    int importance; /* --importance: the hierarchical solver weighs links by the camera's view */
     /* Filled by cli_pipeline_check: the chosen solver's and form-factor method's own options,
      * which the option structs it writes point to. */
     rad_options solver_options, ff_options;
 } cli_pipeline_args;
 
 /* How many entries cli_pipeline_options writes. */
-#define CLI_PIPELINE_OPTION_COUNT 16
+#define CLI_PIPELINE_OPTION_COUNT 17
 
 /* Writes the shared options (--solver ... --quiet) into `options`, which must have room for
  * CLI_PIPELINE_OPTION_COUNT entries; `default_solver` is the solver shown as the default. */
 void cli_pipeline_options(cli_pipeline_args *args, rad_solver_kind default_solver,
                           cli_option *options);
+
+/* The entries a command's whole option table needs: its own array `own` (a true array, not a
+ * pointer), the shared ones and the terminator. */
+#define CLI_PIPELINE_TABLE_SIZE(own) (sizeof(own) / sizeof((own)[0]) + CLI_PIPELINE_OPTION_COUNT + 1)
+
+/* Fills `table` (CLI_PIPELINE_TABLE_SIZE entries) with the command's `own_count` options and the
+ * shared ones, the shared first when `shared_first`, then the terminator. The table is sized
+ * from the arrays themselves, so adding an option to a command needs no count kept by hand. */
+void cli_pipeline_table(cli_option *table, const cli_option *own, size_t own_count,
+                        int shared_first, cli_pipeline_args *args,
+                        rad_solver_kind default_solver);
 
 /* The value checks of cli_pipeline_check alone (sizes, budget, --tolerance, --omega): a usage
  * error (EXIT_USAGE, message printed) or 0. */

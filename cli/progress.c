@@ -162,7 +162,11 @@ void cli_stage_mesh(const rad_system *system, double seconds) {
 
 void cli_stage_solve(const rad_solve_options *solve, const rad_solve_report *report) {
     int shooting = solve->solver == RAD_SOLVER_SHOOTING || solve->solver == RAD_SOLVER_IMPORTANCE;
-    cli_stage("solve", "%s, %d %s, residual %.3g, %s, %.2f s", rad_solver_kind_name(solve->solver),
+    char hierarchy[96] = "";
+    if (report->links) /* the hierarchical solver's links and leaves */
+        snprintf(hierarchy, sizeof hierarchy, ", %zu links, %zu leaves", report->links,
+                 report->leaves);
+    cli_stage("solve", "%s, %d %s, residual %.3g, %s%s, %.2f s", rad_solver_kind_name(solve->solver),
               report->iterations, shooting ? "shots" : "rounds", report->residual,
-              report->converged ? "converged" : "not converged", report->seconds);
+              report->converged ? "converged" : "not converged", hierarchy, report->seconds);
 }

@@ -97,6 +97,8 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
     for (size_t i = 0; i < rad_solver_count(); ++i) {
         const rad_solver_info *info = rad_solver_at(i);
         if ((info->capabilities & RAD_SOLVER_NEEDS_CAMERA) && !have_view) continue;
+        /* A solver of its own leaves needs geometry, which a scene without a view lacks. */
+        if ((info->capabilities & RAD_SOLVER_OWN_LEAVES) && !have_view) continue;
         for (size_t v = 0; v < info->variant_count && count < 8; ++v) {
             const rad_solver_variant *variant = &info->variants[v];
             double omega = !variant->relaxed ? 1 : a->pipe.omega > 0 ? a->pipe.omega : info->best_omega;
@@ -164,6 +166,11 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
         options.omega = run->omega;
         rad_options own = {0};
         cli_solver_option(&own, options.solver, "overshoot", run->overshoot);
+        /* The hierarchy's oracle would otherwise take the tolerance below as its link error:
+         * --link-error, or the solver's default 1e-3 (docs/hierarchical.md). */
+        double link_error = 0;
+        cli_pipeline_link_error("solve", &a->pipe, &link_error); /* checked before */
+        cli_solver_option(&own, options.solver, "link-error", link_error > 0 ? link_error : 1e-3);
         options.method_options = &own;
         options.tolerance = 1e-13; /* the error decides when to stop */
         options.max_iterations = a->pipe.iterations;

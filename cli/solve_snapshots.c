@@ -3,8 +3,10 @@
  * (Cohen et al. 1988) so early images show the light still to come as a uniform glow rather
  * than black. The renderer is built once; each snapshot re-reads the current solution. */
 #include "cli.h"
+#include "output_path.h"
 #include "solve_cli.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,10 +17,34 @@ struct solve_snapshots {
     rad_image_save_options save;
 };
 
+/* A scene file (a texture, say) named like a snapshot in DIR: refused before the solve starts
+ * (exit 2), since some step would write over it. */
+static int check_scene_files(const rad_scene *scene, const char *dir) {
+    for (size_t i = 0; i < rad_scene_file_count(scene); ++i) {
+        const char *file = rad_scene_file(scene, i);
+        const char *base = strrchr(file, '/');
+        base = base ? base + 1 : file;
+        long step;
+        int end = 0;
+        if (sscanf(base, "snapshot-%6ld.png%n", &step, &end) != 1 || base[end] != '\0') continue;
+        size_t length = strlen(dir) + strlen(base) + 2;
+        char *path = malloc(length);
+        if (!path) return cli_error(1, "out of memory");
+        snprintf(path, length, "%s/%s", dir, base);
+        const char *outputs[1] = {path};
+        int refused = cli_check_outputs_against_scene("solve", scene, outputs, 1);
+        free(path);
+        if (refused) return refused;
+    }
+    return 0;
+}
+
 int solve_snapshots_create(rad_context *ctx, const rad_scene *scene, const rad_system *system,
                            const solve_args *a, const rad_camera_desc *camera,
                            solve_snapshots **out) {
     *out = NULL;
+    int refused = check_scene_files(scene, a->snapshots);
+    if (refused) return refused;
     solve_snapshots *s = calloc(1, sizeof *s);
     if (!s) return cli_error(1, "out of memory");
     s->ctx = ctx;

@@ -52,6 +52,10 @@ static void draw_progress(solve_watch *w, const rad_iteration_event *event) {
     if (w->shooting)
         fprintf(stderr, "\r\033[K%s: %ld shots, unshot power %.3g%% of emitted%s", w->solver_name,
                 event->shots + w->step_offset, 100 * event->unshot_fraction, eta);
+    else if (event->links)
+        fprintf(stderr, "\r\033[K%s: step %ld, %zu links, %zu leaves, largest error %.3g of the "
+                        "threshold, %.0f refined%s", w->solver_name, event->rounds + w->step_offset,
+                event->links, event->leaves, event->largest_error, event->residual, eta);
     else
         fprintf(stderr, "\r\033[K%s: round %ld, change %.3g%s", w->solver_name,
                 event->rounds + w->step_offset, event->residual, eta);

@@ -373,6 +373,10 @@ typedef struct rad_iteration_event {
     double unshot_fraction; /* shooting, importance: unshot power / emitted power; else NaN */
     double residual;        /* the solver's stopping measure after the step */
     long shooter;           /* the patch that shot, or -1 for gathering */
+    /* hierarchical: links and leaves after the step, and the oracle's largest remaining error
+     * relative to its threshold; 0, 0 and NaN for the other solvers */
+    size_t links, leaves;
+    double largest_error;
 } rad_iteration_event;
 
 /* Return nonzero to stop: rad_solve then returns RAD_OK with report->stop RAD_STOP_CALLBACK
@@ -431,6 +435,9 @@ typedef struct rad_solve_report {
     rad_solve_stop stop;   /* why it stopped */
     double unshot_fraction; /* shooting, importance: unshot power / emitted power; else NaN */
     int importance_shots;  /* importance: shots of the importance pass, before any light */
+    size_t links, leaves;  /* hierarchical: at the end (0 for the other solvers) */
+    double largest_error;  /* hierarchical: the oracle's largest remaining error over its
+                              threshold at the end; NaN for the other solvers */
 } rad_solve_report;
 
 /* Solves the system from B = E (or from where it is, with options->resume), until converged,

@@ -231,6 +231,13 @@ bad inc2.mgf 'i inc2.mgf\n' 'includes nested too deep'
 bad open.mgf 'o open\n' 'not ended'
 bad empty.mgf '# nothing\n' 'empty.mgf: no faces'
 bad device.mgf 'i /dev/null\n' 'device.mgf:1: cannot include /dev/null: not a regular file'
+# A reflectance of 0.95 or more is read, with the warning every reader gives.
+printf 'm white =\n\tc\n\trd 0.97\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\nv c =\n\tp 1 1 0\no floor\nf a b c\no\n' \
+    >white.mgf
+"$radiosity" scenes --info white.mgf >/dev/null 2>white.err
+check "a 0.97 reflectance is warned about, naming the surface" \
+    grep -q "white.mgf: material 'white' reflects 0.97 of the light (surfaces 'floor')" white.err \
+    || cat white.err >&2
 head -c 300 /dev/urandom >garbage.mgf
 expect_exit 1 'garbage.mgf' -- "$radiosity" solve garbage.mgf
 

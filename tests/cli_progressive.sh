@@ -91,11 +91,11 @@ check "importance = shooting" diff <(table "$work/imp" | cut -c1-80) <(table "$w
 # The comparison: every solver on one chart.
 "$radiosity" solve "${small[@]}" --compare-solvers "${close[@]}" --plot "$work/compare.svg" --log "$work/compare.csv" >"$work/out"
 check "compare exit 0" test $? -eq 0
-for solver in jacobi gauss-seidel 'SOR, omega 1.1' shooting overshooting importance; do
+for solver in jacobi gauss-seidel 'SOR, omega 1.1' shooting overshooting importance hierarchical; do
     check "compare row $solver" grep -q "^$solver " "$work/out"
     check "compare legend $solver" grep -q ">$solver</text>" "$work/compare.svg"
 done
-check "compare lines" test "$(grep -c "<polyline" "$work/compare.svg")" -eq 9
+check "compare lines" test "$(grep -c "<polyline" "$work/compare.svg")" -eq 10
 check "compare log" grep -q '^importance,1,' "$work/compare.csv"
 check "compare log quotes" grep -q '^"SOR, omega 1.1",1,' "$work/compare.csv"
 "$radiosity" solve four-walls --compare-solvers --quiet >"$work/out"

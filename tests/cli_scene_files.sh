@@ -36,7 +36,8 @@ usemtl lamp
 f 5 6 7 8
 OBJ
 printf 'newmtl white\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 1 1 1\n' >out.mtl
-cp "$source_dir/scenes/cornell.mgf" box.mgf
+printf 'm white =\n\trd 0.5\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\nv c =\n\tp 1 1 0\no floor\nf a b c\no\n' \
+    >box.mgf
 echo "i box.mgf" >outer.mgf
 md5sum buffer.bin checker.png out.mtl box.mgf textured.gltf >before.md5
 
@@ -52,6 +53,22 @@ refused solve room.obj --save out.mtl --quiet --elements 50
 refused bake textured.gltf -o buffer.gltf --quiet --elements 50 # would write buffer.bin
 refused scenes --export room.obj out.obj # would write out.mtl
 refused solve outer.mgf --log box.mgf --quiet --elements 50
+# A snapshot named as the scene's texture: the solve stops there and the texture stays.
+mkdir -p snap
+cp checker.png snap/snapshot-000001.png
+python3 - <<'PY'
+import json
+gltf = json.load(open("textured.gltf"))
+gltf["buffers"][0]["uri"] = "../buffer.bin"
+for image in gltf["images"]:
+    image["uri"] = "snapshot-000001.png"
+json.dump(gltf, open("snap/room.gltf", "w"))
+PY
+(cd snap && md5sum snapshot-000001.png >../snap.md5)
+refused solve snap/room.gltf --snapshots snap --snapshot-every 1 --quiet --elements 50 \
+    --width 8 --height 8
+check "the texture named as a snapshot is unchanged" \
+    sh -c 'cd snap && md5sum --quiet -c ../snap.md5'
 check "no input changed" md5sum --quiet -c before.md5
 check "nothing new written" test ! -e buffer.gltf -a ! -e out.obj
 check "no temporary left" test -z "$(find . -name '*.tmp-*')"

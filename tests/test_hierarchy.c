@@ -9,6 +9,8 @@
 #include "system/system.h"
 #include "mesh/mesh.h"
 #include "system/solution_view.h"
+#include "scene/camera.h"
+#include "scene/rays.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -44,7 +46,7 @@ static void add_quad(rad_scene *scene, uint32_t surface, rad_vec3 a, rad_vec3 b,
 
 /* Refines and solves until no link refines. */
 static rad_hier *solve_hierarchy(rad_context *ctx, const rad_scene *scene, double link_error) {
-    rad_hier_options options = {link_error, 0, 0, NULL, NULL};
+    rad_hier_options options = {link_error, 0, 0, NULL, NULL, 0};
     rad_hier *h = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
     if (!h) return NULL;
@@ -415,7 +417,7 @@ static rad_scene *tiled_room(rad_context *ctx) {
 static void test_clusters(void) {
     rad_context *ctx = context(2), *one = context(1);
     rad_scene *scene = tiled_room(ctx);
-    rad_hier_options options = {1e-4, 0, 0, NULL, NULL};
+    rad_hier_options options = {1e-4, 0, 0, NULL, NULL, 0};
     rad_hier *clustered = NULL, *flat = NULL, *single = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &clustered) == RAD_OK);
     CHECK(rad_hier_create(one, scene, &options, &single) == RAD_OK);
@@ -567,6 +569,164 @@ static void test_leaf_view(void) {
     free(two);
 }
 
+/* ---- Importance (Smits, Arvo & Salesin 1992) ---------------------------------------------- */
+
+/* An inward-facing rectangle origin, origin + u, origin + u + v, origin + v (normal u x v). */
+static void add_rect(rad_scene *scene, uint32_t surface, rad_vec3 o, rad_vec3 u, rad_vec3 v) {
+    add_quad(scene, surface, o, v3_add(o, u), v3_add(o, v3_add(u, v)), v3_add(o, v));
+}
+
+/* Two 1 x 1 x 1 rooms side by side along x (A: 0..1, B: 1..2; z up), each lit by a lamp under
+ * its ceiling, joined by a door (y 0.35..0.65, z 0..0.6) in the wall between them. Surfaces
+ * 0-1 are room A's, 2-3 room B's. */
+static rad_scene *two_rooms(rad_context *ctx) {
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_new(ctx, 1, "two rooms", &scene) == RAD_OK);
+    uint32_t room[2] = {add_surface(scene, "room A", 0.6, 0), 0};
+    uint32_t lamp[2] = {add_surface(scene, "lamp A", 0, 10), 0};
+    room[1] = add_surface(scene, "room B", 0.6, 0);
+    lamp[1] = add_surface(scene, "lamp B", 0, 10);
+    const rad_vec3 X = v3(1, 0, 0), Y = v3(0, 1, 0), Z = v3(0, 0, 1);
+    for (int k = 0; k < 2; ++k) {
+        double x0 = k;
+        add_rect(scene, room[k], v3(x0, 0, 0), X, Y);                    /* floor, up */
+        add_rect(scene, room[k], v3(x0, 0, 1), Y, X);                    /* ceiling, down */
+        add_rect(scene, room[k], v3(x0, 0, 0), Z, X);                    /* y = 0, +y */
+        add_rect(scene, room[k], v3(x0, 1, 0), X, Z);                    /* y = 1, -y */
+        add_rect(scene, lamp[k], v3(x0 + 0.35, 0.35, 0.99), v3(0, 0.3, 0), v3(0.3, 0, 0));
+    }
+    add_rect(scene, room[0], v3(0, 0, 0), Y, Z); /* A's far wall x = 0, +x */
+    add_rect(scene, room[1], v3(2, 0, 0), Z, Y); /* B's far wall x = 2, -x */
+    /* The wall between, as seen from each room: three pieces around the door. */
+    const double door[4][4] = {{0, 0, 0.35, 1}, {0.65, 0, 0.35, 1}, {0.35, 0.6, 0.3, 0.4}};
+    for (int piece = 0; piece < 3; ++piece) {
+        const double *d = door[piece];
+        rad_vec3 o = v3(1, d[0], d[1]), u = v3(0, d[2], 0), v = v3(0, 0, d[3]);
+        add_rect(scene, room[0], v3_add(o, u), v, v3_scale(u, -1)); /* facing -x, into A */
+        add_rect(scene, room[1], o, u, v);                          /* facing +x, into B */
+    }
+    return scene;
+}
+
+/* Solves the two rooms at `link_error`, with importance from `view` when it is not NULL. */
+static rad_hier *solve_two_rooms(rad_context *ctx, const rad_scene *scene, double link_error,
+                                 const rad_view *view) {
+    rad_hier_options options = {link_error, 0, 0, NULL, NULL, 0};
+    rad_hier *h = NULL;
+    CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
+    if (!h) return NULL;
+    if (view) CHECK(rad_hier_set_view(h, view) == RAD_OK);
+    CHECK(rad_hier_link_roots(h) == RAD_OK);
+    CHECK(rad_hier_solve(h, 1e-7, 1000) == RAD_OK);
+    for (int round = 0; round < 60; ++round) {
+        CHECK(rad_hier_refine(h) == RAD_OK);
+        if (rad_hier_get_stats(h).refined == 0) break;
+        CHECK(rad_hier_solve(h, 1e-7, 1000) == RAD_OK);
+    }
+    return h;
+}
+
+/* Leaves per room (the polygons of surfaces 0-1 are room A's). */
+static void leaves_per_room(const rad_hier *h, const rad_scene *scene, size_t out[2]) {
+    size_t count;
+    const rad_hier_node *nodes = rad_hier_nodes(h, &count);
+    out[0] = out[1] = 0;
+    for (size_t i = 0; i < count; ++i)
+        if (nodes[i].corner_count && nodes[i].first_child == RAD_HIER_NO_NODE)
+            out[scene->polygons[nodes[i].polygon].surface >= 2]++;
+}
+
+/* The camera in room A, looking away from the door: the solution's radiosity at every pixel's
+ * hit (red channel; 0 where the ray meets nothing), width x height. */
+static void view_image(const rad_hier *h, const rad_rays *rays, const rad_view *view, double *out) {
+    for (int y = 0; y < view->height; ++y)
+        for (int x = 0; x < view->width; ++x) {
+            rad_vec3 d = rad_view_direction(view, x + 0.5, y + 0.5);
+            rad_hit hit;
+            double b[3] = {0, 0, 0};
+            if (rad_rays_intersect(rays, view->eye, d, 0, INFINITY, &hit) && hit.front)
+                rad_hier_radiosity_at(h, hit.polygon, v3_add(view->eye, v3_scale(d, hit.t)), b);
+            out[y * view->width + x] = b[0];
+        }
+}
+
+/* Importance on two rooms joined by a door, the camera in room A facing away from the door:
+ * room B (unseen, its light reaching the image only through the door and A's walls) gets far
+ * fewer leaves than without importance, room A no fewer, and the image of the importance
+ * solution is within 2% of the full solution's in every 8 x 8 block (both against a finer
+ * full solution: the importance solution's block error at most that of the full one plus 1%). */
+static void test_importance(void) {
+    rad_context *ctx = context(2), *one = context(1);
+    rad_scene *scene = two_rooms(ctx);
+    rad_camera camera = {0};
+    camera.eye = v3(0.9, 0.5, 0.5);
+    camera.look = v3(0, 0.5, 0.45);
+    camera.up = v3(0, 0, 1);
+    camera.fov_degrees = 70;
+    rad_view view;
+    CHECK(rad_view_make(ctx, &camera, 32, 32, &view) == RAD_OK);
+    const double link_error = 1e-4;
+    rad_hier *full = solve_two_rooms(ctx, scene, link_error, NULL);
+    rad_hier *seen = solve_two_rooms(ctx, scene, link_error, &view);
+    rad_hier *seen1 = solve_two_rooms(one, scene, link_error, &view);
+    rad_hier *fine = solve_two_rooms(ctx, scene, link_error / 8, NULL);
+    size_t full_leaves[2], seen_leaves[2];
+    leaves_per_room(full, scene, full_leaves);
+    leaves_per_room(seen, scene, seen_leaves);
+    rad_hier_stats fs = rad_hier_get_stats(full), ss = rad_hier_get_stats(seen);
+    printf("two rooms: without importance %zu links, leaves A %zu, B %zu; with importance %zu "
+           "links, leaves A %zu, B %zu; seen share %.3f\n", fs.links, full_leaves[0],
+           full_leaves[1], ss.links, seen_leaves[0], seen_leaves[1], ss.seen_share);
+    CHECK(ss.seen_share > 0.9); /* the camera sees room A's walls in every pixel */
+    CHECK(seen_leaves[1] * 3 < full_leaves[1]);
+    CHECK(seen_leaves[0] >= full_leaves[0]);
+    CHECK(ss.links < fs.links);
+    /* Room B's importance (the door) is far below room A's far wall, which the camera faces. */
+    uint32_t count;
+    uint32_t far_a = rad_hier_polygon_roots(seen, 10, &count)[0]; /* A's wall x = 0 */
+    uint32_t far_b = rad_hier_polygon_roots(seen, 11, &count)[0]; /* B's wall x = 2 */
+    printf("importance: A's far wall %.4g, B's far wall %.4g\n", rad_hier_importance(seen, far_a),
+           rad_hier_importance(seen, far_b));
+    CHECK(rad_hier_importance(seen, far_b) > 0); /* light from B reaches the image */
+    CHECK(rad_hier_importance(seen, far_b) < 0.1 * rad_hier_importance(seen, far_a));
+    /* The image, in 8 x 8 blocks, against the finer full solution. */
+    rad_rays *rays = NULL;
+    CHECK(rad_rays_create(ctx, scene, &rays) == RAD_OK);
+    double image[3][32 * 32];
+    const rad_hier *solved[3] = {full, seen, fine};
+    for (int k = 0; k < 3; ++k) view_image(solved[k], rays, &view, image[k]);
+    double worst_full = 0, worst_seen = 0, worst_between = 0;
+    for (int by = 0; by < 4; ++by)
+        for (int bx = 0; bx < 4; ++bx) {
+            double mean[3] = {0, 0, 0};
+            for (int y = 0; y < 8; ++y)
+                for (int x = 0; x < 8; ++x)
+                    for (int k = 0; k < 3; ++k) mean[k] += image[k][(by * 8 + y) * 32 + bx * 8 + x] / 64;
+            if (!(mean[2] > 0)) continue;
+            worst_full = fmax(worst_full, fabs(mean[0] / mean[2] - 1));
+            worst_seen = fmax(worst_seen, fabs(mean[1] / mean[2] - 1));
+            worst_between = fmax(worst_between, fabs(mean[1] / mean[0] - 1));
+        }
+    printf("importance: worst 8x8 block against the finer solution: full %.4f, importance %.4f; "
+           "importance against full %.4f\n", worst_full, worst_seen, worst_between);
+    CHECK(worst_between < 0.02);
+    CHECK(worst_seen < worst_full + 0.01);
+    /* One thread and two: the same links and bits. */
+    size_t l1, l2, n1, n2;
+    const rad_hier_link *la = rad_hier_links(seen, &l1), *lb = rad_hier_links(seen1, &l2);
+    const rad_hier_node *na = rad_hier_nodes(seen, &n1), *nb = rad_hier_nodes(seen1, &n2);
+    CHECK(l1 == l2 && memcmp(la, lb, l1 * sizeof *la) == 0);
+    CHECK(n1 == n2 && memcmp(na, nb, n1 * sizeof *na) == 0);
+    rad_rays_destroy(rays);
+    rad_hier_destroy(full);
+    rad_hier_destroy(seen);
+    rad_hier_destroy(seen1);
+    rad_hier_destroy(fine);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+    rad_context_destroy(one);
+}
+
 int main(void) {
     test_image();
     test_closed_forms();
@@ -576,5 +736,6 @@ int main(void) {
     test_solver();
     test_clusters();
     test_leaf_view();
+    test_importance();
     return test_finish();
 }

@@ -332,7 +332,7 @@ static void block_errors(const rad_image *test, const rad_image *ref, double *me
  * specular-first pass with both halves, final gather 4) against the same path-traced image:
  * light through the mirror and the glass is in it (at 128x128 without the pass the mean was
  * 11% dark, with its first half alone 3.5%).
- * Measured at 128x128 against 4096 spp: mean -0.6%, 8x8 RMSE 3.8% (docs/specular-first.md). */
+ * Measured at 128x128 against 4096 spp: mean -0.6%, 8x8 RMSE 3.2% (docs/specular-first.md). */
 static void test_render_against(const rad_image *pt) {
     rad_context *ctx = make_context(2, 23);
     rad_scene *scene = NULL;
@@ -354,8 +354,8 @@ static void test_render_against(const rad_image *pt) {
         block_errors(image, pt, &ratio, &rmse, &worst);
         fprintf(stderr, "cornell-mirror %dx%d: render / path tracer mean %.4f, 8x8 blocks RMSE "
                 "%.2f%%, worst %.2f%%\n", pt->width, pt->height, ratio, 100 * rmse, 100 * worst);
-        /* Measured 0.982, 5.2%, 14.5% (the caustic's block: one element of deposit against
-         * the path tracer's sharp spot, and its own noise there). */
+        /* Measured 0.982, 5.0%, 11.3% with the caustic from the caustic map (5.2%, 14.5%
+         * from the deposit at element resolution); the rest is the path tracer's own noise. */
         CHECK_NEAR(ratio, 1, 0.03);
         CHECK(rmse < 0.08);
         CHECK(worst < 0.2);

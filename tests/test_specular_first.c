@@ -6,8 +6,11 @@
  * distance r from the image is E = L a cos_source cos_floor / r^2 = L a h^2 / r^4. Each floor
  * element's specular emission must be rho times the mean of E over it; the floor gets nothing
  * else (the emitter faces away from it). The same photons with 1 and 2 threads give the same
- * bits, and --specular-first 0 (on = 0) leaves the system without the pass. */
+ * bits, and --specular-first 0 (on = 0) leaves the system without the pass. The renderer's
+ * caustic map (render/caustics.c), made of the same photons, gives at floor points
+ * rho / pi E(x) of the same closed form, and in place of the deposit, not on top of it. */
 #include "mesh/mesh.h"
+#include "render/render.h"
 #include "scene/scene.h"
 #include "system/system.h"
 #include "test.h"
@@ -81,6 +84,62 @@ static rad_system *build(rad_context *ctx, rad_scene *scene) {
         exit(1);
     }
     return system;
+}
+
+/* L a h^2 / r^4 at floor point (x, 0, z). */
+static double image_source_at(double x, double z) {
+    const double h = 2 * MIRROR_Y - EMITTER_Y, a = 4 * EMITTER_HALF * EMITTER_HALF;
+    double dx = x - EMITTER_X, r2 = dx * dx + z * z + h * h;
+    return RADIANCE * a * h * h / (r2 * r2);
+}
+
+/* What the camera sees the floor emit at points of a grid inside it (a radius of the estimate
+ * from its edges): the caustic map's rho / pi E(x), against the image source. */
+static void test_caustic_map(rad_scene *scene, rad_system *s) {
+    rad_camera_desc camera = {{1, 1.5, 0}, {1, 0, 0}, {0, 0, 1}, 60};
+    rad_render_options o = {0};
+    o.width = o.height = 8;
+    o.final_gather = 1;
+    o.camera = &camera;
+    rad_renderer *r = NULL;
+    CHECK(rad_renderer_create(scene, s, &o, &r) == RAD_OK);
+    if (!r) return;
+    rad_image *image = NULL;
+    CHECK(rad_renderer_render(r, &image, NULL) == RAD_OK); /* fills the radiance arrays */
+    rad_image_destroy(image);
+    CHECK(r->caustics.count > 0 && r->caustics.count == s->caustic_landing_count);
+    const int n = 12;
+    double sum = 0, expected_sum = 0, worst = 0, square = 0;
+    int points = 0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            double x = 0.3 + 1.4 * (i + 0.5) / n, z = -0.7 + 1.4 * (j + 0.5) / n;
+            rad_element_hit hit;
+            if (!rad_element_rays_intersect(r->rays, v3(x, 1.5, z), v3(0, -1, 0), 0, INFINITY,
+                                            &hit)) {
+                CHECK(0);
+                continue;
+            }
+            const float rho[3] = {RHO, RHO, RHO};
+            double seen[3];
+            rad_visible_emission(r, &hit, v3(x, 0, z), v3(0, 1, 0), rho, seen);
+            double expected = RHO / RAD_PI * image_source_at(x, z);
+            sum += seen[0];
+            expected_sum += expected;
+            worst = fmax(worst, fabs(seen[0] / expected - 1));
+            square += (seen[0] / expected - 1) * (seen[0] / expected - 1);
+            ++points;
+        }
+    double rms = points ? sqrt(square / points) : 1;
+    printf("caustic map: %zu photons, %d floor points: mean %.2f%%, RMS %.2f%%, worst point "
+           "%.2f%% off the image source\n",
+           r->caustics.count, points, 100 * (sum / expected_sum - 1), 100 * rms, 100 * worst);
+    /* The deposit and the map together would be twice the mean. A point's estimate holds 31
+     * photons: its noise is about 1 / sqrt(31) = 18%. Measured: mean 0.43%, RMS 12%, worst 44%. */
+    CHECK(fabs(sum / expected_sum - 1) < 0.03);
+    CHECK(rms < 0.25);
+    CHECK(worst < 0.7);
+    rad_renderer_destroy(r);
 }
 
 /* The mean of L a h^2 / r^4 over the element (32 x 32 points of its bounding box, which is the
@@ -172,6 +231,8 @@ int main(void) {
     rad_solve_options solve = {0};
     CHECK(rad_solve(s, &solve, NULL) == RAD_OK);
     CHECK(s->specular_reflection != NULL);
+
+    test_caustic_map(scene, s);
 
     /* The same bits for 1 and 2 threads. */
     rad_scene *again = mirror_scene(one, -1);

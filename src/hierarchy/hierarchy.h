@@ -37,6 +37,7 @@
 #include <stdint.h>
 
 struct rad_scene;
+struct rad_view;
 
 #define RAD_HIER_NO_NODE UINT32_MAX
 
@@ -69,6 +70,10 @@ typedef struct rad_hier_options {
      * and the sky (src/system/lights_direct.c); asked once per node when it is made. */
     void (*light)(void *user, uint32_t polygon, const rad_vec3 *corners, int count, double out[3]);
     void *light_user;
+    /* Nonzero: before any link, split nodes whose four children's light differs by more than
+     * the oracle allows (half the range times the area, against the threshold), so that light
+     * with sharp edges of its own (a caustic through glass) is held by leaves that resolve it. */
+    int light_split;
 } rad_hier_options;
 
 typedef struct rad_hier_stats {
@@ -78,6 +83,7 @@ typedef struct rad_hier_stats {
     int solve_rounds;      /* gathering rounds of the last rad_hier_solve */
     int budget_reached;    /* refinement stopped at the memory budget (a warning said so) */
     size_t cluster_links;  /* links with a cluster at one end or both */
+    double seen_share;     /* with a view: the share of its pixels that meet a surface's front */
 } rad_hier_stats;
 
 typedef struct rad_hier rad_hier;
@@ -125,5 +131,17 @@ void rad_hier_light_at(const rad_hier *hier, uint32_t polygon, rad_vec3 x, doubl
 
 /* The root a node belongs to (a cluster: itself). */
 uint32_t rad_hier_root_of(const rad_hier *hier, uint32_t node);
+
+/* Importance (Smits, Arvo & Salesin 1992): from now on the oracle weighs every link's error
+ * by the importance of its receiver (what the view sees of its light, directly or after
+ * reflections) over the scene's mean, so links are refined where this view needs them and
+ * left coarse where it does not (docs/hierarchical.md, "Importance"). One ray per pixel of
+ * `view` finds what the camera sees; every rad_hier_solve then also solves importance over
+ * the transposed links. */
+rad_status rad_hier_set_view(rad_hier *hier, const struct rad_view *view);
+
+/* A node's importance per unit area (the image's change per unit of its radiosity, per unit
+ * area), after the last solve; 0 without a view. */
+double rad_hier_importance(const rad_hier *hier, uint32_t node);
 
 #endif

@@ -183,7 +183,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     uint32_t element = hit->element;
     float rho[3]; /* the texture's at x on textured surfaces (texture_shading.c) */
     rad_renderer_albedo(r, element, x, rho);
-    rad_reconstruct_emission(r, element, hit->u, hit->v, out); /* the deposit smooth */
+    rad_visible_emission(r, hit, x, n, rho, out); /* caustics from the map (caustics.c) */
     if (!(rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return;
 
     rad_gather_origin from = {n, r->settings.light_samples, r->settings.final_gather, 0, 0, 0};

@@ -12,64 +12,88 @@
 
 static int64_t cell_of(double coordinate, double cell) { return (int64_t)floor(coordinate / cell); }
 
-static uint32_t bucket_of(int64_t cx, int64_t cy, int64_t cz, size_t bucket_count) {
-    uint64_t h = rad_mix64((uint64_t)cx * 0x9e3779b97f4a7c15ull ^
-                           rad_mix64((uint64_t)cy + 0x632be59bd9b4e019ull * (uint64_t)cz));
-    return (uint32_t)(h & (bucket_count - 1));
+/* The low 21 bits of v spread to every third bit. */
+static uint64_t spread3(uint64_t v) {
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffull;
+    v = (v | v << 16) & 0x1f0000ff0000ffull;
+    v = (v | v << 8) & 0x100f00f00f00f00full;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+    v = (v | v << 2) & 0x1249249249249249ull;
+    return v;
 }
 
-rad_status rad_photon_map_build(rad_context *ctx, rad_photon *photons, size_t count, double cell,
-                                int threads, rad_photon_map *out) {
+/* A cell's bucket: the low bits of its Morton code (Morton 1966), so neighbouring cells share
+ * nearby buckets and the photons sorted by bucket lie in space order: a query's 27 cells, and
+ * the queries of photons taken in array order, read memory that is near (cells a period of
+ * 2^(m/3) apart per axis share a bucket, which costs only distance tests). */
+static uint32_t bucket_of(int64_t cx, int64_t cy, int64_t cz, size_t bucket_count) {
+    uint64_t code = spread3((uint64_t)cx) | spread3((uint64_t)cy) << 1 | spread3((uint64_t)cz) << 2;
+    return (uint32_t)(code & (bucket_count - 1));
+}
+
+rad_status rad_photon_map_build_runs(rad_context *ctx, const rad_photon_run *runs, size_t run_count,
+                                     double divisor, double cell, int threads, rad_photon_map *out) {
     memset(out, 0, sizeof *out);
     out->cell = cell;
-    if (!(cell > 0) || !isfinite(cell)) {
-        rad_free(ctx, photons);
+    if (!(cell > 0) || !isfinite(cell))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "photon map: the radius must be positive");
-    }
-    if (count > UINT32_MAX - 1) {
-        rad_free(ctx, photons);
+    size_t count = 0;
+    for (size_t r = 0; r < run_count; ++r) count += runs[r].count;
+    if (count > UINT32_MAX - 1)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "photon map: more than 2^32 photons");
-    }
     size_t buckets = 1;
     while (buckets < count) buckets <<= 1;
     uint32_t *key = rad_alloc(ctx, count ? count : 1, sizeof *key);
     uint32_t *start = rad_alloc_zero(ctx, buckets + 1, sizeof *start);
+    uint32_t *next = rad_alloc(ctx, buckets, sizeof *next);
+    size_t *run_first = rad_alloc(ctx, run_count + 1, sizeof *run_first);
     rad_photon *sorted = rad_alloc(ctx, count ? count : 1, sizeof *sorted);
-    if (!key || !start || !sorted) {
+    if (!key || !start || !next || !run_first || !sorted) {
         rad_free(ctx, key);
         rad_free(ctx, start);
+        rad_free(ctx, next);
+        rad_free(ctx, run_first);
         rad_free(ctx, sorted);
-        rad_free(ctx, photons);
         return RAD_ERROR_NO_MEMORY;
     }
-    /* Each photon's bucket, in parallel. */
-    long long n = (long long)count;
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (long long i = 0; i < n; ++i) {
-        rad_vec3 p = photons[i].position;
-        key[i] = bucket_of(cell_of(p.x, cell), cell_of(p.y, cell), cell_of(p.z, cell), buckets);
-    }
-    /* A stable counting sort by bucket: the order inside a bucket is the input order. */
+    run_first[0] = 0;
+    for (size_t r = 0; r < run_count; ++r) run_first[r + 1] = run_first[r] + runs[r].count;
+    /* Each photon's bucket, in parallel, run by run. */
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (long long r = 0; r < (long long)run_count; ++r)
+        for (size_t i = 0; i < runs[r].count; ++i) {
+            rad_vec3 p = runs[r].photons[i].position;
+            key[run_first[r] + i] =
+                bucket_of(cell_of(p.x, cell), cell_of(p.y, cell), cell_of(p.z, cell), buckets);
+        }
+    /* A stable counting sort by bucket: the order inside a bucket is the runs' order. */
     for (size_t i = 0; i < count; ++i) ++start[key[i] + 1];
     for (size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
-    uint32_t *next = rad_alloc(ctx, buckets, sizeof *next);
-    if (!next) {
-        rad_free(ctx, key);
-        rad_free(ctx, start);
-        rad_free(ctx, sorted);
-        rad_free(ctx, photons);
-        return RAD_ERROR_NO_MEMORY;
-    }
     memcpy(next, start, buckets * sizeof *next);
-    for (size_t i = 0; i < count; ++i) sorted[next[key[i]]++] = photons[i];
+    for (size_t r = 0; r < run_count; ++r)
+        for (size_t i = 0; i < runs[r].count; ++i) {
+            rad_photon *p = &sorted[next[key[run_first[r] + i]]++];
+            *p = runs[r].photons[i];
+            if (divisor != 1)
+                for (int c = 0; c < 3; ++c) p->power[c] = (float)(p->power[c] / divisor);
+        }
     rad_free(ctx, next);
     rad_free(ctx, key);
-    rad_free(ctx, photons);
+    rad_free(ctx, run_first);
     out->photons = sorted;
     out->count = count;
     out->bucket_start = start;
     out->bucket_count = buckets;
     return RAD_OK;
+}
+
+rad_status rad_photon_map_build(rad_context *ctx, rad_photon *photons, size_t count, double cell,
+                                int threads, rad_photon_map *out) {
+    rad_photon_run run = {photons, count};
+    rad_status status = rad_photon_map_build_runs(ctx, &run, 1, 1, cell, threads, out);
+    rad_free(ctx, photons);
+    return status;
 }
 
 void rad_photon_map_free(rad_context *ctx, rad_photon_map *map) {

@@ -1,9 +1,9 @@
 /* photon_map.h - a photon map (Jensen 1996): photons stored where they hit surfaces with a
  * diffuse or glossy lobe, in a hash grid of cells one search radius wide (docs/photonmapping.md).
  *
- * The grid: each photon's cell (floor(p / cell) per axis) is hashed into a table of 2^m buckets;
- * the photons are sorted by bucket (keys in parallel, a stable counting sort), so a bucket is one
- * run of the array. A query visits the 27 cells around x, each bucket once. The order of the
+ * The grid: each photon's cell (floor(p / cell) per axis) goes to one of 2^m buckets by the low
+ * bits of its Morton code; the photons are sorted by bucket (keys in parallel, a stable counting
+ * sort), so a bucket is one run of the array and the array is in space order. A query visits the 27 cells around x, each bucket once. The order of the
  * photons is the order they were given in: the map, and every estimate from it, is the same for
  * any thread count. */
 #ifndef RAD_RENDER_PHOTON_MAP_H
@@ -37,6 +37,17 @@ typedef struct rad_photon_map {
 rad_status rad_photon_map_build(rad_context *ctx, rad_photon *photons, size_t count, double cell,
                                  int threads, rad_photon_map *out);
 void rad_photon_map_free(rad_context *ctx, rad_photon_map *map);
+
+/* A run of photons: the map can be built from several, in order, without joining them first. */
+typedef struct rad_photon_run {
+    const rad_photon *photons;
+    size_t count;
+} rad_photon_run;
+
+/* The same map over the runs' photons in their order (not taken: the caller frees them), each
+ * photon's power divided by `divisor` as it is copied into the map. */
+rad_status rad_photon_map_build_runs(rad_context *ctx, const rad_photon_run *runs, size_t run_count,
+                                     double divisor, double cell, int threads, rad_photon_map *out);
 
 /* A neighbour found by rad_photon_map_nearest. */
 typedef struct rad_photon_near {

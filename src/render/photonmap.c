@@ -54,16 +54,18 @@ static double cpu_seconds(void) {
 }
 
 /* The next surface along origin + t direction: its material, the hit and the point; NULL when the
- * ray leaves the scene or meets the back of a one-sided surface (absorbed). */
+ * ray leaves the scene or meets the back of a one-sided surface (absorbed). A textured material
+ * comes back as a copy in *textured reflecting its texture at the point (as the path tracer's). */
 static const rad_material *next_surface(const rad_tracer *t, rad_vec3 origin, rad_vec3 direction,
-                                        uint64_t *rays, rad_hit *hit, rad_vec3 *x) {
+                                        uint64_t *rays, rad_hit *hit, rad_vec3 *x,
+                                        rad_material *textured) {
     ++*rays;
     if (!rad_rays_intersect(t->rays, origin, direction, t->rays->epsilon, INFINITY, hit))
         return NULL;
     const rad_material *m = t->polygon_material[hit->polygon];
     if (!hit->front && m->kind != RAD_MATERIAL_GLASS) return NULL;
     *x = v3_add(origin, v3_scale(direction, hit->t));
-    return m;
+    return rad_photon_scene_material(t->scene, m, hit->polygon, *x, textured);
 }
 
 /* ---- photon tracing ----------------------------------------------------------------------- */
@@ -114,31 +116,70 @@ static int store_photon(void *user, const rad_photon_arrival *a) {
  * L S+ D photons are followed and stored. Returns 0 when out of memory. */
 static int trace_photon(const rad_tracer *t, uint64_t seed, uint64_t index, int caustic_only,
                         photon_list *global, photon_list *caustic, uint64_t *rays) {
-    rad_photon_scene scene = {t->rays, t->polygon_material, &t->emitters};
+    rad_photon_scene scene = {t->rays, t->polygon_material, &t->emitters, t->scene};
     photon_stores stores = {t->ctx, caustic_only, global, caustic};
     return rad_photon_path_trace(&scene, seed, index, caustic_only, MAX_PHOTON_BOUNCES,
                                  store_photon, &stores, rays);
 }
 
+/* Where one block's stores went: the thread that traced it and its runs in that thread's lists. */
 typedef struct photon_block {
-    photon_list global, caustic;
+    int thread;
+    size_t global_first, global_count, caustic_first, caustic_count;
 } photon_block;
 
-/* Traces photons [first, first + count) of the sequence in blocks, in parallel, and joins the
- * blocks' stores in block order; each stored photon's flux is divided by `divisor_global` or
- * `divisor_caustic` (the photon counts). */
+/* The stored photons of a pass as runs in block order (photon_map.h), kept in the lists of the
+ * threads that traced them: the maps are built from the runs, with no joined copy (a joined
+ * copy of hundreds of megabytes cost more in page faults than the tracing). */
+typedef struct photon_runs {
+    rad_photon_run *global, *caustic;
+    size_t global_runs, caustic_runs, run_capacity;
+    size_t global_count, caustic_count;
+    photon_list *lists; /* every thread list of every trace_photons call */
+    size_t list_count;
+} photon_runs;
+
+static void runs_free(rad_context *ctx, photon_runs *runs) {
+    for (size_t i = 0; i < runs->list_count; ++i) rad_free(ctx, runs->lists[i].items);
+    rad_free(ctx, runs->lists);
+    rad_free(ctx, runs->global);
+    rad_free(ctx, runs->caustic);
+    memset(runs, 0, sizeof *runs);
+}
+
+/* Traces photons [first, first + count) of the sequence in blocks, in parallel. Each thread
+ * stores into lists of its own, kept for all its blocks; each block's stores are then added to
+ * `runs` in block order, so the maps are the same for any thread count. */
 static rad_status trace_photons(const rad_tracer *t, uint64_t seed, uint64_t first, uint64_t count,
-                                int caustic_only, int threads, photon_list *global,
-                                photon_list *caustic, uint64_t *rays) {
+                                int caustic_only, int threads, photon_runs *runs, uint64_t *rays) {
     rad_context *ctx = t->ctx;
     size_t blocks = (size_t)((count + PHOTON_BLOCK - 1) / PHOTON_BLOCK);
     photon_block *block = rad_alloc_zero(ctx, blocks ? blocks : 1, sizeof *block);
-    if (!block) return RAD_ERROR_NO_MEMORY;
+    photon_list *lists = rad_realloc(ctx, runs->lists, runs->list_count + 2 * (size_t)threads,
+                                     sizeof *lists);
+    if (lists) {
+        runs->lists = lists;
+        memset(lists + runs->list_count, 0, 2 * (size_t)threads * sizeof *lists);
+        lists += runs->list_count;
+        runs->list_count += 2 * (size_t)threads;
+    }
+    size_t capacity = runs->run_capacity + blocks + 1;
+    rad_photon_run *global_runs = rad_realloc(ctx, runs->global, capacity, sizeof *global_runs);
+    if (global_runs) runs->global = global_runs;
+    rad_photon_run *caustic_runs = rad_realloc(ctx, runs->caustic, capacity, sizeof *caustic_runs);
+    if (caustic_runs) runs->caustic = caustic_runs;
+    if (!block || !lists || !global_runs || !caustic_runs) {
+        rad_free(ctx, block);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    runs->run_capacity = capacity;
     int failed = 0, cancelled = 0;
     long long done_blocks = 0;
     uint64_t total_rays = 0;
 #pragma omp parallel num_threads(threads) reduction(+ : total_rays)
     {
+        int me = omp_get_thread_num();
+        photon_list *my_global = &lists[2 * me], *my_caustic = &lists[2 * me + 1];
 #pragma omp for schedule(dynamic, 1)
         for (long long b = 0; b < (long long)blocks; ++b) {
             int stop;
@@ -148,19 +189,22 @@ static rad_status trace_photons(const rad_tracer *t, uint64_t seed, uint64_t fir
             uint64_t begin = first + (uint64_t)b * PHOTON_BLOCK;
             uint64_t end = first + count < begin + PHOTON_BLOCK ? first + count : begin + PHOTON_BLOCK;
             uint64_t block_rays = 0;
+            block[b].thread = me;
+            block[b].global_first = my_global->count;
+            block[b].caustic_first = my_caustic->count;
             for (uint64_t i = begin; i < end; ++i)
-                if (!trace_photon(t, seed, i, caustic_only, &block[b].global, &block[b].caustic,
-                                  &block_rays)) {
+                if (!trace_photon(t, seed, i, caustic_only, my_global, my_caustic, &block_rays)) {
 #pragma omp atomic write
                     failed = 1;
                     break;
                 }
+            block[b].global_count = my_global->count - block[b].global_first;
+            block[b].caustic_count = my_caustic->count - block[b].caustic_first;
             total_rays += block_rays;
             long long done;
 #pragma omp atomic capture
             done = ++done_blocks;
-            if (omp_get_thread_num() == 0 &&
-                rad_progress(ctx, "photon tracing", (double)done, (double)blocks)) {
+            if (me == 0 && rad_progress(ctx, "photon tracing", (double)done, (double)blocks)) {
 #pragma omp atomic write
                 cancelled = 1;
 #pragma omp atomic write
@@ -169,46 +213,24 @@ static rad_status trace_photons(const rad_tracer *t, uint64_t seed, uint64_t fir
         }
     }
     *rays += total_rays;
-    rad_status status = RAD_OK;
-    if (cancelled) status = rad_fail(ctx, RAD_ERROR_CANCELLED, "photon mapping cancelled");
-    else if (failed) status = RAD_ERROR_NO_MEMORY;
-    /* Join in block order. */
-    size_t global_count = global->count, caustic_count = caustic->count;
-    for (size_t b = 0; b < blocks && !status; ++b) {
-        global_count += block[b].global.count;
-        caustic_count += block[b].caustic.count;
-    }
-    if (!status && global_count > global->capacity) {
-        rad_photon *grown = rad_realloc(ctx, global->items, global_count, sizeof *grown);
-        if (!grown) status = RAD_ERROR_NO_MEMORY;
-        else global->items = grown, global->capacity = global_count;
-    }
-    if (!status && caustic_count > caustic->capacity) {
-        rad_photon *grown = rad_realloc(ctx, caustic->items, caustic_count, sizeof *grown);
-        if (!grown) status = RAD_ERROR_NO_MEMORY;
-        else caustic->items = grown, caustic->capacity = caustic_count;
-    }
-    for (size_t b = 0; b < blocks; ++b) {
-        if (!status) {
-            if (block[b].global.count)
-                memcpy(global->items + global->count, block[b].global.items,
-                       block[b].global.count * sizeof(rad_photon));
-            if (block[b].caustic.count)
-                memcpy(caustic->items + caustic->count, block[b].caustic.items,
-                       block[b].caustic.count * sizeof(rad_photon));
-            global->count += block[b].global.count;
-            caustic->count += block[b].caustic.count;
+    /* The runs, in block order (the lists no longer move). */
+    for (size_t b = 0; b < blocks && !failed; ++b) {
+        const photon_list *g = &lists[2 * block[b].thread], *c = &lists[2 * block[b].thread + 1];
+        if (block[b].global_count) {
+            runs->global[runs->global_runs++] =
+                (rad_photon_run){g->items + block[b].global_first, block[b].global_count};
+            runs->global_count += block[b].global_count;
         }
-        rad_free(ctx, block[b].global.items);
-        rad_free(ctx, block[b].caustic.items);
+        if (block[b].caustic_count) {
+            runs->caustic[runs->caustic_runs++] =
+                (rad_photon_run){c->items + block[b].caustic_first, block[b].caustic_count};
+            runs->caustic_count += block[b].caustic_count;
+        }
     }
     rad_free(ctx, block);
-    return status;
-}
-
-static void scale_power(photon_list *list, double divisor) {
-    for (size_t i = 0; i < list->count; ++i)
-        for (int c = 0; c < 3; ++c) list->items[i].power[c] = (float)(list->items[i].power[c] / divisor);
+    if (cancelled) return rad_fail(ctx, RAD_ERROR_CANCELLED, "photon mapping cancelled");
+    if (failed) return RAD_ERROR_NO_MEMORY;
+    return RAD_OK;
 }
 
 /* ---- the maps of one pass ----------------------------------------------------------------- */
@@ -317,7 +339,8 @@ static void gather_ray(const render_state *r, rad_sampler *sampler, rad_vec3 x, 
     for (int chain = 0; chain < MAX_SPECULAR_CHAIN; ++chain) {
         rad_hit hit;
         rad_vec3 y;
-        const rad_material *m = next_surface(t, x, direction, rays, &hit, &y);
+        rad_material textured;
+        const rad_material *m = next_surface(t, x, direction, rays, &hit, &y, &textured);
         if (!m) return;
         if (!rad_bsdf_is_delta(m)) {
             double l[3];
@@ -347,7 +370,8 @@ static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sam
     for (int chain = 0; chain < MAX_SPECULAR_CHAIN; ++chain) {
         rad_hit hit;
         rad_vec3 x;
-        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x);
+        rad_material textured;
+        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x, &textured);
         if (!m) return;
         rad_vec3 wo = v3_scale(direction, -1);
         /* Emission seen directly or through mirrors and glass. */
@@ -430,46 +454,43 @@ static rad_status build_pass(const rad_tracer *t, const rad_photonmap_options *o
                              int threads, photon_pass *pass, rad_photonmap_stats *stats) {
     rad_context *ctx = t->ctx;
     uint64_t seed = rad_mix64(ctx->seed ^ PHOTON_SALT) + (uint64_t)iteration;
-    photon_list global = {0}, caustic = {0};
+    photon_runs runs;
+    memset(&runs, 0, sizeof runs);
     uint64_t rays = 0;
     double start = rad_seconds(), cpu = cpu_seconds();
-    rad_status status =
-        trace_photons(t, seed, 0, photons, 0, threads, &global, &caustic, &rays);
+    rad_status status = trace_photons(t, seed, 0, photons, 0, threads, &runs, &rays);
     if (!status && caustic_photons)
-        status = trace_photons(t, seed, photons, caustic_photons, 1, threads, &global, &caustic,
-                               &rays);
+        status = trace_photons(t, seed, photons, caustic_photons, 1, threads, &runs, &rays);
     stats->trace_seconds += rad_seconds() - start;
     stats->trace_cpu_seconds += cpu_seconds() - cpu;
     stats->photons_emitted += photons + caustic_photons;
     if (status) {
-        rad_free(ctx, global.items);
-        rad_free(ctx, caustic.items);
+        runs_free(ctx, &runs);
         return status;
     }
-    scale_power(&global, (double)photons);
-    scale_power(&caustic, (double)(photons + caustic_photons));
     pass->nearest = (size_t)(o->nearest ? o->nearest : DEFAULT_NEAREST);
     if (radius > 0) {
         pass->radius = radius;
     } else {
         /* The radius whose disc holds `nearest` photons on average over the storing surfaces. */
         double area = storing_area(t);
-        pass->radius = global.count ? sqrt(pass->nearest * area / (RAD_PI * global.count)) : 1;
+        pass->radius =
+            runs.global_count ? sqrt(pass->nearest * area / (RAD_PI * runs.global_count)) : 1;
         if (!(pass->radius > 0)) pass->radius = 1;
     }
     pass->caustic_radius = pass->radius;
     if (o->iterations > 1) pass->nearest = 0; /* progressive: fixed, shrinking radii */
-    stats->global_stored = global.count;
-    stats->caustic_stored = caustic.count;
+    stats->global_stored = runs.global_count;
+    stats->caustic_stored = runs.caustic_count;
     start = rad_seconds();
-    status = rad_photon_map_build(ctx, global.items, global.count, pass->radius, threads,
-                                  &pass->global);
-    if (status) {
-        rad_free(ctx, caustic.items);
-        return status;
-    }
-    status = rad_photon_map_build(ctx, caustic.items, caustic.count, pass->caustic_radius, threads,
-                                  &pass->caustic);
+    /* The flux of each stored photon over the photons that could have fed its map. */
+    status = rad_photon_map_build_runs(ctx, runs.global, runs.global_runs, (double)photons,
+                                       pass->radius, threads, &pass->global);
+    if (!status)
+        status = rad_photon_map_build_runs(ctx, runs.caustic, runs.caustic_runs,
+                                           (double)(photons + caustic_photons),
+                                           pass->caustic_radius, threads, &pass->caustic);
+    runs_free(ctx, &runs);
     if (!status) status = precompute_irradiance(ctx, pass, threads);
     stats->build_seconds += rad_seconds() - start;
     stats->radius = pass->radius;

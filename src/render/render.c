@@ -86,6 +86,7 @@ void rad_renderer_destroy(rad_renderer *r) {
     if (!r) return;
     rad_context *ctx = r->ctx;
     leaves_free(r);
+    rad_photon_map_free(ctx, &r->caustics);
     rad_free(ctx, r->surface_material);
     rad_lights_free(ctx, r->lights, r->light_count);
     rad_free(ctx, r);
@@ -187,6 +188,7 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
     status = rad_lights_copy(ctx, scene->lights, scene->light_count, &r->lights);
     if (!status) r->light_count = scene->light_count;
     if (!status) status = leaves_build(r);
+    if (!status) status = rad_caustics_build(r);
     if (!status) status = probe_camera(r);
     if (status) {
         rad_renderer_destroy(r);

@@ -17,6 +17,7 @@
 
 #include "core/sampler.h"
 #include "light/emitters.h"
+#include "render/photon_map.h"
 #include "scene/camera.h"
 #include "system/element_rays.h"
 #include "scene/scene.h"
@@ -81,6 +82,10 @@ struct rad_renderer {
     /* Textured surfaces (texture_shading.c): the irradiance (B - E) / (pi rho) averaged at mesh
      * vertices; NULL when no surface is textured. */
     float (*vertex_irradiance)[3];
+
+    /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
+    rad_photon_map caustics;
+    double caustic_radius; /* the largest radius of its density estimate */
 };
 
 /* Counters one thread keeps while rendering. */
@@ -205,9 +210,18 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
 int rad_renderer_albedo(const rad_renderer *r, uint32_t element, rad_vec3 x, float rho[3]);
 /* Fills vertex_irradiance from the current solution (after rad_reconstruct_prepare). */
 rad_status rad_texture_shading_prepare(rad_renderer *r);
-/* The radiance a camera ray sees at x on a textured element: E / pi + rho(x) times the
- * interpolated irradiance. 0 (out untouched) when the element is not textured. */
+/* The radiance a camera ray sees at x on a textured element: E / pi (rad_reconstruct_emission)
+ * + rho(x) times the interpolated irradiance. 0 (out untouched) when the element is not textured. */
 int rad_texture_shading_radiance(const rad_renderer *r, const rad_element_hit *hit, rad_vec3 x,
                                  double out[3]);
+
+/* caustics.c: the caustic map from the specular-first pass's landings (system.h), at renderer
+ * creation; nothing when the pass landed none. */
+rad_status rad_caustics_build(rad_renderer *r);
+/* caustics.c: what a camera path sees a diffuse point emit at x: with a caustic map, the
+ * material's own emission plus the map's caustic (the deposit left to the solve); without one,
+ * rad_reconstruct_emission (the deposit smoothed). */
+void rad_visible_emission(const rad_renderer *r, const rad_element_hit *hit, rad_vec3 x,
+                          rad_vec3 n, const float rho[3], double out[3]);
 
 #endif

@@ -6,7 +6,8 @@
  * (as radiosity, pi times radiance) it receives. The image shows the texture's detail by
  * taking the irradiance from the solution and the reflectance from the texture at the pixel:
  *   - final gather: rho at the pixel replaces rho_e (rad_renderer_albedo);
- *   - smooth or flat reconstruction: L = E_e / pi + rho(x) h(x), where h is the irradiance
+ *   - smooth or flat reconstruction: L = E / pi + rho(x) h(x), E / pi as reconstruct.c draws it
+ *     (a specular-first deposit smoothed at the vertices), where h is the irradiance
  *     (B - E) / (pi rho_e) of the elements, averaged at the vertices by area and interpolated as
  *     the radiosity is (reconstruct.c), so neighbouring elements of different mean
  *     reflectance (a checker's edge) meet without a step.
@@ -88,6 +89,10 @@ int rad_texture_shading_radiance(const rad_renderer *r, const rad_element_hit *h
             for (int c = 0; c < 3; ++c)
                 h[c] += weight[k] * r->vertex_irradiance[r->mesh->element_vertices[e][k]][c];
     }
-    for (int c = 0; c < 3; ++c) out[c] = r->element_emission[e][c] + rho[c] * h[c];
+    /* The emission as reconstruct.c draws it: a specular-first deposit smoothed (smooth
+     * shading), not flat per element. */
+    double emission[3];
+    rad_reconstruct_emission(r, e, hit->u, hit->v, emission);
+    for (int c = 0; c < 3; ++c) out[c] = emission[c] + rho[c] * h[c];
     return 1;
 }

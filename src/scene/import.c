@@ -878,47 +878,6 @@ static void read_camera(importer *im) {
     im->scene->camera = (rad_camera){eye, v3_add(eye, view), up, fov};
 }
 
-/* ------------------------------------------------------------------------------------------- */
-/* Warnings about materials                                                                     */
-
-/* Reflectance this close to 1 barely loses energy: iterative solvers converge slowly and the
- * room comes out too bright. Textured materials' factors are usually white (1), so a texture
- * that could not be read leaves them so. */
-#define BRIGHT_REFLECTANCE 0.95
-/* A warning names at most this many surfaces. */
-#define NAMED_SURFACES 4
-
-static void warn_bright_materials(importer *im) {
-    const rad_scene *scene = im->scene;
-    for (size_t i = 0; i < scene->material_count; ++i) {
-        const rad_material *m = &scene->materials[i];
-        double rho[3] = {m->reflectance[0], m->reflectance[1], m->reflectance[2]};
-        if (m->texture) {
-            double mean[3];
-            rad_texture_mean(m->texture, mean);
-            for (int c = 0; c < 3; ++c) rho[c] *= mean[c];
-        }
-        double largest = fmax(rho[0], fmax(rho[1], rho[2]));
-        if (!(largest >= BRIGHT_REFLECTANCE) || largest > 1) continue; /* > 1 is refused later */
-        char names[512] = "";
-        size_t used = 0, count = 0;
-        for (size_t s = 0; s < scene->surface_count; ++s) {
-            if (scene->surfaces[s].material != i) continue;
-            if (count++ < NAMED_SURFACES && used < sizeof names)
-                used += (size_t)snprintf(names + used, sizeof names - used, "%s'%s'",
-                                         count > 1 ? ", " : "", scene->surfaces[s].name);
-        }
-        if (count == 0) continue;
-        if (used >= sizeof names) used = sizeof names - 1;
-        if (count > NAMED_SURFACES)
-            snprintf(names + used, sizeof names - used, " and %zu more", count - NAMED_SURFACES);
-        int lost = i < im->texture_lost_capacity && im->texture_lost[i];
-        rad_warn(im->ctx, "%s: material '%s' reflects %.3g of the light%s (surfaces %s); "
-                 "reflectances near 1 converge slowly and brighten the scene", im->path, m->name,
-                 largest, lost ? ", white because its texture could not be used" : "", names);
-    }
-}
-
 /* OBJ: a note for each material a `usemtl` names that no MTL file gave (assimp makes a
  * material of that name with its own defaults). The MTL files are those `mtllib` names,
  * beside the OBJ; their `newmtl` names are the known ones. */
@@ -1220,7 +1179,8 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
     if (im.cut) rad_info(ctx, "%s: cut %zu non-convex faces into convex pieces", path, im.cut);
     if (im.joined)
         rad_info(ctx, "%s: joined %zu pairs of triangles into quads", path, im.joined);
-    warn_bright_materials(&im);
+    rad_scene_warn_bright_materials(im.ctx, im.scene, im.path, im.texture_lost,
+                                    im.texture_lost_capacity);
     note_unknown_usemtl(&im);
     if (im.textured_without_uv)
         rad_warn(ctx, "%s: %zu textured surfaces have no texture coordinates; they take their "

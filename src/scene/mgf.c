@@ -951,6 +951,7 @@ rad_status rad_scene_load_mgf(rad_context *ctx, const char *path, rad_scene **ou
     if (!status) status = read_file(&r, path, NULL);
     if (!status && r.scene->polygon_count == 0)
         status = rad_fail(ctx, RAD_ERROR_PARSE, "%s: no faces or primitives in the MGF file", path);
+    if (!status) rad_scene_warn_bright_materials(ctx, r.scene, path, NULL, 0);
     rad_free(ctx, r.vertices);
     rad_free(ctx, r.colors);
     rad_free(ctx, r.materials);

@@ -3,6 +3,8 @@
 #include "scene/scene.h"
 #include "scene/texture.h"
 
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 rad_status rad_scene_new(rad_context *ctx, int geometric, const char *source, rad_scene **out) {
@@ -206,4 +208,42 @@ size_t rad_scene_file_count(const rad_scene *scene) { return scene ? scene->file
 
 const char *rad_scene_file(const rad_scene *scene, size_t index) {
     return scene && index < scene->files.count ? scene->files.paths[index] : NULL;
+}
+
+/* Reflectance this close to 1 barely loses energy: iterative solvers converge slowly and the
+ * room comes out too bright. Textured materials' factors are usually white (1), so a texture
+ * that could not be read leaves them so. */
+#define BRIGHT_REFLECTANCE 0.95
+/* A warning names at most this many surfaces. */
+#define NAMED_SURFACES 4
+
+void rad_scene_warn_bright_materials(rad_context *ctx, const rad_scene *scene, const char *path,
+                                     const uint8_t *texture_lost, size_t lost_count) {
+    for (size_t i = 0; i < scene->material_count; ++i) {
+        const rad_material *m = &scene->materials[i];
+        double rho[3] = {m->reflectance[0], m->reflectance[1], m->reflectance[2]};
+        if (m->texture) {
+            double mean[3];
+            rad_texture_mean(m->texture, mean);
+            for (int c = 0; c < 3; ++c) rho[c] *= mean[c];
+        }
+        double largest = fmax(rho[0], fmax(rho[1], rho[2]));
+        if (!(largest >= BRIGHT_REFLECTANCE) || largest > 1) continue; /* > 1 is refused later */
+        char names[512] = "";
+        size_t used = 0, count = 0;
+        for (size_t s = 0; s < scene->surface_count; ++s) {
+            if (scene->surfaces[s].material != i) continue;
+            if (count++ < NAMED_SURFACES && used < sizeof names)
+                used += (size_t)snprintf(names + used, sizeof names - used, "%s'%s'",
+                                         count > 1 ? ", " : "", scene->surfaces[s].name);
+        }
+        if (count == 0) continue;
+        if (used >= sizeof names) used = sizeof names - 1;
+        if (count > NAMED_SURFACES)
+            snprintf(names + used, sizeof names - used, " and %zu more", count - NAMED_SURFACES);
+        int lost = texture_lost && i < lost_count && texture_lost[i];
+        rad_warn(ctx, "%s: material '%s' reflects %.3g of the light%s (surfaces %s); "
+                 "reflectances near 1 converge slowly and brighten the scene", path, m->name,
+                 largest, lost ? ", white because its texture could not be used" : "", names);
+    }
 }

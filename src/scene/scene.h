@@ -151,6 +151,13 @@ rad_status rad_scene_add_back_faces(rad_scene *scene);
 /* Appends a copy of `light` (its name copied; its IES profile, if any, now owned by the scene). */
 rad_status rad_scene_append_light(rad_scene *scene, const rad_light *light);
 
+/* Warns, naming up to four of their surfaces, about each material whose largest diffuse
+ * reflectance (times its texture's mean) is 0.95 to 1: it converges slowly and brightens the
+ * scene (docs/formats.md, "Materials"). `texture_lost[i]` (may be NULL) marks material i as
+ * white because its texture could not be used. Every reader calls it once its scene is whole. */
+void rad_scene_warn_bright_materials(rad_context *ctx, const rad_scene *scene, const char *path,
+                                     const uint8_t *texture_lost, size_t lost_count);
+
 /* Geometry of a polygon: unit normal (Newell's method), area, centroid. */
 rad_vec3 rad_polygon_normal(const rad_scene *scene, const rad_polygon *polygon);
 double rad_polygon_area(const rad_scene *scene, const rad_polygon *polygon);

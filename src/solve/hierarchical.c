@@ -9,6 +9,7 @@
 
 #include "hierarchy/hierarchy.h"
 #include "mesh/mesh.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
 #include "solve/hierarchical_view.h"
 
@@ -18,41 +19,28 @@
 #define INNER_TOLERANCE 1e-5 /* gathering rounds stop when no leaf changes by more (relative) */
 #define INNER_ROUNDS 1000
 
-/* The lights' pre-pass (src/system/lights_direct.c) for the hierarchy: each polygon's elements
- * (first[p] .. first[p + 1] in `element`), so a node takes the light of the elements whose
- * centroids it covers, area-weighted (the nearest element's when it covers none). */
+/* Light the system's elements hold besides their materials' emission, for the hierarchy: the
+ * lights' pre-pass (src/system/lights_direct.c: point, spot and directional lights, the sky)
+ * and light through mirrors and glass (src/system/specular_first.c: the first pass's deposit,
+ * and after a converged solve the second pass's). Each polygon's elements are first[p] ..
+ * first[p + 1] in `element`, so a node takes the light of the elements whose centroids it
+ * covers, area-weighted (the nearest element's when it covers none). */
 typedef struct element_light {
     const rad_system *system;
     size_t *first;
     uint32_t *element;
+    rad_rgb *value; /* per element: the sum of the light above */
 } element_light;
+
+static int has_element_light(const rad_system *s) {
+    return s->light_emission || s->specular_emission || s->specular_reflection;
+}
 
 static void node_light(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
                        double out[3]) {
     const element_light *el = user;
-    const rad_system *s = el->system;
-    const rad_vec3 *centroids = s->mesh->element_centroid;
-    rad_vec3 normal = v3_cross(v3_sub(corners[1], corners[0]), v3_sub(corners[count - 1], corners[0]));
-    rad_vec3 centre = v3(0, 0, 0);
-    for (int k = 0; k < count; ++k) centre = v3_add(centre, v3_scale(corners[k], 1.0 / count));
-    double sum[3] = {0, 0, 0}, area = 0, nearest = INFINITY;
-    size_t best = SIZE_MAX;
-    for (size_t i = el->first[polygon]; i < el->first[polygon + 1]; ++i) {
-        uint32_t e = el->element[i];
-        rad_vec3 x = centroids[e];
-        int in = 1;
-        for (int k = 0; k < count && in; ++k) {
-            rad_vec3 a = corners[k], b = corners[(k + 1) % count];
-            in = v3_dot(v3_cross(v3_sub(b, a), v3_sub(x, a)), normal) >= 0;
-        }
-        double d = v3_length(v3_sub(x, centre));
-        if (d < nearest) nearest = d, best = e;
-        if (!in) continue;
-        for (int c = 0; c < 3; ++c) sum[c] += s->light_emission[e][c] * s->area[e];
-        area += s->area[e];
-    }
-    for (int c = 0; c < 3; ++c)
-        out[c] = area > 0 ? sum[c] / area : best != SIZE_MAX ? s->light_emission[best][c] : 0;
+    rad_hier_elements_mean(el->system, el->value, el->element, el->first[polygon],
+                           el->first[polygon + 1], corners, count, out);
 }
 
 static rad_status element_light_create(const rad_system *s, element_light *out) {
@@ -60,10 +48,15 @@ static rad_status element_light_create(const rad_system *s, element_light *out) 
     out->system = s;
     out->first = rad_alloc_zero(s->ctx, polygons + 2, sizeof *out->first);
     out->element = rad_alloc(s->ctx, n ? n : 1, sizeof *out->element);
-    if (!out->first || !out->element) return RAD_ERROR_NO_MEMORY;
+    out->value = rad_alloc_zero(s->ctx, n ? n : 1, sizeof *out->value);
+    if (!out->first || !out->element || !out->value) return RAD_ERROR_NO_MEMORY;
     for (size_t e = 0; e < n; ++e) out->first[s->mesh->element_polygon[e] + 2]++;
     for (size_t p = 0; p < polygons; ++p) out->first[p + 2] += out->first[p + 1];
     for (size_t e = 0; e < n; ++e) out->element[out->first[s->mesh->element_polygon[e] + 1]++] = (uint32_t)e;
+    rad_rgb *parts[3] = {s->light_emission, s->specular_emission, s->specular_reflection};
+    for (int k = 0; k < 3; ++k)
+        for (size_t e = 0; parts[k] && e < n; ++e)
+            for (int c = 0; c < 3; ++c) out->value[e][c] += parts[k][e][c];
     return RAD_OK;
 }
 
@@ -71,6 +64,7 @@ static void element_light_destroy(const rad_system *s, element_light *el) {
     if (!el) return;
     rad_free(s->ctx, el->first);
     rad_free(s->ctx, el->element);
+    rad_free(s->ctx, el->value);
     rad_free(s->ctx, el);
 }
 
@@ -86,7 +80,8 @@ typedef struct hierarchical_state {
  * made the area-weighted mean of its leaves; otherwise the mean over the element's centroid and
  * the points halfway to its corners; with lights, the element's own pre-pass light replaces the
  * leaves' (which may be coarser). */
-static void evaluate(rad_system *s, const rad_hier *hier) {
+static void evaluate(rad_system *s, const rad_hier *hier, const element_light *light) {
+    rad_rgb *value = light ? light->value : NULL;
     const rad_mesh *mesh = s->mesh;
     size_t node_count;
     const rad_hier_node *nodes = rad_hier_nodes(hier, &node_count);
@@ -99,7 +94,7 @@ static void evaluate(rad_system *s, const rad_hier *hier) {
         size_t first = (size_t)e, last = (size_t)e + 1;
         while (first > 0 && mesh->element_polygon[first - 1] == polygon) --first;
         while (last < s->element_count && mesh->element_polygon[last] == polygon) ++last;
-        if (!s->light_emission && roots && last - first == root_count &&
+        if (!has_element_light(s) && roots && last - first == root_count &&
             fabs(nodes[roots[(size_t)e - first]].area - mesh->element_area[e]) <=
                 1e-9 * mesh->element_area[e]) {
             memcpy(s->radiosity[e], nodes[roots[(size_t)e - first]].radiosity, sizeof(rad_rgb));
@@ -115,17 +110,41 @@ static void evaluate(rad_system *s, const rad_hier *hier) {
             rad_hier_radiosity_at(hier, polygon, v3_lerp(centre, corner, 0.5), b);
             for (int c = 0; c < 3; ++c) sum[c] += b[c];
         }
-        if (s->light_emission) {
+        if (value) {
             double light[3];
             rad_hier_light_at(hier, mesh->element_polygon[e], centre, light);
-            for (int c = 0; c < 3; ++c)
-                sum[c] += (corners + 1) * (s->light_emission[e][c] - light[c]);
+            for (int c = 0; c < 3; ++c) sum[c] += (corners + 1) * (value[e][c] - light[c]);
         }
         for (int c = 0; c < 3; ++c) {
             s->radiosity[e][c] = sum[c] / (corners + 1);
             s->unshot[e][c] = 0;
         }
     }
+}
+
+/* Importance (Smits, Arvo & Salesin 1992): the oracle weighs links by what the camera of the
+ * solve options sees, at the size the importance solver uses. */
+static rad_status set_view(rad_solver_run *run, rad_hier *hier) {
+    const rad_solve_options *o = run->options;
+    rad_context *ctx = run->system->ctx;
+    if (!o->camera)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "the hierarchical solver's importance needs a camera "
+                        "(rad_solve_options.camera)");
+    int width, height;
+    rad_importance_view_size(o, &width, &height);
+    rad_camera camera = rad_camera_from_desc(o->camera);
+    rad_view view;
+    rad_status status = rad_view_make(ctx, &camera, width, height, &view);
+    if (!status) status = rad_hier_set_view(hier, &view);
+    if (!status) {
+        rad_hier_stats stats = rad_hier_get_stats(hier);
+        rad_info(ctx, "hierarchical importance: the camera sees surfaces in %.1f%% of a %dx%d view",
+                 100 * stats.seen_share, width, height);
+        if (!(stats.seen_share > 0))
+            rad_warn(ctx, "importance: the camera sees no surface; every link counts as unseen");
+    }
+    return status;
 }
 
 static rad_status hierarchical_begin(rad_solver_run *run) {
@@ -135,29 +154,32 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
         return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "the hierarchical solver needs geometry; a patch system (.ffm) has only "
                         "its given form factors");
-    run->leaves_out_specular = 1;
-    if (s->specular_emission)
-        rad_warn(s->ctx, "the hierarchical solver leaves out the specular-first light (light "
-                         "through mirrors and glass, docs/specular-first.md)");
     if (o->link_error < 0 || isnan(o->link_error))
         return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "the link error must be a positive number, not %g", o->link_error);
-    if (o->resume) rad_warn(s->ctx, "the hierarchical solver starts over; it does not resume");
+    /* The driver resumes after the second specular pass (D S+ D light added to the elements):
+     * the hierarchy starts over with it, as it does from a saved solution. */
+    if (o->resume && !s->specular_reflection)
+        rad_warn(s->ctx, "the hierarchical solver starts over; it does not resume");
     rad_hier_options options = {0};
     options.link_error = o->link_error > 0 ? o->link_error : o->tolerance;
     rad_hier *hier = NULL;
     hierarchical_state *state = rad_alloc_zero(s->ctx, 1, sizeof *state);
     if (!state) return RAD_ERROR_NO_MEMORY;
     rad_status status = RAD_OK;
-    if (s->light_emission) {
-        /* Point, spot and directional lights and the sky: their direct light, reflected, is
-         * each node's emission besides its material's (docs/hierarchical.md). */
+    if (has_element_light(s)) {
+        /* Point, spot and directional lights, the sky and light through mirrors and glass:
+         * their light, reflected, is each node's emission besides its material's
+         * (docs/hierarchical.md). */
         state->light = rad_alloc_zero(s->ctx, 1, sizeof *state->light);
         status = state->light ? element_light_create(s, state->light) : RAD_ERROR_NO_MEMORY;
         options.light = node_light;
         options.light_user = state->light;
+        /* A caustic has edges of its own, which no link asks for: the nodes resolve it first. */
+        options.light_split = s->specular_emission != NULL;
     }
     if (!status) status = rad_hier_create(s->ctx, s->geometry, &options, &hier);
+    if (!status && rad_run_option(run, "importance", 0) != 0) status = set_view(run, hier);
     if (!status) status = rad_hier_link_roots(hier);
     if (!status) status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
     state->hier = hier;
@@ -167,7 +189,7 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
     status = rad_hier_view_install(s, hier);
     if (status) return status;
     state->drawn = 1;
-    evaluate(s, hier);
+    evaluate(s, hier, state->light);
     return RAD_OK;
 }
 
@@ -189,9 +211,14 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
     *residual = (double)stats.refined;
     if (stats.refined > 0) {
         status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
-        if (!status) evaluate(run->system, hier);
+        if (!status) evaluate(run->system, hier, ((hierarchical_state *)run->state)->light);
     }
     if (!status) report_step(run->system, hier, iteration);
+    if (!status) {
+        run->links = stats.links;
+        run->leaves = stats.leaves;
+        run->largest_error = stats.largest_error;
+    }
     if (!status && stats.budget_reached && stats.links <= 1)
         return RAD_ERROR_MEMORY_BUDGET; /* not even the top cluster's first links fit */
     if (!status && stats.budget_reached) {
@@ -215,11 +242,15 @@ static void hierarchical_end(rad_solver_run *run) {
 static const rad_method_option hierarchical_options[] = {
     {"link-error", "E  the oracle's threshold on a link's error, relative to the emitted power "
                    "(1e-3, or --tolerance)"},
+    {"importance", "refine links where the camera needs them: the oracle weighs each link by "
+                   "the importance of its receiver (Smits, Arvo & Salesin 1992)"},
 };
+
+static const rad_solver_variant hierarchical_variants[] = {{"hierarchical", 0, 0}};
 
 const rad_solver_impl rad_solver_hierarchical = {
     {"hierarchical", "quadtrees over the input polygons and links refined by an oracle "
                      "(Hanrahan, Salzman & Aupperle 1991)",
-     RAD_SOLVER_ITERATIVE | RAD_SOLVER_OWN_LEAVES, hierarchical_options, 1, NULL, 0, 0},
+     RAD_SOLVER_ITERATIVE | RAD_SOLVER_OWN_LEAVES, hierarchical_options, 2, hierarchical_variants, 1, 0},
     hierarchical_begin, hierarchical_step, hierarchical_end,
 };

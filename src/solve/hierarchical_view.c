@@ -329,9 +329,51 @@ static int leaf_unshot(const rad_solution_view *view, size_t leaf, double out[3]
     return 0;
 }
 
+void rad_hier_elements_mean(const rad_system *s, rad_rgb *values, const uint32_t *order,
+                            size_t first, size_t last, const rad_vec3 *corners, int count,
+                            double out[3]) {
+    const rad_vec3 *centroids = s->mesh->element_centroid;
+    rad_vec3 normal = v3_cross(v3_sub(corners[1], corners[0]), v3_sub(corners[count - 1], corners[0]));
+    rad_vec3 centre = v3(0, 0, 0);
+    for (int k = 0; k < count; ++k) centre = v3_add(centre, v3_scale(corners[k], 1.0 / count));
+    double sum[3] = {0, 0, 0}, area = 0, nearest = INFINITY;
+    size_t best = SIZE_MAX;
+    for (size_t i = first; i < last; ++i) {
+        size_t e = order ? order[i] : i;
+        rad_vec3 x = centroids[e];
+        int in = 1;
+        for (int k = 0; k < count && in; ++k) {
+            rad_vec3 a = corners[k], b = corners[(k + 1) % count];
+            in = v3_dot(v3_cross(v3_sub(b, a), v3_sub(x, a)), normal) >= 0;
+        }
+        double d = v3_length(v3_sub(x, centre));
+        if (d < nearest) nearest = d, best = e;
+        if (!in) continue;
+        for (int c = 0; c < 3; ++c) sum[c] += values[e][c] * s->area[e];
+        area += s->area[e];
+    }
+    for (int c = 0; c < 3; ++c)
+        out[c] = area > 0 ? sum[c] / area : best != SIZE_MAX ? values[best][c] : 0;
+}
+
+/* The material's emission, plus the specular-first deposit (light through mirrors and glass,
+ * src/system/specular_first.c), which the renderer shows as the surface's own emission: the
+ * mean of the system's elements under the leaf (the system is the uniform mesh then). */
 static void leaf_emission(const rad_solution_view *view, size_t leaf, double out[3]) {
     const rad_material *m = leaf_material(view, leaf);
     for (int c = 0; c < 3; ++c) out[c] = RAD_PI * m->emission[c];
+    const rad_system *s = state(view)->system;
+    const rad_hier_node *node = leaf_node(view, leaf);
+    if (!s->specular_emission || !s->mesh || node->corner_count == 0) return;
+    /* The polygon's elements are consecutive. */
+    size_t first = 0, n = s->element_count;
+    while (first < n && s->mesh->element_polygon[first] != node->polygon) ++first;
+    size_t last = first;
+    while (last < n && s->mesh->element_polygon[last] == node->polygon) ++last;
+    double deposit[3];
+    rad_hier_elements_mean(s, s->specular_emission, NULL, first, last, node->corner,
+                           node->corner_count, deposit);
+    for (int c = 0; c < 3; ++c) out[c] += deposit[c];
 }
 
 static void leaf_reflectance(const rad_solution_view *view, size_t leaf, double out[3]) {

@@ -53,8 +53,7 @@ typedef struct importance_state {
     size_t kept_bytes;
 } importance_state;
 
-/* The image size for importance: the caller's aspect, at most IMPORTANCE_MAX_SIDE per side. */
-static void importance_size(const rad_solve_options *o, int *width, int *height) {
+void rad_importance_view_size(const rad_solve_options *o, int *width, int *height) {
     int w = o->view_width, h = o->view_height;
     if (w <= 0 || h <= 0) w = h = IMPORTANCE_MAX_SIDE;
     int side = w > h ? w : h;
@@ -155,7 +154,7 @@ static rad_status importance_begin(rad_solver_run *run) {
 
     /* 1. Emitted importance: the screen share of every element. */
     int width, height;
-    importance_size(o, &width, &height);
+    rad_importance_view_size(o, &width, &height);
     size_t n = s->element_count;
     double *share = rad_alloc(ctx, n, sizeof *share);
     rad_rgb *received = rad_alloc(ctx, n, sizeof *received);

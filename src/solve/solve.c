@@ -49,6 +49,9 @@ static int emit_iteration(const rad_solver_run *run, const rad_solver_impl *impl
         .unshot_fraction = shooting ? run->unshot_fraction : NAN,
         .residual = residual,
         .shooter = shooting ? run->shooter_patch : -1,
+        .links = run->links,
+        .leaves = run->leaves,
+        .largest_error = run->largest_error,
     };
     int stop = o->on_iteration(o->iteration_user, &event);
     *callback_seconds += rad_seconds() - now;
@@ -101,6 +104,7 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
     run.tracing = options->trace != NULL;
     run.shooter_surface = run.shooter_patch = -1;
     run.unshot_fraction = NAN;
+    run.largest_error = NAN;
     if (!options->resume) {
         rad_system_remove_specular_reflection(system); /* a previous solve's: added again below */
         rad_system_reset(system);
@@ -170,13 +174,16 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
     if (status) local.stop = RAD_STOP_ERROR;
     local.unshot_fraction = run.unshot_fraction;
     local.importance_shots = run.importance_shots;
+    local.links = run.links;
+    local.leaves = run.leaves;
+    local.largest_error = run.largest_error;
     rad_free(ctx, run.received);
     rad_free(ctx, run.reflected);
     local.seconds = rad_seconds() - start - callback_seconds;
     /* The specular-first pass's second half (docs/specular-first.md): the solved radiosity of
      * the diffuse elements through mirrors and glass onto diffuse elements, which the form
      * factors leave out; added as unshot light, then the solve resumes to spread it. */
-    if (!status && local.converged && !options->resume && !run.leaves_out_specular &&
+    if (!status && local.converged && !options->resume &&
         system->specular_emission && !system->specular_reflection) {
         status = rad_system_add_specular_reflection(system);
         rad_solve_report second = {0};
@@ -192,6 +199,9 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
             local.converged = second.converged;
             local.residual = second.residual;
             local.unshot_fraction = second.unshot_fraction;
+            local.links = second.links;
+            local.leaves = second.leaves;
+            local.largest_error = second.largest_error;
         }
         if (status) local.stop = RAD_STOP_ERROR;
     }

@@ -22,8 +22,8 @@ typedef struct rad_solver_run {
     int importance_shots;   /* set by the importance solver's begin */
     void *state;          /* the solver's own */
     int memory_budget_reached; /* set by a step that cannot go on within the memory budget */
-    int leaves_out_specular; /* set by a solver whose solution leaves the specular-first light
-                                out: no second pass (D S+ D) after it */
+    size_t links, leaves;      /* set by hierarchical steps (rad_iteration_event) */
+    double largest_error;      /* set by hierarchical steps; NaN otherwise */
 } rad_solver_run;
 
 /* The number the solver's own option `name` is set to in the caller's option bag
@@ -55,5 +55,10 @@ rad_status rad_gather_matrix(rad_system *system, float **out);
 
 /* Largest |B| over elements and channels (at least a tiny positive number). */
 double rad_max_radiosity(const rad_system *system);
+
+/* The image size importance is computed at (importance.c, and the hierarchical solver's
+ * --importance): the caller's view_width x view_height (256 x 256 when unset), scaled to at
+ * most 256 pixels a side. */
+void rad_importance_view_size(const rad_solve_options *options, int *width, int *height);
 
 #endif

@@ -14,11 +14,14 @@
  * pre-pass (lights_direct.c).
  *
  * For the renderer the deposit is the element's own emission (rad_system_own_emission), as a
- * lamp's is: the camera sees it where it lands (the caustic), and the final gather samples it
+ * lamp's is: the final gather samples it
  * as an emitter (final_gather.c) and takes it from the gather rays that meet the element
  * directly, weighted against those samples. Nothing else in the render finds L S+ D light: a
  * gather ray that reaches a lamp through a mirror or glass takes only the reflected part
  * (B - E) / pi of what it meets there (second_pass.c), so the same light is not counted twice.
+ * The camera sees the caustic itself from the same photons, kept where they landed
+ * (caustic_landings): the renderer's caustic map (render/caustics.c) replaces the deposit at the
+ * visible point.
  *
  * The second half (rad_system_add_specular_reflection, called by the solve driver once a solve
  * has converged): the same photons leave every element with its solved reflected radiosity
@@ -44,10 +47,13 @@
 #define SPECULAR_SEED 0x5bd1e9955bd1e995ull
 #define MAX_SPECULAR_BOUNCES 32
 
-/* One landing: the element and the flux. */
+/* One landing: the element, the flux, and where and from where it arrived (kept by the first
+ * half as the renderer's caustic photons). */
 typedef struct deposit {
     uint32_t element;
     float power[3];
+    rad_vec3 position;
+    float normal[3], incoming[3];
 } deposit;
 
 typedef struct deposit_list {
@@ -75,6 +81,11 @@ static int land(void *user, const rad_photon_arrival *a) {
     }
     deposit *d = &list->items[list->count++];
     d->element = hit.element;
+    d->position = a->position;
+    d->normal[0] = (float)a->hit.normal.x, d->normal[1] = (float)a->hit.normal.y;
+    d->normal[2] = (float)a->hit.normal.z;
+    d->incoming[0] = (float)-a->direction.x, d->incoming[1] = (float)-a->direction.y;
+    d->incoming[2] = (float)-a->direction.z;
     for (int c = 0; c < 3; ++c) d->power[c] = (float)a->power[c];
     return 1;
 }
@@ -106,10 +117,11 @@ static rad_status build_emitters(rad_context *ctx, const rad_scene *scene,
     return RAD_OK;
 }
 
-/* Traces the photons and sums their flux per element into `flux` (element_count entries). */
+/* Traces the photons and sums their flux per element into `flux` (element_count entries). With
+ * `landings`, every landing is also kept there (in block order, flux over `count`). */
 static rad_status trace(rad_context *ctx, const rad_photon_scene *photons,
                         const rad_element_rays *elements, uint64_t seed, uint64_t count,
-                        rad_rgb *flux) {
+                        rad_rgb *flux, rad_caustic_landing **landings, size_t *landing_count) {
     size_t blocks = (size_t)((count + SPECULAR_BLOCK - 1) / SPECULAR_BLOCK);
     deposit_list *block = rad_alloc_zero(ctx, blocks ? blocks : 1, sizeof *block);
     if (!block) return RAD_ERROR_NO_MEMORY;
@@ -133,14 +145,44 @@ static rad_status trace(rad_context *ctx, const rad_photon_scene *photons,
                 break;
             }
     }
-    /* Sum in block order. */
+    /* Sum in block order, and keep the landings in the same order. */
+    size_t kept = 0, total = 0;
+    for (size_t b = 0; b < blocks; ++b) total += block[b].count;
+    rad_caustic_landing *keep = NULL;
+    if (landings && !failed && total) {
+        /* The caustic map is an image's refinement: past a quarter of the memory budget it is
+         * left out (the render then draws the deposit), with a warning. */
+        if ((double)total * sizeof *keep > 0.25 * (double)ctx->max_memory) {
+            rad_warn(ctx, "the specular-first pass's %zu landed photons are not kept for the "
+                          "caustic map: over a quarter of the memory budget (--max-memory)",
+                     total);
+        } else {
+            keep = rad_alloc(ctx, total, sizeof *keep);
+            if (!keep) failed = 1;
+        }
+    }
     for (size_t b = 0; b < blocks; ++b) {
+        for (size_t i = 0; i < block[b].count && keep; ++i) {
+            const deposit *d = &block[b].items[i];
+            rad_caustic_landing *l = &keep[kept++];
+            l->position = d->position;
+            for (int c = 0; c < 3; ++c) {
+                l->power[c] = (float)(d->power[c] / (double)count);
+                l->normal[c] = d->normal[c];
+                l->incoming[c] = d->incoming[c];
+            }
+        }
         for (size_t i = 0; i < block[b].count && !failed; ++i)
             for (int c = 0; c < 3; ++c) flux[block[b].items[i].element][c] += block[b].items[i].power[c];
         rad_free(ctx, block[b].items);
     }
     rad_free(ctx, block);
-    return failed ? RAD_ERROR_NO_MEMORY : RAD_OK;
+    if (failed) {
+        rad_free(ctx, keep);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    if (landings) *landings = keep, *landing_count = kept;
+    return RAD_OK;
 }
 
 rad_status rad_system_add_specular_emission(rad_system *s, const rad_scene *scene) {
@@ -162,8 +204,12 @@ rad_status rad_system_add_specular_emission(rad_system *s, const rad_scene *scen
     if (!status) status = rad_rays_create(ctx, scene, &rays);
     if (!status) status = rad_element_rays_create(ctx, mesh, &elements);
     if (!status) {
-        rad_photon_scene photons = {rays, polygon_material, &emitters};
-        status = trace(ctx, &photons, elements, SPECULAR_SEED, count, flux);
+        rad_photon_scene photons = {rays, polygon_material, &emitters, scene};
+        rad_free(ctx, s->caustic_landings);
+        s->caustic_landings = NULL;
+        s->caustic_landing_count = 0;
+        status = trace(ctx, &photons, elements, SPECULAR_SEED, count, flux, &s->caustic_landings,
+                       &s->caustic_landing_count);
     }
     if (!status) {
         rad_free(ctx, s->specular_emission);
@@ -240,8 +286,8 @@ rad_status rad_system_add_specular_reflection(rad_system *s) {
     if (!status) status = rad_rays_create(ctx, scene, &rays);
     if (!status) status = rad_element_rays_create(ctx, s->mesh, &elements);
     if (!status) {
-        rad_photon_scene photons = {rays, polygon_material, &reflectors};
-        status = trace(ctx, &photons, elements, SPECULAR_SEED + 1, count, flux);
+        rad_photon_scene photons = {rays, polygon_material, &reflectors, scene};
+        status = trace(ctx, &photons, elements, SPECULAR_SEED + 1, count, flux, NULL, NULL);
     }
     /* What lands is reflected once, as in the first pass, and joins the solution as light not
      * yet shot. */

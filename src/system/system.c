@@ -59,6 +59,7 @@ void rad_system_destroy(rad_system *s) {
     rad_free(ctx, s->light_emission);
     rad_free(ctx, s->specular_emission);
     rad_free(ctx, s->specular_reflection);
+    rad_free(ctx, s->caustic_landings);
     rad_free(ctx, s->element_patch);
     rad_free(ctx, s->element_surface);
     rad_free(ctx, s->patch_first);

@@ -7,6 +7,7 @@
 #define RAD_SOLVE_SYSTEM_H
 
 #include "core/context.h"
+#include "core/vec3.h"
 #include "formfactor/provider.h"
 
 #include <stdint.h>
@@ -41,6 +42,10 @@ struct rad_system {
                                      (D S+ D, specular_first.c): rho E; NULL until a solve adds
                                      it */
     uint64_t specular_photons; /* photons of the specular-first pass (0 when it did not run) */
+    struct rad_caustic_landing *caustic_landings; /* the first half's landings (L S+ D photons,
+                                                     specular_first.c), for the renderer's
+                                                     caustic map; NULL when none landed */
+    size_t caustic_landing_count;
     uint32_t *element_patch;
     uint32_t *element_surface;
 
@@ -64,6 +69,16 @@ struct rad_system {
     rad_solution_view view; /* what render, bake and solution files read: the uniform mesh
                                (solution_view.h) unless a solver installs another */
 };
+
+/* One photon of the specular-first pass where it landed on a diffuse element after mirrors and
+ * glass (an L S+ D path): the renderer draws caustics from these (render/caustics.c), while
+ * their sum per element feeds the solve (specular_emission). */
+typedef struct rad_caustic_landing {
+    rad_vec3 position;
+    float power[3];    /* flux divided by the photon count (the scene's radiosity units x area) */
+    float normal[3];   /* front normal of the surface it landed on */
+    float incoming[3]; /* unit, from the surface towards where the photon came from */
+} rad_caustic_landing;
 
 /* Allocates the arrays of a system with the given counts (zeroed). */
 rad_status rad_system_alloc(rad_context *ctx, size_t elements, size_t patches, size_t surfaces,

@@ -29,11 +29,14 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
                                 scene->source, m->name, m->emission[c]);
         }
     }
-    /* One element per polygon for a solver that draws its own leaves, unless lights or a sky
-     * ask for the uniform mesh: their direct light is resolved on its elements (the hierarchy
+    /* One element per polygon for a solver that draws its own leaves, unless lights, a sky or
+     * light through mirrors and glass ask for the uniform mesh: their direct light is resolved on its elements (the hierarchy
      * reads it from them, src/solve/hierarchical.c). */
     int polygons_only = mesh_options->polygons_only && !scene->light_count &&
-                        scene->sky.kind == RAD_SKY_OFF;
+                        scene->sky.kind == RAD_SKY_OFF &&
+                        /* the specular-first deposit too (specular_first.c) */
+                        !(scene->specular_first > 0 ||
+                          (scene->specular_first == 0 && rad_scene_has_specular(scene)));
     rad_mesh *mesh = NULL;
     rad_status status = polygons_only ? rad_system_polygon_mesh(ctx, scene, &mesh)
                                       : rad_mesh_create(ctx, scene, mesh_options, &mesh);
