@@ -7,7 +7,8 @@
  *   - the floor along the tall block's base against the path tracer, in blocks of 4 x 4 pixels
  *     at 128 x 128 (8 x 8 at 256 x 256): the band that was 5.7% too dark in the mean (11% in
  *     its worst block) at the defaults is within 3% in the mean;
- *   - a rug lying on a floor in its plane: the floor loses the piece under it. */
+ *   - a rug lying on a floor in its plane: the floor loses the piece under it;
+ *   - the generated house's default render against the path tracer in blocks. */
 #include "mesh/contact.h"
 #include "mesh/mesh.h"
 #include "radiosity.h"
@@ -15,6 +16,7 @@
 #include "system/system.h"
 #include "test.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -229,6 +231,70 @@ static void test_coplanar(rad_context *ctx) {
     rad_scene_destroy(scene);
 }
 
+/* The house's default render against the path tracer, in 8 x 8 blocks at 64 x 48 (16 x 16 at
+ * the bench's 128 x 96), as issue 16 asks: mean within 2%, no block
+ * over 5%. Gather rays used to read the plain smooth solution, whose vertex averages lower each
+ * surface's peak: here -2.3% in the mean, 2.8% RMSE, worst block -5.1%, all of it a little
+ * dark; they now read it with each element's mean kept (-0.2%, 0.3%, -0.8%). The path tracer's 256 paths leave
+ * about 1% of noise in a block, hence the RMSE bound of 1.5%. Blocks where either image has a
+ * pixel brighter than 1 (the walls are below 0.5) are left out: the lamp and its edge, where
+ * one partly covered pixel of the lamp (1.2 in one image, 4.0 in the other) moves its block by
+ * 20%. */
+static void test_house_against_path_tracer(rad_context *ctx, const rad_scene *house,
+                                           const rad_system *system) {
+    const int width = 64, height = 48, size = 8;
+    const rad_camera_desc view = {{0.3, 1.7, 0.3}, {4.2, 1.0, 3.4}, {0, 1, 0}, 75};
+    rad_pathtrace_options trace = {0};
+    trace.width = width;
+    trace.height = height;
+    trace.samples_per_pixel = 256;
+    trace.camera = &view;
+    rad_render_options options = {0};
+    options.width = width;
+    options.height = height;
+    options.samples_per_pixel = 16;
+    options.final_gather = 4; /* the CLI's default render */
+    options.camera = &view;
+    rad_image *reference = NULL, *image = NULL;
+    CHECK(rad_pathtrace(ctx, house, &trace, &reference, NULL) == RAD_OK);
+    CHECK(rad_render(house, system, &options, &image) == RAD_OK);
+    if (reference && image) {
+        const float *t = rad_image_pixels(image), *r = rad_image_pixels(reference);
+        double sum_t = 0, sum_r = 0, squares = 0, worst = 0;
+        int blocks = 0;
+        for (int by = 0; by < height; by += size)
+            for (int bx = 0; bx < width; bx += size) {
+                double a = 0, b = 0;
+                int lamp = 0;
+                for (int y = by; y < by + size; ++y)
+                    for (int x = bx; x < bx + size; ++x) {
+                        const size_t p = 3 * ((size_t)y * width + x);
+                        lamp |= fmax(r[p] + r[p + 1] + r[p + 2], t[p] + t[p + 1] + t[p + 2]) / 3 > 1;
+                        a += t[p] + t[p + 1] + t[p + 2];
+                        b += r[p] + r[p + 1] + r[p + 2];
+                    }
+                if (lamp || !(b > 0)) continue;
+                sum_t += a;
+                sum_r += b;
+                double e = a / b - 1;
+                squares += e * e;
+                if (fabs(e) > fabs(worst)) worst = e;
+                blocks++;
+            }
+        double rmse = sqrt(squares / blocks), mean = sum_t / sum_r - 1;
+        printf("house vs path tracer (256 paths), 64x48, %d blocks of 8x8 (the lamp's left out): "
+               "mean %+.2f%%, RMSE "
+               "%.2f%%, worst %+.1f%%\n",
+               blocks, 100 * mean, 100 * rmse, 100 * worst);
+        CHECK(blocks >= 40);
+        CHECK(fabs(mean) < 0.02);
+        CHECK(fabs(worst) < 0.05);
+        CHECK(rmse < 0.015);
+    }
+    rad_image_destroy(reference);
+    rad_image_destroy(image);
+}
+
 static void test_house(rad_context *ctx) {
     rad_scene *house = NULL;
     CHECK(rad_scene_generate_house(ctx, &house) == RAD_OK);
@@ -246,6 +312,7 @@ static void test_house(rad_context *ctx) {
         CHECK(fabs(energy.escaped_fraction) < 0.005);
         CHECK(energy.black_area == 0);
         test_no_black_element(house, system, 200); /* the camera sees one room and a door */
+        if (!getenv("RAD_TEST_QUICK")) test_house_against_path_tracer(ctx, house, system);
     }
     rad_system_destroy(system);
     rad_scene_destroy(house);

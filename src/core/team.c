@@ -6,6 +6,7 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
+#include <unistd.h>
 
 typedef struct worker {
     pthread_t thread;
@@ -15,6 +16,7 @@ typedef struct worker {
 
 struct rad_team {
     rad_allocator allocator; /* the context's */
+    pid_t owner;             /* the process whose threads these are (a forked child has none) */
     pthread_mutex_t lock;
     pthread_cond_t wake;     /* a new loop, or quit */
     pthread_cond_t finished; /* a worker left a loop */
@@ -74,6 +76,7 @@ static struct rad_team *team_start(rad_context *ctx, int workers) {
     if (!team) return NULL;
     memset(team, 0, bytes);
     team->allocator = ctx->allocator;
+    team->owner = getpid();
     if (pthread_mutex_init(&team->lock, NULL)) goto fail_lock;
     if (pthread_cond_init(&team->wake, NULL)) goto fail_wake;
     if (pthread_cond_init(&team->finished, NULL)) goto fail_finished;
@@ -101,7 +104,8 @@ void rad_team_for(rad_context *ctx, long count, rad_team_task task, void *user) 
     struct rad_team *team = ctx ? ctx->team : NULL;
     if (ctx && !team && threads > 1 && count > 1 && !in_team_worker && !omp_in_parallel())
         team = team_start(ctx, threads - 1);
-    int alone = !team || !team->worker_count || count < 2 || in_team_worker || omp_in_parallel();
+    int alone = !team || !team->worker_count || count < 2 || in_team_worker || omp_in_parallel() ||
+                team->owner != getpid();
     if (!alone) {
         pthread_mutex_lock(&team->lock);
         alone = team->busy;
@@ -132,6 +136,11 @@ void rad_team_for(rad_context *ctx, long count, rad_team_task task, void *user) 
 void rad_team_destroy(rad_context *ctx) {
     struct rad_team *team = ctx ? ctx->team : NULL;
     if (!team) return;
+    if (team->owner != getpid()) { /* a forked child: the threads are the parent's */
+        team->allocator.release(team->allocator.user, team);
+        ctx->team = NULL;
+        return;
+    }
     pthread_mutex_lock(&team->lock);
     team->quit = 1;
     pthread_cond_broadcast(&team->wake);

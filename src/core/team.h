@@ -19,8 +19,8 @@ typedef void (*rad_team_task)(void *user, long index, int worker);
 /* Runs task(user, i, worker) for every i in [0, count) on the context's threads and returns
  * when all are done. The workers are started on first use and kept until the context is
  * destroyed. Runs everything on the calling thread when the context asks for one thread, when
- * count < 2, when called from inside a parallel loop (OpenMP or this one), or when the threads
- * cannot be started. */
+ * count < 2, when called from inside a parallel loop (OpenMP or this one), when the threads
+ * cannot be started, or in a process forked after they were (it has none of them). */
 void rad_team_for(rad_context *ctx, long count, rad_team_task task, void *user);
 
 /* Stops and joins the workers (rad_context_destroy). */

@@ -321,23 +321,10 @@ rad_status rad_reconstruct_prepare(rad_renderer *r) {
     return deposit_prepare(r);
 }
 
-void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u, double v,
-                              double out[3]) {
-    if (r->settings.shading == RAD_SHADING_FLAT) {
-        for (int c = 0; c < 3; ++c) out[c] = r->element_radiance[element][c];
-        return;
-    }
-    double weight[4];
-    int corners = rad_element_weights(r->mesh, element, u, v, weight);
-    out[0] = out[1] = out[2] = 0;
-    for (int k = 0; k < corners; ++k) {
-        const float *radiance = r->vertex_radiance[r->mesh->element_vertices[element][k]];
-        for (int c = 0; c < 3; ++c) out[c] += weight[k] * radiance[c];
-    }
-}
-
-void rad_reconstruct_gather_radiance(const rad_renderer *r, uint32_t element, double u, double v,
-                                     double out[3]) {
+/* The element's value at (u, v) interpolated from its corners' (corner k, channel c at
+ * corner[3 k + c]; flat shading: its own). */
+static void interpolate(const rad_renderer *r, uint32_t element, double u, double v,
+                        const float *corner, double out[3]) {
     if (r->settings.shading == RAD_SHADING_FLAT) {
         for (int c = 0; c < 3; ++c) out[c] = r->element_radiance[element][c];
         return;
@@ -346,7 +333,20 @@ void rad_reconstruct_gather_radiance(const rad_renderer *r, uint32_t element, do
     int corners = rad_element_weights(r->mesh, element, u, v, weight);
     out[0] = out[1] = out[2] = 0;
     for (int k = 0; k < corners; ++k)
-        for (int c = 0; c < 3; ++c) out[c] += weight[k] * r->corner_radiance[element][k][c];
+        for (int c = 0; c < 3; ++c) out[c] += weight[k] * corner[3 * k + c];
+}
+
+void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u, double v,
+                              double out[3]) {
+    float corner[4][3];
+    for (int k = 0; k < rad_mesh_corner_count(r->mesh, element); ++k)
+        memcpy(corner[k], r->vertex_radiance[r->mesh->element_vertices[element][k]], sizeof corner[k]);
+    interpolate(r, element, u, v, &corner[0][0], out);
+}
+
+void rad_reconstruct_gather_radiance(const rad_renderer *r, uint32_t element, double u, double v,
+                                     double out[3]) {
+    interpolate(r, element, u, v, &r->corner_radiance[element][0][0], out);
 }
 
 void rad_reconstruct_emission(const rad_renderer *r, uint32_t element, double u, double v,
