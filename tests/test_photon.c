@@ -354,7 +354,7 @@ static void test_render_against(const rad_image *pt) {
         block_errors(image, pt, &ratio, &rmse, &worst);
         fprintf(stderr, "cornell-mirror %dx%d: render / path tracer mean %.4f, 8x8 blocks RMSE "
                 "%.2f%%, worst %.2f%%\n", pt->width, pt->height, ratio, 100 * rmse, 100 * worst);
-        /* Measured 0.982, 5.0%, 11.3% with the caustic from the caustic map (5.2%, 14.5%
+        /* Measured 0.982, 4.5%, 9.3% with the caustic from the caustic map (5.2%, 14.5%
          * from the deposit at element resolution); the rest is the path tracer's own noise. */
         CHECK_NEAR(ratio, 1, 0.03);
         CHECK(rmse < 0.08);
