@@ -238,6 +238,14 @@ printf 'm white =\n\tc\n\trd 0.97\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\nv c =\n\t
 check "a 0.97 reflectance is warned about, naming the surface" \
     grep -q "white.mgf: material 'white' reflects 0.97 of the light (surfaces 'floor')" white.err \
     || cat white.err >&2
+# rd + rs over 1 (RenderPark's own cube.mgf has rd 0.9 with rs 0.2): read, both scaled to a
+# total of 1, with a warning at the line.
+printf 'm shiny =\n\trd 0.9\n\trs 0.2 0.01\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\nv c =\n\tp 1 1 0\no floor\nf a b c\no\n' \
+    >shiny.mgf
+"$radiosity" scenes --info shiny.mgf >/dev/null 2>shiny.err
+check "rd + rs over 1 is read (exit 0)" test $? -eq 0
+check "rd + rs over 1 is warned about at its line" grep -q "shiny.mgf:3: rd + rs is 1.1" shiny.err \
+    || cat shiny.err >&2
 head -c 300 /dev/urandom >garbage.mgf
 expect_exit 1 'garbage.mgf' -- "$radiosity" solve garbage.mgf
 

@@ -659,7 +659,16 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
             m->rd_x = r->color.x;
             m->rd_y = r->color.y;
         }
-        if (m->rd + m->rs > 1) return fail_at(r, "rd + rs exceeds 1", NULL);
+        /* More light reflected than arrives: scaled down to a total of 1, with a warning, as
+         * RenderPark reads such files (its own cube.mgf has rd 0.9 with rs 0.2). */
+        if (m->rd + m->rs > 1) {
+            double total = m->rd + m->rs;
+            rad_warn(r->ctx, "%s:%d: rd + rs is %.3g, more than 1: both scaled by %.3g so the "
+                     "material reflects no more light than it receives", r->file, r->line, total,
+                     1 / total);
+            m->rd /= total;
+            m->rs /= total;
+        }
         return RAD_OK;
     }
     if (strcmp(e, "c") == 0) {
