@@ -136,11 +136,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
         rad_vec3 x = v3_add(origin, v3_scale(direction, hit.t));
         /* A textured surface reflects its texture at x times the factor (scene/texture.h). */
         rad_material textured;
-        if (m->texture) {
-            textured = *m;
-            rad_scene_albedo_at(t->scene, hit.polygon, x, textured.reflectance);
-            m = &textured;
-        }
+        m = rad_scene_material_at(t->scene, m, hit.polygon, x, &textured);
         rad_vec3 wo = v3_scale(direction, -1);
 
         /* Emission seen along the path (front sides only). */

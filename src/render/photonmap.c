@@ -24,6 +24,7 @@
 #include "render/pathtrace.h"
 #include "render/photon_map.h"
 #include "scene/photon_path.h"
+#include "scene/texture.h"
 
 #include "image/image.h"
 
@@ -65,7 +66,7 @@ static const rad_material *next_surface(const rad_tracer *t, rad_vec3 origin, ra
     const rad_material *m = t->polygon_material[hit->polygon];
     if (!hit->front && m->kind != RAD_MATERIAL_GLASS) return NULL;
     *x = v3_add(origin, v3_scale(direction, hit->t));
-    return rad_photon_scene_material(t->scene, m, hit->polygon, *x, textured);
+    return rad_scene_material_at(t->scene, m, hit->polygon, *x, textured);
 }
 
 /* ---- photon tracing ----------------------------------------------------------------------- */

@@ -6,14 +6,6 @@
 
 #include <math.h>
 
-const rad_material *rad_photon_scene_material(const rad_scene *scene, const rad_material *m,
-                                              uint32_t polygon, rad_vec3 x, rad_material *textured) {
-    if (!m->texture || !scene) return m;
-    *textured = *m;
-    rad_scene_albedo_at(scene, polygon, x, textured->reflectance);
-    return textured;
-}
-
 int rad_photon_path_trace(const rad_photon_scene *scene, uint64_t seed, uint64_t index,
                           int specular_only, int max_bounces, rad_photon_visit visit, void *user,
                           uint64_t *rays) {
@@ -42,7 +34,7 @@ int rad_photon_path_trace(const rad_photon_scene *scene, uint64_t seed, uint64_t
         if (!hit.front && m->kind != RAD_MATERIAL_GLASS) break;
         rad_vec3 x = v3_add(origin, v3_scale(direction, hit.t));
         rad_material textured;
-        m = rad_photon_scene_material(scene->scene, m, hit.polygon, x, &textured);
+        m = rad_scene_material_at(scene->scene, m, hit.polygon, x, &textured);
         rad_vec3 wi = v3_scale(direction, -1);
         if (rad_bsdf_has_smooth_lobe(m)) {
             a.origin = origin;

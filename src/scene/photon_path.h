@@ -24,12 +24,6 @@ typedef struct rad_photon_scene {
     const rad_scene *scene; /* for textures (the albedo at a hit), or NULL: materials as they are */
 } rad_photon_scene;
 
-/* The material at point x of `polygon`: `m` itself, or when it is textured (and `scene` is not
- * NULL) a copy in *textured whose reflectance is the texture's at x times the factor
- * (scene/texture.h), as the path tracer reads it. */
-const rad_material *rad_photon_scene_material(const rad_scene *scene, const rad_material *m,
-                                              uint32_t polygon, rad_vec3 x, rad_material *textured);
-
 /* A photon arriving at a surface with a diffuse or glossy lobe. */
 typedef struct rad_photon_arrival {
     rad_vec3 origin, direction; /* the ray it arrived along (direction unit) */

@@ -203,6 +203,14 @@ int rad_scene_albedo_at(const rad_scene *scene, uint32_t polygon, rad_vec3 x, do
     return 1;
 }
 
+const rad_material *rad_scene_material_at(const rad_scene *scene, const rad_material *m,
+                                          uint32_t polygon, rad_vec3 x, rad_material *textured) {
+    if (!m->texture || !scene) return m;
+    *textured = *m;
+    rad_scene_albedo_at(scene, polygon, x, textured->reflectance);
+    return textured;
+}
+
 /* The point at (s, t) of the bilinear patch c0 c1 c2 c3 (a triangle when c3 = c2), and the
  * length of its cross derivative there: the area it stands for. */
 static rad_vec3 patch_point(const rad_vec3 *c, double s, double t, double *jacobian) {

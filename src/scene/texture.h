@@ -56,6 +56,13 @@ int rad_polygon_uv(const struct rad_scene *scene, uint32_t polygon, rad_vec3 x, 
 int rad_scene_albedo_at(const struct rad_scene *scene, uint32_t polygon, rad_vec3 x,
                         double rho[3]);
 
+/* The material at point x of `polygon`: `m` itself, or when it is textured (and `scene` is not
+ * NULL) a copy in *textured whose reflectance is rad_scene_albedo_at's. What the path tracer,
+ * the photons and photonmap's camera paths read at a hit. */
+const struct rad_material *rad_scene_material_at(const struct rad_scene *scene,
+                                                 const struct rad_material *m, uint32_t polygon,
+                                                 rad_vec3 x, struct rad_material *textured);
+
 /* The area-weighted mean reflectance over a convex piece (3 or 4 corners, counter-clockwise) of
  * polygon `polygon`: the factor times the texture's mean over the piece, from a grid of points
  * dense enough to see every texel it covers (at most 64 x 64). Returns 0 (rho = factor) when
