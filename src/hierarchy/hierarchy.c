@@ -737,7 +737,11 @@ fail:
 static rad_status check_memory(rad_hier *h, size_t links, size_t nodes) {
     char what[160];
     snprintf(what, sizeof what, "hierarchical radiosity with %zu links and %zu nodes", links, nodes);
-    double bytes = 2.0 * (double)links * sizeof(rad_hier_link) + (double)nodes * sizeof(rad_hier_node);
+    /* A node's own arrays beside it: its direct light and spread, its importance terms. */
+    double node_bytes = (double)sizeof(rad_hier_node) +
+                        (h->light ? (double)(sizeof *h->light + sizeof *h->light_spread) : 0) +
+                        (h->importance ? 3.0 * sizeof(double) : 0);
+    double bytes = 2.0 * (double)links * sizeof(rad_hier_link) + (double)nodes * node_bytes;
     return rad_check_budget(h->ctx, bytes, what);
 }
 
