@@ -18,16 +18,13 @@
 
 #include <string.h>
 
-static void analytic_block(const rad_ff_row *row, long block, float *out, uint64_t counts[2]) {
+static void analytic_block(const rad_ff_row *row, rad_ff_block *b, float *out) {
     const rad_mesh *mesh = row->mesh;
     const rad_ff_patch *p = row->p;
     const rad_vec3 np = row->np;
     const double epsilon = row->epsilon;
     const int samples = row->samples;
-    rad_ff_block b;
-    rad_ff_block_begin(row, block, &b);
-    uint64_t receivers = 0, cast = 0;
-    const long first = b.first, last = b.last;
+    const long first = b->first, last = b->last;
     /* Per receiver: the unoccluded factor, and for those that need rays the kernel weight
      * of all points and of the points seen. */
     double factor[RAD_FF_BLOCK], all[RAD_FF_BLOCK], seen[RAD_FF_BLOCK] = {0};
@@ -37,8 +34,7 @@ static void analytic_block(const rad_ff_row *row, long block, float *out, uint64
         const int slot = (int)(e - first);
         factor[slot] = 0;
         all[slot] = 0;
-        if (!rad_ff_block_receives(row, &b, e)) continue;
-        ++receivers;
+        if (!rad_ff_block_receives(row, b, e)) continue;
         const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
         if (!rad_ff_near(row->c, p, (size_t)e, 4)) {
             /* The common case, a quadrilateral patch whole in front of the centroid's
@@ -82,7 +78,7 @@ static void analytic_block(const rad_ff_row *row, long block, float *out, uint64
     }
     for (long e = first; e < last; ++e) {
         const int slot = (int)(e - first);
-        if (factor[slot] <= 0 || !rad_ff_block_needs_rays(row, &b, e, 0)) continue;
+        if (factor[slot] <= 0 || !rad_ff_block_needs_rays(row, b, e, 0)) continue;
         const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
         /* Visibility: the kernel-weighted fraction of rays that reach the patch. */
         const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));
@@ -95,23 +91,21 @@ static void analytic_block(const rad_ff_row *row, long block, float *out, uint64
             double kernel = rad_ff_point_kernel(y, ny, x, np, weight);
             if (kernel <= 0) continue;
             all[slot] += kernel;
-            cast += (uint64_t)rad_ff_queue_segment(&b.queue, row->rays, seen, from,
-                                                   v3_add(x, v3_scale(np, epsilon)), kernel, slot);
+            rad_ff_queue_segment(&b->queue, row->rays, seen, from,
+                                 v3_add(x, v3_scale(np, epsilon)), kernel, slot);
         }
         /* All points behind one of the planes while part of the patch is in front: one
          * ray to the centre of the part in front decides. */
         if (all[slot] <= 0) {
             all[slot] = 1;
-            cast += (uint64_t)rad_ff_queue_segment(&b.queue, row->rays, seen, from,
-                                                   v3_add(p->centre, v3_scale(np, epsilon)), 1, slot);
+            rad_ff_queue_segment(&b->queue, row->rays, seen, from,
+                                 v3_add(p->centre, v3_scale(np, epsilon)), 1, slot);
         }
     }
-    rad_ff_queue_flush(&b.queue, row->rays, seen);
+    rad_ff_queue_flush(&b->queue, row->rays, seen);
     for (int slot = 0; slot < (int)(last - first); ++slot)
         if (all[slot] > 0) factor[slot] *= seen[slot] / all[slot];
-    rad_ff_block_write(row, &b, factor, out);
-    counts[0] += receivers;
-    counts[1] += cast;
+    rad_ff_block_write(row, b, factor, out);
 }
 
 static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *out) {

@@ -222,10 +222,11 @@ typedef struct {
 static void row_run_block(void *user, long block, int worker) {
     (void)worker;
     row_run *run = user;
-    uint64_t counts[2] = {0, 0};
-    run->block(run->row, block, run->out, counts);
-    atomic_fetch_add_explicit(&run->receivers, counts[0], memory_order_relaxed);
-    atomic_fetch_add_explicit(&run->rays, counts[1], memory_order_relaxed);
+    rad_ff_block b;
+    rad_ff_block_begin(run->row, block, &b);
+    run->block(run->row, &b, run->out);
+    atomic_fetch_add_explicit(&run->receivers, b.receivers, memory_order_relaxed);
+    atomic_fetch_add_explicit(&run->rays, b.queue.cast, memory_order_relaxed);
 }
 
 rad_status rad_ff_row_run(rad_ff_common *common, size_t patch, rad_ff_block_fn block, float *out) {

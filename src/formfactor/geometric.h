@@ -280,6 +280,7 @@ typedef struct rad_ff_ray_queue {
     rad_ray_packet packet;
     double contribution[16];
     int slot[16];
+    uint64_t cast; /* rays queued so far (the provider's statistics) */
 } rad_ff_ray_queue;
 
 /* Traces what is queued and adds the contributions of the unblocked segments to sums[slot]. */
@@ -293,38 +294,39 @@ static inline void rad_ff_queue_flush(rad_ff_ray_queue *queue, const rad_rays *r
 }
 
 /* Queues the segment from -> to (both already offset from their surfaces), flushing when the
- * packet is full. The ends are excluded by the rays' epsilon. Returns the rays cast (0 or 1). */
-static inline int rad_ff_queue_segment(rad_ff_ray_queue *queue, const rad_rays *rays,
+ * packet is full. The ends are excluded by the rays' epsilon; a segment shorter than that casts
+ * no ray and adds its contribution at once. */
+static inline void rad_ff_queue_segment(rad_ff_ray_queue *queue, const rad_rays *rays,
                                        double *sums, rad_vec3 from, rad_vec3 to,
                                        double contribution, int slot) {
     rad_vec3 d = v3_sub(to, from);
     double length = sqrt(v3_dot(d, d));
     if (length <= 2 * rays->epsilon) {
         sums[slot] += contribution;
-        return 0;
+        return;
     }
     double margin = rays->epsilon / length;
     int lane = rad_ray_packet_add(&queue->packet, from, d, margin, 1 - margin);
     queue->contribution[lane] = contribution;
     queue->slot[lane] = slot;
+    queue->cast++;
     if (queue->packet.count == 16) rad_ff_queue_flush(queue, rays, sums);
-    return 1;
 }
 
 /* The same with the direction (to - from) and the margin epsilon / |to - from| known to the
  * caller, who often has the length already. */
-static inline int rad_ff_queue_ray(rad_ff_ray_queue *queue, const rad_rays *rays, double *sums,
+static inline void rad_ff_queue_ray(rad_ff_ray_queue *queue, const rad_rays *rays, double *sums,
                                    rad_vec3 from, rad_vec3 direction, double margin,
                                    double contribution, int slot) {
     if (margin >= 0.5) {
         sums[slot] += contribution;
-        return 0;
+        return;
     }
     int lane = rad_ray_packet_add(&queue->packet, from, direction, margin, 1 - margin);
     queue->contribution[lane] = contribution;
     queue->slot[lane] = slot;
+    queue->cast++;
     if (queue->packet.count == 16) rad_ff_queue_flush(queue, rays, sums);
-    return 1;
 }
 
 /* ------------------------------------------------------------------------------------------- */
@@ -376,9 +378,10 @@ void rad_ff_row_begin(rad_ff_common *common, size_t patch, rad_ff_row *row);
 /* Adds a finished row to the provider's statistics. */
 void rad_ff_row_end(rad_ff_common *common, uint64_t receivers, uint64_t rays);
 
-/* One block of a row: writes F for elements [block * RAD_FF_BLOCK, ...) into `out` and adds the
- * receivers it handled to counts[0], the rays it cast to counts[1]. */
-typedef void (*rad_ff_block_fn)(const rad_ff_row *row, long block, float *out, uint64_t counts[2]);
+struct rad_ff_block;
+/* One block of a row, begun by rad_ff_row_run: writes F for the block's elements into `out`;
+ * the block counts its receivers and its queue the rays cast. */
+typedef void (*rad_ff_block_fn)(const rad_ff_row *row, struct rad_ff_block *block, float *out);
 
 /* The row of `patch`: rad_ff_row_begin, `block` over every block of the row on the context's
  * worker threads (core/team.h: they sleep between rows, where an OpenMP region per row left them
@@ -388,6 +391,7 @@ rad_status rad_ff_row_run(rad_ff_common *common, size_t patch, rad_ff_block_fn b
 
 typedef struct rad_ff_block {
     long first, last;      /* its elements */
+    uint64_t receivers;    /* elements rad_ff_block_receives said yes to */
     rad_ff_ray_queue queue;
     size_t facing_patch;   /* the receiving patch whose facing answer is in `facing` */
     int facing;
@@ -402,6 +406,8 @@ static inline void rad_ff_block_begin(const rad_ff_row *row, long block, rad_ff_
     b->facing_patch = b->tested_patch = SIZE_MAX;
     b->facing = RAD_FF_MIXED;
     b->patch_clear = 0;
+    b->receivers = 0;
+    b->queue.cast = 0;
 }
 
 /* Nonzero when element e receives from the patch: it is not one of the patch's own elements
@@ -414,8 +420,10 @@ static inline int rad_ff_block_receives(const rad_ff_row *row, rad_ff_block *b, 
         b->facing_patch = q;
         b->facing = rad_ff_patch_facing(row->p, &row->c->patches[q]);
     }
-    return b->facing == RAD_FF_MIXED ? !rad_ff_facing_away(row->mesh, row->p, (size_t)e)
-                                     : b->facing == RAD_FF_FACING;
+    int receives = b->facing == RAD_FF_MIXED ? !rad_ff_facing_away(row->mesh, row->p, (size_t)e)
+                                             : b->facing == RAD_FF_FACING;
+    b->receivers += (uint64_t)receives;
+    return receives;
 }
 
 /* Nonzero when rays must decide the visibility between the patch and element e: shaft culling

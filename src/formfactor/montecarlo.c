@@ -14,21 +14,17 @@
 
 #include "formfactor/geometric.h"
 
-static void montecarlo_block(const rad_ff_row *row, long block, float *out, uint64_t counts[2]) {
+static void montecarlo_block(const rad_ff_row *row, rad_ff_block *b, float *out) {
     const rad_mesh *mesh = row->mesh;
     const rad_ff_patch *p = row->p;
     const rad_vec3 np = row->np;
     const double epsilon = row->epsilon;
     const int samples = row->samples;
-    rad_ff_block b;
-    rad_ff_block_begin(row, block, &b);
-    uint64_t receivers = 0, cast = 0;
     double sums[RAD_FF_BLOCK] = {0};
-    for (long e = b.first; e < b.last; ++e) {
-        const int slot = (int)(e - b.first);
-        if (!rad_ff_block_receives(row, &b, e)) continue;
-        ++receivers;
-        const int test = rad_ff_block_needs_rays(row, &b, e, 1);
+    for (long e = b->first; e < b->last; ++e) {
+        const int slot = (int)(e - b->first);
+        if (!rad_ff_block_receives(row, b, e)) continue;
+        const int test = rad_ff_block_needs_rays(row, b, e, 1);
         const rad_vec3 ny = mesh->element_normal[e];
         const rad_ff_element_map receiver = rad_ff_element_map_make(mesh, (size_t)e);
         rad_rng rng = rad_rng_make(row->seed, (uint64_t)e);
@@ -57,16 +53,14 @@ static void montecarlo_block(const rad_ff_row *row, long block, float *out, uint
                 f = weight * cos_x * cos_y / (RAD_PI * distance2 * distance2);
             }
             if (test)
-                cast += (uint64_t)rad_ff_queue_segment(&b.queue, row->rays, sums,
-                                                       v3_add(y, v3_scale(ny, epsilon)),
-                                                       v3_add(x, v3_scale(np, epsilon)), f, slot);
+                rad_ff_queue_segment(&b->queue, row->rays, sums,
+                                     v3_add(y, v3_scale(ny, epsilon)),
+                                     v3_add(x, v3_scale(np, epsilon)), f, slot);
             else sums[slot] += f;
         }
     }
-    rad_ff_queue_flush(&b.queue, row->rays, sums);
-    rad_ff_block_write(row, &b, sums, out);
-    counts[0] += receivers;
-    counts[1] += cast;
+    rad_ff_queue_flush(&b->queue, row->rays, sums);
+    rad_ff_block_write(row, b, sums, out);
 }
 
 static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *out) {

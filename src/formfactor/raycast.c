@@ -17,20 +17,16 @@
 
 #include "formfactor/geometric.h"
 
-static void raycast_block(const rad_ff_row *row, long block, float *out, uint64_t counts[2]) {
+static void raycast_block(const rad_ff_row *row, rad_ff_block *b, float *out) {
     const rad_mesh *mesh = row->mesh;
     const rad_ff_patch *p = row->p;
     const rad_vec3 np = row->np;
     const double epsilon = row->epsilon, near = 2 * p->radius;
-    rad_ff_block b;
-    rad_ff_block_begin(row, block, &b);
-    uint64_t receivers = 0, cast = 0;
     double sums[RAD_FF_BLOCK] = {0};
-    for (long e = b.first; e < b.last; ++e) {
-        const int slot = (int)(e - b.first);
-        if (!rad_ff_block_receives(row, &b, e)) continue;
-        ++receivers;
-        const int test = rad_ff_block_needs_rays(row, &b, e, 1);
+    for (long e = b->first; e < b->last; ++e) {
+        const int slot = (int)(e - b->first);
+        if (!rad_ff_block_receives(row, b, e)) continue;
+        const int test = rad_ff_block_needs_rays(row, b, e, 1);
         const rad_vec3 y = mesh->element_centroid[e], ny = mesh->element_normal[e];
         const rad_vec3 from = v3_add(y, v3_scale(ny, epsilon));
         rad_rng rng = rad_rng_make(row->seed, (uint64_t)e);
@@ -73,18 +69,16 @@ static void raycast_block(const rad_ff_row *row, long block, float *out, uint64_
                 if (test) {
                     rad_vec3 to = v3(px[k] + epsilon * np.x, py[k] + epsilon * np.y,
                                      pz[k] + epsilon * np.z);
-                    cast += (uint64_t)rad_ff_queue_ray(&b.queue, row->rays, sums, from,
-                                                       v3_sub(to, from), margin[k], f[k], slot);
+                    rad_ff_queue_ray(&b->queue, row->rays, sums, from,
+                                     v3_sub(to, from), margin[k], f[k], slot);
                 } else {
                     sums[slot] += f[k];
                 }
             }
         }
     }
-    rad_ff_queue_flush(&b.queue, row->rays, sums);
-    rad_ff_block_write(row, &b, sums, out);
-    counts[0] += receivers;
-    counts[1] += cast;
+    rad_ff_queue_flush(&b->queue, row->rays, sums);
+    rad_ff_block_write(row, b, sums, out);
 }
 
 static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *out) {
