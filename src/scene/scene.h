@@ -115,6 +115,10 @@ struct rad_scene {
 /* Nonzero when some material has a perfect mirror or glass lobe (caustics are possible). */
 int rad_scene_has_specular(const rad_scene *scene);
 
+/* Nonzero when the specular-first pass runs for this scene: asked for (1), or by default (0)
+ * when it has a mirror or glass (rad_scene_has_specular); never when turned off (-1). */
+int rad_scene_wants_specular_first(const rad_scene *scene);
+
 /* Nonzero when something lights the scene: a polygon whose material emits, a point, spot or
  * directional light, or a sky. The one answer to "is the image black?" that the path tracer,
  * photon mapping and the solvers' systems share. */

@@ -172,6 +172,11 @@ int rad_scene_has_specular(const rad_scene *scene) {
     return 0;
 }
 
+int rad_scene_wants_specular_first(const rad_scene *scene) {
+    return scene->specular_first > 0 ||
+           (scene->specular_first == 0 && rad_scene_has_specular(scene));
+}
+
 int rad_scene_is_lit(const rad_scene *scene) {
     if (scene->light_count || scene->sky.kind != RAD_SKY_OFF) return 1;
     for (size_t i = 0; i < scene->polygon_count; ++i) {

@@ -188,8 +188,8 @@ static rad_status trace(rad_context *ctx, const rad_photon_scene *photons,
 rad_status rad_system_add_specular_emission(rad_system *s, const rad_scene *scene) {
     rad_context *ctx = s->ctx;
     const rad_mesh *mesh = s->mesh;
-    if (!mesh || scene->specular_first < 0 || scene->polygon_count == 0) return RAD_OK;
-    if (scene->specular_first == 0 && !rad_scene_has_specular(scene)) return RAD_OK;
+    if (!mesh || scene->polygon_count == 0 || !rad_scene_wants_specular_first(scene))
+        return RAD_OK;
     uint64_t count = scene->specular_photons ? scene->specular_photons : RAD_SPECULAR_PHOTONS;
     const rad_material **polygon_material =
         rad_alloc(ctx, scene->polygon_count, sizeof *polygon_material);

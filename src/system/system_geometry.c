@@ -33,9 +33,7 @@ rad_status rad_system_from_geometry(rad_context *ctx, const rad_scene *scene,
      * the hierarchy computes their light on its own nodes, src/solve/hierarchical.c), unless
      * light through mirrors and glass asks for the uniform mesh: the specular-first deposit is
      * resolved on its elements (specular_first.c) and the hierarchy reads it from them. */
-    int polygons_only = mesh_options->polygons_only &&
-                        !(scene->specular_first > 0 ||
-                          (scene->specular_first == 0 && rad_scene_has_specular(scene)));
+    int polygons_only = mesh_options->polygons_only && !rad_scene_wants_specular_first(scene);
     rad_mesh *mesh = NULL;
     rad_status status = polygons_only ? rad_system_polygon_mesh(ctx, scene, &mesh)
                                       : rad_mesh_create(ctx, scene, mesh_options, &mesh);
