@@ -667,6 +667,9 @@ typedef struct rad_pathtrace_options {
     int samples_per_pixel;         /* paths per pixel, uniformly jittered, box filter; zero: 64 */
     int max_bounces;               /* scattering events per path (1: direct light only); zero:
                                       no limit, Russian roulette ends the paths */
+    double clamp_indirect;         /* zero: unbiased (the default). Else light that scattered
+                                      twice or more counts at most this much (R + G + B) per
+                                      contribution, as Cycles' "Clamp Indirect": biased */
 } rad_pathtrace_options;
 
 typedef struct rad_pathtrace_stats {
