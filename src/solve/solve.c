@@ -182,8 +182,11 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
     local.seconds = rad_seconds() - start - callback_seconds;
     /* The specular-first pass's second half (docs/specular-first.md): the solved radiosity of
      * the diffuse elements through mirrors and glass onto diffuse elements, which the form
-     * factors leave out; added as unshot light, then the solve resumes to spread it. */
-    if (!status && local.converged && !options->resume &&
+     * factors leave out; added as unshot light, then the solve resumes to spread it. A
+     * resumed solve does it too when it knows whether it was done: a hierarchy's solution file
+     * keeps that light (RAD_SOLVER_OWN_LEAVES), an element file does not. */
+    int pass_known = !options->resume || (impl->info.capabilities & RAD_SOLVER_OWN_LEAVES);
+    if (!status && local.converged && pass_known &&
         system->specular_emission && !system->specular_reflection) {
         status = rad_system_add_specular_reflection(system);
         rad_solve_report second = {0};
