@@ -4,6 +4,8 @@
  * solver; starting from B = E or resuming from the system's state is decided here. */
 #include "solve/solver.h"
 
+#include "system/solution_view.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -109,6 +111,11 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
         rad_system_remove_specular_reflection(system); /* a previous solve's: added again below */
         rad_system_reset(system);
     }
+    /* A solver on the elements is drawn by them, not by the leaves of a hierarchy solved (or
+     * loaded) before; going on from a hierarchy starts from its values on the elements. */
+    if (!(impl->info.capabilities & RAD_SOLVER_OWN_LEAVES) &&
+        rad_system_view(system)->ops != &rad_uniform_view_ops)
+        rad_system_set_view(system, &rad_uniform_view_ops, system);
     rad_status status = RAD_OK;
     if (run.tracing) {
         run.received = rad_alloc_zero(ctx, system->element_count, sizeof *run.received);
