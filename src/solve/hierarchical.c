@@ -98,6 +98,7 @@ struct rad_hier_setup {
     double link_error; /* as asked (0: the tolerance, or the hierarchy's default) */
     int importance;
     element_light *light; /* NULL without lights, sky or specular light */
+    int unfinished;       /* the last solve was cancelled (Ctrl-C): the next step finishes it */
 };
 
 void rad_hier_setup_destroy(rad_system *s, rad_hier_setup *setup) {
@@ -108,6 +109,24 @@ void rad_hier_setup_destroy(rad_system *s, rad_hier_setup *setup) {
 
 double rad_hier_setup_link_error(const rad_hier_setup *setup) { return setup->link_error; }
 int rad_hier_setup_importance(const rad_hier_setup *setup) { return setup->importance; }
+int rad_hier_setup_unfinished(const rad_hier_setup *setup) { return setup->unfinished; }
+void rad_hier_setup_set_unfinished(rad_hier_setup *setup, int unfinished) {
+    setup->unfinished = unfinished;
+}
+
+/* Solves the hierarchy's links. Cancelled (Ctrl-C, through the progress callback), it keeps
+ * the rounds done, a valid solution not yet converged, and marks it unfinished: the caller
+ * stops at the end of its step and the solution so far can be saved; the next step (here or
+ * after --resume) goes on with the same rounds before refining. */
+static rad_status solve_links(rad_system *s, rad_hier *hier, rad_hier_setup *setup) {
+    rad_status status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
+    setup->unfinished = status == RAD_ERROR_CANCELLED;
+    if (setup->unfinished) {
+        rad_warn(s->ctx, "%s; the solution so far is kept", rad_context_error(s->ctx));
+        status = RAD_OK;
+    }
+    return status;
+}
 
 rad_status rad_hier_setup_create(rad_system *s, double link_error, int importance,
                                  rad_rgb *reflection, rad_hier_setup **out, rad_hier **hier) {
@@ -265,7 +284,7 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
     state->hier = hier;
     if (!status && importance) status = set_view(run, hier);
     if (!status) status = rad_hier_link_roots(hier);
-    if (!status) status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
+    if (!status) status = solve_links(s, hier, state->setup);
     if (status) return status; /* hierarchical_end frees the state */
     /* The outputs draw the leaves (hierarchical_view.c); the system owns the hierarchy now. */
     status = rad_hier_view_install(s, hier, state->setup, 0);
@@ -291,14 +310,25 @@ static void report_step(rad_system *s, const rad_hier *hier, int iteration) {
 }
 
 static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *residual) {
-    rad_hier *hier = ((hierarchical_state *)run->state)->hier;
-    rad_status status = rad_hier_refine(hier);
+    hierarchical_state *state = run->state;
+    rad_hier *hier = state->hier;
+    rad_status status = RAD_OK;
+    /* A solve cancelled in the last step (or before a saved file) is finished first. */
+    if (state->setup->unfinished) {
+        status = solve_links(run->system, hier, state->setup);
+        if (!status) evaluate(run->system, hier, state->setup->light);
+        if (!status && state->setup->unfinished) {
+            *residual = INFINITY;
+            return RAD_OK;
+        }
+    }
+    if (!status) status = rad_hier_refine(hier);
     if (status) return status;
     rad_hier_stats stats = rad_hier_get_stats(hier);
     *residual = (double)stats.refined;
     if (stats.refined > 0) {
-        status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
-        if (!status) evaluate(run->system, hier, ((hierarchical_state *)run->state)->setup->light);
+        status = solve_links(run->system, hier, state->setup);
+        if (!status) evaluate(run->system, hier, state->setup->light);
     }
     if (!status) report_step(run->system, hier, iteration);
     if (!status) {

@@ -20,6 +20,10 @@ rad_status rad_hier_setup_create(rad_system *system, double link_error, int impo
 void rad_hier_setup_destroy(rad_system *system, rad_hier_setup *setup);
 double rad_hier_setup_link_error(const rad_hier_setup *setup);
 int rad_hier_setup_importance(const rad_hier_setup *setup);
+/* Whether the last solve of the links was cancelled (Ctrl-C) and is to be finished by the next
+ * step, and setting it (a saved solution's). */
+int rad_hier_setup_unfinished(const rad_hier_setup *setup);
+void rad_hier_setup_set_unfinished(rad_hier_setup *setup, int unfinished);
 
 /* Sets the system's elements' radiosity from the hierarchy behind its view (as every
  * hierarchical step does), so that what reads elements reads the hierarchy. */
