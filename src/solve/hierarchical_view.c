@@ -22,6 +22,7 @@
 #include "system/solution_view.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define MAX_EDGE_POINTS 64 /* T-vertices looked for along one leaf edge, at most */
@@ -300,7 +301,17 @@ static uint64_t leaf_generation(const rad_solution_view *view) {
 
 static const rad_mesh *leaf_leaves(const rad_solution_view *view) {
     hier_view *v = state(view);
-    if (v->built != leaf_generation(view) && build_mesh(v)) return NULL;
+    if (v->built != leaf_generation(view)) {
+        rad_status status = build_mesh(v);
+        if (status) {
+            /* Say what failed: the caller only sees NULL (render.c reports this message). */
+            char why[RAD_ERROR_MESSAGE_SIZE];
+            snprintf(why, sizeof why, "%s", rad_context_error(v->system->ctx));
+            rad_fail(v->system->ctx, status, "drawing the hierarchy's leaves (%llu nodes) failed: %s",
+                     (unsigned long long)leaf_generation(view), why[0] ? why : rad_status_name(status));
+            return NULL;
+        }
+    }
     return v->mesh;
 }
 
