@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # cli_hierarchical.sh - `--solver hierarchical` through solve, render and bake: it converges,
-# its solution renders, bakes and saves like any other; bad --link-error values and patch
-# systems are refused with one line.
+# its solution renders, bakes and saves like any other (solution files of the hierarchy: resume
+# equals never stopping, byte for byte); bad --link-error values, patch systems and files that
+# do not fit are refused with one line.
 # Usage: cli_hierarchical.sh RADIOSITY SOURCE_DIR
 source "$(dirname "$0")/lib_cli.sh" "$@"
 
@@ -24,6 +25,10 @@ check "resumed: the same table, rounds counted over both runs" cmp "$work/full" 
 check "resume equals never stopping, byte for byte" cmp "$work/full.sol" "$work/resumed.sol"
 "$radiosity" solve "${hier[@]}" --threads 1 --resume "$work/part.sol" --save "$work/resumed1.sol" >/dev/null
 check "resume on one thread: the same bytes" cmp "$work/full.sol" "$work/resumed1.sol"
+"$radiosity" solve "${hier[@]}" --time-budget 0.001 --save "$work/budget.sol" >"$work/budget"
+check "time budget: stopped after a step" grep -q 'not converged: time budget' "$work/budget"
+"$radiosity" solve "${hier[@]}" --resume "$work/budget.sol" --save "$work/budget_resumed.sol" >/dev/null
+check "time budget, then resume: the same bytes" cmp "$work/full.sol" "$work/budget_resumed.sol"
 "$radiosity" render "${hier[@]}" -o "$work/solved.pfm" --width 16 --height 16 --spp 2 --final-gather 1
 "$radiosity" render cornell --sky 1 --solution "$work/full.sol" -o "$work/loaded.pfm" --width 16 --height 16 --spp 2 --final-gather 1 --quiet
 check "render --solution draws the saved hierarchy" cmp "$work/solved.pfm" "$work/loaded.pfm"
