@@ -95,7 +95,7 @@ static void element_light_destroy(const rad_system *s, element_light *el) {
 /* What a hierarchy was built with (hierarchical_view.h); the view owns it with the hierarchy,
  * since the nodes made later read their light through it. */
 struct rad_hier_setup {
-    double link_error; /* as asked (0: the tolerance, or the hierarchy's default) */
+    double link_error; /* as used: --link-error, else the tolerance, else the default */
     int importance;
     element_light *light; /* NULL without lights, sky or specular light */
     int unfinished;       /* the last solve was cancelled (Ctrl-C): the next step finishes it */
