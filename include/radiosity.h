@@ -614,8 +614,9 @@ typedef struct rad_solution_info {
 } rad_solution_info;
 
 /* Writes the system's solution (radiosity and unshot radiosity per element, the ambient term)
- * with fingerprints of the scene, the mesh and the form factors. The file appears whole or not
- * at all. `info` may be NULL. */
+ * with fingerprints of the scene, the mesh and the form factors; after a hierarchical solve, the
+ * hierarchy itself (docs/formats.md, version 2), from which a resumed solve goes on exactly as
+ * if it had never stopped. The file appears whole or not at all. `info` may be NULL. */
 rad_status rad_system_save_solution(rad_system *system, const char *path,
                                     const rad_solution_info *info);
 
