@@ -19,7 +19,7 @@ typedef struct photonmap_args {
     double radius, max_memory;
     cli_image_args image;
     cli_camera_args camera;
-    cli_light_args lights; /* --two-sided */
+    cli_light_args lights; /* --sky, --sun, --ies, --two-sided */
 } photonmap_args;
 
 int cmd_photonmap(int argc, char **argv) {
@@ -51,6 +51,7 @@ int cmd_photonmap(int argc, char **argv) {
         {"--seed", CLI_SIZE, &a.seed, "S  random seed; the same seed gives the same image (0)"},
         CLI_IMAGE_SIZE_OPTIONS(&a.image),
         CLI_CAMERA_OPTIONS(&a.camera),
+        CLI_LIGHT_OPTIONS(&a.lights),
         CLI_TWO_SIDED_OPTION(&a.lights),
         CLI_IMAGE_FILE_OPTIONS(&a.image),
         {"--threads", CLI_INT, &a.threads, "N  worker threads (all cores)"},

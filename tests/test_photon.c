@@ -36,16 +36,49 @@ static rad_photon *random_photons(rad_context *ctx, size_t count, uint64_t seed)
     rad_photon *p = rad_alloc(ctx, count, sizeof *p);
     uint64_t state = seed;
     for (size_t i = 0; i < count; ++i) {
-        p[i].position = v3(uniform(&state) * 4 - 2, uniform(&state) * 4 - 2, uniform(&state) * 0.01);
+        rad_vec3 position = v3(uniform(&state) * 4 - 2, uniform(&state) * 4 - 2, uniform(&state) * 0.01);
         /* Most face +z; one in eight faces -z (the other side of a thin wall). */
         double nz = (i % 8 == 0) ? -1 : 1;
-        p[i].normal[0] = p[i].normal[1] = 0;
-        p[i].normal[2] = (float)nz;
-        for (int c = 0; c < 3; ++c) p[i].power[c] = (float)(1 + c + uniform(&state));
-        p[i].incoming[0] = p[i].incoming[1] = 0;
-        p[i].incoming[2] = 1;
+        double power[3];
+        for (int c = 0; c < 3; ++c) power[c] = 1 + c + uniform(&state);
+        p[i] = rad_photon_pack(position, power, v3(0, 0, nz), v3(0, 0, 1));
     }
     return p;
+}
+
+/* The 24-byte photon: flux, normal and incoming direction back within their stated errors. */
+static void test_packing(void) {
+    CHECK(sizeof(rad_photon) == 24);
+    uint64_t state = 3;
+    double worst_power = 0, worst_dim = 0, worst_normal = 1, worst_incoming = 1;
+    for (int i = 0; i < 100000; ++i) {
+        double power[3], back[3];
+        double scale = ldexp(1, (int)(uniform(&state) * 80) - 60);
+        for (int c = 0; c < 3; ++c) power[c] = scale * uniform(&state);
+        power[i % 3] = scale * (1 + uniform(&state)); /* the largest */
+        power[(i + 1) % 3] = scale * 0.01 * (1 + uniform(&state)); /* a dim channel */
+        double z = 2 * uniform(&state) - 1, phi = 2 * RAD_PI * uniform(&state);
+        rad_vec3 n = v3(sqrt(1 - z * z) * cos(phi), sqrt(1 - z * z) * sin(phi), z);
+        z = 2 * uniform(&state) - 1, phi = 2 * RAD_PI * uniform(&state);
+        rad_vec3 w = v3(sqrt(1 - z * z) * cos(phi), sqrt(1 - z * z) * sin(phi), z);
+        rad_photon p = rad_photon_pack(v3(1, 2, 3), power, n, w);
+        rad_photon_power(&p, 1, back);
+        worst_power = fmax(worst_power, fabs(back[i % 3] / power[i % 3] - 1));
+        worst_dim = fmax(worst_dim, fabs(back[(i + 1) % 3] / power[(i + 1) % 3] - 1));
+        worst_normal = fmin(worst_normal, v3_dot(rad_photon_normal(&p), n));
+        worst_incoming = fmin(worst_incoming, v3_dot(rad_photon_incoming(&p), w));
+    }
+    fprintf(stderr, "packed photon: flux %.2g (a channel at 1%%: %.2g), normal %.3f deg, incoming %.4f deg\n",
+            worst_power, worst_dim, acos(fmin(1, worst_normal)) * 180 / RAD_PI,
+            acos(fmin(1, worst_incoming)) * 180 / RAD_PI);
+    CHECK(worst_power <= 0x1p-16);
+    CHECK(worst_dim <= 2e-3);
+    CHECK(worst_normal >= cos(1.5 * RAD_PI / 180));
+    CHECK(worst_incoming >= cos(0.1 * RAD_PI / 180));
+    double none[3] = {-1, 0, NAN}, back[3];
+    rad_photon p = rad_photon_pack(v3(0, 0, 0), none, v3(0, 0, 1), v3(0, 0, 1));
+    rad_photon_power(&p, 1, back);
+    CHECK(back[0] == 0 && back[1] == 0 && back[2] == 0);
 }
 
 static void test_grid(void) {
@@ -69,11 +102,13 @@ static void test_grid(void) {
         size_t m = 0;
         double sum = 0;
         for (size_t i = 0; i < count; ++i) {
-            rad_vec3 d = v3_sub(copy[i].position, x);
+            rad_vec3 d = v3_sub(rad_photon_position(&copy[i]), x);
             double dd = v3_dot(d, d);
-            if (dd < radius * radius && copy[i].normal[2] > 0) {
+            if (dd < radius * radius && rad_photon_normal(&copy[i]).z > 0) {
+                double power[3];
+                rad_photon_power(&copy[i], 1, power);
                 d2[m++] = dd;
-                sum += copy[i].power[1];
+                sum += power[1];
             }
         }
         for (size_t i = 1; i < m; ++i) /* insertion sort: m is small */
@@ -201,12 +236,8 @@ static void test_furnace_irradiance(void) {
             rad_hit hit;
             if (!rad_rays_intersect(t->rays, origin, d, t->rays->epsilon, INFINITY, &hit)) break;
             rad_vec3 x = v3_add(origin, v3_scale(d, hit.t));
-            rad_photon *p = &photons[stored++];
-            p->position = x;
-            for (int c = 0; c < 3; ++c) p->power[c] = (float)(total_power / n);
-            p->normal[0] = (float)hit.normal.x;
-            p->normal[1] = (float)hit.normal.y;
-            p->normal[2] = (float)hit.normal.z;
+            double power[3] = {total_power / n, total_power / n, total_power / n};
+            photons[stored++] = rad_photon_pack(x, power, hit.normal, v3_scale(d, -1));
             rad_sampler_4d(&s, u);
             if (u[0] >= rho) break;
             rad_vec3 ta, tb;
@@ -453,6 +484,7 @@ static void test_bad_input(void) {
 }
 
 int main(void) {
+    test_packing();
     test_grid();
     test_furnace_irradiance();
     test_furnace();
