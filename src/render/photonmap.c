@@ -693,7 +693,7 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
      * by power (scene/light_emission.h). */
     rad_light_emission sources;
     memset(&sources, 0, sizeof sources);
-    if (!status) status = rad_light_emission_build(ctx, &t->emitters, scene, &sources);
+    if (!status) status = rad_light_emission_build(ctx, &t->emitters, scene, 1, &sources);
     if (!status && !rad_scene_is_lit(scene))
         rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
     if (!status && !(sources.total_power > 0)) {

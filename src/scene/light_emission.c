@@ -58,13 +58,14 @@ static double sky_integral(const rad_sky *sky) {
 }
 
 rad_status rad_light_emission_build(rad_context *ctx, const rad_emitter_table *surfaces,
-                                    const rad_scene *scene, rad_light_emission *out) {
+                                    const rad_scene *scene, int with_sky,
+                                    rad_light_emission *out) {
     memset(out, 0, sizeof *out);
     out->surfaces = surfaces;
     if (scene) {
         out->lights = scene->lights;
         out->light_count = scene->light_count;
-        if (scene->sky.kind != RAD_SKY_OFF) out->sky = &scene->sky;
+        if (with_sky && scene->sky.kind != RAD_SKY_OFF) out->sky = &scene->sky;
         /* The bounding sphere of the scene's vertices. */
         rad_vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
         for (size_t i = 0; i < scene->vertex_count; ++i) {

@@ -36,10 +36,11 @@ typedef struct rad_light_emission {
 } rad_light_emission;
 
 /* The distribution over `surfaces` (built and finished by the caller) and, with `scene`, its
- * lights and sky (`scene` NULL: the surfaces alone). An emission with no power has
- * total_power 0 and must not be sampled. */
+ * lights, and its sky when `with_sky` (`scene` NULL: the surfaces alone). An emission with no
+ * power has total_power 0 and must not be sampled. */
 rad_status rad_light_emission_build(rad_context *ctx, const rad_emitter_table *surfaces,
-                                    const rad_scene *scene, rad_light_emission *out);
+                                    const rad_scene *scene, int with_sky,
+                                    rad_light_emission *out);
 void rad_light_emission_free(rad_context *ctx, rad_light_emission *emission);
 
 /* A light path's start for four uniform numbers: its origin, unit direction and flux (W, before

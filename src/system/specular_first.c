@@ -202,9 +202,10 @@ rad_status rad_system_add_specular_emission(rad_system *s, const rad_scene *scen
     rad_rgb *flux = rad_alloc_zero(ctx, s->element_count, sizeof *flux);
     rad_status status = polygon_material && flux ? RAD_OK : RAD_ERROR_NO_MEMORY;
     if (!status) status = build_emitters(ctx, scene, polygon_material, &emitters);
-    /* Photons leave the emitting surfaces and the point, spot and directional lights and the
-     * sky, by power (scene/light_emission.h). */
-    if (!status) status = rad_light_emission_build(ctx, &emitters, scene, &sources);
+    /* Photons leave the emitting surfaces and the point, spot and directional lights, by power
+     * (scene/light_emission.h). Not the sky: the render's gather rays already take the sky they
+     * see through mirrors and glass (second_pass.c), and the caustic map would count it again. */
+    if (!status) status = rad_light_emission_build(ctx, &emitters, scene, 0, &sources);
     if (!status && !(sources.total_power > 0)) goto done;
     if (!status) status = rad_rays_create(ctx, scene, &rays);
     if (!status) status = rad_element_rays_create(ctx, mesh, &elements);
@@ -292,7 +293,7 @@ rad_status rad_system_add_specular_reflection(rad_system *s) {
     if (!status) status = build_reflectors(ctx, s, polygon_material, &reflectors);
     if (!status && reflectors.count == 0) goto done;
     /* The reflecting elements alone emit here (scene NULL: no lights, no sky). */
-    if (!status) status = rad_light_emission_build(ctx, &reflectors, NULL, &sources);
+    if (!status) status = rad_light_emission_build(ctx, &reflectors, NULL, 0, &sources);
     if (!status) status = rad_rays_create(ctx, scene, &rays);
     if (!status) status = rad_element_rays_create(ctx, s->mesh, &elements);
     if (!status) {
