@@ -787,7 +787,7 @@ typedef struct rad_photonmap_options {
                                       `photons` */
     double radius;                 /* largest density-estimation radius, scene units; zero: the
                                       radius a disc holding `nearest` photons has on average */
-    int nearest;                   /* k of the k-nearest estimate; zero: 50 */
+    int nearest;                   /* k of the k-nearest estimate; zero: 20 */
     int iterations;                /* progressive photon mapping: passes, each with fresh
                                       photons and smaller radii; zero or 1: one pass */
     double alpha;                  /* progressive: radius^2 shrinks by (i + alpha) / (i + 1)

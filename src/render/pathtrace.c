@@ -13,6 +13,7 @@
  * choice and roulette), each a pure function of (seed, pixel, sample, dimension), so the image
  * does not depend on the thread count. */
 #include "render/pathtrace.h"
+#include "render/lights_next_event.h"
 #include "scene/texture.h"
 
 #include "image/image.h"
@@ -207,26 +208,17 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
 
         /* Point, spot and directional lights: each sampled exactly, with no weight (a BSDF
          * sample never finds a point or a direction). */
-        if (rad_bsdf_has_smooth_lobe(m))
-            for (size_t i = 0; i < t->scene->light_count; ++i) {
-                const rad_light *light = &t->scene->lights[i];
-                rad_light_arrival arrival;
-                double f[3], bsdf_pdf;
-                if (!rad_light_arrive(light, x, &arrival) ||
-                    !rad_bsdf_eval(m, hit.normal, wo, arrival.direction, f, &bsdf_pdf))
-                    continue;
-                ++counts->rays;
-                rad_hit blocker;
-                if (isinf(arrival.distance)
-                        ? rad_rays_intersect(rays, x, arrival.direction, rays->epsilon, INFINITY,
-                                             &blocker)
-                        : rad_rays_occluded(rays, x, light->position))
-                    continue;
-                double cos_surface = fabs(v3_dot(arrival.direction, hit.normal)), add[3];
-                for (int c = 0; c < 3; ++c)
-                    add[c] = throughput[c] * f[c] * arrival.irradiance[c] * cos_surface;
-                accumulate(radiance, add, bounce >= 1 ? t->clamp_indirect : 0);
+        if (rad_bsdf_has_smooth_lobe(m)) {
+            double limit = bounce >= 1 ? t->clamp_indirect : 0;
+            if (limit > 0) { /* the lights' sum clamped as one contribution */
+                double add[3] = {0, 0, 0};
+                rad_lights_next_event(t, m, x, hit.normal, wo, throughput, &counts->rays, add);
+                accumulate(radiance, add, limit);
+            } else {
+                rad_lights_next_event(t, m, x, hit.normal, wo, throughput, &counts->rays,
+                                      radiance);
             }
+        }
 
         /* Continue the path by sampling the BSDF. */
         double u[3] = {u_choice[0], u_direction[0], u_direction[1]};
