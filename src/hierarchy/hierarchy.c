@@ -21,6 +21,7 @@
 #define PARALLEL_MIN 256 /* loops shorter than this run on one thread */
 #define LEAF_CLUSTER 4   /* roots in a leaf cluster, at most */
 #define UNKNOWN_ERROR FLT_MAX /* the bound of a link that must be refined before it is trusted */
+#define PARTIAL_BATCHES 4 /* sets of 16 visibility rays for a partly hidden polygon link */
 
 typedef double rgb[3];
 
@@ -335,20 +336,33 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
     sn = visibility_points(s, pair_hash(receiver, source, 2), y);
     uint8_t seen[16];
     double fraction = visible_pairs(h, x, rn, y, sn, &partial, seen);
-    if (partial && fraction > 0) {
+    if (partial) {
         /* Weigh the rays by the point-to-point kernel cos cos / r^2: the part of a large source
          * seen through an opening is the part overhead, where the kernel is largest (the sky
-         * over Sponza's atrium: the area fraction halved the floor's direct light). */
+         * over Sponza's atrium: the area fraction halved the floor's direct light). The
+         * weighted fraction is a ratio of two sums over the same rays, biased low when few rays
+         * see a small part of the source with a large kernel (a visible ray's kernel is in both
+         * sums), and zero when none does: partly hidden links take PARTIAL_BATCHES sets of
+         * source points, each jittered anew (test_opening: a floor under a sky seen through a
+         * hole, -11.3% with one set, -2.9% with four; Sponza's links carried 0.88 of the light
+         * a Monte Carlo gather of the same leaves finds, docs/hierarchical.md). */
         double all = 0, visible = 0;
-        for (int i = 0; i < rn; ++i)
-            for (int j = 0; j < sn; ++j) {
-                rad_vec3 ray = v3_sub(y[j], x[i]);
-                double r2 = v3_dot(ray, ray);
-                double k = fmax(0, v3_dot(nr, ray)) * fmax(0, -v3_dot(ns, ray)) / (r2 * r2);
-                all += k;
-                visible += seen[i * sn + j] ? k : 0;
+        for (int batch = 0; batch < PARTIAL_BATCHES; ++batch) {
+            if (batch) {
+                int ignored;
+                sn = visibility_points(s, pair_hash(receiver, source, 2 + 0x100u * (uint32_t)batch), y);
+                visible_pairs(h, x, rn, y, sn, &ignored, seen);
             }
-        if (all > 0) fraction = visible / all;
+            for (int i = 0; i < rn; ++i)
+                for (int j = 0; j < sn; ++j) {
+                    rad_vec3 ray = v3_sub(y[j], x[i]);
+                    double r2 = v3_dot(ray, ray);
+                    double k = fmax(0, v3_dot(nr, ray)) * fmax(0, -v3_dot(ns, ray)) / (r2 * r2);
+                    all += k;
+                    visible += seen[i * sn + j] ? k : 0;
+                }
+        }
+        fraction = all > 0 ? visible / all : 0;
     }
     double error = 0.25 * (hi - lo) * fraction + (partial ? form_factor : 0);
     out->receiver = receiver;
