@@ -30,8 +30,6 @@ typedef struct cluster_info {
     double radius;         /* of the bounding sphere about the box's centre */
     double axis_area[6];   /* sum over members of A max(0, +n_x), A max(0, -n_x), ... y, z */
     rad_vec3 normal_sum;   /* sum over members of A n */
-    double oblique_area;   /* sum over members of A (|n_x| + |n_y| + |n_z| - max |n_a|): what
-                              the axis sums can overstate a projected area by (project()) */
     double reflectance;    /* the largest member reflectance (any channel) */
     double axis_power[6][3]; /* sum over members of e B A max(0, +n_x), ... as axis_area: the
                                 light leaving toward each signed axis, per channel, each member
@@ -67,10 +65,7 @@ struct rad_hier {
     uint32_t *root_parent;        /* each root's leaf cluster */
     cluster_info *clusters;
     size_t cluster_first, cluster_count; /* cluster nodes are cluster_first .. + cluster_count */
-    /* Per cluster and signed axis (+x, -x, +y, ...): the irradiance its links gathered, then
-     * (pushed down, parents first) what it and its ancestors gathered; a member with normal n
-     * takes sum_a max(0, +-n_a) of it (gather_cluster). */
-    double (*cluster_down)[6][3];
+    rgb *cluster_down;            /* irradiance pushed down to each cluster's members */
     walk_cluster *walk;           /* per cluster, aligned to 64 bytes within walk_memory */
     walk_root *root_walk;         /* per root */
     void *walk_memory;
@@ -100,15 +95,13 @@ struct rad_hier {
      * the camera's pixels meet the surfaces, and per node A Y (Y the importance of unit
      * radiosity there, summed over the node's leaves), the emitted part A R of a leaf, and Y
      * gathered over the transposed links. Per cluster: what its sending links gathered per
-     * signed axis, and per signed axis Z = sum rho A Y e max(0, +-n_a) of its members (the
-     * adjoint of gather_cluster). */
+     * signed axis, and Z = sum rho A Y of its members. */
     uint32_t *hit_polygon;
     rad_vec3 *hit_point;
     size_t hit_count;
     double hit_share;       /* of the image, per hit */
     double *importance, *importance_emitted, *importance_gathered;
-    double (*cluster_axis_importance)[6], (*cluster_down_importance)[6],
-           (*cluster_z)[6];
+    double (*cluster_axis_importance)[6], (*cluster_down_importance)[6], *cluster_z;
     double importance_mean; /* sum A Y over the roots over their area: the oracle's unit */
 };
 
@@ -441,17 +434,12 @@ static rad_vec3 node_centre(const rad_hier *h, uint32_t index, double *radius) {
 /* The projected area of a node toward unit direction w, and bounds on it over every direction
  * within `spread` radians of w (a cosine moves by at most the angle). A cluster's estimate sums
  * its members' areas per signed axis weighted by |w_a|: an upper bound on sum A max(0, n.w),
- * exact when every member's normal lies in w's octant or on an axis; its lower bound is
- * (sum A n).w, or with `tight` (a cluster receiver, which pushes its irradiance to each member
- * by that same axis sum: gather_cluster) the estimate less oblique_area: a member's axis sum
- * exceeds its max(0, n.w) by at most the components of n of the smaller sign group, at most
- * |n_x| + |n_y| + |n_z| - max |n_a|, zero for an axis-aligned member. */
+ * exact when every member's normal lies in w's octant; its lower bound is (sum A n).w. */
 typedef struct projection {
     double estimate, lower, upper;
 } projection;
 
-static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double spread,
-                          int tight) {
+static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double spread) {
     const rad_hier_node *n = &h->nodes[index];
     projection p;
     if (!is_cluster(n)) {
@@ -466,7 +454,6 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     p.estimate = fabs(w.x) * a[w.x < 0] + fabs(w.y) * a[2 + (w.y < 0)] + fabs(w.z) * a[4 + (w.z < 0)];
     p.upper = fmin(n->area, p.estimate + n->area * spread);
     p.lower = fmax(0, v3_dot(ci->normal_sum, w) - n->area * spread);
-    if (tight) p.lower = fmax(p.lower, p.estimate - ci->oblique_area - n->area * spread);
     if (p.lower > p.estimate) p.lower = p.estimate;
     return p;
 }
@@ -555,10 +542,7 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     if (!(d > reach)) return 1;
     rad_vec3 w = v3_scale(between, 1 / d);
     double spread = asin(fmin(1, reach / d));
-    /* Links into a cluster take the tight lower bounds (project()); the others keep theirs. */
-    int tight = cluster_index(h, receiver);
-    projection pr = project(h, receiver, w, spread, tight),
-               ps = project(h, source, v3_scale(w, -1), spread, tight);
+    projection pr = project(h, receiver, w, spread), ps = project(h, source, v3_scale(w, -1), spread);
     if (!(pr.upper > 0) || !(ps.upper > 0)) return 0;
     double area = h->nodes[receiver].area;
     double estimate = pr.estimate * ps.estimate / (RAD_PI * d * d * area);
@@ -662,22 +646,13 @@ static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *
     double weight = fabs(link->error) >= UNKNOWN_ERROR ? 1 : importance_weight(h, link->receiver);
     double error = rho * brightest * fabs((double)link->error) * r->area * weight;
     *relative = error / h->threshold;
-    /* A cluster receives too (Sillion 1995): gathered per signed axis and pushed to each
-     * member by its orientation toward the source and its exposure (gather_cluster). The
-     * error the push can make, members facing other ways than the axis sums say and members
-     * hidden from the source, is in the bound: the spread between the projections' upper and
-     * lower bounds (the tight lower bound, project()), and a link into a cluster whose rays to
-     * sampled members are partly blocked is opened whatever its error (an isotropic push
-     * without these rules lit tiles under boxes standing on a tiled floor, 0.10 against
-     * 0.009). */
-    int opened = is_cluster(r) && brightest > 0 && link->error < 0;
-    if (!(error > h->threshold) && !opened) return 0;
+    /* A cluster only sends. Gathered into a cluster, light would reach every member alike,
+     * whatever its orientation and whatever hides it (it leaked under boxes standing on a
+     * tiled floor: 0.10 against 0.009); so a cluster receiver is opened as soon as its source
+     * carries light, and every surface gathers with its own orientation and visibility. */
+    if (is_cluster(r) && brightest > 0) return link->receiver == link->source ? 3 : 1;
+    if (!(error > h->threshold)) return 0;
     if (link->receiver == link->source) return 3;
-    /* A cluster receiver is opened first, as before clusters received: opening the larger
-     * end (Smits et al. 1994; tried: sources more than twice the receiver's size first) made
-     * the generated office of 4,652 faces 2.4 M links instead of 0.36 M, its receivers' links
-     * failing the bound at the next level down all the same. */
-    if (is_cluster(r)) return 1;
     int split_r = is_cluster(r) || can_split(h, r), split_s = is_cluster(s) || can_split(h, s);
     double radius_r, radius_s;
     node_centre(h, link->receiver, &radius_r);
@@ -1108,51 +1083,6 @@ static void pull_clusters(rad_hier *h) {
         if (!h->walk[c].leaf) pull_cluster(h, c);
 }
 
-/* The power a cluster receiver gathers over its links first .. last (one receiver's group),
- * per signed axis (Sillion 1995): a link of factor F from a source in direction w (from the
- * receiver's centre) brings F B A_r in all, and a member m of area A_m, normal n and exposure e_m
- * takes the share e_m A_m cos_m / sum_a |w_a| exposed(a), cos_m = sum_a |w_a| max(0, +-n_a) (the
- * projection the link's factor was computed with: exact for members whose normals lie in w's
- * octant, an upper bound otherwise; exposed(a) = sum e A max(0, +-n_a), the cluster's
- * axis_exposed). So the cluster's slot per signed axis a takes F B A_r |w_a| / sum_a |w_a|
- * exposed(a), and a member e_m sum_a max(0, +-n_a) of it (push_cluster_members): members facing
- * away from the source take nothing, and members its rays did not reach (exposure) less. */
-static void gather_cluster(rad_hier *h, size_t first, size_t last) {
-    uint32_t receiver = h->links[first].receiver;
-    const cluster_info *ci = info(h, receiver);
-    double (*out)[3] = h->cluster_down[receiver - h->cluster_first];
-    const double area = h->nodes[receiver].area;
-    for (size_t l = first; l < last; ++l) {
-        const rad_hier_link *link = &h->links[l];
-        rad_vec3 w = v3_sub(receiver_centre(h, link->source), ci->centre);
-        const double d[3] = {fabs(w.x), fabs(w.y), fabs(w.z)};
-        const int side[3] = {w.x < 0, w.y < 0, w.z < 0};
-        double exposed = 0;
-        for (int a = 0; a < 3; ++a) exposed += d[a] * ci->axis_exposed[2 * a + side[a]];
-        if (!(exposed > 0)) continue;
-        double b[3];
-        source_radiosity(h, link, ci->centre, b);
-        double scale = (double)link->form_factor * area / exposed;
-        for (int a = 0; a < 3; ++a)
-            for (int c = 0; c < 3; ++c) out[2 * a + side[a]][c] += scale * d[a] * b[c];
-    }
-}
-
-/* What root r takes per unit area from its leaf cluster and every cluster above it
- * (gather_cluster): its exposure times sum_a max(0, +-n_a) of their slots. */
-static void push_cluster_members(const rad_hier *h, uint32_t r, double out[3]) {
-    double (*down)[3] = h->cluster_down[h->root_parent[r] - h->cluster_first];
-    rad_vec3 normal = h->normal[h->nodes[r].polygon];
-    const double n[3] = {normal.x, normal.y, normal.z};
-    double e = exposure(h, r);
-    for (int c = 0; c < 3; ++c) {
-        double sum = 0;
-        for (int a = 0; a < 3; ++a)
-            sum += down[2 * a][c] * fmax(0, n[a]) + down[2 * a + 1][c] * fmax(0, -n[a]);
-        out[c] = e * sum;
-    }
-}
-
 rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
     const long groups = (long)h->group_count, roots = (long)h->root_count;
     const long nodes = (long)h->node_count;
@@ -1165,17 +1095,10 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
         {
 #pragma omp for schedule(static)
             for (long i = 0; i < nodes; ++i) memset(h->nodes[i].irradiance, 0, sizeof(double[3]));
-#pragma omp for schedule(static)
-            for (long c = 0; c < (long)h->cluster_count; ++c)
-                memset(h->cluster_down[c], 0, sizeof h->cluster_down[c]);
 #pragma omp for schedule(dynamic, 64)
             for (long g = 0; g < groups; ++g) {
                 double sum[3] = {0, 0, 0};
                 size_t first = h->group_first[g], last = h->group_first[g + 1];
-                if (cluster_index(h, h->links[first].receiver)) {
-                    gather_cluster(h, first, last);
-                    continue;
-                }
                 rad_vec3 centre = receiver_centre(h, h->links[first].receiver);
                 for (size_t l = first; l < last; ++l) {
                     const rad_hier_link *link = &h->links[l];
@@ -1186,22 +1109,21 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
                 memcpy(h->nodes[h->links[first].receiver].irradiance, sum, sizeof sum);
             }
         }
-        /* Push down the clusters (parents come before their children): each adds what its
-         * ancestors gathered to its own, per signed axis. */
+        /* Push down the clusters (parents come before their children): each passes what it
+         * and its ancestors gathered to its members, per unit area. */
         for (size_t c = 0; c < h->cluster_count; ++c) {
             uint32_t parent = h->clusters[c].parent;
-            if (parent == RAD_HIER_NO_NODE) continue;
-            double (*above)[3] = h->cluster_down[parent - h->cluster_first];
-            for (int a = 0; a < 6; ++a)
-                for (int k = 0; k < 3; ++k) h->cluster_down[c][a][k] += above[a][k];
+            const double *gathered = h->nodes[h->cluster_first + c].irradiance;
+            for (int k = 0; k < 3; ++k)
+                h->cluster_down[c][k] = gathered[k] +
+                    (parent == RAD_HIER_NO_NODE ? 0 : h->cluster_down[parent - h->cluster_first][k]);
         }
         /* Push-pull through the polygon trees, one tree per task. */
         double change = 0;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (roots >= 64) \
     reduction(max : change)
         for (long r = 0; r < roots; ++r) {
-            double down[3];
-            push_cluster_members(h, (uint32_t)r, down);
+            const double *down = h->cluster_down[h->root_parent[r] - h->cluster_first];
             change = fmax(change, push_pull(h, (uint32_t)r, down));
         }
         pull_clusters(h);
@@ -1234,27 +1156,11 @@ static double polygon_reflectance(const rad_hier *h, uint32_t polygon) {
     return fmax(rho[0], fmax(rho[1], rho[2]));
 }
 
-/* Z of a polygon node: sum rho A Y over its leaves. */
+/* Z of a node: sum rho A Y over its leaves. */
 static double node_z(const rad_hier *h, uint32_t index) {
     const rad_hier_node *n = &h->nodes[index];
+    if (is_cluster(n)) return h->cluster_z[index - h->cluster_first];
     return polygon_reflectance(h, n->polygon) * h->importance[index];
-}
-
-/* Z of link's receiver toward its source: a polygon node's node_z; a cluster's the adjoint of
- * gather_cluster, A_r sum_a |w_a| Z(a) / sum_a |w_a| exposed(a), w toward the source. */
-static double receiver_z(const rad_hier *h, const rad_hier_link *link) {
-    if (!cluster_index(h, link->receiver)) return node_z(h, link->receiver);
-    const cluster_info *ci = info(h, link->receiver);
-    const double *z = h->cluster_z[link->receiver - h->cluster_first];
-    rad_vec3 w = v3_sub(receiver_centre(h, link->source), ci->centre);
-    const double d[3] = {fabs(w.x), fabs(w.y), fabs(w.z)};
-    const int side[3] = {w.x < 0, w.y < 0, w.z < 0};
-    double exposed = 0, sum = 0;
-    for (int a = 0; a < 3; ++a) {
-        exposed += d[a] * ci->axis_exposed[2 * a + side[a]];
-        sum += d[a] * z[2 * a + side[a]];
-    }
-    return exposed > 0 ? h->nodes[link->receiver].area * sum / exposed : 0;
 }
 
 /* Pushes importance down one polygon tree (`down` per unit area, from clusters and ancestors),
@@ -1284,24 +1190,13 @@ static void importance_pull_clusters(rad_hier *h) {
     for (size_t c = h->cluster_count; c-- > 0;) {
         uint32_t index = (uint32_t)(h->cluster_first + c);
         const rad_hier_node *n = &h->nodes[index];
-        double y = 0, *z = h->cluster_z[c];
-        memset(z, 0, sizeof h->cluster_z[c]);
+        double y = 0, z = 0;
         for (uint32_t k = 0; k < n->child_count; ++k) {
-            uint32_t child = n->first_child + k;
-            y += h->importance[child];
-            if (cluster_index(h, child)) {
-                for (int a = 0; a < 6; ++a) z[a] += h->cluster_z[child - h->cluster_first][a];
-                continue;
-            }
-            rad_vec3 normal = h->normal[h->nodes[child].polygon];
-            const double d[3] = {normal.x, normal.y, normal.z};
-            double member = node_z(h, child) * exposure(h, child);
-            for (int a = 0; a < 3; ++a) {
-                z[2 * a] += member * fmax(0, d[a]);
-                z[2 * a + 1] += member * fmax(0, -d[a]);
-            }
+            y += h->importance[n->first_child + k];
+            z += node_z(h, n->first_child + k);
         }
         h->importance[index] = y;
+        h->cluster_z[c] = z;
     }
 }
 
@@ -1325,7 +1220,7 @@ static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds
         memset(h->cluster_axis_importance, 0, h->cluster_count * sizeof *h->cluster_axis_importance);
         for (size_t l = 0; l < h->link_count; ++l) {
             const rad_hier_link *link = &h->links[l];
-            double carried = receiver_z(h, link) * (double)link->form_factor;
+            double carried = node_z(h, link->receiver) * (double)link->form_factor;
             if (!(carried > 0)) continue;
             const rad_hier_node *s = &h->nodes[link->source];
             if (!is_cluster(s)) {
@@ -1557,7 +1452,6 @@ static rad_status build_clusters(rad_hier *h) {
                     ci->hi = v3_max(ci->hi, mi->hi);
                     for (int a = 0; a < 6; ++a) ci->axis_area[a] += mi->axis_area[a];
                     ci->normal_sum = v3_add(ci->normal_sum, mi->normal_sum);
-                    ci->oblique_area += mi->oblique_area;
                     ci->reflectance = fmax(ci->reflectance, mi->reflectance);
                 } else {
                     for (int k2 = 0; k2 < m->corner_count; ++k2) {
@@ -1571,8 +1465,6 @@ static rad_status build_clusters(rad_hier *h) {
                         ci->axis_area[2 * a + 1] += m->area * fmax(0, -d[a]);
                     }
                     ci->normal_sum = v3_add(ci->normal_sum, v3_scale(normal, m->area));
-                    ci->oblique_area += m->area * (fabs(d[0]) + fabs(d[1]) + fabs(d[2]) -
-                                                   fmax(fabs(d[0]), fmax(fabs(d[1]), fabs(d[2]))));
                     for (int i = 0; i < 3; ++i)
                         ci->reflectance = fmax(ci->reflectance, h->reflectance[m->polygon][i]);
                 }
