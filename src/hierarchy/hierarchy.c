@@ -860,7 +860,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     double largest = 0;
     int budget = 0;
     rad_status status = refine_light(h, &refined, &largest);
-    while (pending_count && !status) {
+    for (int first_pass = 1; pending_count && !status; first_pass = 0) {
         rad_free(ctx, decision);
         decision = rad_alloc(ctx, pending_count, 1);
         if (!decision) {
@@ -882,6 +882,13 @@ rad_status rad_hier_refine(rad_hier *h) {
                 pass_largest = fmax(pass_largest, relative);
         }
         largest = fmax(largest, pass_largest);
+        if (!splits && first_pass) {
+            /* The oracle passed every link: they stay as they are, sorted, with their groups. */
+            h->links = pending;
+            h->link_count = pending_count;
+            pending = NULL;
+            break;
+        }
         /* The nodes this pass makes: four for each distinct polygon leaf it splits (opening a
          * cluster or an already split node makes none). */
         size_t new_nodes = 0;
@@ -1016,6 +1023,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         rad_free(ctx, kept);
         return status;
     }
+    if (h->links) return RAD_OK; /* nothing refined: the links were not touched */
     if (!kept) {
         kept = rad_alloc(ctx, 1, sizeof *kept);
         if (!kept) return RAD_ERROR_NO_MEMORY;

@@ -18,6 +18,11 @@
 #include <string.h>
 
 #define INNER_TOLERANCE 1e-5 /* gathering rounds stop when no leaf changes by more (relative) */
+/* After a step that refined more than LOOSE_SHARE of its links the next step will refine much of
+ * what it solves: its rounds stop at LOOSE_TOLERANCE, and the step that refines nothing solves
+ * to INNER_TOLERANCE before it stops. */
+#define LOOSE_TOLERANCE 1e-4
+#define LOOSE_SHARE 0.01
 #define INNER_ROUNDS 1000
 
 /* Light the nodes hold besides their materials' emission. Point, spot and directional lights
@@ -101,6 +106,7 @@ typedef struct hierarchical_state {
     rad_hier *hier;
     element_light *light;
     int drawn; /* the system's view owns the hierarchy (rad_hier_view_install) */
+    int loose; /* the last solve stopped at LOOSE_TOLERANCE */
 } hierarchical_state;
 
 /* Each element's radiosity. When the elements are the hierarchy's roots (one per polygon, or
@@ -232,14 +238,22 @@ static void report_step(rad_system *s, const rad_hier *hier, int iteration) {
 }
 
 static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *residual) {
-    rad_hier *hier = ((hierarchical_state *)run->state)->hier;
+    hierarchical_state *state = run->state;
+    rad_hier *hier = state->hier;
     rad_status status = rad_hier_refine(hier);
     if (status) return status;
     rad_hier_stats stats = rad_hier_get_stats(hier);
     *residual = (double)stats.refined;
-    if (stats.refined > 0) {
-        status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
-        if (!status) evaluate(run->system, hier, ((hierarchical_state *)run->state)->light);
+    if (stats.refined > 0 || state->loose) {
+        /* Solve only as tight as the next refinement needs: loosely after a step that refined
+         * much (the next will refine again), to INNER_TOLERANCE otherwise and at the end. */
+        int was_loose = state->loose;
+        state->loose = stats.refined > 0 && (double)stats.refined > LOOSE_SHARE * (double)stats.links;
+        status = rad_hier_solve(hier, state->loose ? LOOSE_TOLERANCE : INNER_TOLERANCE, INNER_ROUNDS);
+        /* Nothing refined after a loose solve: the tight solve may move a link over the
+         * threshold, so one more step asks the oracle again. */
+        if (stats.refined == 0 && was_loose) *residual = 1;
+        if (!status) evaluate(run->system, hier, state->light);
     }
     if (!status) report_step(run->system, hier, iteration);
     if (!status) {
