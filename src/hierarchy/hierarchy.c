@@ -22,7 +22,7 @@
 #define LEAF_CLUSTER 4   /* roots in a leaf cluster, at most */
 #define UNKNOWN_ERROR FLT_MAX /* the bound of a link that must be refined before it is trusted */
 #define PARTIAL_BATCHES 4 /* sets of 16 visibility rays for a partly hidden polygon link */
-#define CLUSTER_PARTIAL_SETS 3 /* fresh sets of 16 sampled pairs for a partly hidden cluster link */
+#define CLUSTER_PARTIAL_SETS 1 /* fresh sets of 16 sampled pairs for a partly hidden cluster link */
 
 typedef double rgb[3];
 
@@ -574,7 +574,8 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
      * first. Given that some of its rays were blocked, the first set's estimate is low (the
      * oracle keeps the partly hidden links whose estimate came out small): on Sponza cluster
      * links carried 0.89-0.96 of a Monte Carlo gather of the same leaves, and the image was
-     * -4.8% against the path tracer; with three fresh sets -1.3% (docs/hierarchical.md). */
+     * -4.8% against the path tracer; with one fresh set -1.5%, with three -1.3% at 1.35 times
+     * the processor time of one (docs/hierarchical.md). */
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
     int partial = 0, rn = 0, sn = 0, sets = 0;
     double sum = 0;
