@@ -13,7 +13,8 @@
  *   48  8  link error, float64 (as the solve used it)
  *   56  4  flags: 1 importance, 2 node light, 4 second specular pass's light per element,
  *          8 refinement stopped at the memory budget, 16 the last solve was interrupted (the
- *          next step finishes it before refining)
+ *          next step finishes it before refining), 32 the last solve stopped at the loose
+ *          tolerance (it refined much; the step that refines nothing asks the oracle again)
  *   60  4  gathering rounds of the last solve
  *   64  8  node count          72  8  root count        80  8  split count
  *   88  8  link count          96  8  receiver runs     104 8  importance view hits
@@ -60,7 +61,8 @@
 #define HIT_BYTES 28u
 #define ELEMENT_BYTES 24u
 
-enum { FLAG_IMPORTANCE = 1, FLAG_LIGHT = 2, FLAG_REFLECTION = 4, FLAG_BUDGET = 8, FLAG_UNFINISHED = 16 };
+enum { FLAG_IMPORTANCE = 1, FLAG_LIGHT = 2, FLAG_REFLECTION = 4, FLAG_BUDGET = 8, FLAG_UNFINISHED = 16,
+       FLAG_LOOSE = 32 };
 
 static uint64_t hash_f64(uint64_t h, double v) {
     unsigned char b[8];
@@ -193,7 +195,8 @@ rad_status rad_solution_hier_save(rad_system *s, const char *path, const rad_sol
                      (rad_hier_has_light(hier) ? FLAG_LIGHT : 0) |
                      (s->specular_reflection ? FLAG_REFLECTION : 0) |
                      (stats.budget_reached ? FLAG_BUDGET : 0) |
-                     (rad_hier_setup_unfinished(setup) ? FLAG_UNFINISHED : 0);
+                     (rad_hier_setup_unfinished(setup) ? FLAG_UNFINISHED : 0) |
+                     (setup && rad_hier_setup_loose(setup) ? FLAG_LOOSE : 0);
     if (!(flags & FLAG_IMPORTANCE)) hits = 0;
 
     unsigned char header[HEADER];
@@ -310,7 +313,7 @@ static rad_status read_layout(rad_context *ctx, const char *path, const unsigned
     l.flags = rad_le_get_u32(bytes + 56);
     uint64_t *counts[7] = {&l.nodes, &l.roots, &l.splits, &l.links, &l.runs, &l.hits, &l.elements};
     for (int k = 0; k < 7; ++k) *counts[k] = rad_le_get_u64(bytes + 64 + 8 * k);
-    if (l.flags & ~31u) return corrupted(ctx, path, "unknown flags");
+    if (l.flags & ~63u) return corrupted(ctx, path, "unknown flags");
     l.node_bytes = NODE_BYTES + (l.flags & FLAG_LIGHT ? NODE_LIGHT_BYTES : 0) +
                    (l.flags & FLAG_IMPORTANCE ? NODE_IMPORTANCE_BYTES : 0);
     size_t at = HEADER;
@@ -563,6 +566,7 @@ rad_status rad_solution_hier_load(rad_system *s, const char *path, const unsigne
         s->specular_reflection = reflection;
     }
     rad_hier_setup_set_unfinished(setup, (l.flags & FLAG_UNFINISHED) != 0);
+    rad_hier_setup_set_loose(setup, (l.flags & FLAG_LOOSE) != 0);
     status = rad_hier_view_install(s, hier, setup, 1);
     if (status) {
         rad_hier_destroy(hier);

@@ -18,6 +18,11 @@
 #include <string.h>
 
 #define INNER_TOLERANCE 1e-5 /* gathering rounds stop when no leaf changes by more (relative) */
+/* After a step that refined more than LOOSE_SHARE of its links the next step will refine much of
+ * what it solves: its rounds stop at LOOSE_TOLERANCE, and the step that refines nothing solves
+ * to INNER_TOLERANCE before it stops. */
+#define LOOSE_TOLERANCE 1e-4
+#define LOOSE_SHARE 0.01
 #define INNER_ROUNDS 1000
 
 /* Light the nodes hold besides their materials' emission. Point, spot and directional lights
@@ -99,6 +104,7 @@ struct rad_hier_setup {
     int importance;
     element_light *light; /* NULL without lights, sky or specular light */
     int unfinished;       /* the last solve was cancelled (Ctrl-C): the next step finishes it */
+    int loose;            /* the last solve was to LOOSE_TOLERANCE (a step that refined much) */
 };
 
 void rad_hier_setup_destroy(rad_system *s, rad_hier_setup *setup) {
@@ -110,6 +116,8 @@ void rad_hier_setup_destroy(rad_system *s, rad_hier_setup *setup) {
 double rad_hier_setup_link_error(const rad_hier_setup *setup) { return setup->link_error; }
 int rad_hier_setup_importance(const rad_hier_setup *setup) { return setup->importance; }
 int rad_hier_setup_unfinished(const rad_hier_setup *setup) { return setup->unfinished; }
+int rad_hier_setup_loose(const rad_hier_setup *setup) { return setup->loose; }
+void rad_hier_setup_set_loose(rad_hier_setup *setup, int loose) { setup->loose = loose; }
 void rad_hier_setup_set_unfinished(rad_hier_setup *setup, int unfinished) {
     setup->unfinished = unfinished;
 }
@@ -119,7 +127,8 @@ void rad_hier_setup_set_unfinished(rad_hier_setup *setup, int unfinished) {
  * stops at the end of its step and the solution so far can be saved; the next step (here or
  * after --resume) goes on with the same rounds before refining. */
 static rad_status solve_links(rad_system *s, rad_hier *hier, rad_hier_setup *setup) {
-    rad_status status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
+    rad_status status =
+        rad_hier_solve(hier, setup->loose ? LOOSE_TOLERANCE : INNER_TOLERANCE, INNER_ROUNDS);
     setup->unfinished = status == RAD_ERROR_CANCELLED;
     if (setup->unfinished) {
         rad_warn(s->ctx, "%s; the solution so far is kept", rad_context_error(s->ctx));
@@ -312,12 +321,14 @@ static void report_step(rad_system *s, const rad_hier *hier, int iteration) {
 static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *residual) {
     hierarchical_state *state = run->state;
     rad_hier *hier = state->hier;
+    rad_hier_setup *setup = state->setup;
     rad_status status = RAD_OK;
-    /* A solve cancelled in the last step (or before a saved file) is finished first. */
-    if (state->setup->unfinished) {
-        status = solve_links(run->system, hier, state->setup);
-        if (!status) evaluate(run->system, hier, state->setup->light);
-        if (!status && state->setup->unfinished) {
+    /* A solve cancelled in the last step (or before a saved file) is finished first, to the
+     * tolerance it was begun with. */
+    if (setup->unfinished) {
+        status = solve_links(run->system, hier, setup);
+        if (!status) evaluate(run->system, hier, setup->light);
+        if (!status && setup->unfinished) {
             *residual = INFINITY;
             return RAD_OK;
         }
@@ -326,9 +337,16 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
     if (status) return status;
     rad_hier_stats stats = rad_hier_get_stats(hier);
     *residual = (double)stats.refined;
-    if (stats.refined > 0) {
-        status = solve_links(run->system, hier, state->setup);
-        if (!status) evaluate(run->system, hier, state->setup->light);
+    if (stats.refined > 0 || setup->loose) {
+        /* Solve only as tight as the next refinement needs: loosely after a step that refined
+         * much (the next will refine again), to INNER_TOLERANCE otherwise and at the end. */
+        int was_loose = setup->loose;
+        setup->loose = stats.refined > 0 && (double)stats.refined > LOOSE_SHARE * (double)stats.links;
+        status = solve_links(run->system, hier, setup);
+        /* Nothing refined after a loose solve: the tight solve may move a link over the
+         * threshold, so one more step asks the oracle again. */
+        if (stats.refined == 0 && was_loose) *residual = 1;
+        if (!status) evaluate(run->system, hier, setup->light);
     }
     if (!status) report_step(run->system, hier, iteration);
     if (!status) {

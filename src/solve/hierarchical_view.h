@@ -24,6 +24,11 @@ int rad_hier_setup_importance(const rad_hier_setup *setup);
  * step, and setting it (a saved solution's). */
 int rad_hier_setup_unfinished(const rad_hier_setup *setup);
 void rad_hier_setup_set_unfinished(rad_hier_setup *setup, int unfinished);
+/* Whether the last solve of the links stopped at the loose tolerance (after a step that refined
+ * much; the step that refines nothing then solves tight and asks the oracle once more), and
+ * setting it (a saved solution's). */
+int rad_hier_setup_loose(const rad_hier_setup *setup);
+void rad_hier_setup_set_loose(rad_hier_setup *setup, int loose);
 
 /* Sets the system's elements' radiosity from the hierarchy behind its view (as every
  * hierarchical step does), so that what reads elements reads the hierarchy. */
