@@ -198,9 +198,94 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
     return RAD_OK;
 }
 
+/* Pixels where the samples met more than one input polygon (edges: a wall against the black
+ * outside, the light against the ceiling, a block against the floor) are split by what covers
+ * them. How much of the pixel each polygon covers is measured by COVERAGE_RAYS camera rays that
+ * only find the polygon (RAD_RENDER_DIM_COVERAGE, one (0,m,2)-net over the pixel: a straight
+ * edge is placed to 1/64 of the pixel, not the 1/16 of 16 samples), and the pixel is the sum over
+ * the polygons of that fraction times the mean of the samples that met it. A polygon that only
+ * the coverage rays found is shaded at the first of them (with its own sampler seed). With the
+ * light beside the ceiling, 150 times darker, a coverage error weighs 150 times more: when one
+ * polygon's samples are over BRIGHT times the pixel's mean, BRIGHT_RAYS are cast instead. Each
+ * fraction and each mean are unbiased and independent, so the pixel still converges to the box
+ * filter the path tracer converges to. More than MAX_GROUPS polygons: the plain mean. */
+#define COVERAGE_RAYS 64
+#define BRIGHT_RAYS 256
+#define BRIGHT 4.0
+#define MAX_GROUPS 8
+#define EXTRA_SEED_SALT 0x3c6ef372fe94f82bull
+
+typedef struct pixel_group {
+    uint32_t polygon;
+    int shaded, covered;
+    double sum[3];
+} pixel_group;
+
+static int group_of(pixel_group *groups, int *count, uint32_t polygon) {
+    for (int g = 0; g < *count; ++g)
+        if (groups[g].polygon == polygon) return g;
+    if (*count == MAX_GROUPS) return -1;
+    pixel_group *g = &groups[(*count)++];
+    memset(g, 0, sizeof *g);
+    g->polygon = polygon;
+    return *count - 1;
+}
+
+static double luminance(const double c[3]) { return (c[0] + c[1] + c[2]) / 3; }
+
+/* The pixel from its samples split by polygon (see above); 0 when there are too many polygons. */
+static int render_edge_pixel(const rad_renderer *r, rad_sample *sample, pixel_group *groups,
+                             int count, float out[3]) {
+    const rad_view *view = &r->view;
+    int samples = r->settings.samples_per_pixel;
+    double mean = 0, brightest = 0;
+    for (int g = 0; g < count; ++g) {
+        double group_mean = luminance(groups[g].sum) / groups[g].shaded;
+        mean += luminance(groups[g].sum) / samples;
+        brightest = fmax(brightest, group_mean);
+    }
+    uint32_t rays = brightest > BRIGHT * mean ? BRIGHT_RAYS : COVERAGE_RAYS;
+    rad_sample extra = *sample;
+    extra.seed = sample->seed ^ EXTRA_SEED_SALT;
+    extra.index = 0;
+    for (uint32_t k = 0; k < rays; ++k) {
+        rad_sampler sampler = rad_sampler_make(sample->seed, 0);
+        sampler.index = rad_sampler_pixel_index(sample->x, sample->y, rays, k);
+        sampler.dimension = RAD_RENDER_DIM_COVERAGE;
+        double u[2];
+        rad_sampler_2d(&sampler, u);
+        rad_vec3 direction = rad_view_direction(view, sample->x + u[0], sample->y + u[1]);
+        rad_element_hit hit;
+        sample->counts->camera++;
+        uint32_t polygon = rad_element_rays_intersect(r->rays, view->eye, direction, 0, INFINITY, &hit)
+                               ? r->mesh->element_polygon[hit.element]
+                               : RAD_RENDER_NO_POLYGON;
+        int g = group_of(groups, &count, polygon);
+        if (g < 0) return 0;
+        groups[g].covered++;
+        if (groups[g].shaded == 0 && extra.index < extra.count) {
+            /* Found by the coverage rays alone: shaded here. */
+            double radiance[3];
+            rad_trace_radiance(r, &extra, view->eye, direction, NULL, radiance);
+            extra.index++;
+            groups[g].shaded = 1;
+            for (int c = 0; c < 3; ++c) groups[g].sum[c] = radiance[c];
+        }
+    }
+    double sum[3] = {0, 0, 0};
+    for (int g = 0; g < count; ++g) {
+        if (!groups[g].covered || !groups[g].shaded) continue;
+        double fraction = (double)groups[g].covered / rays;
+        for (int c = 0; c < 3; ++c) sum[c] += fraction * groups[g].sum[c] / groups[g].shaded;
+    }
+    for (int c = 0; c < 3; ++c) out[c] = (float)sum[c];
+    return 1;
+}
+
 /* One pixel: the mean of its samples, at Owen-scrambled Sobol' points of the pixel (a (0,m,2)-net
  * for 2^m samples, core/sampler.h): every sample is uniform over the pixel, so the expected
- * value is the box-filtered image the path tracer converges to, with less noise along edges. */
+ * value is the box-filtered image the path tracer converges to, with less noise along edges;
+ * pixels on an edge between polygons are split by what covers them (render_edge_pixel). */
 static void render_pixel(const rad_renderer *r, int x, int y, rad_ray_counts *counts,
                          float out[3]) {
     const rad_view *view = &r->view;
@@ -210,8 +295,11 @@ static void render_pixel(const rad_renderer *r, int x, int y, rad_ray_counts *co
     sample.y = (uint32_t)y;
     sample.count = (uint32_t)r->settings.samples_per_pixel;
     sample.counts = counts;
+    sample.first_polygon = RAD_RENDER_NO_POLYGON;
     int samples = r->settings.samples_per_pixel;
     double sum[3] = {0, 0, 0};
+    pixel_group groups[MAX_GROUPS];
+    int group_count = 0, split = 1;
     for (int s = 0; s < samples; ++s) {
         double jitter[2];
         sample.index = (uint32_t)s;
@@ -221,7 +309,14 @@ static void render_pixel(const rad_renderer *r, int x, int y, rad_ray_counts *co
         rad_trace_radiance(r, &sample, view->eye, rad_view_direction(view, x + jx, y + jy), NULL,
                            radiance);
         for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
+        int g = split ? group_of(groups, &group_count, sample.first_polygon) : -1;
+        if (g < 0) split = 0;
+        else {
+            groups[g].shaded++;
+            for (int c = 0; c < 3; ++c) groups[g].sum[c] += radiance[c];
+        }
     }
+    if (split && group_count > 1 && render_edge_pixel(r, &sample, groups, group_count, out)) return;
     for (int c = 0; c < 3; ++c) out[c] = (float)(sum[c] / samples);
 }
 
