@@ -214,7 +214,7 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
  * the pixel still converges to the box filter the path tracer converges to. (Choosing the
  * pixels by their samples instead, where they met two polygons, lost the light's thin slivers
  * no sample met: the mean 0.65% dark at 4 samples per pixel.) More than MAX_GROUPS polygons:
- * the plain mean. */
+ * the plain mean; so is one sample per pixel. */
 #define COVERAGE_RAYS 64
 #define BRIGHT_RAYS 256
 #define BRIGHT 4.0
@@ -289,9 +289,11 @@ static int render_edge_pixel(const rad_renderer *r, rad_sample *sample, pixel_gr
 }
 
 /* The polygon the camera ray through each pixel corner meets first (RAD_RENDER_NO_POLYGON:
- * none), (width + 1) x (height + 1) in rows. */
+ * none), (width + 1) x (height + 1) in rows; NULL at one sample per pixel. */
 static rad_status corner_polygons_make(const rad_renderer *r, uint32_t **out) {
     const rad_view *view = &r->view;
+    *out = NULL;
+    if (r->settings.samples_per_pixel < 2) return RAD_OK;
     size_t stride = (size_t)view->width + 1, rows = (size_t)view->height + 1;
     uint32_t *corner = rad_alloc(r->ctx, stride * rows, sizeof *corner);
     *out = corner;
@@ -327,9 +329,11 @@ static void render_pixel(const rad_renderer *r, const uint32_t *corner_polygons,
     double sum[3] = {0, 0, 0};
     pixel_group groups[MAX_GROUPS];
     size_t stride = (size_t)view->width + 1;
-    const uint32_t *corner = corner_polygons + (size_t)y * stride + (size_t)x;
+    const uint32_t *corner = corner_polygons ? corner_polygons + (size_t)y * stride + (size_t)x : NULL;
     int group_count = 0;
-    int split = corner[0] != corner[1] || corner[0] != corner[stride] || corner[0] != corner[stride + 1];
+    /* One sample per pixel stays one camera ray per pixel (a preview, a flat look at the mesh). */
+    int split = corner_polygons && (corner[0] != corner[1] || corner[0] != corner[stride] ||
+                                    corner[0] != corner[stride + 1]);
     for (int s = 0; s < samples; ++s) {
         double jitter[2];
         sample.index = (uint32_t)s;
