@@ -208,8 +208,9 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
  * of 16 samples), and the pixel is the sum over the polygons of that fraction times the mean of
  * its samples that met the polygon. A polygon only the coverage rays found is shaded at the
  * first of them (with its own sampler seed). With the light beside the ceiling, 150 times
- * darker, a coverage error weighs 150 times more: when one polygon's samples are over BRIGHT
- * times the pixel's mean, BRIGHT_RAYS are cast instead. The choice of pixels does not depend on
+ * darker, a coverage error weighs 150 times more: when a corner ray near the pixel met an
+ * emitter, or one polygon's samples are over BRIGHT times the pixel's mean, BRIGHT_RAYS are
+ * cast instead (the light's corner inside a pixel was missed by 64). The choice of pixels does not depend on
  * the samples, and each fraction and each mean is unbiased and independent of the others, so
  * the pixel still converges to the box filter the path tracer converges to. (Choosing the
  * pixels by their samples instead, where they met two polygons, lost the light's thin slivers
@@ -241,7 +242,7 @@ static double luminance(const double c[3]) { return (c[0] + c[1] + c[2]) / 3; }
 
 /* The pixel from its samples split by polygon (see above); 0 when there are too many polygons. */
 static int render_edge_pixel(const rad_renderer *r, rad_sample *sample, pixel_group *groups,
-                             int count, float out[3]) {
+                             int count, int near_emitter, float out[3]) {
     const rad_view *view = &r->view;
     int samples = r->settings.samples_per_pixel;
     double mean = 0, brightest = 0;
@@ -250,7 +251,7 @@ static int render_edge_pixel(const rad_renderer *r, rad_sample *sample, pixel_gr
         mean += luminance(groups[g].sum) / samples;
         brightest = fmax(brightest, group_mean);
     }
-    uint32_t rays = brightest > BRIGHT * mean ? BRIGHT_RAYS : COVERAGE_RAYS;
+    uint32_t rays = near_emitter || brightest > BRIGHT * mean ? BRIGHT_RAYS : COVERAGE_RAYS;
     rad_sample extra = *sample;
     extra.seed = sample->seed ^ EXTRA_SEED_SALT;
     extra.index = 0;
@@ -289,7 +290,10 @@ static int render_edge_pixel(const rad_renderer *r, rad_sample *sample, pixel_gr
 }
 
 /* The polygon the camera ray through each pixel corner meets first (RAD_RENDER_NO_POLYGON:
- * none), (width + 1) x (height + 1) in rows; NULL at one sample per pixel. */
+ * none), with EMITTER_BIT set when its material emits, (width + 1) x (height + 1) in rows; NULL
+ * at one sample per pixel. */
+#define EMITTER_BIT 0x80000000u
+
 static rad_status corner_polygons_make(const rad_renderer *r, uint32_t **out) {
     const rad_view *view = &r->view;
     *out = NULL;
@@ -302,13 +306,40 @@ static rad_status corner_polygons_make(const rad_renderer *r, uint32_t **out) {
     for (size_t y = 0; y < rows; ++y)
         for (size_t x = 0; x < stride; ++x) {
             rad_element_hit hit;
-            corner[y * stride + x] =
-                rad_element_rays_intersect(r->rays, view->eye, rad_view_direction(view, (double)x, (double)y),
-                                           0, INFINITY, &hit)
-                    ? r->mesh->element_polygon[hit.element]
-                    : RAD_RENDER_NO_POLYGON;
+            uint32_t key = RAD_RENDER_NO_POLYGON;
+            if (rad_element_rays_intersect(r->rays, view->eye, rad_view_direction(view, (double)x, (double)y),
+                                           0, INFINITY, &hit)) {
+                const double *emission = rad_renderer_material(r, hit.element)->emission;
+                key = r->mesh->element_polygon[hit.element] & ~EMITTER_BIT;
+                if (emission[0] > 0 || emission[1] > 0 || emission[2] > 0) key |= EMITTER_BIT;
+            }
+            corner[y * stride + x] = key;
         }
     return RAD_OK;
+}
+
+/* Whether the rays through the corners of pixel (x, y) meet more than one polygon: 0 no, 1 yes,
+ * 2 yes and one of them emits. */
+static int on_edge(const rad_view *view, const uint32_t *corner_polygons, int x, int y) {
+    if (x < 0 || y < 0 || x >= view->width || y >= view->height) return 0;
+    size_t stride = (size_t)view->width + 1;
+    const uint32_t *corner = corner_polygons + (size_t)y * stride + (size_t)x;
+    if (corner[0] == corner[1] && corner[0] == corner[stride] && corner[0] == corner[stride + 1])
+        return 0;
+    return (corner[0] | corner[1] | corner[stride] | corner[stride + 1]) & EMITTER_BIT ? 2 : 1;
+}
+
+/* Whether pixel (x, y) or one of its four neighbours is on an edge (on_edge's 0, 1, 2): a
+ * polygon's corner inside a pixel leaves the pixel's own corners alone, but its two edges cross
+ * the neighbours. */
+static int near_edge(const rad_view *view, const uint32_t *corner_polygons, int x, int y) {
+    static const int offset[5][2] = {{0, 0}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+    int edge = 0;
+    for (int k = 0; k < 5; ++k) {
+        int e = on_edge(view, corner_polygons, x + offset[k][0], y + offset[k][1]);
+        if (e > edge) edge = e;
+    }
+    return edge;
 }
 
 /* One pixel: the mean of its samples, at Owen-scrambled Sobol' points of the pixel (a (0,m,2)-net
@@ -328,12 +359,10 @@ static void render_pixel(const rad_renderer *r, const uint32_t *corner_polygons,
     int samples = r->settings.samples_per_pixel;
     double sum[3] = {0, 0, 0};
     pixel_group groups[MAX_GROUPS];
-    size_t stride = (size_t)view->width + 1;
-    const uint32_t *corner = corner_polygons ? corner_polygons + (size_t)y * stride + (size_t)x : NULL;
+
     int group_count = 0;
     /* One sample per pixel stays one camera ray per pixel (a preview, a flat look at the mesh). */
-    int split = corner_polygons && (corner[0] != corner[1] || corner[0] != corner[stride] ||
-                                    corner[0] != corner[stride + 1]);
+    int split = corner_polygons ? near_edge(view, corner_polygons, x, y) : 0;
     for (int s = 0; s < samples; ++s) {
         double jitter[2];
         sample.index = (uint32_t)s;
@@ -350,7 +379,7 @@ static void render_pixel(const rad_renderer *r, const uint32_t *corner_polygons,
             for (int c = 0; c < 3; ++c) groups[g].sum[c] += radiance[c];
         }
     }
-    if (split && render_edge_pixel(r, &sample, groups, group_count, out)) return;
+    if (split && render_edge_pixel(r, &sample, groups, group_count, split == 2, out)) return;
     for (int c = 0; c < 3; ++c) out[c] = (float)(sum[c] / samples);
 }
 
