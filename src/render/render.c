@@ -201,8 +201,8 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
 /* Pixels on an edge between input polygons (a wall against the black outside, the light against
  * the ceiling, a block against the floor) are split by what covers them. A pixel is on an edge
  * when the camera rays through its four corners (one grid of (width + 1) x (height + 1) rays
- * for the image, corner_polygons) do not all meet the same polygon: any straight edge that
- * crosses the pixel separates its corners. How much of such a pixel each polygon covers is
+ * for the image, corner_polygons) do not all meet the same face (surface and normal): any
+ * straight edge that crosses the pixel separates its corners. How much of such a pixel each polygon covers is
  * measured by COVERAGE_RAYS camera rays that only find the polygon (RAD_RENDER_DIM_COVERAGE,
  * one (0,m,2)-net over the pixel: a straight edge is placed to 1/64 of the pixel, not the 1/16
  * of 16 samples), and the pixel is the sum over the polygons of that fraction times the mean of
@@ -289,50 +289,69 @@ static int render_edge_pixel(const rad_renderer *r, rad_sample *sample, pixel_gr
     return 1;
 }
 
-/* The polygon the camera ray through each pixel corner meets first (RAD_RENDER_NO_POLYGON:
- * none), with EMITTER_BIT set when its material emits, (width + 1) x (height + 1) in rows; NULL
- * at one sample per pixel. */
+/* What the camera ray through a pixel corner meets first: the surface (RAD_RENDER_NO_POLYGON:
+ * none), with EMITTER_BIT set when its material emits, and the element's normal. Corners are
+ * compared by surface and normal, not by polygon: the triangles of one tessellated surface (a
+ * column, an arch of Sponza) are not edges worth splitting a pixel for, a block's two faces
+ * or the light against the ceiling are. */
 #define EMITTER_BIT 0x80000000u
+#define SAME_NORMAL 0.9 /* cosine above which two corners' normals count as one face */
 
-static rad_status corner_polygons_make(const rad_renderer *r, uint32_t **out) {
+typedef struct pixel_corner {
+    uint32_t key;
+    float normal[3];
+} pixel_corner;
+
+/* The (width + 1) x (height + 1) pixel corners in rows; NULL at one sample per pixel. */
+static rad_status corner_polygons_make(const rad_renderer *r, pixel_corner **out) {
     const rad_view *view = &r->view;
     *out = NULL;
     if (r->settings.samples_per_pixel < 2) return RAD_OK;
     size_t stride = (size_t)view->width + 1, rows = (size_t)view->height + 1;
-    uint32_t *corner = rad_alloc(r->ctx, stride * rows, sizeof *corner);
+    pixel_corner *corner = rad_alloc(r->ctx, stride * rows, sizeof *corner);
     *out = corner;
     if (!corner) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(dynamic, 4) num_threads(rad_thread_count(r->ctx))
     for (size_t y = 0; y < rows; ++y)
         for (size_t x = 0; x < stride; ++x) {
             rad_element_hit hit;
-            uint32_t key = RAD_RENDER_NO_POLYGON;
+            pixel_corner c = {RAD_RENDER_NO_POLYGON, {0, 0, 0}};
             if (rad_element_rays_intersect(r->rays, view->eye, rad_view_direction(view, (double)x, (double)y),
                                            0, INFINITY, &hit)) {
                 const double *emission = rad_renderer_material(r, hit.element)->emission;
-                key = r->mesh->element_polygon[hit.element] & ~EMITTER_BIT;
-                if (emission[0] > 0 || emission[1] > 0 || emission[2] > 0) key |= EMITTER_BIT;
+                rad_vec3 n = r->mesh->element_normal[hit.element];
+                c.key = r->mesh->element_surface[hit.element] & ~EMITTER_BIT;
+                if (emission[0] > 0 || emission[1] > 0 || emission[2] > 0) c.key |= EMITTER_BIT;
+                c.normal[0] = (float)n.x;
+                c.normal[1] = (float)n.y;
+                c.normal[2] = (float)n.z;
             }
-            corner[y * stride + x] = key;
+            corner[y * stride + x] = c;
         }
     return RAD_OK;
 }
 
-/* Whether the rays through the corners of pixel (x, y) meet more than one polygon: 0 no, 1 yes,
+static int same_face(const pixel_corner *a, const pixel_corner *b) {
+    if (a->key != b->key) return 0;
+    if (a->key == RAD_RENDER_NO_POLYGON) return 1;
+    return a->normal[0] * b->normal[0] + a->normal[1] * b->normal[1] + a->normal[2] * b->normal[2] >
+           SAME_NORMAL;
+}
+
+/* Whether the rays through the corners of pixel (x, y) meet more than one face: 0 no, 1 yes,
  * 2 yes and one of them emits. */
-static int on_edge(const rad_view *view, const uint32_t *corner_polygons, int x, int y) {
+static int on_edge(const rad_view *view, const pixel_corner *corners, int x, int y) {
     if (x < 0 || y < 0 || x >= view->width || y >= view->height) return 0;
     size_t stride = (size_t)view->width + 1;
-    const uint32_t *corner = corner_polygons + (size_t)y * stride + (size_t)x;
-    if (corner[0] == corner[1] && corner[0] == corner[stride] && corner[0] == corner[stride + 1])
-        return 0;
-    return (corner[0] | corner[1] | corner[stride] | corner[stride + 1]) & EMITTER_BIT ? 2 : 1;
+    const pixel_corner *c = corners + (size_t)y * stride + (size_t)x;
+    if (same_face(c, c + 1) && same_face(c, c + stride) && same_face(c, c + stride + 1)) return 0;
+    return (c[0].key | c[1].key | c[stride].key | c[stride + 1].key) & EMITTER_BIT ? 2 : 1;
 }
 
 /* Whether pixel (x, y) or one of its four neighbours is on an edge (on_edge's 0, 1, 2): a
  * polygon's corner inside a pixel leaves the pixel's own corners alone, but its two edges cross
  * the neighbours. */
-static int near_edge(const rad_view *view, const uint32_t *corner_polygons, int x, int y) {
+static int near_edge(const rad_view *view, const pixel_corner *corner_polygons, int x, int y) {
     static const int offset[5][2] = {{0, 0}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}};
     int edge = 0;
     for (int k = 0; k < 5; ++k) {
@@ -346,7 +365,7 @@ static int near_edge(const rad_view *view, const uint32_t *corner_polygons, int 
  * for 2^m samples, core/sampler.h): every sample is uniform over the pixel, so the expected
  * value is the box-filtered image the path tracer converges to, with less noise along edges;
  * pixels on an edge between polygons are split by what covers them (render_edge_pixel). */
-static void render_pixel(const rad_renderer *r, const uint32_t *corner_polygons, int x, int y,
+static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polygons, int x, int y,
                          rad_ray_counts *counts, float out[3]) {
     const rad_view *view = &r->view;
     rad_sample sample;
@@ -396,7 +415,7 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
     if (!status) status = rad_reconstruct_prepare(r);
     if (!status) status = rad_texture_shading_prepare(r);
     rad_image *image = NULL;
-    uint32_t *corner_polygons = NULL;
+    pixel_corner *corner_polygons = NULL;
     if (!status) status = rad_image_new(ctx, r->view.width, r->view.height, &image);
     if (!status) status = corner_polygons_make(r, &corner_polygons);
     if (status) {
