@@ -82,13 +82,10 @@ static void map(int threads, size_t count) {
         int face = (int)(i % 6), axis = face / 2;
         double c[3] = {uniform(&state), uniform(&state), uniform(&state)};
         c[axis] = face % 2;
-        p[i].position = (rad_vec3){c[0], c[1], c[2]};
-        p[i].normal[0] = p[i].normal[1] = p[i].normal[2] = 0;
-        p[i].normal[axis] = face % 2 ? -1.0f : 1.0f;
-        p[i].power[0] = p[i].power[1] = p[i].power[2] = 1.0f / (float)count;
-        p[i].incoming[0] = p[i].normal[0];
-        p[i].incoming[1] = p[i].normal[1];
-        p[i].incoming[2] = p[i].normal[2];
+        double n[3] = {0, 0, 0}, power[3] = {1.0 / count, 1.0 / count, 1.0 / count};
+        n[axis] = face % 2 ? -1 : 1;
+        rad_vec3 normal = {n[0], n[1], n[2]};
+        p[i] = rad_photon_pack((rad_vec3){c[0], c[1], c[2]}, power, normal, normal);
     }
     rad_photon *copy = rad_alloc(ctx, count, sizeof *copy);
     for (size_t i = 0; i < count && copy; ++i) copy[i] = p[i];

@@ -10,12 +10,13 @@
 #include "pipeline.h"
 #include "progress.h"
 
+#include <math.h>
 #include <stdlib.h>
 
 typedef struct pathtrace_args {
     int spp, max_bounces, threads, quiet, stats;
     size_t seed;
-    double max_memory;
+    double max_memory, clamp;
     cli_image_args image;
     cli_camera_args camera;
     cli_light_args lights;
@@ -34,6 +35,9 @@ int cmd_pathtrace(int argc, char **argv) {
         {"--spp", CLI_INT, &a.spp, "N  paths per pixel, jittered, box filter (64)"},
         {"--max-bounces", CLI_INT, &a.max_bounces,
          "N  scattering events per path, 1: direct light only (no limit: Russian roulette)"},
+        {"--clamp", CLI_DOUBLE, &a.clamp,
+         "V  biased: light that scattered twice or more counts at most V (R+G+B) per sample, "
+         "as Cycles' Clamp Indirect (0: off)"},
         {"--seed", CLI_SIZE, &a.seed, "S  random seed; the same seed gives the same image (0)"},
         CLI_IMAGE_SIZE_OPTIONS(&a.image),
         CLI_CAMERA_OPTIONS(&a.camera),
@@ -58,6 +62,8 @@ int cmd_pathtrace(int argc, char **argv) {
     if ((status = cli_camera_check("pathtrace", &a.camera))) return status;
     if ((status = cli_lights_check("pathtrace", &a.lights))) return status;
     if (a.max_memory < 0) return cli_error(EXIT_USAGE, "pathtrace: --max-memory must be positive");
+    if (!(a.clamp >= 0) || isinf(a.clamp))
+        return cli_error(EXIT_USAGE, "pathtrace: --clamp must be 0 (off) or a positive number");
 
     rad_context *ctx = cli_context_with_progress(a.threads, (uint64_t)a.seed, a.max_memory, a.quiet);
     rad_image_save_options save;
@@ -85,6 +91,7 @@ int cmd_pathtrace(int argc, char **argv) {
         trace.camera = &camera;
         trace.samples_per_pixel = a.spp;
         trace.max_bounces = a.max_bounces > 0 ? a.max_bounces : 0;
+        trace.clamp_indirect = a.clamp;
         cli_stage("pathtrace", "%dx%d pixels, %d paths per pixel", a.image.width, a.image.height, a.spp);
         rs = rad_pathtrace(ctx, scene, &trace, &image, &stats);
     }

@@ -19,7 +19,7 @@ typedef struct photonmap_args {
     double radius, max_memory;
     cli_image_args image;
     cli_camera_args camera;
-    cli_light_args lights; /* --two-sided */
+    cli_light_args lights; /* --sky, --sun, --ies, --two-sided */
 } photonmap_args;
 
 int cmd_photonmap(int argc, char **argv) {
@@ -29,7 +29,7 @@ int cmd_photonmap(int argc, char **argv) {
     cli_image_args_init(&a.image);
     a.spp = 4;
     a.gather = 16;
-    a.nearest = 50;
+    a.nearest = 20;
     a.photons = 200000;
     a.caustic_photons = (size_t)-1; /* as many as --photons */
     a.radius = NAN;                 /* chosen from --nearest */
@@ -43,7 +43,7 @@ int cmd_photonmap(int argc, char **argv) {
         {"--radius", CLI_DOUBLE, &a.radius,
          "R  largest density-estimation radius, scene units (the radius holding --nearest "
          "photons on average)"},
-        {"--nearest", CLI_INT, &a.nearest, "K  photons in a density estimate, k nearest (50)"},
+        {"--nearest", CLI_INT, &a.nearest, "K  photons in a density estimate, k nearest (20)"},
         {"--gather", CLI_INT, &a.gather, "N  final-gather rays per camera sample (16)"},
         {"--spp", CLI_INT, &a.spp, "N  camera samples per pixel, box filter (4)"},
         {"--progressive", CLI_INT, &a.progressive,
@@ -51,6 +51,7 @@ int cmd_photonmap(int argc, char **argv) {
         {"--seed", CLI_SIZE, &a.seed, "S  random seed; the same seed gives the same image (0)"},
         CLI_IMAGE_SIZE_OPTIONS(&a.image),
         CLI_CAMERA_OPTIONS(&a.camera),
+        CLI_LIGHT_OPTIONS(&a.lights),
         CLI_TWO_SIDED_OPTION(&a.lights),
         CLI_IMAGE_FILE_OPTIONS(&a.image),
         {"--threads", CLI_INT, &a.threads, "N  worker threads (all cores)"},

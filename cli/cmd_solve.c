@@ -362,6 +362,7 @@ int cmd_solve(int argc, char **argv) {
         watch.system = system;
         watch.solver_name = rad_solver_kind_name(solve.solver);
         watch.shooting = cli_solver_shoots(solve.solver);
+        watch.hierarchy = (rad_solver_get(solve.solver)->capabilities & RAD_SOLVER_OWN_LEAVES) != 0;
         watch.step_offset = a.resume ? resumed.steps : 0;
         watch.tolerance = solve.tolerance > 0 ? solve.tolerance : 1e-6;
         watch.time_budget = solve.time_budget;
@@ -369,7 +370,10 @@ int cmd_solve(int argc, char **argv) {
         watch.error_seconds = watch.view_error_seconds = -1;
         if (a.log) {
             watch.log = open_memstream(&watch.log_buffer, &watch.log_size);
-            if (watch.log) fputs("iteration,seconds,shots,sweeps,unshot_fraction,residual\n", watch.log);
+            if (watch.log) fputs(watch.hierarchy ? "iteration,seconds,shots,sweeps,unshot_fraction,"
+                                                   "residual,links,leaves,largest_error\n"
+                                                 : "iteration,seconds,shots,sweeps,unshot_fraction,"
+                                                   "residual\n", watch.log);
         }
         if (a.plot) {
             snprintf(series.name, sizeof series.name, "%s", watch.solver_name);
@@ -407,8 +411,9 @@ int cmd_solve(int argc, char **argv) {
             exit_status = 1;
         if (!rs && !exit_status && a.plot) {
             plot_chart chart = {"Convergence", "seconds",
-                                watch.shooting ? "unshot power / emitted power"
-                                               : "largest change / largest radiosity", 0};
+                                watch.shooting    ? "unshot power / emitted power"
+                                : watch.hierarchy ? "links refined by the step"
+                                                  : "largest change / largest radiosity", 0};
             exit_status = plot_write_svg(a.plot, &chart, &series, 1);
         }
         free(watch.log_buffer);

@@ -102,6 +102,10 @@ int solve_watch_iteration(void *user, const rad_iteration_event *event) {
             fputc(',', w->log);
             log_number(w->log, w->last_view_error);
         }
+        if (w->hierarchy) {
+            fprintf(w->log, ",%zu,%zu,", event->links, event->leaves);
+            log_number(w->log, event->largest_error);
+        }
         fputc('\n', w->log);
     }
     if (w->series) {

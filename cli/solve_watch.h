@@ -15,6 +15,7 @@ typedef struct solve_watch {
     const rad_system *system;
     const char *solver_name;
     int shooting;        /* shots (shooting, importance) rather than rounds */
+    int hierarchy;       /* --log adds links, leaves and the oracle's largest error */
     long step_offset;    /* steps done before a resumed run */
     double tolerance;    /* for the time-left estimate */
     double time_budget;  /* 0: none */

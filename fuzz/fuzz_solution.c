@@ -1,5 +1,7 @@
 /* fuzz_solution.c - libFuzzer target for saved solution files (src/io/solution.c,
- * rad_system_load_solution) into the four-walls system, then a resumed shooting step.
+ * rad_system_load_solution) into the four-walls system, then a resumed shooting step; when the
+ * first input byte has bit 2 set, into two-squares built for the hierarchy (one element per
+ * polygon), then resumed hierarchical steps (src/io/solution_hier.c, version 2 files).
  *
  * The file ends with a checksum, which random mutations almost never keep. So when the first
  * input byte is odd the target rewrites the checksum of the rest before loading, and mutations
@@ -36,13 +38,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (rad_context_create(&options, &ctx)) return 0;
     rad_scene *scene = NULL;
     rad_system *system = NULL;
-    if (rad_scene_builtin(ctx, "four-walls", &scene) == RAD_OK &&
-        rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK) {
+    int hierarchy = (data[0] & 2) != 0;
+    rad_mesh_options mesh = {0};
+    mesh.polygons_only = hierarchy;
+    if (rad_scene_builtin(ctx, hierarchy ? "two-squares" : "four-walls", &scene) == RAD_OK &&
+        rad_system_create(ctx, scene, &mesh, NULL, &system) == RAD_OK) {
         rad_solution_info info;
         if (rad_system_load_solution(system, path, &info) == RAD_OK) {
-            /* What was loaded must be usable: go on from it for a few shots. */
+            /* What was loaded must be usable: go on from it for a few shots or steps. */
             rad_solve_options solve = {0};
-            solve.solver = RAD_SOLVER_SHOOTING;
+            solve.solver = hierarchy ? RAD_SOLVER_HIERARCHICAL : RAD_SOLVER_SHOOTING;
             solve.max_iterations = 3;
             solve.resume = 1;
             rad_solve(system, &solve, NULL);

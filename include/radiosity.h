@@ -614,8 +614,9 @@ typedef struct rad_solution_info {
 } rad_solution_info;
 
 /* Writes the system's solution (radiosity and unshot radiosity per element, the ambient term)
- * with fingerprints of the scene, the mesh and the form factors. The file appears whole or not
- * at all. `info` may be NULL. */
+ * with fingerprints of the scene, the mesh and the form factors; after a hierarchical solve, the
+ * hierarchy itself (docs/formats.md, version 2), from which a resumed solve goes on exactly as
+ * if it had never stopped. The file appears whole or not at all. `info` may be NULL. */
 rad_status rad_system_save_solution(rad_system *system, const char *path,
                                     const rad_solution_info *info);
 
@@ -667,6 +668,9 @@ typedef struct rad_pathtrace_options {
     int samples_per_pixel;         /* paths per pixel, uniformly jittered, box filter; zero: 64 */
     int max_bounces;               /* scattering events per path (1: direct light only); zero:
                                       no limit, Russian roulette ends the paths */
+    double clamp_indirect;         /* zero: unbiased (the default). Else light that scattered
+                                      twice or more counts at most this much (R + G + B) per
+                                      contribution, as Cycles' "Clamp Indirect": biased */
 } rad_pathtrace_options;
 
 typedef struct rad_pathtrace_stats {
@@ -783,7 +787,7 @@ typedef struct rad_photonmap_options {
                                       `photons` */
     double radius;                 /* largest density-estimation radius, scene units; zero: the
                                       radius a disc holding `nearest` photons has on average */
-    int nearest;                   /* k of the k-nearest estimate; zero: 50 */
+    int nearest;                   /* k of the k-nearest estimate; zero: 20 */
     int iterations;                /* progressive photon mapping: passes, each with fresh
                                       photons and smaller radii; zero or 1: one pass */
     double alpha;                  /* progressive: radius^2 shrinks by (i + alpha) / (i + 1)

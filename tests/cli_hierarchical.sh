@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # cli_hierarchical.sh - `--solver hierarchical` through solve, render and bake: it converges,
-# its solution renders, bakes and saves like any other; bad --link-error values and patch
-# systems are refused with one line.
+# its solution renders, bakes and saves like any other (solution files of the hierarchy: resume
+# equals never stopping, byte for byte); bad --link-error values, patch systems and files that
+# do not fit are refused with one line.
 # Usage: cli_hierarchical.sh RADIOSITY SOURCE_DIR
 source "$(dirname "$0")/lib_cli.sh" "$@"
 
@@ -11,9 +12,45 @@ check "the floor is lit" grep -Eq '^floor +[0-9]+ +0\.[34][0-9]+ ' "$work/table"
 "$radiosity" solve two-squares --solver hierarchical --link-error 1e-4 --json >"$work/json"
 check "json solver" grep -q '"solver": "hierarchical", "iterations": [0-9]*, "converged": true' "$work/json"
 check "json links, leaves, largest error" grep -Eq '"links": [1-9][0-9]*, "leaves": [1-9][0-9]*, "largest_error": [0-9.e+-]+' "$work/json"
-# The outputs draw the hierarchy's leaves; a solution file holds one value per element, so
-# --save is refused with one line (not supported yet).
-expect_exit 1 'solution files cannot hold it' -- "$radiosity" solve cornell --solver hierarchical --save "$work/s.rad" --quiet
+# Solution files of the hierarchy (docs/formats.md, version 2): stopping after two steps and
+# going on gives the same bytes as never stopping, on 1 and 2 threads, with the sky's light on
+# the nodes (and with importance below); render and bake draw the saved hierarchy as the solve
+# would have.
+hier=(cornell --solver hierarchical --link-error 3e-4 --sky 1 --quiet)
+"$radiosity" solve "${hier[@]}" --threads 2 --save "$work/full.sol" >"$work/full"
+"$radiosity" solve "${hier[@]}" --threads 1 --iterations 2 --save "$work/part.sol" >"$work/part"
+check "stopped before converging" grep -Eq '^hierarchical: 2 rounds, not converged' "$work/part"
+"$radiosity" solve "${hier[@]}" --threads 2 --resume "$work/part.sol" --save "$work/resumed.sol" >"$work/resumed"
+check "resumed: the same table, rounds counted over both runs" cmp "$work/full" "$work/resumed"
+check "resume equals never stopping, byte for byte" cmp "$work/full.sol" "$work/resumed.sol"
+"$radiosity" solve "${hier[@]}" --threads 1 --resume "$work/part.sol" --save "$work/resumed1.sol" >/dev/null
+check "resume on one thread: the same bytes" cmp "$work/full.sol" "$work/resumed1.sol"
+"$radiosity" solve "${hier[@]}" --time-budget 0.001 --save "$work/budget.sol" >"$work/budget"
+check "time budget: stopped after a step" grep -q 'not converged: time budget' "$work/budget"
+"$radiosity" solve "${hier[@]}" --resume "$work/budget.sol" --save "$work/budget_resumed.sol" >/dev/null
+check "time budget, then resume: the same bytes" cmp "$work/full.sol" "$work/budget_resumed.sol"
+"$radiosity" render "${hier[@]}" -o "$work/solved.pfm" --width 16 --height 16 --spp 2 --final-gather 1
+"$radiosity" render cornell --sky 1 --solution "$work/full.sol" -o "$work/loaded.pfm" --width 16 --height 16 --spp 2 --final-gather 1 --quiet
+check "render --solution draws the saved hierarchy" cmp "$work/solved.pfm" "$work/loaded.pfm"
+"$radiosity" bake "${hier[@]}" -o "$work/solved.ply"
+"$radiosity" bake cornell --sky 1 --solution "$work/full.sol" -o "$work/loaded.ply" --quiet
+check "bake --solution bakes the saved leaves" cmp "$work/solved.ply" "$work/loaded.ply"
+imp=(cornell --solver hierarchical --importance --width 16 --height 16 --quiet)
+"$radiosity" solve "${imp[@]}" --save "$work/imp_full.sol" >/dev/null
+"$radiosity" solve "${imp[@]}" --iterations 2 --save "$work/imp_part.sol" >/dev/null
+"$radiosity" solve "${imp[@]}" --resume "$work/imp_part.sol" --save "$work/imp_resumed.sol" >/dev/null
+check "importance: resume equals never stopping" cmp "$work/imp_full.sol" "$work/imp_resumed.sol"
+# Refused in one line, nothing written: another scene, other lights or options, damage.
+expect_exit 1 'saved for a different scene' -- "$radiosity" solve cornell-mirror --solver hierarchical --resume "$work/full.sol" --save "$work/no.sol" --quiet
+expect_exit 1 'saved for a different scene or lights' -- "$radiosity" solve cornell --solver hierarchical --link-error 3e-4 --resume "$work/full.sol" --save "$work/no.sol" --quiet
+expect_exit 1 'refined with link error 0.0003; go on with the same --link-error' -- "$radiosity" solve cornell --solver hierarchical --sky 1 --resume "$work/full.sol" --save "$work/no.sol" --quiet
+expect_exit 1 'refined with importance; go on with --importance' -- "$radiosity" solve cornell --solver hierarchical --resume "$work/imp_full.sol" --save "$work/no.sol" --quiet
+head -c 3000 "$work/full.sol" >"$work/truncated.sol"
+expect_exit 1 'truncated solution file (3000 of' -- "$radiosity" render cornell --solution "$work/truncated.sol" -o "$work/no.png" --quiet
+cp "$work/full.sol" "$work/damaged.sol"
+printf '\x01' | dd of="$work/damaged.sol" bs=1 seek=2000 conv=notrunc 2>/dev/null
+expect_exit 1 'corrupted solution file (checksum mismatch)' -- "$radiosity" bake cornell --solution "$work/damaged.sol" -o "$work/no.ply" --quiet
+check "refused: nothing written" sh -c "! ls '$work'/no.* 2>/dev/null | grep -q ."
 "$radiosity" render cornell --solver hierarchical -o "$work/h.pfm" --width 24 --height 24 --spp 2 --final-gather 0 --quiet
 check "renders" test -s "$work/h.pfm"
 "$radiosity" bake cornell --solver hierarchical -o "$work/h.ply" --quiet

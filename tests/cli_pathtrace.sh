@@ -42,6 +42,8 @@ expect_exit 2 'each side must be 1 to' -- "$radiosity" pathtrace -o "$work/x.png
 expect_exit 2 'each side must be 1 to' -- "$radiosity" pathtrace -o "$work/x.png" --spp 1 --height 100000
 expect_exit 2 'spp must be at least 1' -- "$radiosity" pathtrace -o "$work/x.png" --spp 0
 expect_exit 2 'max-bounces must be at least 1' -- "$radiosity" pathtrace -o "$work/x.png" --max-bounces 0
+expect_exit 2 'clamp must be 0 (off) or a positive' -- "$radiosity" pathtrace -o "$work/x.png" --clamp -1
+expect_exit 2 'clamp wants a number' -- "$radiosity" pathtrace -o "$work/x.png" --clamp nan
 expect_exit 2 'between 0 and 180' -- "$radiosity" pathtrace -o "$work/x.png" --fov 180
 expect_exit 2 'wants X,Y,Z' -- "$radiosity" pathtrace -o "$work/x.png" --eye 1,2
 expect_exit 2 'unexpected argument' -- "$radiosity" pathtrace cornell extra -o "$work/x.png"

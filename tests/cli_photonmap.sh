@@ -62,6 +62,26 @@ mean=$(python3 "$source_dir/scripts/block_compare.py" "$work/keep_room_pm.pfm" "
 check "textured room: photon map mean within 3% of the path tracer's ($mean%)" \
     python3 -c "import sys; sys.exit(0 if abs(float('$mean')) < 3 else 1)"
 
+# Photons from every light (scene/light_emission.h): the point and spot lights of lights-room.gltf,
+# and a sky and a sun over an open corner, against the path tracer's mean (measured at 32 x 24:
+# see docs/photonmapping.md, "Lights").
+light_mean() { # SCENE ARGS...: the photon map's mean against the path tracer's, in percent
+    local scene=$1; shift
+    "$radiosity" pathtrace "$scene" --width 32 --height 24 --spp 64 "$@" -o "$work/keep_lpt.pfm" --quiet
+    "$radiosity" photonmap "$scene" --width 32 --height 24 --spp 2 --photons 50000 "$@" -o "$work/keep_lpm.pfm" --quiet
+    python3 "$source_dir/scripts/block_compare.py" "$work/keep_lpm.pfm" "$work/keep_lpt.pfm" --blocks 8 --worst 0 \
+        --emitter inf | sed -n 's/^mean .*(\([-+0-9.]*\)%)$/\1/p'
+}
+mean=$(light_mean "$source_dir/scenes/lights-room.gltf")
+check "point and spot lights: photon map mean within 3% of the path tracer's ($mean%)" \
+    python3 -c "import sys; sys.exit(0 if abs(float('$mean')) < 3 else 1)"
+printf 'v 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nv 0 3 0\nv 0 3 4\nv 4 3 4\nf 1 4 3 2\nf 1 5 6 4\nf 4 6 7 3\n' > "$work/keep_corner.obj"
+mean=$(light_mean "$work/keep_corner.obj" --sky 1 --sun 0.5,1,0.3,3 --eye 6,4,-3 --look 1,0.5,2)
+check "sky and sun: photon map mean within 3% of the path tracer's ($mean%)" \
+    python3 -c "import sys; sys.exit(0 if abs(float('$mean')) < 3 else 1)"
+expect_exit 2 'sun takes' -- "$radiosity" photonmap -o "$work/x.png" --sun 1,2
+expect_exit 2 'sky takes' -- "$radiosity" photonmap -o "$work/x.png" --sky -1
+
 # render's caustic map (docs/specular-first.md): its photons past a quarter of the budget are a
 # warning, and the render goes on with the deposit.
 "$radiosity" render cornell-mirror --width 16 --height 16 --spp 1 --elements 200 --specular-photons 100000 \

@@ -92,7 +92,17 @@ static rad_status run_scene(rad_context *ctx, const void *arg, double *result) {
         rad_solve_options options = {0};
         options.solver = RAD_SOLVER_HIERARCHICAL;
         options.link_error = 1e-2;
+        options.max_iterations = 1;
         status = rad_solve(system, &options, NULL);
+        /* Saved, loaded back (the hierarchy rebuilt from its file) and gone on from. */
+        char path[64];
+        snprintf(path, sizeof path, "/tmp/radiosity-faults-%d.sol", (int)getpid());
+        if (!status) status = rad_system_save_solution(system, path, NULL);
+        if (!status) status = rad_system_load_solution(system, path, NULL);
+        remove(path);
+        options.max_iterations = 0;
+        options.resume = 1;
+        if (!status) status = rad_solve(system, &options, NULL);
         for (size_t i = 0; !status && i < rad_system_surface_count(system); ++i) {
             rad_surface_info info;
             rad_system_surface(system, i, &info);

@@ -5,6 +5,8 @@
  *     light sampling + MIS and with BSDF sampling alone;
  *   - the Cornell box: MIS and BSDF-only estimators agree on the mean;
  *   - the same seed gives the same image with 1 and 2 threads; another seed does not;
+ *   - --clamp (Cycles' Clamp Indirect) only scales down light that scattered twice or more:
+ *     with the same seed every pixel lies between the direct-light image and the unclamped one;
  *   - cornell-mirror: the sphere is closed, faces out, and touches neither block;
  *   - a camera that sees nothing or sits inside a block is refused. */
 #include "formfactor/geometric.h"
@@ -248,6 +250,65 @@ static rad_image *trace_cornell(int threads, uint64_t seed, const char *scene_na
     return copy;
 }
 
+/* The Cornell box, 24 x 24 pixels, 8 paths, seed 5, with the given bounce limit and clamp. */
+static rad_image *trace_clamped(int max_bounces, double clamp_indirect) {
+    rad_context *ctx = make_context(1, 5);
+    rad_scene *scene = NULL;
+    rad_image *image = NULL;
+    if (rad_scene_builtin(ctx, "cornell", &scene) == RAD_OK) {
+        rad_pathtrace_options options = {0};
+        options.width = options.height = 24;
+        options.samples_per_pixel = 8;
+        options.max_bounces = max_bounces;
+        options.clamp_indirect = clamp_indirect;
+        if (rad_pathtrace(ctx, scene, &options, &image, NULL))
+            fprintf(stderr, "pathtrace: %s\n", rad_context_error(ctx));
+    }
+    rad_scene_destroy(scene);
+    return image; /* freed with its context by free_with_context */
+}
+
+static void free_with_context(rad_image *image);
+
+static void test_clamp(void) {
+    rad_image *direct = trace_clamped(1, 0), *full = trace_clamped(0, 0);
+    rad_image *clamped = trace_clamped(0, 0.05);
+    CHECK(direct && full && clamped);
+    if (direct && full && clamped) {
+        /* The same paths: clamping scales down some of the indirect terms, never the direct
+         * ones (which a one-bounce path sums in the same order), so per pixel and channel
+         * direct <= clamped <= full; with a clamp this low, the sum is strictly lower. */
+        size_t n = 3 * (size_t)full->width * full->height;
+        int ordered = 1;
+        double sum_clamped = 0, sum_full = 0;
+        for (size_t i = 0; i < n; ++i) {
+            ordered &= direct->pixels[i] <= clamped->pixels[i];
+            ordered &= clamped->pixels[i] <= full->pixels[i];
+            sum_clamped += clamped->pixels[i];
+            sum_full += full->pixels[i];
+        }
+        CHECK(ordered);
+        CHECK(sum_clamped < 0.99 * sum_full);
+    }
+    free_with_context(direct);
+    free_with_context(full);
+    free_with_context(clamped);
+    /* A negative or NaN clamp is refused. */
+    rad_context *ctx = make_context(1, 0);
+    rad_scene *scene = NULL;
+    rad_image *image = NULL;
+    CHECK(rad_scene_builtin(ctx, "cornell", &scene) == RAD_OK);
+    rad_pathtrace_options options = {0};
+    options.width = options.height = 4;
+    options.clamp_indirect = -1;
+    CHECK(rad_pathtrace(ctx, scene, &options, &image, NULL) == RAD_ERROR_INVALID_ARGUMENT);
+    options.clamp_indirect = NAN;
+    CHECK(rad_pathtrace(ctx, scene, &options, &image, NULL) == RAD_ERROR_INVALID_ARGUMENT);
+    CHECK(image == NULL);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
 static void free_with_context(rad_image *image) {
     if (!image) return;
     rad_context *ctx = image->ctx;
@@ -409,6 +470,7 @@ int main(void) {
     test_direct_light();
     test_estimators_agree();
     test_determinism();
+    test_clamp();
     test_cornell_mirror_scene();
     test_bad_cameras();
     return test_finish();

@@ -6,6 +6,8 @@
  *     the rendered image's mean is L / (1 - rho) within 3 %;
  *   - the Cornell box and cornell-mirror against the path tracer: the mean within 3 %, and every
  *     8x8 block of a 32x32 image within the tolerance stated below;
+ *   - photons from a point light: its light and its image in a plane mirror on a diffuse floor
+ *     (the image-source construction) in 8x8 blocks;
  *   - 1 and 2 threads give the same image;
  *   - bad options and a scene without emitters. */
 #include "image/image.h"
@@ -36,16 +38,49 @@ static rad_photon *random_photons(rad_context *ctx, size_t count, uint64_t seed)
     rad_photon *p = rad_alloc(ctx, count, sizeof *p);
     uint64_t state = seed;
     for (size_t i = 0; i < count; ++i) {
-        p[i].position = v3(uniform(&state) * 4 - 2, uniform(&state) * 4 - 2, uniform(&state) * 0.01);
+        rad_vec3 position = v3(uniform(&state) * 4 - 2, uniform(&state) * 4 - 2, uniform(&state) * 0.01);
         /* Most face +z; one in eight faces -z (the other side of a thin wall). */
         double nz = (i % 8 == 0) ? -1 : 1;
-        p[i].normal[0] = p[i].normal[1] = 0;
-        p[i].normal[2] = (float)nz;
-        for (int c = 0; c < 3; ++c) p[i].power[c] = (float)(1 + c + uniform(&state));
-        p[i].incoming[0] = p[i].incoming[1] = 0;
-        p[i].incoming[2] = 1;
+        double power[3];
+        for (int c = 0; c < 3; ++c) power[c] = 1 + c + uniform(&state);
+        p[i] = rad_photon_pack(position, power, v3(0, 0, nz), v3(0, 0, 1));
     }
     return p;
+}
+
+/* The 24-byte photon: flux, normal and incoming direction back within their stated errors. */
+static void test_packing(void) {
+    CHECK(sizeof(rad_photon) == 24);
+    uint64_t state = 3;
+    double worst_power = 0, worst_dim = 0, worst_normal = 1, worst_incoming = 1;
+    for (int i = 0; i < 100000; ++i) {
+        double power[3], back[3];
+        double scale = ldexp(1, (int)(uniform(&state) * 80) - 60);
+        for (int c = 0; c < 3; ++c) power[c] = scale * uniform(&state);
+        power[i % 3] = scale * (1 + uniform(&state)); /* the largest */
+        power[(i + 1) % 3] = scale * 0.01 * (1 + uniform(&state)); /* a dim channel */
+        double z = 2 * uniform(&state) - 1, phi = 2 * RAD_PI * uniform(&state);
+        rad_vec3 n = v3(sqrt(1 - z * z) * cos(phi), sqrt(1 - z * z) * sin(phi), z);
+        z = 2 * uniform(&state) - 1, phi = 2 * RAD_PI * uniform(&state);
+        rad_vec3 w = v3(sqrt(1 - z * z) * cos(phi), sqrt(1 - z * z) * sin(phi), z);
+        rad_photon p = rad_photon_pack(v3(1, 2, 3), power, n, w);
+        rad_photon_power(&p, 1, back);
+        worst_power = fmax(worst_power, fabs(back[i % 3] / power[i % 3] - 1));
+        worst_dim = fmax(worst_dim, fabs(back[(i + 1) % 3] / power[(i + 1) % 3] - 1));
+        worst_normal = fmin(worst_normal, v3_dot(rad_photon_normal(&p), n));
+        worst_incoming = fmin(worst_incoming, v3_dot(rad_photon_incoming(&p), w));
+    }
+    fprintf(stderr, "packed photon: flux %.2g (a channel at 1%%: %.2g), normal %.3f deg, incoming %.4f deg\n",
+            worst_power, worst_dim, acos(fmin(1, worst_normal)) * 180 / RAD_PI,
+            acos(fmin(1, worst_incoming)) * 180 / RAD_PI);
+    CHECK(worst_power <= 0x1p-16);
+    CHECK(worst_dim <= 2e-3);
+    CHECK(worst_normal >= cos(1.5 * RAD_PI / 180));
+    CHECK(worst_incoming >= cos(0.1 * RAD_PI / 180));
+    double none[3] = {-1, 0, NAN}, back[3];
+    rad_photon p = rad_photon_pack(v3(0, 0, 0), none, v3(0, 0, 1), v3(0, 0, 1));
+    rad_photon_power(&p, 1, back);
+    CHECK(back[0] == 0 && back[1] == 0 && back[2] == 0);
 }
 
 static void test_grid(void) {
@@ -69,11 +104,13 @@ static void test_grid(void) {
         size_t m = 0;
         double sum = 0;
         for (size_t i = 0; i < count; ++i) {
-            rad_vec3 d = v3_sub(copy[i].position, x);
+            rad_vec3 d = v3_sub(rad_photon_position(&copy[i]), x);
             double dd = v3_dot(d, d);
-            if (dd < radius * radius && copy[i].normal[2] > 0) {
+            if (dd < radius * radius && rad_photon_normal(&copy[i]).z > 0) {
+                double power[3];
+                rad_photon_power(&copy[i], 1, power);
                 d2[m++] = dd;
-                sum += copy[i].power[1];
+                sum += power[1];
             }
         }
         for (size_t i = 1; i < m; ++i) /* insertion sort: m is small */
@@ -201,12 +238,8 @@ static void test_furnace_irradiance(void) {
             rad_hit hit;
             if (!rad_rays_intersect(t->rays, origin, d, t->rays->epsilon, INFINITY, &hit)) break;
             rad_vec3 x = v3_add(origin, v3_scale(d, hit.t));
-            rad_photon *p = &photons[stored++];
-            p->position = x;
-            for (int c = 0; c < 3; ++c) p->power[c] = (float)(total_power / n);
-            p->normal[0] = (float)hit.normal.x;
-            p->normal[1] = (float)hit.normal.y;
-            p->normal[2] = (float)hit.normal.z;
+            double power[3] = {total_power / n, total_power / n, total_power / n};
+            photons[stored++] = rad_photon_pack(x, power, hit.normal, v3_scale(d, -1));
             rad_sampler_4d(&s, u);
             if (u[0] >= rho) break;
             rad_vec3 ta, tb;
@@ -399,6 +432,85 @@ static void test_against_pathtracer(void) {
     }
 }
 
+/* Photons from a point light (scene/light_emission.h): a point light of intensity I at height 1
+ * over a diffuse floor (reflectance 0.1), a plane mirror at height 2 above both. The floor's
+ * irradiance is the light's own I h / r^3 (h = 1, sampled from the camera) plus its image's in
+ * the mirror (h = 3, the caustic map's photons); the camera looking down sees rho / pi E, and a
+ * little more (about rho times the floor's view of itself in the mirror, 1 %). */
+static rad_image *point_light_image(int threads) {
+    rad_context *ctx = make_context(threads, 3);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_new(ctx, 1, "point-mirror-floor", &scene) == RAD_OK);
+    rad_material grey = {0}, mirror = {0};
+    grey.name = "grey";
+    grey.reflectance[0] = grey.reflectance[1] = grey.reflectance[2] = 0.1;
+    mirror.name = "mirror";
+    mirror.kind = RAD_MATERIAL_MIRROR;
+    mirror.specular[0] = mirror.specular[1] = mirror.specular[2] = 1;
+    uint32_t material, floor, glass;
+    rad_scene_add_material(scene, &grey, &material);
+    rad_scene_add_surface(scene, "floor", material, &floor);
+    rad_scene_add_material(scene, &mirror, &material);
+    rad_scene_add_surface(scene, "mirror", material, &glass);
+    rad_vec3 f[4] = {v3(0, 0, -1), v3(0, 0, 1), v3(2, 0, 1), v3(2, 0, -1)};
+    rad_vec3 m[4] = {v3(-3, 2, -2), v3(3, 2, -2), v3(3, 2, 2), v3(-3, 2, 2)};
+    CHECK(rad_scene_add_polygon_points(scene, floor, f, 4) == RAD_OK);
+    CHECK(rad_scene_add_polygon_points(scene, glass, m, 4) == RAD_OK);
+    rad_light_desc light = {0};
+    light.type = RAD_LIGHT_TYPE_POINT;
+    light.position[0] = -1.5, light.position[1] = 1;
+    light.color[0] = light.color[1] = light.color[2] = 1;
+    light.strength = 2;
+    CHECK(rad_scene_add_light(scene, &light) == RAD_OK);
+    rad_camera_desc camera = {{1, 1.5, 0}, {1, 0, 0}, {0, 0, 1}, 60};
+    rad_photonmap_options o = {0};
+    o.width = o.height = 32;
+    o.samples_per_pixel = 4;
+    o.gather_rays = 8;
+    o.photons = 200000;
+    o.camera = &camera;
+    rad_image *image = NULL;
+    CHECK(rad_photonmap(ctx, scene, &o, &image, NULL) == RAD_OK);
+    rad_camera cam = rad_camera_from_desc(&camera);
+    rad_view view;
+    CHECK(rad_view_make(ctx, &cam, 32, 32, &view) == RAD_OK);
+    double sum = 0, expected_sum = 0, worst = 0;
+    for (int by = 0; image && by < 32; by += 8)
+        for (int bx = 0; bx < 32; bx += 8) {
+            double block = 0, expected_block = 0;
+            for (int y = by; y < by + 8; ++y)
+                for (int x = bx; x < bx + 8; ++x) {
+                    rad_vec3 d = rad_view_direction(&view, x + 0.5, y + 0.5);
+                    rad_vec3 p = v3_add(view.eye, v3_scale(d, -view.eye.y / d.y));
+                    double e = 0;
+                    for (int h = 1; h <= 3; h += 2) {
+                        double dx = p.x + 1.5, dy = h, r2 = dx * dx + dy * dy + p.z * p.z;
+                        e += 2 * h / (r2 * sqrt(r2));
+                    }
+                    block += image->pixels[3 * (y * 32 + x)];
+                    expected_block += 0.1 / RAD_PI * e;
+                }
+            worst = fmax(worst, fabs(block / expected_block - 1));
+            sum += block;
+            expected_sum += expected_block;
+        }
+    fprintf(stderr, "point light and mirror (%d threads): photon map / image source mean %.4f, "
+            "worst 8x8 block %.2f%%\n", threads, sum / expected_sum, 100 * worst);
+    CHECK_NEAR(sum / expected_sum, 1.01, 0.03); /* measured 1.0017 */
+    CHECK(worst < 0.05);                          /* measured 1.8 % */
+    rad_scene_destroy(scene);
+    if (!image) rad_context_destroy(ctx); /* else it goes with the image: free_with_context */
+    return image;
+}
+
+/* The same image on 1 and 2 threads. */
+static void test_point_light(void) {
+    rad_image *one = point_light_image(1), *two = point_light_image(2);
+    CHECK(one && two && memcmp(one->pixels, two->pixels, 32 * 32 * 3 * sizeof(float)) == 0);
+    free_with_context(one);
+    free_with_context(two);
+}
+
 static void test_threads(void) {
     rad_image *one = photonmap_image(1, "cornell-mirror", 24, 30000);
     rad_image *two = photonmap_image(2, "cornell-mirror", 24, 30000);
@@ -453,7 +565,9 @@ static void test_bad_input(void) {
 }
 
 int main(void) {
+    test_packing();
     test_grid();
+    test_point_light();
     test_furnace_irradiance();
     test_furnace();
     test_against_pathtracer();

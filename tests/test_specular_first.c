@@ -8,7 +8,9 @@
  * else (the emitter faces away from it). The same photons with 1 and 2 threads give the same
  * bits, and --specular-first 0 (on = 0) leaves the system without the pass. The renderer's
  * caustic map (render/caustics.c), made of the same photons, gives at floor points
- * rho / pi E(x) of the same closed form, and in place of the deposit, not on top of it. */
+ * rho / pi E(x) of the same closed form, and in place of the deposit, not on top of it.
+ * A point light of intensity I where the emitter was (photons from lights, scene/light_emission.h):
+ * the floor's deposit is rho times the mean over each element of its image's E = I h / r^3. */
 #include "mesh/mesh.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -25,6 +27,7 @@
 #define RADIANCE 10.0
 #define RHO 0.5
 #define PHOTONS 400000
+#define INTENSITY 2.0 /* the point light's, W/sr */
 
 static rad_context *make_context(int threads) {
     rad_context_options options = {0};
@@ -44,9 +47,10 @@ static uint32_t add_surface(rad_scene *scene, const char *name, const rad_materi
     return surface;
 }
 
-/* Floor [0, 2] x [-1, 1] at y = 0 facing up; the emitter at (EMITTER_X, EMITTER_Y, 0) facing
- * up; a perfect mirror [-3, 3] x [-2, 2] at y = MIRROR_Y facing down. */
-static rad_scene *mirror_scene(rad_context *ctx, int on) {
+/* Floor [0, 2] x [-1, 1] at y = 0 facing up; a perfect mirror [-3, 3] x [-2, 2] at y = MIRROR_Y
+ * facing down; at (EMITTER_X, EMITTER_Y, 0) the emitter facing up, or with `point` a point light
+ * of INTENSITY. */
+static rad_scene *mirror_scene(rad_context *ctx, int on, int point, uint64_t photons) {
     rad_scene *scene = NULL;
     if (rad_scene_new(ctx, 1, "mirror-floor", &scene)) exit(1);
     rad_material grey = {0}, light = {0}, mirror = {0};
@@ -58,7 +62,6 @@ static rad_scene *mirror_scene(rad_context *ctx, int on) {
     mirror.kind = RAD_MATERIAL_MIRROR;
     mirror.specular[0] = mirror.specular[1] = mirror.specular[2] = 1;
     uint32_t floor = add_surface(scene, "floor", &grey);
-    uint32_t emitter = add_surface(scene, "light", &light);
     uint32_t glass = add_surface(scene, "mirror", &mirror);
     rad_vec3 f[4] = {v3(0, 0, -1), v3(0, 0, 1), v3(2, 0, 1), v3(2, 0, -1)};
     const double s = EMITTER_HALF, x = EMITTER_X, y = EMITTER_Y;
@@ -66,10 +69,20 @@ static rad_scene *mirror_scene(rad_context *ctx, int on) {
     rad_vec3 m[4] = {v3(-3, MIRROR_Y, -2), v3(3, MIRROR_Y, -2), v3(3, MIRROR_Y, 2),
                      v3(-3, MIRROR_Y, 2)};
     if (rad_scene_add_polygon_points(scene, floor, f, 4) ||
-        rad_scene_add_polygon_points(scene, emitter, l, 4) ||
         rad_scene_add_polygon_points(scene, glass, m, 4))
         exit(1);
-    CHECK(rad_scene_set_specular_first(scene, on, PHOTONS) == RAD_OK);
+    if (point) {
+        rad_light_desc bulb = {0};
+        bulb.type = RAD_LIGHT_TYPE_POINT;
+        bulb.position[0] = EMITTER_X, bulb.position[1] = EMITTER_Y;
+        bulb.color[0] = bulb.color[1] = bulb.color[2] = 1;
+        bulb.strength = INTENSITY;
+        bulb.units = RAD_LIGHT_WATTS;
+        CHECK(rad_scene_add_light(scene, &bulb) == RAD_OK);
+    } else if (rad_scene_add_polygon_points(scene, add_surface(scene, "light", &light), l, 4)) {
+        exit(1);
+    }
+    CHECK(rad_scene_set_specular_first(scene, on, photons) == RAD_OK);
     return scene;
 }
 
@@ -142,9 +155,10 @@ static void test_caustic_map(rad_scene *scene, rad_system *s) {
     rad_renderer_destroy(r);
 }
 
-/* The mean of L a h^2 / r^4 over the element (32 x 32 points of its bounding box, which is the
- * element: the floor's elements are axis-aligned squares). */
-static double image_source_irradiance(const rad_system *s, size_t e) {
+/* The mean of L a h^2 / r^4 (the emitter's image) or I h / r^3 (with `point`: the point light's)
+ * over the element (32 x 32 points of its bounding box, which is the element: the floor's
+ * elements are axis-aligned squares). */
+static double image_irradiance(const rad_system *s, size_t e, int point) {
     const rad_mesh *mesh = s->mesh;
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) {
@@ -160,14 +174,40 @@ static double image_source_irradiance(const rad_system *s, size_t e) {
             double dx = lo[0] + (hi[0] - lo[0]) * (i + 0.5) / n - EMITTER_X;
             double dz = lo[1] + (hi[1] - lo[1]) * (j + 0.5) / n;
             double r2 = dx * dx + dz * dz + h * h;
-            sum += RADIANCE * a * h * h / (r2 * r2);
+            sum += point ? INTENSITY * h / (r2 * sqrt(r2)) : RADIANCE * a * h * h / (r2 * r2);
         }
     return sum / (n * n);
 }
 
+/* The point light's photons through the mirror: each floor element's deposit against rho times
+ * the image's mean E = I h / r^3 over it. */
+static void test_point_light(rad_context *ctx) {
+    rad_scene *scene = mirror_scene(ctx, 1, 1, 4 * PHOTONS);
+    rad_system *s = build(ctx, scene);
+    CHECK(s->specular_emission != NULL);
+    double worst = 0, flux = 0, expected_flux = 0;
+    size_t floor_elements = 0;
+    for (size_t e = 0; s->specular_emission && e < s->element_count; ++e) {
+        if (strcmp(s->surface_name[s->element_surface[e]], "floor") != 0) continue;
+        ++floor_elements;
+        double expected = RHO * image_irradiance(s, e, 1);
+        worst = fmax(worst, fabs(s->specular_emission[e][0] / expected - 1));
+        flux += s->specular_emission[e][0] * s->area[e];
+        expected_flux += expected * s->area[e];
+    }
+    printf("point light: %zu floor elements, worst element %.2f%%, flux %.3f%% off the image "
+           "source\n",
+           floor_elements, 100 * worst, 100 * (flux / expected_flux - 1));
+    CHECK(floor_elements == 16);
+    CHECK(worst < 0.03);                          /* measured 0.47% (Sobol' photons) */
+    CHECK(fabs(flux / expected_flux - 1) < 0.01); /* measured 0.04% */
+    rad_system_destroy(s);
+    rad_scene_destroy(scene);
+}
+
 int main(void) {
     rad_context *one = make_context(1), *two = make_context(2);
-    rad_scene *scene = mirror_scene(two, -1);
+    rad_scene *scene = mirror_scene(two, -1, 0, PHOTONS);
     rad_system *s = build(two, scene);
     CHECK(s->specular_emission != NULL);
     /* Per floor element against the closed form; the floor's flux in total. */
@@ -179,7 +219,7 @@ int main(void) {
             continue;
         }
         ++floor_elements;
-        double expected = RHO * image_source_irradiance(s, e);
+        double expected = RHO * image_irradiance(s, e, 0);
         worst = fmax(worst, fabs(s->specular_emission[e][0] / expected - 1));
         flux += s->specular_emission[e][0] * s->area[e];
         expected_flux += expected * s->area[e];
@@ -211,7 +251,7 @@ int main(void) {
             CHECK(s->specular_reflection[e][0] == 0);
             continue;
         }
-        double expected = RHO * image_source_irradiance(s, e);
+        double expected = RHO * image_irradiance(s, e, 0);
         worst2 = fmax(worst2, fabs(s->specular_reflection[e][0] / expected - 1));
         flux2 += s->specular_reflection[e][0] * s->area[e];
         CHECK(s->radiosity[e][0] == s->specular_reflection[e][0]); /* added to the solution */
@@ -233,9 +273,10 @@ int main(void) {
     CHECK(s->specular_reflection != NULL);
 
     test_caustic_map(scene, s);
+    test_point_light(two);
 
     /* The same bits for 1 and 2 threads. */
-    rad_scene *again = mirror_scene(one, -1);
+    rad_scene *again = mirror_scene(one, -1, 0, PHOTONS);
     rad_system *single = build(one, again);
     CHECK(single->specular_emission && s->specular_emission &&
           memcmp(single->specular_emission, s->specular_emission,
@@ -244,7 +285,7 @@ int main(void) {
     rad_scene_destroy(again);
 
     /* Off: no pass, no extra emission. */
-    rad_scene *off = mirror_scene(two, 0);
+    rad_scene *off = mirror_scene(two, 0, 0, PHOTONS);
     rad_system *plain = build(two, off);
     CHECK(plain->specular_emission == NULL);
     rad_system_destroy(plain);

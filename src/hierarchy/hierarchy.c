@@ -15,7 +15,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#define DEFAULT_LINK_ERROR 1e-3
+#define DEFAULT_LINK_ERROR RAD_HIER_DEFAULT_LINK_ERROR
 #define DEFAULT_MIN_AREA 1e-6
 #define MAX_DEPTH 24
 #define PARALLEL_MIN 256 /* loops shorter than this run on one thread */
@@ -1754,4 +1754,127 @@ void rad_hier_light_at(const rad_hier *h, uint32_t polygon, rad_vec3 x, double o
     uint32_t leaf = h->light ? leaf_at(h, polygon, x) : RAD_HIER_NO_NODE;
     if (leaf == RAD_HIER_NO_NODE) memset(out, 0, sizeof(double[3]));
     else memcpy(out, h->light[leaf], sizeof(double[3]));
+}
+
+/* ---- Saving and restoring (src/io/solution_hier.c) --------------------------------------- */
+
+static uint64_t mix_u64(uint64_t hash, uint64_t v) { return rad_mix64(hash ^ rad_mix64(v + 1)); }
+
+static uint64_t mix_f64(uint64_t hash, double v) {
+    uint64_t bits;
+    if (v == 0) v = 0; /* -0 and +0 alike */
+    memcpy(&bits, &v, sizeof bits);
+    return mix_u64(hash, bits);
+}
+
+uint64_t rad_hier_fingerprint(const rad_hier *h) {
+    uint64_t hash = mix_u64(mix_u64(mix_u64(0x68696572u, h->root_count), h->cluster_count),
+                            (uint64_t)h->no_clusters);
+    const double scalars[4] = {h->threshold, h->min_area, h->emission_max, h->emitted_power};
+    for (int k = 0; k < 4; ++k) hash = mix_f64(hash, scalars[k]);
+    hash = mix_u64(hash, h->light != NULL);
+    for (size_t i = 0; i < h->root_count + h->cluster_count; ++i) {
+        const rad_hier_node *n = &h->nodes[i];
+        hash = mix_u64(mix_u64(hash, n->polygon), n->corner_count);
+        if (i >= h->root_count) hash = mix_u64(hash, n->child_count); /* a cluster's members */
+        hash = mix_f64(hash, n->area);
+        for (int k = 0; k < n->corner_count; ++k)
+            hash = mix_f64(mix_f64(mix_f64(hash, n->corner[k].x), n->corner[k].y), n->corner[k].z);
+        for (int c = 0; c < 3 && h->light && i < h->root_count; ++c) hash = mix_f64(hash, h->light[i][c]);
+    }
+    return hash;
+}
+
+int rad_hier_has_light(const rad_hier *h) { return h->light != NULL; }
+
+void rad_hier_node_state_get(const rad_hier *h, uint32_t node, rad_hier_node_state *out) {
+    memset(out, 0, sizeof *out);
+    if (h->light) {
+        memcpy(out->light, h->light[node], sizeof out->light);
+        out->spread = h->light_spread[node];
+    }
+    if (h->importance) out->importance = h->importance[node];
+}
+
+void rad_hier_exposure_get(const rad_hier *h, uint32_t root, uint32_t *rays, uint32_t *seen) {
+    *rays = h->member_rays[root];
+    *seen = h->member_seen[root];
+}
+
+size_t rad_hier_view_hits(const rad_hier *h, const uint32_t **polygon, const rad_vec3 **point,
+                          double *share) {
+    *polygon = h->hit_polygon;
+    *point = h->hit_point;
+    *share = h->hit_share;
+    return h->hit_point ? h->hit_count : 0;
+}
+
+double rad_hier_importance_mean(const rad_hier *h) { return h->importance_mean; }
+
+void rad_hier_set_light(rad_hier *h,
+                        void (*light)(void *user, uint32_t polygon, const rad_vec3 *corners,
+                                      int count, uint64_t stream, double out[3], double *spread),
+                        void *user) {
+    h->light_fn = light;
+    h->light_user = user;
+}
+
+rad_status rad_hier_restore_split(rad_hier *h, uint32_t node, uint32_t first_child) {
+    if (node >= h->node_count || cluster_index(h, node) || h->nodes[node].corner_count == 0)
+        return RAD_ERROR_PARSE;
+    const rad_hier_node *n = &h->nodes[node];
+    if (n->first_child != RAD_HIER_NO_NODE) return n->first_child == first_child ? RAD_OK : RAD_ERROR_PARSE;
+    if (first_child != h->node_count || n->depth >= MAX_DEPTH) return RAD_ERROR_PARSE;
+    return subdivide(h, node);
+}
+
+rad_status rad_hier_restore_view(rad_hier *h, uint32_t *polygon, rad_vec3 *point, size_t count,
+                                 double share) {
+    rad_context *ctx = h->ctx;
+    rad_free(ctx, h->hit_polygon);
+    rad_free(ctx, h->hit_point);
+    h->hit_polygon = polygon;
+    h->hit_point = point;
+    h->hit_count = count;
+    h->hit_share = share;
+    if (!h->importance) {
+        h->importance = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance);
+        h->importance_emitted = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_emitted);
+        h->importance_gathered = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_gathered);
+        h->cluster_axis_importance = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_axis_importance);
+        h->cluster_down_importance = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_down_importance);
+        h->cluster_z = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_z);
+        if (!h->importance || !h->importance_emitted || !h->importance_gathered ||
+            !h->cluster_axis_importance || !h->cluster_down_importance || !h->cluster_z)
+            return RAD_ERROR_NO_MEMORY;
+    }
+    return RAD_OK;
+}
+
+void rad_hier_restore_node(rad_hier *h, uint32_t node, const double radiosity[3],
+                           const rad_hier_node_state *state) {
+    memcpy(h->nodes[node].radiosity, radiosity, sizeof(double[3]));
+    if (h->light) {
+        memcpy(h->light[node], state->light, sizeof(rgb));
+        h->light_spread[node] = state->spread;
+    }
+    if (h->importance) h->importance[node] = state->importance;
+}
+
+void rad_hier_restore_exposure(rad_hier *h, uint32_t root, uint32_t rays, uint32_t seen) {
+    h->member_rays[root] = rays;
+    h->member_seen[root] = seen;
+}
+
+rad_status rad_hier_restore_links(rad_hier *h, rad_hier_link *links, size_t count) {
+    return adopt_links(h, links, count);
+}
+
+void rad_hier_restore_stats(rad_hier *h, const rad_hier_stats *stats, double importance_mean) {
+    h->stats.largest_error = stats->largest_error;
+    h->stats.refined = stats->refined;
+    h->stats.solve_rounds = stats->solve_rounds;
+    h->stats.budget_reached = stats->budget_reached;
+    h->stats.seen_share = stats->seen_share;
+    h->importance_mean = importance_mean;
 }

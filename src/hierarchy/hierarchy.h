@@ -40,6 +40,7 @@ struct rad_scene;
 struct rad_view;
 
 #define RAD_HIER_NO_NODE UINT32_MAX
+#define RAD_HIER_DEFAULT_LINK_ERROR 1e-3 /* rad_hier_options.link_error when zero */
 
 typedef struct rad_hier_node {
     rad_vec3 corner[4]; /* counter-clockwise seen from the front */
@@ -148,5 +149,53 @@ rad_status rad_hier_set_view(rad_hier *hier, const struct rad_view *view);
 /* A node's importance per unit area (the image's change per unit of its radiosity, per unit
  * area), after the last solve; 0 without a view. */
 double rad_hier_importance(const rad_hier *hier, uint32_t node);
+
+/* ---- Saving and restoring (src/io/solution_hier.c, docs/formats.md) ----------------------
+ * A saved hierarchy is rebuilt on one fresh from rad_hier_create (and, with importance,
+ * rad_hier_restore_view): the splits replayed in the order they were made, so the nodes get
+ * the same numbers, then the nodes' values, the links, the exposure counts and the stats set
+ * as they were, after which refine and solve go on exactly as they would have. */
+
+/* A hash of what rad_hier_create made of the scene and options: the roots and clusters
+ * (polygon, corners, area), the roots' light, the threshold. Nothing refine or solve changes. */
+uint64_t rad_hier_fingerprint(const rad_hier *hier);
+
+/* A node's state besides rad_hier_node: its light and spread (rad_hier_options.light) and its
+ * importance A Y; zeros without them. */
+typedef struct rad_hier_node_state {
+    double light[3];
+    float spread;
+    double importance;
+} rad_hier_node_state;
+
+int rad_hier_has_light(const rad_hier *hier);
+void rad_hier_node_state_get(const rad_hier *hier, uint32_t node, rad_hier_node_state *out);
+/* A root's exposure counts (the rays of cluster links that ended on it, and the unblocked). */
+void rad_hier_exposure_get(const rad_hier *hier, uint32_t root, uint32_t *rays, uint32_t *seen);
+/* The importance view's hits (rad_hier_set_view) and each one's share of the image; 0 without. */
+size_t rad_hier_view_hits(const rad_hier *hier, const uint32_t **polygon, const rad_vec3 **point,
+                          double *share);
+double rad_hier_importance_mean(const rad_hier *hier);
+
+/* Replaces the light function (rad_hier_options.light) for the nodes made from now on. */
+void rad_hier_set_light(rad_hier *hier,
+                        void (*light)(void *user, uint32_t polygon, const rad_vec3 *corners,
+                                      int count, uint64_t stream, double out[3], double *spread),
+                        void *user);
+
+/* Splits leaf `node` so that its children are first_child .. + 3; a node already split with
+ * those children is left alone. RAD_ERROR_PARSE (no message) when that cannot be. */
+rad_status rad_hier_restore_split(rad_hier *hier, uint32_t node, uint32_t first_child);
+/* The importance view's hits as rad_hier_set_view found them (the arrays are taken over, also
+ * on failure), without solving importance. */
+rad_status rad_hier_restore_view(rad_hier *hier, uint32_t *polygon, rad_vec3 *point, size_t count,
+                                 double share);
+void rad_hier_restore_node(rad_hier *hier, uint32_t node, const double radiosity[3],
+                           const rad_hier_node_state *state);
+void rad_hier_restore_exposure(rad_hier *hier, uint32_t root, uint32_t rays, uint32_t seen);
+/* The links (taken over, also on failure), every end below the node count. */
+rad_status rad_hier_restore_links(rad_hier *hier, rad_hier_link *links, size_t count);
+/* largest_error, refined, solve_rounds, budget_reached and seen_share of `stats`. */
+void rad_hier_restore_stats(rad_hier *hier, const rad_hier_stats *stats, double importance_mean);
 
 #endif

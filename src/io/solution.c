@@ -16,6 +16,7 @@
 
 #include "core/atomic_file.h"
 #include "mesh/mesh.h"
+#include "solve/hierarchical_view.h"
 #include "solve/solver.h"
 #include "system/solution_view.h"
 
@@ -33,46 +34,15 @@ uint64_t rad_fnv1a(uint64_t hash, const void *bytes, size_t count) {
     return hash;
 }
 
-/* ------------------------------------------------------------------------------------------- */
-/* Little-endian fields.                                                                         */
-
-static void put_u64(unsigned char *p, uint64_t v) {
-    for (int k = 0; k < 8; ++k) p[k] = (unsigned char)(v >> (8 * k));
-}
-static void put_u32(unsigned char *p, uint32_t v) {
-    for (int k = 0; k < 4; ++k) p[k] = (unsigned char)(v >> (8 * k));
-}
-static void put_f64(unsigned char *p, double v) {
-    uint64_t bits;
-    memcpy(&bits, &v, sizeof bits);
-    put_u64(p, bits);
-}
-static uint64_t get_u64(const unsigned char *p) {
-    uint64_t v = 0;
-    for (int k = 0; k < 8; ++k) v |= (uint64_t)p[k] << (8 * k);
-    return v;
-}
-static uint32_t get_u32(const unsigned char *p) {
-    uint32_t v = 0;
-    for (int k = 0; k < 4; ++k) v |= (uint32_t)p[k] << (8 * k);
-    return v;
-}
-static double get_f64(const unsigned char *p) {
-    uint64_t bits = get_u64(p);
-    double v;
-    memcpy(&v, &bits, sizeof v);
-    return v;
-}
-
 /* Hashing values in a fixed byte order, so fingerprints agree across machines. */
 static uint64_t hash_u64(uint64_t hash, uint64_t v) {
     unsigned char b[8];
-    put_u64(b, v);
+    rad_le_put_u64(b, v);
     return rad_fnv1a(hash, b, 8);
 }
 static uint64_t hash_f64(uint64_t hash, double v) {
     unsigned char b[8];
-    put_f64(b, v == 0 ? 0.0 : v); /* -0 and +0 alike */
+    rad_le_put_f64(b, v == 0 ? 0.0 : v); /* -0 and +0 alike */
     return rad_fnv1a(hash, b, 8);
 }
 /* Values that are sums over elements differ in the last bits between meshings of the same
@@ -82,7 +52,7 @@ static uint64_t hash_f32(uint64_t hash, double v) {
     uint32_t bits;
     memcpy(&bits, &f, sizeof bits);
     unsigned char b[4];
-    put_u32(b, f == 0 ? 0u : bits);
+    rad_le_put_u32(b, f == 0 ? 0u : bits);
     return rad_fnv1a(hash, b, 4);
 }
 
@@ -147,7 +117,7 @@ rad_status rad_solution_fingerprint_compute(rad_system *s, rad_solution_fingerpr
                 float f = row[e] == 0 ? 0.0f : row[e];
                 memcpy(&bits, &f, sizeof bits);
                 unsigned char b[4];
-                put_u32(b, bits);
+                rad_le_put_u32(b, bits);
                 h = rad_fnv1a(h, b, 4);
             }
         }
@@ -160,6 +130,8 @@ rad_status rad_solution_fingerprint_compute(rad_system *s, rad_solution_fingerpr
 rad_status rad_system_save_solution(rad_system *s, const char *path, const rad_solution_info *info) {
     if (!s || !path) return RAD_ERROR_INVALID_ARGUMENT;
     rad_context *ctx = s->ctx;
+    /* The hierarchy's own kind of file (solution_hier.c). */
+    if (rad_hier_view_hierarchy(s)) return rad_solution_hier_save(s, path, info);
     /* A file holds one value per element of the system; a view whose leaves are not those
      * elements (a hierarchy's own leaves) cannot be saved this way. */
     const rad_mesh *view_leaves = rad_solution_leaves(rad_system_view(s));
@@ -178,16 +150,16 @@ rad_status rad_system_save_solution(rad_system *s, const char *path, const rad_s
     unsigned char *bytes = rad_alloc_zero(ctx, size, 1);
     if (!bytes) return RAD_ERROR_NO_MEMORY;
     memcpy(bytes, RAD_SOLUTION_MAGIC, 8);
-    put_u32(bytes + 8, RAD_SOLUTION_VERSION);
-    put_u32(bytes + 12, info ? rad_solver_file_code(info->solver) : 0u);
-    put_u64(bytes + 16, info && info->steps > 0 ? (uint64_t)info->steps : 0u);
-    put_u64(bytes + 24, s->element_count);
-    put_u64(bytes + 32, s->patch_count);
-    put_u64(bytes + 40, s->surface_count);
-    put_u64(bytes + 48, print.scene);
-    put_u64(bytes + 56, print.mesh);
-    put_u64(bytes + 64, print.form_factors);
-    for (int c = 0; c < 3; ++c) put_f64(bytes + 72 + 8 * c, s->ambient[c]);
+    rad_le_put_u32(bytes + 8, RAD_SOLUTION_VERSION);
+    rad_le_put_u32(bytes + 12, info ? rad_solver_file_code(info->solver) : 0u);
+    rad_le_put_u64(bytes + 16, info && info->steps > 0 ? (uint64_t)info->steps : 0u);
+    rad_le_put_u64(bytes + 24, s->element_count);
+    rad_le_put_u64(bytes + 32, s->patch_count);
+    rad_le_put_u64(bytes + 40, s->surface_count);
+    rad_le_put_u64(bytes + 48, print.scene);
+    rad_le_put_u64(bytes + 56, print.mesh);
+    rad_le_put_u64(bytes + 64, print.form_factors);
+    for (int c = 0; c < 3; ++c) rad_le_put_f64(bytes + 72 + 8 * c, s->ambient[c]);
     unsigned char *p = bytes + RAD_SOLUTION_HEADER_SIZE;
     const rad_solution_view *view = rad_system_view(s);
     const rad_mesh *leaves = rad_solution_leaves(view);
@@ -196,11 +168,11 @@ rad_status rad_system_save_solution(rad_system *s, const char *path, const rad_s
         view->ops->radiosity(view, e, centre, centre, radiosity);
         view->ops->unshot(view, e, unshot);
         for (int c = 0; c < 3; ++c) {
-            put_f64(p + 8 * c, radiosity[c]);
-            put_f64(p + 24 + 8 * c, unshot[c]);
+            rad_le_put_f64(p + 8 * c, radiosity[c]);
+            rad_le_put_f64(p + 24 + 8 * c, unshot[c]);
         }
     }
-    put_u64(p, rad_fnv1a(RAD_FNV1A_START, bytes, size - 8));
+    rad_le_put_u64(p, rad_fnv1a(RAD_FNV1A_START, bytes, size - 8));
 
     rad_atomic_file file;
     status = rad_atomic_open(ctx, path, &file);
@@ -261,15 +233,15 @@ static rad_status check_file(rad_system *s, const char *path, const unsigned cha
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s: not a radiosity solution file", path);
     if (size < RAD_SOLUTION_HEADER_SIZE + 8)
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s: truncated solution file (%zu bytes)", path, size);
-    uint32_t version = get_u32(bytes + 8);
+    uint32_t version = rad_le_get_u32(bytes + 8);
     if (version != RAD_SOLUTION_VERSION)
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED,
-                        "%s: solution file version %u; this build reads version %u", path, version,
-                        RAD_SOLUTION_VERSION);
-    if (rad_solver_from_file_code(get_u32(bytes + 12)) < 0)
+                        "%s: solution file version %u; this build reads versions %u and %u", path,
+                        version, RAD_SOLUTION_VERSION, RAD_SOLUTION_HIER_VERSION);
+    if (rad_solver_from_file_code(rad_le_get_u32(bytes + 12)) < 0)
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "%s: made by an unknown solver (%u)", path,
-                        get_u32(bytes + 12));
-    uint64_t elements = get_u64(bytes + 24), patches = get_u64(bytes + 32);
+                        rad_le_get_u32(bytes + 12));
+    uint64_t elements = rad_le_get_u64(bytes + 24), patches = rad_le_get_u64(bytes + 32);
     if (elements > (SIZE_MAX - RAD_SOLUTION_HEADER_SIZE - 8) / RAD_SOLUTION_ELEMENT_SIZE)
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (element count %llu)",
                         path, (unsigned long long)elements);
@@ -277,36 +249,36 @@ static rad_status check_file(rad_system *s, const char *path, const unsigned cha
     if (size < expected)
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s: truncated solution file (%zu of %zu bytes)",
                         path, size, expected);
-    if (size > expected || get_u64(bytes + expected - 8) != rad_fnv1a(RAD_FNV1A_START, bytes, expected - 8))
+    if (size > expected || rad_le_get_u64(bytes + expected - 8) != rad_fnv1a(RAD_FNV1A_START, bytes, expected - 8))
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (checksum mismatch)", path);
 
     rad_solution_fingerprint print;
     rad_status status = rad_solution_fingerprint_compute(s, &print);
     if (status) return status;
-    if (get_u64(bytes + 48) != print.scene || get_u64(bytes + 40) != s->surface_count)
+    if (rad_le_get_u64(bytes + 48) != print.scene || rad_le_get_u64(bytes + 40) != s->surface_count)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "%s: saved for a different scene (surfaces or materials differ)", path);
-    if (elements != s->element_count || patches != s->patch_count || get_u64(bytes + 56) != print.mesh)
+    if (elements != s->element_count || patches != s->patch_count || rad_le_get_u64(bytes + 56) != print.mesh)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "%s: saved for a different mesh or geometry (%llu elements in %llu "
                         "patches; this one has %zu in %zu): use the same scene and meshing options",
                         path, (unsigned long long)elements, (unsigned long long)patches,
                         s->element_count, s->patch_count);
-    if (get_u64(bytes + 64) != print.form_factors)
+    if (rad_le_get_u64(bytes + 64) != print.form_factors)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "%s: saved with different form factors (method, samples or seed): use the "
                         "same form-factor options", path);
     for (size_t i = 72; i < expected - 8; i += 8)
-        if (!isfinite(get_f64(bytes + i)))
+        if (!isfinite(rad_le_get_f64(bytes + i)))
             return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (a value is not finite)",
                             path);
     /* Radiosity is never negative: an iteration may leave rounding below zero (a millionth of
      * the largest), no more. Unshot radiosity may be negative (overshooting). */
     double largest = 0;
-    for (size_t i = 72; i < expected - 8; i += 8) largest = fmax(largest, fabs(get_f64(bytes + i)));
+    for (size_t i = 72; i < expected - 8; i += 8) largest = fmax(largest, fabs(rad_le_get_f64(bytes + i)));
     for (size_t e = 0; e < s->element_count; ++e)
         for (int c = 0; c < 3; ++c) {
-            double radiosity = get_f64(bytes + RAD_SOLUTION_HEADER_SIZE + 48 * e + 8 * c);
+            double radiosity = rad_le_get_f64(bytes + RAD_SOLUTION_HEADER_SIZE + 48 * e + 8 * c);
             if (radiosity < -1e-6 * largest)
                 return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (element %zu "
                                 "has a negative radiosity, %g)", path, e, radiosity);
@@ -320,25 +292,31 @@ rad_status rad_system_load_solution(rad_system *s, const char *path, rad_solutio
     size_t size = 0;
     rad_status status = read_all(s->ctx, path, &bytes, &size);
     if (status) return status;
+    if (size >= 12 && memcmp(bytes, RAD_SOLUTION_MAGIC, 8) == 0 &&
+        rad_le_get_u32(bytes + 8) == RAD_SOLUTION_HIER_VERSION) {
+        status = rad_solution_hier_load(s, path, bytes, size, info);
+        rad_free(s->ctx, bytes);
+        return status;
+    }
     status = check_file(s, path, bytes, size);
     if (!status && !rad_system_view(s)->ops->store)
         status = rad_fail(s->ctx, RAD_ERROR_UNSUPPORTED, "%s: the %s solution cannot be restored "
                           "from a solution file", path, rad_system_view(s)->ops->name);
     if (!status) {
-        for (int c = 0; c < 3; ++c) s->ambient[c] = get_f64(bytes + 72 + 8 * c);
+        for (int c = 0; c < 3; ++c) s->ambient[c] = rad_le_get_f64(bytes + 72 + 8 * c);
         const unsigned char *p = bytes + RAD_SOLUTION_HEADER_SIZE;
         rad_solution_view *view = rad_system_view_mutable(s);
         for (size_t e = 0; e < s->element_count; ++e, p += RAD_SOLUTION_ELEMENT_SIZE) {
             double radiosity[3], unshot[3];
             for (int c = 0; c < 3; ++c) {
-                radiosity[c] = get_f64(p + 8 * c);
-                unshot[c] = get_f64(p + 24 + 8 * c);
+                radiosity[c] = rad_le_get_f64(p + 8 * c);
+                unshot[c] = rad_le_get_f64(p + 24 + 8 * c);
             }
             view->ops->store(view, e, radiosity, unshot);
         }
         if (info) {
-            info->solver = (rad_solver_kind)rad_solver_from_file_code(get_u32(bytes + 12));
-            info->steps = (long)get_u64(bytes + 16);
+            info->solver = (rad_solver_kind)rad_solver_from_file_code(rad_le_get_u32(bytes + 12));
+            info->steps = (long)rad_le_get_u64(bytes + 16);
         }
     }
     rad_free(s->ctx, bytes);

@@ -8,6 +8,7 @@
 #include "system/system.h"
 
 #include <stdint.h>
+#include <string.h>
 
 #define RAD_SOLUTION_MAGIC "RADSOLN\n"
 #define RAD_SOLUTION_VERSION 1u
@@ -28,5 +29,43 @@ rad_status rad_solution_fingerprint_compute(rad_system *system, rad_solution_fin
 /* 64-bit FNV-1a, the checksum of the file and the basis of the fingerprints. */
 uint64_t rad_fnv1a(uint64_t hash, const void *bytes, size_t count);
 #define RAD_FNV1A_START 0xcbf29ce484222325ull
+
+/* Little-endian fields of solution files (solution.c, solution_hier.c). */
+static inline void rad_le_put_u64(unsigned char *p, uint64_t v) {
+    for (int k = 0; k < 8; ++k) p[k] = (unsigned char)(v >> (8 * k));
+}
+static inline void rad_le_put_u32(unsigned char *p, uint32_t v) {
+    for (int k = 0; k < 4; ++k) p[k] = (unsigned char)(v >> (8 * k));
+}
+static inline void rad_le_put_f64(unsigned char *p, double v) {
+    uint64_t bits;
+    memcpy(&bits, &v, sizeof bits);
+    rad_le_put_u64(p, bits);
+}
+static inline uint64_t rad_le_get_u64(const unsigned char *p) {
+    uint64_t v = 0;
+    for (int k = 0; k < 8; ++k) v |= (uint64_t)p[k] << (8 * k);
+    return v;
+}
+static inline uint32_t rad_le_get_u32(const unsigned char *p) {
+    uint32_t v = 0;
+    for (int k = 0; k < 4; ++k) v |= (uint32_t)p[k] << (8 * k);
+    return v;
+}
+static inline double rad_le_get_f64(const unsigned char *p) {
+    uint64_t bits = rad_le_get_u64(p);
+    double v;
+    memcpy(&v, &bits, sizeof v);
+    return v;
+}
+
+/* The hierarchy's solution files (solution_hier.c, version 2): rad_system_save_solution and
+ * rad_system_load_solution hand them over when the system's view is a hierarchy's, or the
+ * file's version says so (`bytes` is the whole file, its magic checked). */
+#define RAD_SOLUTION_HIER_VERSION 2u
+rad_status rad_solution_hier_save(rad_system *system, const char *path,
+                                  const rad_solution_info *info);
+rad_status rad_solution_hier_load(rad_system *system, const char *path, const unsigned char *bytes,
+                                  size_t size, rad_solution_info *info);
 
 #endif

@@ -40,10 +40,9 @@ rad_status rad_caustics_build(rad_renderer *r) {
     if (!photons) return RAD_ERROR_NO_MEMORY;
     for (size_t i = 0; i < count; ++i) {
         const rad_caustic_landing *l = &s->caustic_landings[i];
-        photons[i].position = l->position;
-        memcpy(photons[i].power, l->power, sizeof photons[i].power);
-        memcpy(photons[i].normal, l->normal, sizeof photons[i].normal);
-        memcpy(photons[i].incoming, l->incoming, sizeof photons[i].incoming);
+        double power[3] = {l->power[0], l->power[1], l->power[2]};
+        photons[i] = rad_photon_pack(l->position, power, v3(l->normal[0], l->normal[1], l->normal[2]),
+                                     v3(l->incoming[0], l->incoming[1], l->incoming[2]));
     }
     return rad_photon_map_build(r->ctx, photons, count, r->caustic_radius, rad_thread_count(r->ctx),
                                 &r->caustics);
@@ -65,9 +64,10 @@ static void caustic_irradiance(const rad_renderer *r, rad_vec3 x, rad_vec3 n, do
     for (size_t i = first; i < found; ++i) {
         const rad_photon *p = nearest[i].photon;
         /* Only light arriving on the front. */
-        if (p->incoming[0] * n.x + p->incoming[1] * n.y + p->incoming[2] * n.z <= 0) continue;
-        double w = 1 - sqrt(nearest[i].distance2 / r2) / CAUSTIC_CONE;
-        for (int c = 0; c < 3; ++c) out[c] += w * p->power[c];
+        if (v3_dot(rad_photon_incoming(p), n) <= 0) continue;
+        double power[3];
+        rad_photon_power(p, 1 - sqrt(nearest[i].distance2 / r2) / CAUSTIC_CONE, power);
+        for (int c = 0; c < 3; ++c) out[c] += power[c];
     }
     double norm = RAD_PI * r2 * (1 - 2 / (3 * CAUSTIC_CONE));
     for (int c = 0; c < 3; ++c) out[c] /= norm;

@@ -6,12 +6,14 @@
  *     light/emitters.h, which the renderer's final gather shares), a shadow ray;
  *   - one BSDF sample to continue the path; when it hits an emitter, its emission counts with
  *     the power-heuristic weight against the emitter sample, or fully after a delta lobe;
- *   - Russian roulette after three bounces, only on paths whose throughput is below 0.1.
+ *   - Russian roulette after three bounces, only on paths whose throughput is below 0.1;
+ *   - optionally (not by default: it is biased) Cycles' clamping of indirect contributions.
  * Samples: Owen-scrambled Sobol' points (core/sampler.h, Burley 2020), one 2D dimension for the
  * position in the pixel (box filter) and three per bounce (emitter point, BSDF direction, lobe
  * choice and roulette), each a pure function of (seed, pixel, sample, dimension), so the image
  * does not depend on the thread count. */
 #include "render/pathtrace.h"
+#include "render/lights_next_event.h"
 #include "scene/texture.h"
 
 #include "image/image.h"
@@ -103,6 +105,14 @@ void rad_tracer_destroy(rad_tracer *t) {
 
 /* ---- one path ----------------------------------------------------------------------------- */
 
+/* Adds one contribution to the radiance, scaled down so that its R + G + B is at most `limit`
+ * when `limit` is positive (Cycles' sample clamping; biased). */
+static void accumulate(double radiance[3], const double add[3], double limit) {
+    double sum = fabs(add[0]) + fabs(add[1]) + fabs(add[2]);
+    double factor = limit > 0 && sum > limit ? limit / sum : 1;
+    for (int c = 0; c < 3; ++c) radiance[c] += add[c] * factor;
+}
+
 static double power_heuristic(double f, double g) {
     double f2 = f * f, g2 = g * g;
     return f2 + g2 > 0 ? f2 / (f2 + g2) : 0;
@@ -124,7 +134,9 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
             /* Left the scene: the sky (light/lights.h), found only this way. */
             double sky[3];
             rad_sky_radiance(&t->scene->sky, direction, sky);
-            for (int c = 0; c < 3; ++c) radiance[c] += throughput[c] * sky[c];
+            double add[3];
+            for (int c = 0; c < 3; ++c) add[c] = throughput[c] * sky[c];
+            accumulate(radiance, add, bounce >= 2 ? t->clamp_indirect : 0);
             break;
         }
         if (bounce == 0) {
@@ -147,7 +159,9 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
                     &t->emitters, (size_t)t->polygon_emitter[hit.polygon], direction, hit.t);
                 weight = power_heuristic(previous_pdf, light_pdf);
             }
-            for (int c = 0; c < 3; ++c) radiance[c] += throughput[c] * weight * m->emission[c];
+            double add[3];
+            for (int c = 0; c < 3; ++c) add[c] = throughput[c] * weight * m->emission[c];
+            accumulate(radiance, add, bounce >= 2 ? t->clamp_indirect : 0);
         }
         if (bounce >= t->max_bounces) break;
         /* This bounce's numbers: the emitter point from the 4D set it shares with the
@@ -184,34 +198,27 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
                 if (!rad_rays_occluded(rays, x, light.position)) {
                     double weight = power_heuristic(light.pdf, bsdf_pdf);
                     double cos_surface = fabs(v3_dot(light.direction, hit.normal));
-                    double scale = weight * cos_surface / light.pdf;
+                    double scale = weight * cos_surface / light.pdf, add[3];
                     for (int c = 0; c < 3; ++c)
-                        radiance[c] += throughput[c] * f[c] * light.radiance[c] * scale;
+                        add[c] = throughput[c] * f[c] * light.radiance[c] * scale;
+                    accumulate(radiance, add, bounce >= 1 ? t->clamp_indirect : 0);
                 }
             }
         }
 
         /* Point, spot and directional lights: each sampled exactly, with no weight (a BSDF
          * sample never finds a point or a direction). */
-        if (rad_bsdf_has_smooth_lobe(m))
-            for (size_t i = 0; i < t->scene->light_count; ++i) {
-                const rad_light *light = &t->scene->lights[i];
-                rad_light_arrival arrival;
-                double f[3], bsdf_pdf;
-                if (!rad_light_arrive(light, x, &arrival) ||
-                    !rad_bsdf_eval(m, hit.normal, wo, arrival.direction, f, &bsdf_pdf))
-                    continue;
-                ++counts->rays;
-                rad_hit blocker;
-                if (isinf(arrival.distance)
-                        ? rad_rays_intersect(rays, x, arrival.direction, rays->epsilon, INFINITY,
-                                             &blocker)
-                        : rad_rays_occluded(rays, x, light->position))
-                    continue;
-                double cos_surface = fabs(v3_dot(arrival.direction, hit.normal));
-                for (int c = 0; c < 3; ++c)
-                    radiance[c] += throughput[c] * f[c] * arrival.irradiance[c] * cos_surface;
+        if (rad_bsdf_has_smooth_lobe(m)) {
+            double limit = bounce >= 1 ? t->clamp_indirect : 0;
+            if (limit > 0) { /* the lights' sum clamped as one contribution */
+                double add[3] = {0, 0, 0};
+                rad_lights_next_event(t, m, x, hit.normal, wo, throughput, &counts->rays, add);
+                accumulate(radiance, add, limit);
+            } else {
+                rad_lights_next_event(t, m, x, hit.normal, wo, throughput, &counts->rays,
+                                      radiance);
             }
+        }
 
         /* Continue the path by sampling the BSDF. */
         double u[3] = {u_choice[0], u_direction[0], u_direction[1]};
@@ -266,6 +273,9 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
     if (o.width < 0 || o.height < 0 || o.samples_per_pixel < 0 || o.max_bounces < 0)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "path tracing: sizes, samples and bounces must not be negative");
+    if (!(o.clamp_indirect >= 0) || isinf(o.clamp_indirect))
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "path tracing: the indirect clamp must be zero (off) or a positive number");
     int width = o.width ? o.width : DEFAULT_SIZE, height = o.height ? o.height : DEFAULT_SIZE;
     int spp = o.samples_per_pixel ? o.samples_per_pixel : DEFAULT_SPP;
     if (!scene) return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "path tracing: no scene");
@@ -280,6 +290,7 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
     rad_tracer *t;
     status = rad_tracer_create(ctx, scene, o.max_bounces, &t);
     if (status) return status;
+    t->clamp_indirect = o.clamp_indirect;
     status = rad_tracer_check_view(t, &view);
     if (!status && !rad_scene_is_lit(scene))
         rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);

@@ -25,6 +25,11 @@ typedef struct rad_tracer {
                           zero: BSDF sampling only (a slower estimator, for tests) */
     double roulette_weight; /* Russian roulette continues with probability throughput / this
                                (0.1); 1 is the textbook q = throughput (for tests) */
+    double clamp_indirect;  /* 0 (the default): unbiased. Else each contribution of light that
+                               left its emitter and scattered at least twice (the NEE at the
+                               second and later vertices, emission BSDF sampling finds from the
+                               second vertex on) is scaled down until its R + G + B is at most
+                               this: Cycles' "Clamp Indirect" (biased, darker, less noise) */
 } rad_tracer;
 
 rad_status rad_tracer_create(rad_context *ctx, const rad_scene *scene, int max_bounces,

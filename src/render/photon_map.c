@@ -10,6 +10,72 @@
 
 #define SAME_SURFACE_COSINE 0.9
 
+/* ---- the packed photon -------------------------------------------------------------------- */
+
+/* A unit vector to `bits` + `bits` octahedral code: projected onto the octahedron |x|+|y|+|z| = 1,
+ * the lower half folded over the upper, (x, y) quantised to the nearest of 2^bits levels. */
+static uint32_t octahedral_encode(rad_vec3 n, int bits) {
+    double sum = fabs(n.x) + fabs(n.y) + fabs(n.z);
+    double x = sum > 0 ? n.x / sum : 0, y = sum > 0 ? n.y / sum : 0;
+    if (n.z < 0) {
+        double fx = (1 - fabs(y)) * (x >= 0 ? 1 : -1), fy = (1 - fabs(x)) * (y >= 0 ? 1 : -1);
+        x = fx, y = fy;
+    }
+    double levels = (double)((1u << bits) - 1);
+    /* Rounded to the nearest level: the values are >= 0, so + 0.5 and truncation. */
+    uint32_t qx = (uint32_t)((fmin(1, fmax(-1, x)) * 0.5 + 0.5) * levels + 0.5);
+    uint32_t qy = (uint32_t)((fmin(1, fmax(-1, y)) * 0.5 + 0.5) * levels + 0.5);
+    return qx << bits | qy;
+}
+
+rad_vec3 rad_octahedral_decode(uint32_t code, int bits) {
+    uint32_t mask = (1u << bits) - 1;
+    double levels = (double)mask;
+    double x = (double)(code >> bits & mask) / levels * 2 - 1, y = (double)(code & mask) / levels * 2 - 1;
+    double z = 1 - fabs(x) - fabs(y);
+    double t = z < 0 ? -z : 0;
+    x += x >= 0 ? -t : t;
+    y += y >= 0 ? -t : t;
+    return v3_normalize(v3(x, y, z));
+}
+
+rad_photon rad_photon_pack(rad_vec3 position, const double power[3], rad_vec3 normal,
+                           rad_vec3 incoming) {
+    rad_photon p;
+    memset(&p, 0, sizeof p);
+    p.position[0] = (float)position.x, p.position[1] = (float)position.y;
+    p.position[2] = (float)position.z;
+    /* Shared exponent: the largest channel's, so its mantissa is in [2^15, 2^16). */
+    double largest = fmax(power[0], fmax(power[1], power[2]));
+    if (largest > 0 && isfinite(largest)) {
+        int e;
+        frexp(largest, &e);
+        /* 2^(16 - e) as a double's bits (e within a double's range, so is 16 - e). */
+        uint64_t bits = (uint64_t)(16 - e + 1023) << 52;
+        double scale;
+        memcpy(&scale, &bits, sizeof scale);
+        if (largest * scale + 0.5 >= 65536) { /* rounded up to 2^16 */
+            ++e;
+            scale *= 0.5;
+        }
+        if (e + 128 >= 1 && e + 128 <= 255) {
+            p.exponent = (uint8_t)(e + 128);
+            for (int c = 0; c < 3; ++c)
+                p.power[c] = power[c] > 0 ? (uint16_t)(power[c] * scale + 0.5) : 0;
+        } else if (e + 128 > 255) { /* past 2^127: the largest representable */
+            p.exponent = 255;
+            for (int c = 0; c < 3; ++c) p.power[c] = power[c] > 0 ? 65535 : 0;
+        }
+    }
+    p.normal = (uint16_t)octahedral_encode(normal, 8);
+    uint32_t in = octahedral_encode(incoming, 12);
+    p.incoming_high = (uint16_t)(in >> 8);
+    p.incoming_low = (uint8_t)(in & 0xff);
+    return p;
+}
+
+/* ---- the grid ----------------------------------------------------------------------------- */
+
 static int64_t cell_of(double coordinate, double cell) { return (int64_t)floor(coordinate / cell); }
 
 /* The low 21 bits of v spread to every third bit. */
@@ -33,7 +99,7 @@ static uint32_t bucket_of(int64_t cx, int64_t cy, int64_t cz, size_t bucket_coun
 }
 
 rad_status rad_photon_map_build_runs(rad_context *ctx, const rad_photon_run *runs, size_t run_count,
-                                     double divisor, double cell, int threads, rad_photon_map *out) {
+                                     double cell, int threads, rad_photon_map *out) {
     memset(out, 0, sizeof *out);
     out->cell = cell;
     if (!(cell > 0) || !isfinite(cell))
@@ -63,7 +129,7 @@ rad_status rad_photon_map_build_runs(rad_context *ctx, const rad_photon_run *run
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (long long r = 0; r < (long long)run_count; ++r)
         for (size_t i = 0; i < runs[r].count; ++i) {
-            rad_vec3 p = runs[r].photons[i].position;
+            rad_vec3 p = rad_photon_position(&runs[r].photons[i]);
             key[run_first[r] + i] =
                 bucket_of(cell_of(p.x, cell), cell_of(p.y, cell), cell_of(p.z, cell), buckets);
         }
@@ -72,12 +138,8 @@ rad_status rad_photon_map_build_runs(rad_context *ctx, const rad_photon_run *run
     for (size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
     memcpy(next, start, buckets * sizeof *next);
     for (size_t r = 0; r < run_count; ++r)
-        for (size_t i = 0; i < runs[r].count; ++i) {
-            rad_photon *p = &sorted[next[key[run_first[r] + i]]++];
-            *p = runs[r].photons[i];
-            if (divisor != 1)
-                for (int c = 0; c < 3; ++c) p->power[c] = (float)(p->power[c] / divisor);
-        }
+        for (size_t i = 0; i < runs[r].count; ++i)
+            sorted[next[key[run_first[r] + i]]++] = runs[r].photons[i];
     rad_free(ctx, next);
     rad_free(ctx, key);
     rad_free(ctx, run_first);
@@ -91,7 +153,7 @@ rad_status rad_photon_map_build_runs(rad_context *ctx, const rad_photon_run *run
 rad_status rad_photon_map_build(rad_context *ctx, rad_photon *photons, size_t count, double cell,
                                 int threads, rad_photon_map *out) {
     rad_photon_run run = {photons, count};
-    rad_status status = rad_photon_map_build_runs(ctx, &run, 1, 1, cell, threads, out);
+    rad_status status = rad_photon_map_build_runs(ctx, &run, 1, cell, threads, out);
     rad_free(ctx, photons);
     return status;
 }
@@ -119,9 +181,32 @@ static int query_buckets(const rad_photon_map *map, rad_vec3 x, uint32_t buckets
     return n;
 }
 
-static int same_surface(const rad_photon *p, rad_vec3 normal) {
-    return p->normal[0] * normal.x + p->normal[1] * normal.y + p->normal[2] * normal.z >
-           SAME_SURFACE_COSINE;
+/* The photon's normal within acos(0.9) of `normal`: its octahedral code decoded without the
+ * normalisation (the cosine compared as dot > 0.9 |n|). */
+static int same_surface_code(uint16_t code, rad_vec3 normal) {
+    double x = (double)(code >> 8) * (2.0 / 255) - 1, y = (double)(code & 0xff) * (2.0 / 255) - 1;
+    double z = 1 - fabs(x) - fabs(y);
+    double t = z < 0 ? -z : 0;
+    x += x >= 0 ? -t : t;
+    y += y >= 0 ? -t : t;
+    double dot = x * normal.x + y * normal.y + z * normal.z;
+    return dot > 0 && dot * dot > SAME_SURFACE_COSINE * SAME_SURFACE_COSINE * (x * x + y * y + z * z);
+}
+
+/* The answer for the last normal code asked about (photons on one flat wall share their code,
+ * so a query decodes few). */
+typedef struct surface_test {
+    rad_vec3 normal;
+    uint32_t code; /* the last code; above 0xffff: none yet */
+    int same;
+} surface_test;
+
+static int same_surface(surface_test *test, const rad_photon *p) {
+    if (p->normal != test->code) {
+        test->code = p->normal;
+        test->same = same_surface_code(p->normal, test->normal);
+    }
+    return test->same;
 }
 
 /* A max-heap on distance2 of at most k entries: the k nearest so far. */
@@ -173,13 +258,14 @@ size_t rad_photon_map_nearest_heap(const rad_photon_map *map, rad_vec3 x, rad_ve
     if (map->count == 0 || k == 0) return 0;
     uint32_t buckets[27];
     int nb = query_buckets(map, x, buckets);
+    surface_test test = {normal, UINT32_MAX, 0};
     size_t size = 0;
     for (int b = 0; b < nb; ++b)
         for (uint32_t i = map->bucket_start[buckets[b]]; i < map->bucket_start[buckets[b] + 1]; ++i) {
             const rad_photon *p = &map->photons[i];
-            rad_vec3 d = v3_sub(p->position, x);
+            rad_vec3 d = v3_sub(rad_photon_position(p), x);
             double d2 = v3_dot(d, d);
-            if (d2 >= r2 || !same_surface(p, normal)) continue;
+            if (d2 >= r2 || !same_surface(&test, p)) continue;
             heap_push(found, &size, k, (rad_photon_near){p, d2});
         }
     if (size == k) *radius2 = found[0].distance2;
@@ -196,20 +282,26 @@ void rad_photon_map_irradiance(const rad_photon_map *map, rad_vec3 x, rad_vec3 n
         /* Of k found, the k-th (the heap's first) only sets the radius. */
         size_t first = n == k && k > 1 ? 1 : 0;
         if (!(r2 > 0)) return;
-        for (size_t i = first; i < n; ++i)
-            for (int c = 0; c < 3; ++c) out[c] += scratch[i].photon->power[c];
+        for (size_t i = first; i < n; ++i) {
+            double power[3];
+            rad_photon_power(scratch[i].photon, 1, power);
+            for (int c = 0; c < 3; ++c) out[c] += power[c];
+        }
         for (int c = 0; c < 3; ++c) out[c] /= RAD_PI * r2;
         return;
     }
     double r2 = radius * radius;
     uint32_t buckets[27];
     int nb = query_buckets(map, x, buckets);
+    surface_test test = {normal, UINT32_MAX, 0};
     for (int b = 0; b < nb; ++b)
         for (uint32_t i = map->bucket_start[buckets[b]]; i < map->bucket_start[buckets[b] + 1]; ++i) {
             const rad_photon *p = &map->photons[i];
-            rad_vec3 d = v3_sub(p->position, x);
-            if (v3_dot(d, d) >= r2 || !same_surface(p, normal)) continue;
-            for (int c = 0; c < 3; ++c) out[c] += p->power[c];
+            rad_vec3 d = v3_sub(rad_photon_position(p), x);
+            if (v3_dot(d, d) >= r2 || !same_surface(&test, p)) continue;
+            double power[3];
+            rad_photon_power(p, 1, power);
+            for (int c = 0; c < 3; ++c) out[c] += power[c];
         }
     for (int c = 0; c < 3; ++c) out[c] /= RAD_PI * r2;
 }

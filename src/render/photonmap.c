@@ -21,6 +21,7 @@
  * Every random number is an Owen-scrambled Sobol' point (core/sampler.h) indexed by the photon
  * or the pixel sample; photons are traced in fixed blocks whose stores are joined in block
  * order, so the maps and the image do not depend on the thread count. */
+#include "render/lights_next_event.h"
 #include "render/pathtrace.h"
 #include "render/photon_map.h"
 #include "scene/photon_path.h"
@@ -37,11 +38,12 @@
 #define DEFAULT_SPP 4
 #define DEFAULT_GATHER 16
 #define DEFAULT_PHOTONS 200000
-#define DEFAULT_NEAREST 50
+#define DEFAULT_NEAREST 20
 #define DEFAULT_ALPHA (2.0 / 3.0)
 #define PHOTON_BLOCK 4096
 #define MAX_PHOTON_BOUNCES 64
 #define MAX_SPECULAR_CHAIN 16  /* mirror and glass bounces followed from the camera or a gather */
+#define GLASS_SPLITS 2 /* glass surfaces on a camera path where both lobes are followed */
 #define STORES_PER_PHOTON 4.0  /* budget: photons stored per photon emitted, a generous average */
 #define IRRADIANCE_STRIDE 4    /* irradiance precomputed at one global photon in four */
 #define PHOTON_SALT 0x7f4a7c159e3779b9ull
@@ -55,14 +57,18 @@ static double cpu_seconds(void) {
 }
 
 /* The next surface along origin + t direction: its material, the hit and the point; NULL when the
- * ray leaves the scene or meets the back of a one-sided surface (absorbed). A textured material
- * comes back as a copy in *textured reflecting its texture at the point (as the path tracer's). */
+ * ray leaves the scene (*left set: it sees the sky) or meets the back of a one-sided surface
+ * (absorbed). A textured material comes back as a copy in *textured reflecting its texture at the
+ * point (as the path tracer's). */
 static const rad_material *next_surface(const rad_tracer *t, rad_vec3 origin, rad_vec3 direction,
                                         uint64_t *rays, rad_hit *hit, rad_vec3 *x,
-                                        rad_material *textured) {
+                                        rad_material *textured, int *left) {
     ++*rays;
-    if (!rad_rays_intersect(t->rays, origin, direction, t->rays->epsilon, INFINITY, hit))
+    *left = 0;
+    if (!rad_rays_intersect(t->rays, origin, direction, t->rays->epsilon, INFINITY, hit)) {
+        *left = 1;
         return NULL;
+    }
     const rad_material *m = t->polygon_material[hit->polygon];
     if (!hit->front && m->kind != RAD_MATERIAL_GLASS) return NULL;
     *x = v3_add(origin, v3_scale(direction, hit->t));
@@ -88,38 +94,52 @@ static int list_push(rad_context *ctx, photon_list *list, const rad_photon *phot
     return 1;
 }
 
-static rad_photon make_photon(rad_vec3 x, const double power[3], rad_vec3 normal, rad_vec3 wi) {
-    rad_photon p;
-    p.position = x;
-    for (int c = 0; c < 3; ++c) p.power[c] = (float)power[c];
-    p.normal[0] = (float)normal.x, p.normal[1] = (float)normal.y, p.normal[2] = (float)normal.z;
-    p.incoming[0] = (float)wi.x, p.incoming[1] = (float)wi.y, p.incoming[2] = (float)wi.z;
-    return p;
-}
-
 /* Where one photon is stored: the global map (unless caustic_only), and the caustic map for
  * L S+ D paths. */
 typedef struct photon_stores {
     rad_context *ctx;
     int caustic_only;
     photon_list *global, *caustic;
+    double global_share, caustic_share; /* 1 / the photons that could have fed each map */
 } photon_stores;
 
+/* Stored with its flux already divided by the photons that could have fed the map (packed once:
+ * no unpacking and repacking when the map is built). */
 static int store_photon(void *user, const rad_photon_arrival *a) {
     photon_stores *stores = user;
-    rad_photon p = make_photon(a->position, a->power, a->hit.normal, v3_scale(a->direction, -1));
-    if (!stores->caustic_only && !list_push(stores->ctx, stores->global, &p)) return 0;
-    if (a->specular_path && a->bounce > 0 && !list_push(stores->ctx, stores->caustic, &p)) return 0;
+    rad_vec3 wi = v3_scale(a->direction, -1);
+    double power[3];
+    if (!stores->caustic_only) {
+        for (int c = 0; c < 3; ++c) power[c] = a->power[c] * stores->global_share;
+        rad_photon p = rad_photon_pack(a->position, power, a->hit.normal, wi);
+        if (!list_push(stores->ctx, stores->global, &p)) return 0;
+    }
+    if (a->specular_path && a->bounce > 0) {
+        for (int c = 0; c < 3; ++c) power[c] = a->power[c] * stores->caustic_share;
+        rad_photon p = rad_photon_pack(a->position, power, a->hit.normal, wi);
+        if (!list_push(stores->ctx, stores->caustic, &p)) return 0;
+    }
     return 1;
 }
 
 /* One photon (scene/photon_path.h), then scattered until absorbed. With `caustic_only`, only
  * L S+ D photons are followed and stored. Returns 0 when out of memory. */
-static int trace_photon(const rad_tracer *t, uint64_t seed, uint64_t index, int caustic_only,
+/* The photons of one pass: what they travel through, where they start, their sequence, and the
+ * photon counts their flux is divided by in the global and caustic maps. */
+typedef struct photon_source {
+    const rad_tracer *t;
+    const rad_light_emission *sources;
+    uint64_t seed;
+    double global_share, caustic_share;
+} photon_source;
+
+static int trace_photon(const photon_source *source, uint64_t index, int caustic_only,
                         photon_list *global, photon_list *caustic, uint64_t *rays) {
-    rad_photon_scene scene = {t->rays, t->polygon_material, &t->emitters, t->scene};
-    photon_stores stores = {t->ctx, caustic_only, global, caustic};
-    return rad_photon_path_trace(&scene, seed, index, caustic_only, MAX_PHOTON_BOUNCES,
+    const rad_tracer *t = source->t;
+    rad_photon_scene scene = {t->rays, t->polygon_material, source->sources, t->scene};
+    photon_stores stores = {t->ctx, caustic_only, global, caustic, source->global_share,
+                            source->caustic_share};
+    return rad_photon_path_trace(&scene, source->seed, index, caustic_only, MAX_PHOTON_BOUNCES,
                                  store_photon, &stores, rays);
 }
 
@@ -151,9 +171,9 @@ static void runs_free(rad_context *ctx, photon_runs *runs) {
 /* Traces photons [first, first + count) of the sequence in blocks, in parallel. Each thread
  * stores into lists of its own, kept for all its blocks; each block's stores are then added to
  * `runs` in block order, so the maps are the same for any thread count. */
-static rad_status trace_photons(const rad_tracer *t, uint64_t seed, uint64_t first, uint64_t count,
+static rad_status trace_photons(const photon_source *source, uint64_t first, uint64_t count,
                                 int caustic_only, int threads, photon_runs *runs, uint64_t *rays) {
-    rad_context *ctx = t->ctx;
+    rad_context *ctx = source->t->ctx;
     size_t blocks = (size_t)((count + PHOTON_BLOCK - 1) / PHOTON_BLOCK);
     photon_block *block = rad_alloc_zero(ctx, blocks ? blocks : 1, sizeof *block);
     photon_list *lists = rad_realloc(ctx, runs->lists, runs->list_count + 2 * (size_t)threads,
@@ -194,7 +214,7 @@ static rad_status trace_photons(const rad_tracer *t, uint64_t seed, uint64_t fir
             block[b].global_first = my_global->count;
             block[b].caustic_first = my_caustic->count;
             for (uint64_t i = begin; i < end; ++i)
-                if (!trace_photon(t, seed, i, caustic_only, my_global, my_caustic, &block_rays)) {
+                if (!trace_photon(source, i, caustic_only, my_global, my_caustic, &block_rays)) {
 #pragma omp atomic write
                     failed = 1;
                     break;
@@ -273,12 +293,11 @@ static rad_status precompute_irradiance(rad_context *ctx, photon_pass *pass, int
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
     for (long long i = 0; i < (long long)count; ++i) {
         const rad_photon *p = &global->photons[(size_t)i * IRRADIANCE_STRIDE];
-        rad_vec3 normal = v3(p->normal[0], p->normal[1], p->normal[2]);
+        rad_vec3 normal = rad_photon_normal(p), position = rad_photon_position(p);
         double e[3];
-        rad_photon_map_irradiance(global, p->position, normal, pass->radius, k,
+        rad_photon_map_irradiance(global, position, normal, pass->radius, k,
                                   k ? scratch + (size_t)omp_get_thread_num() * k : NULL, e);
-        points[i] = *p;
-        for (int c = 0; c < 3; ++c) points[i].power[c] = (float)e[c];
+        points[i] = rad_photon_pack(position, e, normal, rad_photon_incoming(p));
     }
     rad_free(ctx, scratch);
     return rad_photon_map_build(ctx, points, count, pass->radius, threads, &pass->irradiance);
@@ -300,7 +319,7 @@ static void global_radiance(const render_state *r, const rad_material *m, rad_ve
     const photon_pass *pass = r->pass;
     double r2, e[3];
     if (rad_photon_map_nearest_heap(&pass->irradiance, y, n, pass->radius, 1, scratch, &r2)) {
-        for (int c = 0; c < 3; ++c) e[c] = scratch[0].photon->power[c];
+        rad_photon_power(scratch[0].photon, 1, e);
     } else {
         rad_photon_map_irradiance(&pass->global, y, n, pass->radius, pass->nearest, scratch, e);
     }
@@ -322,10 +341,10 @@ static void caustic_radiance(const render_state *r, const rad_material *m, rad_v
     if (!(r2 > 0)) return;
     for (size_t i = first; i < found; ++i) {
         const rad_photon *p = scratch[i].photon;
-        rad_vec3 wi = v3(p->incoming[0], p->incoming[1], p->incoming[2]);
-        double f[3], pdf;
-        if (!rad_bsdf_eval(m, n, wo, wi, f, &pdf)) continue;
-        for (int c = 0; c < 3; ++c) out[c] += f[c] * p->power[c];
+        double f[3], pdf, power[3];
+        if (!rad_bsdf_eval(m, n, wo, rad_photon_incoming(p), f, &pdf)) continue;
+        rad_photon_power(p, 1, power);
+        for (int c = 0; c < 3; ++c) out[c] += f[c] * power[c];
     }
     for (int c = 0; c < 3; ++c) out[c] /= RAD_PI * r2;
 }
@@ -341,8 +360,14 @@ static void gather_ray(const render_state *r, rad_sampler *sampler, rad_vec3 x, 
         rad_hit hit;
         rad_vec3 y;
         rad_material textured;
-        const rad_material *m = next_surface(t, x, direction, rays, &hit, &y, &textured);
-        if (!m) return;
+        int left;
+        const rad_material *m = next_surface(t, x, direction, rays, &hit, &y, &textured, &left);
+        if (!m) {
+            /* Straight to the sky: its direct light at x (the light it sends through mirrors and
+             * glass is in the caustic map). */
+            if (left && chain == 0) rad_sky_radiance(&t->scene->sky, direction, out);
+            return;
+        }
         if (!rad_bsdf_is_delta(m)) {
             double l[3];
             global_radiance(r, m, y, hit.normal, scratch, l);
@@ -361,19 +386,29 @@ static void gather_ray(const render_state *r, rad_sampler *sampler, rad_vec3 x, 
     }
 }
 
-/* The radiance of one camera sample. */
-static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sampler *gather,
-                            uint64_t gather_base, int gather_rays, rad_vec3 origin, rad_vec3 direction,
-                            rad_photon_near *scratch, uint64_t *rays, double out[3]) {
+/* Adds to out[3] the radiance along a camera path from `origin` with `start` throughput, its
+ * specular chain already `first_chain` long, that may still split at `splits` glass surfaces. */
+static void camera_path(const render_state *r, rad_sampler *sampler, rad_sampler *gather,
+                        uint64_t gather_base, int gather_rays, rad_vec3 origin, rad_vec3 direction,
+                        const double start[3], int first_chain, int splits,
+                        rad_photon_near *scratch, uint64_t *rays, double out[3]) {
     const rad_tracer *t = r->t;
-    double throughput[3] = {1, 1, 1};
-    out[0] = out[1] = out[2] = 0;
-    for (int chain = 0; chain < MAX_SPECULAR_CHAIN; ++chain) {
+    double throughput[3] = {start[0], start[1], start[2]};
+    for (int chain = first_chain; chain < MAX_SPECULAR_CHAIN; ++chain) {
         rad_hit hit;
         rad_vec3 x;
         rad_material textured;
-        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x, &textured);
-        if (!m) return;
+        int left;
+        const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x, &textured, &left);
+        if (!m) {
+            /* Left the scene: the sky, seen directly or through mirrors and glass. */
+            if (left) {
+                double sky[3];
+                rad_sky_radiance(&t->scene->sky, direction, sky);
+                for (int c = 0; c < 3; ++c) out[c] += throughput[c] * sky[c];
+            }
+            return;
+        }
         rad_vec3 wo = v3_scale(direction, -1);
         /* Emission seen directly or through mirrors and glass. */
         if (hit.front && t->polygon_emitter[hit.polygon] >= 0)
@@ -393,6 +428,9 @@ static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sam
                     for (int c = 0; c < 3; ++c) l[c] += f[c] * light.radiance[c] * scale;
                 }
             }
+            /* Point, spot and directional lights, each sampled exactly. */
+            double one[3] = {1, 1, 1};
+            rad_lights_next_event(t, m, x, hit.normal, wo, one, rays, l);
             /* Caustics from the caustic map. */
             double caustic[3];
             caustic_radiance(r, m, x, hit.normal, wo, scratch, caustic);
@@ -414,6 +452,32 @@ static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sam
             for (int c = 0; c < 3; ++c) l[c] += indirect[c] / gather_rays;
             for (int c = 0; c < 3; ++c) out[c] += throughput[c] * l[c];
         }
+        /* Glass: both the reflection and the refraction, each weighted by its Fresnel share, in
+         * place of choosing one (splitting, as a Whitted ray tracer does): the light's reflection
+         * in the glass sphere, chosen by a few percent of the samples with all its weight, was
+         * most of cornell-mirror's block error at 16 samples per pixel. */
+        if (m->kind == RAD_MATERIAL_GLASS && splits > 0) {
+            double fresnel = rad_bsdf_glass_reflectance(m, hit.normal, wo);
+            if (fresnel > 0 && fresnel < 1) {
+                const double reflect_u[3] = {0, 0.5, 0.5}, refract_u[3] = {1, 0.5, 0.5};
+                rad_bsdf_sample s;
+                if (rad_bsdf_sample_direction(m, hit.normal, wo, reflect_u, &s) ==
+                    RAD_LOBE_SPECULAR) {
+                    double branch[3];
+                    for (int c = 0; c < 3; ++c) branch[c] = throughput[c] * s.weight[c] * fresnel;
+                    camera_path(r, sampler, gather, gather_base, gather_rays, x, s.direction,
+                                branch, chain + 1, splits - 1, scratch, rays, out);
+                }
+                if (rad_bsdf_sample_direction(m, hit.normal, wo, refract_u, &s) !=
+                    RAD_LOBE_TRANSMISSION)
+                    return;
+                for (int c = 0; c < 3; ++c) throughput[c] *= s.weight[c] * (1 - fresnel);
+                origin = x;
+                direction = s.direction;
+                --splits;
+                continue;
+            }
+        }
         /* The delta lobes go on with one BSDF sample; the smooth ones are done above. */
         if (rad_bsdf_is_delta(m) || (m->kind != RAD_MATERIAL_DIFFUSE)) {
             double v[3] = {u[2], u[3], 0.5};
@@ -430,6 +494,17 @@ static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sam
         }
         return;
     }
+}
+
+/* The radiance of one camera sample. */
+static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sampler *gather,
+                            uint64_t gather_base, int gather_rays, rad_vec3 origin,
+                            rad_vec3 direction, rad_photon_near *scratch, uint64_t *rays,
+                            double out[3]) {
+    const double one[3] = {1, 1, 1};
+    out[0] = out[1] = out[2] = 0;
+    camera_path(r, sampler, gather, gather_base, gather_rays, origin, direction, one, 0,
+                GLASS_SPLITS, scratch, rays, out);
 }
 
 /* ---- the image ---------------------------------------------------------------------------- */
@@ -450,7 +525,8 @@ static rad_status check_options(rad_context *ctx, const rad_photonmap_options *o
 }
 
 /* Emits the photons of pass `iteration` and builds its maps. */
-static rad_status build_pass(const rad_tracer *t, const rad_photonmap_options *o, uint64_t photons,
+static rad_status build_pass(const rad_tracer *t, const rad_light_emission *sources,
+                             const rad_photonmap_options *o, uint64_t photons,
                              uint64_t caustic_photons, int iteration, double radius,
                              int threads, photon_pass *pass, rad_photonmap_stats *stats) {
     rad_context *ctx = t->ctx;
@@ -459,9 +535,12 @@ static rad_status build_pass(const rad_tracer *t, const rad_photonmap_options *o
     memset(&runs, 0, sizeof runs);
     uint64_t rays = 0;
     double start = rad_seconds(), cpu = cpu_seconds();
-    rad_status status = trace_photons(t, seed, 0, photons, 0, threads, &runs, &rays);
+    /* Each stored photon's flux over the photons that could have fed its map. */
+    photon_source source = {t, sources, seed, 1.0 / (double)photons,
+                            1.0 / ((double)photons + (double)caustic_photons)};
+    rad_status status = trace_photons(&source, 0, photons, 0, threads, &runs, &rays);
     if (!status && caustic_photons)
-        status = trace_photons(t, seed, photons, caustic_photons, 1, threads, &runs, &rays);
+        status = trace_photons(&source, photons, caustic_photons, 1, threads, &runs, &rays);
     stats->trace_seconds += rad_seconds() - start;
     stats->trace_cpu_seconds += cpu_seconds() - cpu;
     stats->photons_emitted += photons + caustic_photons;
@@ -484,12 +563,10 @@ static rad_status build_pass(const rad_tracer *t, const rad_photonmap_options *o
     stats->global_stored = runs.global_count;
     stats->caustic_stored = runs.caustic_count;
     start = rad_seconds();
-    /* The flux of each stored photon over the photons that could have fed its map. */
-    status = rad_photon_map_build_runs(ctx, runs.global, runs.global_runs, (double)photons,
-                                       pass->radius, threads, &pass->global);
+    status = rad_photon_map_build_runs(ctx, runs.global, runs.global_runs, pass->radius, threads,
+                                       &pass->global);
     if (!status)
         status = rad_photon_map_build_runs(ctx, runs.caustic, runs.caustic_runs,
-                                           (double)(photons + caustic_photons),
                                            pass->caustic_radius, threads, &pass->caustic);
     runs_free(ctx, &runs);
     if (!status) status = precompute_irradiance(ctx, pass, threads);
@@ -612,17 +689,17 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
         sum = rad_alloc_zero(ctx, (size_t)width * (size_t)height * 3, sizeof *sum);
         if (!sum) status = RAD_ERROR_NO_MEMORY;
     }
-    if (!status && (scene->light_count || scene->sky.kind != RAD_SKY_OFF))
-        /* Photons leave emitting surfaces only, so far (docs/photonmapping.md, "Not done"). */
-        rad_warn(ctx, "%s: photon mapping leaves out the point, spot and directional lights and "
-                      "the sky (only emitting surfaces are traced); `pathtrace` renders them",
-                 scene->source);
+    /* Photons leave the emitting surfaces, the point, spot and directional lights and the sky,
+     * by power (scene/light_emission.h). */
+    rad_light_emission sources;
+    memset(&sources, 0, sizeof sources);
+    if (!status) status = rad_light_emission_build(ctx, &t->emitters, scene, 1, &sources);
     if (!status && !rad_scene_is_lit(scene))
         rad_warn(ctx, "%s: nothing emits light: the image is black", scene->source);
-    if (!status && t->emitters.count == 0) {
-        /* Nothing to trace (lights and sky alone are warned about above): a black image. */
+    if (!status && !(sources.total_power > 0)) {
+        /* Nothing to trace: a black image. */
         if (rad_scene_is_lit(scene))
-            rad_warn(ctx, "%s: no emitting surface: the image is black", scene->source);
+            rad_warn(ctx, "%s: the lights send no power: the image is black", scene->source);
         iterations = 0;
     }
     int threads = rad_thread_count(ctx);
@@ -630,7 +707,8 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
     for (int i = 0; i < iterations && !status; ++i) {
         photon_pass pass;
         memset(&pass, 0, sizeof pass);
-        status = build_pass(t, &o, photons, caustic_photons, i, radius, threads, &pass, &st);
+        status = build_pass(t, &sources, &o, photons, caustic_photons, i, radius, threads, &pass,
+                            &st);
         if (!status) {
             double render_start = rad_seconds();
             status = render_pass(t, &pass, &view, spp, gather_rays, i, iterations, threads, sum,
@@ -641,6 +719,7 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
         radius = pass.radius * sqrt((i + 1 + alpha) / (i + 2));
         pass_free(ctx, &pass);
     }
+    rad_light_emission_free(ctx, &sources);
     rad_tracer_destroy(t);
     if (!status && image) {
         double samples = (double)spp * (iterations ? iterations : 1);

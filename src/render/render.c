@@ -11,6 +11,7 @@
 #include "image/image.h"
 
 #include <omp.h>
+#include <stdio.h>
 #include <string.h>
 
 #define DEFAULT_SIZE 512
@@ -66,6 +67,13 @@ static rad_status leaves_build(rad_renderer *r) {
     r->leaves_ready = 0;
     r->generation = rad_solution_generation(r->solution);
     const rad_mesh *mesh = r->mesh = rad_solution_leaves(r->solution);
+    if (!mesh && r->system->geometry) {
+        /* A scene's solution always has leaves: its view failed to build them and said why
+         * (the hierarchy's, out of memory). */
+        char why[RAD_ERROR_MESSAGE_SIZE];
+        snprintf(why, sizeof why, "%s", rad_context_error(ctx));
+        return rad_fail(ctx, RAD_ERROR_NO_MEMORY, "render: %s", why);
+    }
     if (!mesh)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "render: the solution has no leaves");
     r->vertex_radiance = rad_alloc(ctx, mesh->vertex_count + 1, sizeof *r->vertex_radiance);

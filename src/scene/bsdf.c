@@ -166,6 +166,12 @@ static rad_vec3 sample_cosine(rad_vec3 n, double u1, double u2) {
     return v3_normalize(to_world(&fr, v3(x, y, z)));
 }
 
+double rad_bsdf_glass_reflectance(const rad_material *m, rad_vec3 normal, rad_vec3 wo) {
+    double cos_o = v3_dot(wo, normal);
+    double ior = ior_of(m);
+    return cos_o > 0 ? rad_fresnel_dielectric(cos_o, 1, ior) : rad_fresnel_dielectric(-cos_o, ior, 1);
+}
+
 static rad_lobe sample_glass(const rad_material *m, rad_vec3 normal, rad_vec3 wo,
                              const double u[3], rad_bsdf_sample *out) {
     double cos_o = v3_dot(wo, normal);

@@ -64,6 +64,10 @@ int rad_bsdf_eval(const rad_material *material, rad_vec3 normal, rad_vec3 wo, ra
  * reflection. */
 double rad_fresnel_dielectric(double cos_incident, double eta_incident, double eta_transmitted);
 
+/* The Fresnel reflectance F of glass material m seen from wo (unit, away from the surface): the
+ * probability rad_bsdf_sample_direction chooses its reflection (1 - F: its refraction). */
+double rad_bsdf_glass_reflectance(const rad_material *m, rad_vec3 normal, rad_vec3 wo);
+
 /* A cosine-distributed direction about the unit normal n from two uniform numbers in [0, 1). */
 rad_vec3 rad_cosine_direction(rad_vec3 n, double u1, double u2);
 

@@ -9,20 +9,16 @@
 int rad_photon_path_trace(const rad_photon_scene *scene, uint64_t seed, uint64_t index,
                           int specular_only, int max_bounces, rad_photon_visit visit, void *user,
                           uint64_t *rays) {
-    const rad_emitter_table *emitters = scene->emitters;
-    if (emitters->count == 0) return 1;
+    const rad_light_emission *sources = scene->sources;
+    if (!(sources->total_power > 0)) return 1;
     rad_sampler sampler = rad_sampler_make(seed, index);
     double u[4];
     rad_sampler_4d(&sampler, u);
-    /* Emitted with flux L_e pi A_k / P_k: the emitted power over the probability of its
-     * triangle, before dividing by the photon count. */
-    rad_vec3 origin;
-    size_t k = rad_emitter_table_sample_point(emitters, u[0], u[1], &origin);
-    const rad_emitter *light = &emitters->emitters[k];
-    double scale = RAD_PI * light->area / rad_emitter_table_probability(emitters, k);
+    /* Emitted by power from one of the sources, with its flux over the density of the choice,
+     * before dividing by the photon count. */
+    rad_vec3 origin, direction;
     rad_photon_arrival a;
-    for (int c = 0; c < 3; ++c) a.power[c] = light->radiance[c] * scale;
-    rad_vec3 direction = rad_cosine_direction(light->normal, u[2], u[3]);
+    if (!rad_light_emission_sample(sources, u, &origin, &direction, a.power)) return 1;
     a.specular_path = 1;
     for (int bounce = 0; bounce < max_bounces; ++bounce) {
         /* The next surface; none, or the back of a one-sided one, absorbs it. */

@@ -1,7 +1,7 @@
 /* photon_path.h - one light path (a photon) from the emitting surfaces through the scene, the one
  * photon tracer shared by photon mapping (render/photonmap.c) and the specular-first pass
- * (system/specular_first.c): emitted from the emitter table (light/emitters.h) by power, cosine
- * distributed, then scattered by the BSDFs (scene/bsdf.h) with Russian roulette on the
+ * (system/specular_first.c): emitted by power from every source (scene/light_emission.h: the
+ * emitting surfaces cosine distributed, point, spot and directional lights, the sky), then scattered by the BSDFs (scene/bsdf.h) with Russian roulette on the
  * scattering weight, so a surviving photon keeps its flux on grey surfaces.
  *
  * The caller sees the photon at every surface with a diffuse or glossy lobe (where it is stored
@@ -11,8 +11,8 @@
 #ifndef RAD_SCENE_PHOTON_PATH_H
 #define RAD_SCENE_PHOTON_PATH_H
 
-#include "light/emitters.h"
 #include "scene/bsdf.h"
+#include "scene/light_emission.h"
 #include "scene/rays.h"
 #include "scene/scene.h"
 
@@ -20,7 +20,7 @@
 typedef struct rad_photon_scene {
     const rad_rays *rays;
     const rad_material *const *polygon_material; /* polygon -> material */
-    const rad_emitter_table *emitters;           /* the emitting polygons' triangles, by power */
+    const rad_light_emission *sources; /* where photons start: surfaces, lights, sky, by power */
     const rad_scene *scene; /* for textures (the albedo at a hit), or NULL: materials as they are */
 } rad_photon_scene;
 

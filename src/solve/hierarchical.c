@@ -38,10 +38,6 @@ typedef struct element_light {
     rad_node_lights lights; /* rays NULL without lights or sky */
 } element_light;
 
-static int has_element_light(const rad_system *s) {
-    return s->light_emission || s->specular_emission || s->specular_reflection;
-}
-
 static void node_light(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
                        uint64_t stream, double out[3], double *spread) {
     element_light *el = user;
@@ -57,16 +53,16 @@ static void node_light(void *user, uint32_t polygon, const rad_vec3 *corners, in
     }
 }
 
-static rad_status element_light_create(const rad_system *s, element_light *out) {
+static rad_status element_light_create(const rad_system *s, rad_rgb *reflection,
+                                       element_light *out) {
     size_t polygons = s->geometry->polygon_count, n = s->element_count;
+    int specular = s->specular_emission || reflection;
     out->system = s;
     out->first = rad_alloc_zero(s->ctx, polygons + 2, sizeof *out->first);
     out->element = rad_alloc(s->ctx, n ? n : 1, sizeof *out->element);
     out->value = rad_alloc_zero(s->ctx, n ? n : 1, sizeof *out->value);
-    if (s->specular_emission || s->specular_reflection)
-        out->specular = rad_alloc_zero(s->ctx, n ? n : 1, sizeof *out->specular);
-    if (!out->first || !out->element || !out->value ||
-        ((s->specular_emission || s->specular_reflection) && !out->specular))
+    if (specular) out->specular = rad_alloc_zero(s->ctx, n ? n : 1, sizeof *out->specular);
+    if (!out->first || !out->element || !out->value || (specular && !out->specular))
         return RAD_ERROR_NO_MEMORY;
     if (s->geometry->light_count || s->geometry->sky.kind != RAD_SKY_OFF) {
         out->lights.scene = s->geometry;
@@ -76,7 +72,7 @@ static rad_status element_light_create(const rad_system *s, element_light *out) 
     for (size_t e = 0; e < n; ++e) out->first[s->mesh->element_polygon[e] + 2]++;
     for (size_t p = 0; p < polygons; ++p) out->first[p + 2] += out->first[p + 1];
     for (size_t e = 0; e < n; ++e) out->element[out->first[s->mesh->element_polygon[e] + 1]++] = (uint32_t)e;
-    rad_rgb *parts[3] = {s->light_emission, s->specular_emission, s->specular_reflection};
+    rad_rgb *parts[3] = {s->light_emission, s->specular_emission, reflection};
     for (int k = 0; k < 3; ++k)
         for (size_t e = 0; parts[k] && e < n; ++e)
             for (int c = 0; c < 3; ++c) {
@@ -96,11 +92,79 @@ static void element_light_destroy(const rad_system *s, element_light *el) {
     rad_free(s->ctx, el);
 }
 
-/* The solver's state: the hierarchy and, with lights, what it reads their light from. */
+/* What a hierarchy was built with (hierarchical_view.h); the view owns it with the hierarchy,
+ * since the nodes made later read their light through it. */
+struct rad_hier_setup {
+    double link_error; /* as used: --link-error, else the tolerance, else the default */
+    int importance;
+    element_light *light; /* NULL without lights, sky or specular light */
+    int unfinished;       /* the last solve was cancelled (Ctrl-C): the next step finishes it */
+};
+
+void rad_hier_setup_destroy(rad_system *s, rad_hier_setup *setup) {
+    if (!setup) return;
+    element_light_destroy(s, setup->light);
+    rad_free(s->ctx, setup);
+}
+
+double rad_hier_setup_link_error(const rad_hier_setup *setup) { return setup->link_error; }
+int rad_hier_setup_importance(const rad_hier_setup *setup) { return setup->importance; }
+int rad_hier_setup_unfinished(const rad_hier_setup *setup) { return setup->unfinished; }
+void rad_hier_setup_set_unfinished(rad_hier_setup *setup, int unfinished) {
+    setup->unfinished = unfinished;
+}
+
+/* Solves the hierarchy's links. Cancelled (Ctrl-C, through the progress callback), it keeps
+ * the rounds done, a valid solution not yet converged, and marks it unfinished: the caller
+ * stops at the end of its step and the solution so far can be saved; the next step (here or
+ * after --resume) goes on with the same rounds before refining. */
+static rad_status solve_links(rad_system *s, rad_hier *hier, rad_hier_setup *setup) {
+    rad_status status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
+    setup->unfinished = status == RAD_ERROR_CANCELLED;
+    if (setup->unfinished) {
+        rad_warn(s->ctx, "%s; the solution so far is kept", rad_context_error(s->ctx));
+        status = RAD_OK;
+    }
+    return status;
+}
+
+rad_status rad_hier_setup_create(rad_system *s, double link_error, int importance,
+                                 rad_rgb *reflection, rad_hier_setup **out, rad_hier **hier) {
+    *out = NULL;
+    *hier = NULL;
+    rad_hier_setup *setup = rad_alloc_zero(s->ctx, 1, sizeof *setup);
+    if (!setup) return RAD_ERROR_NO_MEMORY;
+    setup->link_error = link_error;
+    setup->importance = importance;
+    if (!reflection) reflection = s->specular_reflection;
+    rad_hier_options options = {0};
+    options.link_error = link_error;
+    rad_status status = RAD_OK;
+    if (s->light_emission || s->specular_emission || reflection) {
+        /* Point, spot and directional lights, the sky and light through mirrors and glass:
+         * their light, reflected, is each node's emission besides its material's
+         * (docs/hierarchical.md). */
+        setup->light = rad_alloc_zero(s->ctx, 1, sizeof *setup->light);
+        status = setup->light ? element_light_create(s, reflection, setup->light) : RAD_ERROR_NO_MEMORY;
+        options.light = node_light;
+        options.light_user = setup->light;
+        /* A caustic has edges of its own, which no link asks for: the nodes resolve it first. */
+        options.light_split = s->specular_emission != NULL;
+    }
+    if (!status) status = rad_hier_create(s->ctx, s->geometry, &options, hier);
+    if (status) {
+        rad_hier_setup_destroy(s, setup);
+        return status;
+    }
+    *out = setup;
+    return RAD_OK;
+}
+
+/* The solver's state: the hierarchy and what it was built with. */
 typedef struct hierarchical_state {
     rad_hier *hier;
-    element_light *light;
-    int drawn; /* the system's view owns the hierarchy (rad_hier_view_install) */
+    rad_hier_setup *setup;
+    int drawn; /* the system's view owns both (rad_hier_view_install) */
 } hierarchical_state;
 
 /* Each element's radiosity. When the elements are the hierarchy's roots (one per polygon, or
@@ -185,40 +249,54 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
     if (o->link_error < 0 || isnan(o->link_error))
         return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "the link error must be a positive number, not %g", o->link_error);
-    /* The driver resumes after the second specular pass (D S+ D light added to the elements):
-     * the hierarchy starts over with it, as it does from a saved solution. */
-    if (o->resume && !s->specular_reflection)
-        rad_warn(s->ctx, "the hierarchical solver starts over; it does not resume");
-    rad_hier_options options = {0};
-    options.link_error = o->link_error > 0 ? o->link_error : o->tolerance;
-    rad_hier *hier = NULL;
+    double link_error = o->link_error > 0 ? o->link_error : o->tolerance;
+    if (!(link_error > 0)) link_error = RAD_HIER_DEFAULT_LINK_ERROR;
+    int importance = rad_run_option(run, "importance", 0) != 0;
     hierarchical_state *state = rad_alloc_zero(s->ctx, 1, sizeof *state);
     if (!state) return RAD_ERROR_NO_MEMORY;
-    rad_status status = RAD_OK;
-    if (has_element_light(s)) {
-        /* Point, spot and directional lights, the sky and light through mirrors and glass:
-         * their light, reflected, is each node's emission besides its material's
-         * (docs/hierarchical.md). */
-        state->light = rad_alloc_zero(s->ctx, 1, sizeof *state->light);
-        status = state->light ? element_light_create(s, state->light) : RAD_ERROR_NO_MEMORY;
-        options.light = node_light;
-        options.light_user = state->light;
-        /* A caustic has edges of its own, which no link asks for: the nodes resolve it first. */
-        options.light_split = s->specular_emission != NULL;
-    }
-    if (!status) status = rad_hier_create(s->ctx, s->geometry, &options, &hier);
-    if (!status && rad_run_option(run, "importance", 0) != 0) status = set_view(run, hier);
-    if (!status) status = rad_hier_link_roots(hier);
-    if (!status) status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
-    state->hier = hier;
     run->state = state;
+    /* Going on from a saved hierarchy (rad_system_load_solution restored it as it was): the
+     * next step refines and solves exactly as the run that saved it would have. */
+    rad_hier_setup *saved = rad_hier_view_setup(s);
+    if (o->resume && saved && rad_hier_view_take_restored(s)) {
+        if (saved->link_error != link_error)
+            return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
+                            "the saved hierarchy was refined with link error %g; go on with the "
+                            "same --link-error (not %g)", saved->link_error, link_error);
+        if (saved->importance != importance)
+            return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
+                            "the saved hierarchy was refined %s importance; go on %s --importance",
+                            saved->importance ? "with" : "without",
+                            saved->importance ? "with" : "without");
+        state->hier = rad_hier_view_hierarchy(s);
+        state->setup = saved;
+        state->drawn = 1;
+        evaluate(s, state->hier, saved->light);
+        return RAD_OK;
+    }
+    /* The driver resumes after the second specular pass (D S+ D light added to the elements):
+     * the hierarchy starts over with it. */
+    if (o->resume && !s->specular_reflection)
+        rad_warn(s->ctx, "the hierarchical solver starts over: the solution it resumes is not a "
+                         "saved hierarchy");
+    rad_hier *hier = NULL;
+    rad_status status = rad_hier_setup_create(s, link_error, importance, NULL, &state->setup, &hier);
+    state->hier = hier;
+    if (!status && importance) status = set_view(run, hier);
+    if (!status) status = rad_hier_link_roots(hier);
+    if (!status) status = solve_links(s, hier, state->setup);
     if (status) return status; /* hierarchical_end frees the state */
     /* The outputs draw the leaves (hierarchical_view.c); the system owns the hierarchy now. */
-    status = rad_hier_view_install(s, hier);
+    status = rad_hier_view_install(s, hier, state->setup, 0);
     if (status) return status;
     state->drawn = 1;
-    evaluate(s, hier, state->light);
+    evaluate(s, hier, state->setup->light);
     return RAD_OK;
+}
+
+void rad_hier_view_evaluate(rad_system *s) {
+    rad_hier *hier = rad_hier_view_hierarchy(s);
+    if (hier) evaluate(s, hier, rad_hier_view_setup(s)->light);
 }
 
 /* The step's line in the log: what the hierarchy holds and how far the oracle is from met. */
@@ -232,14 +310,25 @@ static void report_step(rad_system *s, const rad_hier *hier, int iteration) {
 }
 
 static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *residual) {
-    rad_hier *hier = ((hierarchical_state *)run->state)->hier;
-    rad_status status = rad_hier_refine(hier);
+    hierarchical_state *state = run->state;
+    rad_hier *hier = state->hier;
+    rad_status status = RAD_OK;
+    /* A solve cancelled in the last step (or before a saved file) is finished first. */
+    if (state->setup->unfinished) {
+        status = solve_links(run->system, hier, state->setup);
+        if (!status) evaluate(run->system, hier, state->setup->light);
+        if (!status && state->setup->unfinished) {
+            *residual = INFINITY;
+            return RAD_OK;
+        }
+    }
+    if (!status) status = rad_hier_refine(hier);
     if (status) return status;
     rad_hier_stats stats = rad_hier_get_stats(hier);
     *residual = (double)stats.refined;
     if (stats.refined > 0) {
-        status = rad_hier_solve(hier, INNER_TOLERANCE, INNER_ROUNDS);
-        if (!status) evaluate(run->system, hier, ((hierarchical_state *)run->state)->light);
+        status = solve_links(run->system, hier, state->setup);
+        if (!status) evaluate(run->system, hier, state->setup->light);
     }
     if (!status) report_step(run->system, hier, iteration);
     if (!status) {
@@ -261,8 +350,10 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
 static void hierarchical_end(rad_solver_run *run) {
     hierarchical_state *state = run->state;
     if (!state) return;
-    if (!state->drawn) rad_hier_destroy(state->hier);
-    element_light_destroy(run->system, state->light);
+    if (!state->drawn) {
+        rad_hier_destroy(state->hier);
+        rad_hier_setup_destroy(run->system, state->setup);
+    }
     rad_free(run->system->ctx, state);
     run->state = NULL;
 }

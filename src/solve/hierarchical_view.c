@@ -22,6 +22,7 @@
 #include "system/solution_view.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define MAX_EDGE_POINTS 64 /* T-vertices looked for along one leaf edge, at most */
@@ -32,6 +33,8 @@ typedef struct hier_view {
     rad_mesh *mesh;      /* the drawn leaves, built for `built` */
     uint32_t *leaf_node; /* the hierarchy node each drawn polygon shows */
     uint64_t built;      /* the generation the mesh was built for; 0: none */
+    rad_hier_setup *setup; /* what the hierarchy was built with (hierarchical.c), owned */
+    int restored;          /* loaded from a solution file and not yet taken by a solve */
 } hier_view;
 
 /* ---- Welding vertices -------------------------------------------------------------------- */
@@ -298,7 +301,17 @@ static uint64_t leaf_generation(const rad_solution_view *view) {
 
 static const rad_mesh *leaf_leaves(const rad_solution_view *view) {
     hier_view *v = state(view);
-    if (v->built != leaf_generation(view) && build_mesh(v)) return NULL;
+    if (v->built != leaf_generation(view)) {
+        rad_status status = build_mesh(v);
+        if (status) {
+            /* Say what failed: the caller only sees NULL (render.c reports this message). */
+            char why[RAD_ERROR_MESSAGE_SIZE];
+            snprintf(why, sizeof why, "%s", rad_context_error(v->system->ctx));
+            rad_fail(v->system->ctx, status, "drawing the hierarchy's leaves (%llu nodes) failed: %s",
+                     (unsigned long long)leaf_generation(view), why[0] ? why : rad_status_name(status));
+            return NULL;
+        }
+    }
     return v->mesh;
 }
 
@@ -392,6 +405,7 @@ static void leaf_destroy(void *p) {
     rad_mesh_destroy(v->mesh);
     rad_free(ctx, v->leaf_node);
     rad_hier_destroy(v->hier);
+    rad_hier_setup_destroy(v->system, v->setup);
     rad_free(ctx, v);
 }
 
@@ -400,11 +414,14 @@ static const rad_solution_view_ops leaf_view_ops = {
     leaf_emission,      leaf_reflectance, leaf_ambient,    NULL,           leaf_destroy,
 };
 
-rad_status rad_hier_view_install(rad_system *system, rad_hier *hier) {
+rad_status rad_hier_view_install(rad_system *system, rad_hier *hier, rad_hier_setup *setup,
+                                 int restored) {
     hier_view *v = rad_alloc_zero(system->ctx, 1, sizeof *v);
     if (!v) return RAD_ERROR_NO_MEMORY;
     v->system = system;
     v->hier = hier;
+    v->setup = setup;
+    v->restored = restored;
     rad_system_set_view(system, &leaf_view_ops, v);
     return RAD_OK;
 }
@@ -412,4 +429,16 @@ rad_status rad_hier_view_install(rad_system *system, rad_hier *hier) {
 rad_hier *rad_hier_view_hierarchy(const rad_system *system) {
     const rad_solution_view *view = rad_system_view(system);
     return view->ops == &leaf_view_ops ? state(view)->hier : NULL;
+}
+
+rad_hier_setup *rad_hier_view_setup(const rad_system *system) {
+    const rad_solution_view *view = rad_system_view(system);
+    return view->ops == &leaf_view_ops ? state(view)->setup : NULL;
+}
+
+int rad_hier_view_take_restored(rad_system *system) {
+    const rad_solution_view *view = rad_system_view(system);
+    if (view->ops != &leaf_view_ops || !state(view)->restored) return 0;
+    state(view)->restored = 0;
+    return 1;
 }

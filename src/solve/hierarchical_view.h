@@ -6,12 +6,43 @@
 #include "hierarchy/hierarchy.h"
 #include "system/system.h"
 
-/* Installs a view over the leaves of `hier` as the system's solution view; the system owns the
- * hierarchy from now on (it goes with the system or the next rad_system_set_view). */
-rad_status rad_hier_view_install(rad_system *system, rad_hier *hier);
+/* What the hierarchical solver builds a hierarchy with (hierarchical.c): the link error and
+ * importance it was asked for, and what the nodes read their light from (the lights, the sky,
+ * the specular-first deposits on the system's elements). */
+typedef struct rad_hier_setup rad_hier_setup;
 
-/* The hierarchy behind the system's view, or NULL when the view is not a hierarchy's. */
+/* A hierarchy as the hierarchical solver begins one on `system`: the roots, the clusters and
+ * their light (rad_hier_create), not yet linked. `reflection`, when not NULL, is the second
+ * specular pass's per-element light to read instead of system->specular_reflection (a saved
+ * solution's). */
+rad_status rad_hier_setup_create(rad_system *system, double link_error, int importance,
+                                 rad_rgb *reflection, rad_hier_setup **setup, rad_hier **hier);
+void rad_hier_setup_destroy(rad_system *system, rad_hier_setup *setup);
+double rad_hier_setup_link_error(const rad_hier_setup *setup);
+int rad_hier_setup_importance(const rad_hier_setup *setup);
+/* Whether the last solve of the links was cancelled (Ctrl-C) and is to be finished by the next
+ * step, and setting it (a saved solution's). */
+int rad_hier_setup_unfinished(const rad_hier_setup *setup);
+void rad_hier_setup_set_unfinished(rad_hier_setup *setup, int unfinished);
+
+/* Sets the system's elements' radiosity from the hierarchy behind its view (as every
+ * hierarchical step does), so that what reads elements reads the hierarchy. */
+void rad_hier_view_evaluate(rad_system *system);
+
+/* Installs a view over the leaves of `hier` as the system's solution view; the system owns the
+ * hierarchy and `setup` from now on (they go with the system or the next rad_system_set_view).
+ * `restored`: loaded from a solution file, for the next resumed solve to go on from. */
+rad_status rad_hier_view_install(rad_system *system, rad_hier *hier, rad_hier_setup *setup,
+                                 int restored);
+
+/* The hierarchy behind the system's view and its setup, or NULL when the view is not a
+ * hierarchy's. */
 rad_hier *rad_hier_view_hierarchy(const rad_system *system);
+rad_hier_setup *rad_hier_view_setup(const rad_system *system);
+
+/* 1, once, when the view's hierarchy was restored from a solution file (a resumed solve goes on
+ * from it); 0 otherwise. */
+int rad_hier_view_take_restored(rad_system *system);
 
 /* The area-weighted mean of `values` (per system element) over the elements order[first ..
  * last) (order NULL: first .. last themselves) whose centroids lie inside the polygon

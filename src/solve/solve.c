@@ -4,6 +4,8 @@
  * solver; starting from B = E or resuming from the system's state is decided here. */
 #include "solve/solver.h"
 
+#include "system/solution_view.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -109,6 +111,11 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
         rad_system_remove_specular_reflection(system); /* a previous solve's: added again below */
         rad_system_reset(system);
     }
+    /* A solver on the elements is drawn by them, not by the leaves of a hierarchy solved (or
+     * loaded) before; going on from a hierarchy starts from its values on the elements. */
+    if (!(impl->info.capabilities & RAD_SOLVER_OWN_LEAVES) &&
+        rad_system_view(system)->ops != &rad_uniform_view_ops)
+        rad_system_set_view(system, &rad_uniform_view_ops, system);
     rad_status status = RAD_OK;
     if (run.tracing) {
         run.received = rad_alloc_zero(ctx, system->element_count, sizeof *run.received);
@@ -182,8 +189,11 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
     local.seconds = rad_seconds() - start - callback_seconds;
     /* The specular-first pass's second half (docs/specular-first.md): the solved radiosity of
      * the diffuse elements through mirrors and glass onto diffuse elements, which the form
-     * factors leave out; added as unshot light, then the solve resumes to spread it. */
-    if (!status && local.converged && !options->resume &&
+     * factors leave out; added as unshot light, then the solve resumes to spread it. A
+     * resumed solve does it too when it knows whether it was done: a hierarchy's solution file
+     * keeps that light (RAD_SOLVER_OWN_LEAVES), an element file does not. */
+    int pass_known = !options->resume || (impl->info.capabilities & RAD_SOLVER_OWN_LEAVES);
+    if (!status && local.converged && pass_known &&
         system->specular_emission && !system->specular_reflection) {
         status = rad_system_add_specular_reflection(system);
         rad_solve_report second = {0};

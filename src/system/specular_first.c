@@ -195,16 +195,22 @@ rad_status rad_system_add_specular_emission(rad_system *s, const rad_scene *scen
         rad_alloc(ctx, scene->polygon_count, sizeof *polygon_material);
     rad_emitter_table emitters;
     memset(&emitters, 0, sizeof emitters);
+    rad_light_emission sources;
+    memset(&sources, 0, sizeof sources);
     rad_rays *rays = NULL;
     rad_element_rays *elements = NULL;
     rad_rgb *flux = rad_alloc_zero(ctx, s->element_count, sizeof *flux);
     rad_status status = polygon_material && flux ? RAD_OK : RAD_ERROR_NO_MEMORY;
     if (!status) status = build_emitters(ctx, scene, polygon_material, &emitters);
-    if (!status && emitters.count == 0) goto done;
+    /* Photons leave the emitting surfaces and the point, spot and directional lights, by power
+     * (scene/light_emission.h). Not the sky: the render's gather rays already take the sky they
+     * see through mirrors and glass (second_pass.c), and the caustic map would count it again. */
+    if (!status) status = rad_light_emission_build(ctx, &emitters, scene, 0, &sources);
+    if (!status && !(sources.total_power > 0)) goto done;
     if (!status) status = rad_rays_create(ctx, scene, &rays);
     if (!status) status = rad_element_rays_create(ctx, mesh, &elements);
     if (!status) {
-        rad_photon_scene photons = {rays, polygon_material, &emitters, scene};
+        rad_photon_scene photons = {rays, polygon_material, &sources, scene};
         rad_free(ctx, s->caustic_landings);
         s->caustic_landings = NULL;
         s->caustic_landing_count = 0;
@@ -230,6 +236,7 @@ done:
     rad_element_rays_destroy(elements);
     rad_rays_destroy(rays);
     rad_emitter_table_free(ctx, &emitters);
+    rad_light_emission_free(ctx, &sources);
     rad_free(ctx, flux);
     rad_free(ctx, (void *)polygon_material);
     return status;
@@ -276,6 +283,8 @@ rad_status rad_system_add_specular_reflection(rad_system *s) {
         rad_alloc(ctx, scene->polygon_count + 1, sizeof *polygon_material);
     rad_emitter_table reflectors;
     memset(&reflectors, 0, sizeof reflectors);
+    rad_light_emission sources;
+    memset(&sources, 0, sizeof sources);
     rad_rays *rays = NULL;
     rad_element_rays *elements = NULL;
     rad_rgb *flux = rad_alloc_zero(ctx, s->element_count, sizeof *flux);
@@ -283,10 +292,12 @@ rad_status rad_system_add_specular_reflection(rad_system *s) {
     rad_status status = polygon_material && flux && added ? RAD_OK : RAD_ERROR_NO_MEMORY;
     if (!status) status = build_reflectors(ctx, s, polygon_material, &reflectors);
     if (!status && reflectors.count == 0) goto done;
+    /* The reflecting elements alone emit here (scene NULL: no lights, no sky). */
+    if (!status) status = rad_light_emission_build(ctx, &reflectors, NULL, 0, &sources);
     if (!status) status = rad_rays_create(ctx, scene, &rays);
     if (!status) status = rad_element_rays_create(ctx, s->mesh, &elements);
     if (!status) {
-        rad_photon_scene photons = {rays, polygon_material, &reflectors, scene};
+        rad_photon_scene photons = {rays, polygon_material, &sources, scene};
         status = trace(ctx, &photons, elements, SPECULAR_SEED + 1, count, flux, NULL, NULL);
     }
     /* What lands is reflected once, as in the first pass, and joins the solution as light not
@@ -308,6 +319,7 @@ done:
     rad_element_rays_destroy(elements);
     rad_rays_destroy(rays);
     rad_emitter_table_free(ctx, &reflectors);
+    rad_light_emission_free(ctx, &sources);
     rad_free(ctx, flux);
     rad_free(ctx, added);
     rad_free(ctx, (void *)polygon_material);
