@@ -102,7 +102,12 @@ typedef struct rad_sample {
     uint64_t seed;
     uint32_t x, y, index, count;
     rad_ray_counts *counts;
+    /* Set by rad_trace_radiance on camera paths: the input polygon the camera ray met first
+     * (RAD_RENDER_NO_POLYGON when it left the scene), which render.c groups samples by. */
+    uint32_t first_polygon;
 } rad_sample;
+
+#define RAD_RENDER_NO_POLYGON UINT32_MAX
 
 /* The sampler's 2D dimensions in the renderer: the position in the pixel, the final gather's
  * directions and emitter points, and three per bounce of a camera path through mirrors and
@@ -113,6 +118,7 @@ enum {
     RAD_RENDER_DIM_GATHER = 1,
     RAD_RENDER_DIM_LIGHT = 2,
     RAD_RENDER_DIM_BOUNCE = 3,
+    RAD_RENDER_DIM_COVERAGE = 900, /* render.c: the rays that measure what covers a pixel */
     RAD_RENDER_DIM_GATHER_BOUNCE = 1000,
     RAD_RENDER_DIM_SHORT = 2000 /* short gather rays, level L: 2000 + 2L (light), + 1 (ray) */
 };

@@ -109,7 +109,10 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
         else if (gather) counts->gather++;
         else counts->camera++;
         rad_element_hit hit;
-        if (!rad_element_rays_intersect(r->rays, origin, direction, tnear, INFINITY, &hit)) {
+        int found = rad_element_rays_intersect(r->rays, origin, direction, tnear, INFINITY, &hit);
+        if (depth == 0 && !gather)
+            sample->first_polygon = found ? r->mesh->element_polygon[hit.element] : RAD_RENDER_NO_POLYGON;
+        if (!found) {
             /* Left the scene: the sky, if there is one (light/lights.h). */
             double sky[3];
             rad_sky_radiance(&r->sky, direction, sky);
