@@ -1340,23 +1340,9 @@ rad_status rad_hier_set_view(rad_hier *h, const rad_view *view) {
             point[count] = point[i];
             ++count;
         }
-    rad_free(ctx, h->hit_polygon);
-    rad_free(ctx, h->hit_point);
-    h->hit_polygon = polygon;
-    h->hit_point = point;
-    h->hit_count = count;
-    h->hit_share = pixels ? 1.0 / (double)pixels : 0;
-    if (!h->importance) {
-        h->importance = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance);
-        h->importance_emitted = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_emitted);
-        h->importance_gathered = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_gathered);
-        h->cluster_axis_importance = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_axis_importance);
-        h->cluster_down_importance = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_down_importance);
-        h->cluster_z = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_z);
-        if (!h->importance || !h->importance_emitted || !h->importance_gathered ||
-            !h->cluster_axis_importance || !h->cluster_down_importance || !h->cluster_z)
-            return RAD_ERROR_NO_MEMORY;
-    }
+    rad_status status =
+        rad_hier_restore_view(h, polygon, point, count, pixels ? 1.0 / (double)pixels : 0);
+    if (status) return status;
     h->stats.seen_share = (double)count * h->hit_share;
     return solve_importance(h, 1e-5, 1000);
 }
