@@ -22,6 +22,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -563,14 +564,18 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
         if (strlen(w[1]) >= MGF_MAX_NAME) return fail_at(r, "vertex name too long", NULL);
         mgf_vertex *v = count >= 3 ? NULL : find_vertex(r, w[1]);
         if (!v) {
-            const mgf_vertex *template_vertex = NULL;
-            if (count == 4 && !(template_vertex = find_vertex(r, w[3])))
-                return fail_at(r, "undefined vertex", w[3]);
+            /* The template by index: growing the array below may move it. */
+            size_t template_index = SIZE_MAX;
+            if (count == 4) {
+                const mgf_vertex *template_vertex = find_vertex(r, w[3]);
+                if (!template_vertex) return fail_at(r, "undefined vertex", w[3]);
+                template_index = (size_t)(template_vertex - r->vertices);
+            }
             if ((status = grow(r, (void **)&r->vertices, &r->vertex_capacity, r->vertex_count,
                                sizeof *r->vertices)))
                 return status;
             v = &r->vertices[r->vertex_count++];
-            if (template_vertex) *v = *template_vertex;
+            if (template_index != SIZE_MAX) *v = r->vertices[template_index];
             else memset(v, 0, sizeof *v);
             snprintf(v->name, sizeof v->name, "%s", w[1]);
         }
