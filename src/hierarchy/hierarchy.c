@@ -592,8 +592,6 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         int blocked;
         visible_pairs(h, x, rn, y, sn, &blocked, seen);
         if (set == 0) partial = blocked;
-        else if (set == 1) sum = 0, sets = 0; /* the first set only decided */
-        ++sets;
         /* Count, for each member a ray ended on, whether it was seen (exposure()). */
         for (int i = 0; i < rn && is_cluster(nr); ++i) {
             uint32_t visible = 0;
@@ -605,6 +603,8 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
             for (int i = 0; i < rn; ++i) visible += seen[i * sn + j];
             count_exposure(h, source_members[j], (uint32_t)rn, visible);
         }
+        if (partial && set == 0) continue; /* the first set only decided */
+        ++sets;
         for (int i = 0; i < rn; ++i)
             for (int j = 0; j < sn; ++j) {
                 if (!seen[i * sn + j]) continue;
