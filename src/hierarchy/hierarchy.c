@@ -21,6 +21,7 @@
 #define PARALLEL_MIN 256 /* loops shorter than this run on one thread */
 #define LEAF_CLUSTER 4   /* roots in a leaf cluster, at most */
 #define UNKNOWN_ERROR FLT_MAX /* the bound of a link that must be refined before it is trusted */
+#define NOT_ESTIMATED -1.0f /* the factor of a cluster link made without its estimate */
 #define PARTIAL_BATCHES 4 /* sets of 16 visibility rays for a partly hidden polygon link */
 #define CLUSTER_PARTIAL_SETS 1 /* fresh sets of 16 sampled pairs for a partly hidden cluster link */
 
@@ -539,12 +540,29 @@ static double exposure(const rad_hier *h, uint32_t root) {
     return (h->member_seen[root] + 1.0) / (h->member_rays[root] + 1.0);
 }
 
+static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *relative);
+
+/* Whether the oracle refines a cluster link whose bound is `error` (sets link->error to it).
+ * Partial visibility only adds to the bound, and the end the oracle opens does not depend on
+ * it, so a link refined with a smaller bound is refined with any larger one. */
+static int refined_anyway(const rad_hier *h, rad_hier_link *link, double error) {
+    double relative;
+    link->error = (float)fmin(error, UNKNOWN_ERROR);
+    return decide_cluster(h, link, &relative) != 0;
+}
+
 /* The link receiver <- source when either is a cluster: the point estimate between the
  * centres, its bound, and the visible fraction of the rays between sampled member points.
  * A self-link, or one whose bounding spheres overlap, carries nothing and must be refined.
- * Returns 0 when no light can pass. */
+ * With `may_skip`, a link the oracle will refine in this pass whatever its estimate (the
+ * radiosities it reads do not change within rad_hier_refine) is not estimated: no rays when
+ * its bound fails without partial visibility, no fresh set when it fails with it. Its factor
+ * is then NOT_ESTIMATED, and a link kept after all (the memory budget stopped refinement) is
+ * made again without `may_skip`. On Sponza 0.27 M links skip every ray and 0.24 M the fresh
+ * set (of 4.5 M cluster links with rays): 3-4% of the render's processor time. Their rays no
+ * longer count toward the members' exposure. Returns 0 when no light can pass. */
 static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t source,
-                             rad_hier_link *out) {
+                             rad_hier_link *out, int may_skip) {
     out->receiver = receiver;
     out->source = source;
     out->form_factor = 0;
@@ -563,6 +581,10 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     double estimate = pr.estimate * ps.estimate / (RAD_PI * d * d * area);
     double upper = pr.upper * ps.upper / (RAD_PI * (d - reach) * (d - reach) * area);
     double lower = pr.lower * ps.lower / (RAD_PI * (d + reach) * (d + reach) * area);
+    if (may_skip && refined_anyway(h, out, upper - lower)) {
+        out->form_factor = NOT_ESTIMATED;
+        return 1;
+    }
     /* The factor itself from the rays between sampled member points (chosen in proportion to
      * projected area): the mean over the pairs of V P_r P_s / (pi r^2 A_r), with a polygon
      * end's A cos taken along each ray. The centres' distance alone underestimates it (the
@@ -603,6 +625,11 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
             for (int i = 0; i < rn; ++i) visible += seen[i * sn + j];
             count_exposure(h, source_members[j], (uint32_t)rn, visible);
         }
+        if (partial && set == 0 && may_skip && refined_anyway(h, out, upper - lower + estimate)) {
+            out->form_factor = NOT_ESTIMATED;
+            out->error = -out->error;
+            return 1;
+        }
         if (partial && set == 0) continue; /* the first set only decided */
         ++sets;
         for (int i = 0; i < rn; ++i)
@@ -627,9 +654,10 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
 }
 
 /* Any link: the contour integral between two polygon nodes, the point estimate otherwise. */
-static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_hier_link *out) {
+static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_hier_link *out,
+                         int may_skip) {
     if (cluster_index(h, receiver) || cluster_index(h, source))
-        return make_cluster_link(h, receiver, source, out);
+        return make_cluster_link(h, receiver, source, out, may_skip);
     return make_link(h, receiver, source, out);
 }
 
@@ -780,7 +808,7 @@ rad_status rad_hier_link_roots(rad_hier *h) {
         /* One self-link on the top cluster: the oracle opens it where the light asks. */
         rad_hier_link *top = rad_alloc(h->ctx, 1, sizeof *top);
         if (!top) return RAD_ERROR_NO_MEMORY;
-        make_cluster_link(h, rad_hier_top(h), rad_hier_top(h), top);
+        make_cluster_link(h, rad_hier_top(h), rad_hier_top(h), top, 0);
         return adopt_links(h, top, 1);
     }
     size_t n = h->root_count;
@@ -919,13 +947,19 @@ rad_status rad_hier_refine(rad_hier *h) {
             rad_warn(ctx, "%s; refinement stops at %zu links, keeping the solution so far",
                      rad_context_error(ctx), kept_count + pending_count);
             budget = 1;
-            for (size_t i = 0; i < pending_count; ++i) {
-                double relative;
-                decide_any(h, &pending[i], &relative);
-                largest = fmax(largest, relative);
-            }
             memset(decision, 0, pending_count);
             splits = 0;
+        }
+        /* Links made without their estimate that the oracle keeps after all (the budget
+         * stopped refinement): estimated now. */
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads(h)) if (pending_count >= 4096)
+        for (long i = 0; i < (long)pending_count; ++i)
+            if (!decision[i] && pending[i].form_factor == NOT_ESTIMATED)
+                make_any_link(h, pending[i].receiver, pending[i].source, &pending[i], 0);
+        for (size_t i = 0; budget && i < pending_count; ++i) {
+            double relative;
+            decide_any(h, &pending[i], &relative);
+            largest = fmax(largest, relative);
         }
         refined += splits;
         /* Split the leaves the decisions ask for, in link order (receiver end first), so the
@@ -1005,7 +1039,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         /* The new links' form factors, in parallel (each writes its own slot). */
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (count >= 64)
         for (long i = 0; i < (long)count; ++i)
-            made[i] = (uint8_t)make_any_link(h, fresh[i].receiver, fresh[i].source, &fresh[i]);
+            made[i] = (uint8_t)make_any_link(h, fresh[i].receiver, fresh[i].source, &fresh[i], 1);
         for (size_t i = 0; i < count; ++i)
             if (made[i]) fresh[pending_count++] = fresh[i];
         rad_free(ctx, made);
