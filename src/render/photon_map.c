@@ -165,17 +165,26 @@ void rad_photon_map_free(rad_context *ctx, rad_photon_map *map) {
     memset(map, 0, sizeof *map);
 }
 
-/* The distinct buckets of the 27 cells around x (two cells may share a bucket). */
+/* The distinct buckets of the 27 cells around x, in the order dz, dy, dx from -1 to 1. The
+ * Morton code is the three axes' spread bits or-ed together, so the 27 codes come from 9 spread
+ * coordinates. Two of the cells share a bucket only when an axis keeps fewer than 2 bits of the
+ * code (fewer than 64 buckets): cells 1 or 2 apart differ modulo 4. */
 static int query_buckets(const rad_photon_map *map, rad_vec3 x, uint32_t buckets[27]) {
     int64_t cx = cell_of(x.x, map->cell), cy = cell_of(x.y, map->cell),
             cz = cell_of(x.z, map->cell);
-    int n = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                uint32_t b = bucket_of(cx + dx, cy + dy, cz + dz, map->bucket_count);
+    uint64_t sx[3], sy[3], sz[3], mask = map->bucket_count - 1;
+    for (int d = 0; d < 3; ++d) {
+        sx[d] = spread3((uint64_t)(cx + d - 1));
+        sy[d] = spread3((uint64_t)(cy + d - 1)) << 1;
+        sz[d] = spread3((uint64_t)(cz + d - 1)) << 2;
+    }
+    int distinct = map->bucket_count >= 64, n = 0;
+    for (int dz = 0; dz < 3; ++dz)
+        for (int dy = 0; dy < 3; ++dy)
+            for (int dx = 0; dx < 3; ++dx) {
+                uint32_t b = (uint32_t)((sx[dx] | sy[dy] | sz[dz]) & mask);
                 int seen = 0;
-                for (int i = 0; i < n && !seen; ++i) seen = buckets[i] == b;
+                for (int i = 0; i < n && !distinct && !seen; ++i) seen = buckets[i] == b;
                 if (!seen) buckets[n++] = b;
             }
     return n;
