@@ -49,8 +49,8 @@ rad_status rad_light_emission_build(rad_context *ctx, const rad_emitter_table *s
 void rad_light_emission_free(rad_context *ctx, rad_light_emission *emission);
 
 /* A light path's start for four uniform numbers: its origin, unit direction and flux (W, before
- * dividing by the photon count). Returns 0 when it carries nothing (a direction an IES profile
- * or spot sends no light along). With the surfaces alone, the same start as
+ * dividing by the photon count). Returns 0 when it carries nothing (rare: a spot's and an IES
+ * profile's directions are drawn by their intensity, light_directions.h). With the surfaces alone, the same start as
  * rad_emitter_table_sample_point and a cosine direction give. */
 int rad_light_emission_sample(const rad_light_emission *emission, const double u[4],
                               rad_vec3 *origin, rad_vec3 *direction, double flux[3]);
