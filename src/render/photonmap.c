@@ -52,7 +52,8 @@
 #define PHOTON_SALT 0x7f4a7c159e3779b9ull
 #define GATHER_SALT 0x94d049bb133111ebull
 #define SEEN_SALT 0xd6e8feb86659fd93ull
-#define SEEN_SAMPLES 16 /* rays per camera sample for the sources seen, where taken apart */
+#define SEEN_SAMPLES 16 /* rays per camera sample for the sources seen, at a source's edge */
+#define SEEN_GLASS_SAMPLES 4 /* the same where glass is seen (they split at every surface) */
 #define SEEN_EDGE_CONTRAST 0.05f /* centres seeing sources this far apart make an edge */
 #define SEEN_SPLITS MAX_SPECULAR_CHAIN /* glass splits of a path that only looks for sources */
 #define SEEN_ROULETTE 0.05 /* its branches below this throughput play Russian roulette */
@@ -647,20 +648,24 @@ static void seen_at_centres(const render_state *r, const rad_view *view, int thr
     *rays_out += total_rays;
 }
 
-/* Whether pixel (x, y) takes the sources it sees apart (render_pass): the centres of its 3 x 3
- * neighbourhood see sources that differ by more than SEEN_EDGE_CONTRAST of the brightest (an
- * edge of a light, or of its image in a mirror or through glass), or one of them meets glass
- * (where a light is seen after several glass surfaces, along paths a few samples miss). */
+/* How many rays per camera sample pixel (x, y) takes the sources it sees from, apart from the
+ * reflected light (render_pass; 0: none, they come with the samples): SEEN_SAMPLES when the
+ * centres of its 3 x 3 neighbourhood see sources that differ by more than SEEN_EDGE_CONTRAST of
+ * the brightest (an edge of a light, or of its image in a mirror or through glass), else
+ * SEEN_GLASS_SAMPLES when one of them meets glass (where a light is seen after several glass
+ * surfaces, along paths a few samples miss). */
 static int seen_apart(const float *seen, const uint8_t *glass, int width, int height, int x,
                       int y) {
     float lo = INFINITY, hi = 0;
+    int met_glass = 0;
     for (int j = y > 0 ? y - 1 : 0; j <= y + 1 && j < height; ++j)
         for (int i = x > 0 ? x - 1 : 0; i <= x + 1 && i < width; ++i) {
             size_t k = (size_t)j * (size_t)width + (size_t)i;
-            if (glass[k]) return 1;
+            met_glass |= glass[k];
             lo = fminf(lo, seen[k]), hi = fmaxf(hi, seen[k]);
         }
-    return hi > 0 && hi - lo > SEEN_EDGE_CONTRAST * hi;
+    if (hi > 0 && hi - lo > SEEN_EDGE_CONTRAST * hi) return SEEN_SAMPLES;
+    return met_glass ? SEEN_GLASS_SAMPLES : 0;
 }
 
 /* Adds pass `iteration`'s estimate to `sum` (per pixel, summed over samples). A pixel holding an
@@ -703,7 +708,7 @@ static rad_status render_pass(const rad_tracer *t, const photon_pass *pass, cons
             if (stop) continue;
             for (int x = 0; x < width; ++x) {
                 double *p = sum + 3 * ((size_t)y * (size_t)width + (size_t)x);
-                int apart = seen_apart(seen, glass, width, height, x, y);
+                int seen_rays = seen_apart(seen, glass, width, height, x, y);
                 for (int s = 0; s < spp; ++s) {
                     uint32_t sample = (uint32_t)(iteration * spp + s);
                     rad_sampler sampler = rad_sampler_make(
@@ -715,7 +720,7 @@ static rad_status render_pass(const rad_tracer *t, const photon_pass *pass, cons
                     double jitter[4];
                     rad_sampler_4d(&sampler, jitter);
                     camera_sample cs = {&sampler, &gather, gather_base, gather_rays,
-                                        apart ? PART_REFLECTED : PART_ALL, GLASS_SPLITS, NULL,
+                                        seen_rays ? PART_REFLECTED : PART_ALL, GLASS_SPLITS, NULL,
                                         mine, &rays};
                     double radiance[3];
                     camera_radiance(&r, &cs, view->eye,
@@ -723,9 +728,9 @@ static rad_status render_pass(const rad_tracer *t, const photon_pass *pass, cons
                                     radiance);
                     for (int c = 0; c < 3; ++c) p[c] += radiance[c];
                 }
-                /* The sources seen, from SEEN_SAMPLES times as many rays, each worth
-                 * 1 / SEEN_SAMPLES. */
-                for (int s = 0; apart && s < spp * SEEN_SAMPLES; ++s) {
+                /* The sources seen, from seen_rays times as many rays, each worth
+                 * 1 / seen_rays. */
+                for (int s = 0; s < spp * seen_rays; ++s) {
                     uint32_t sample = (uint32_t)(iteration * spp * SEEN_SAMPLES + s);
                     rad_sampler sampler = rad_sampler_make(
                         seed ^ SEEN_SALT,
@@ -739,7 +744,7 @@ static rad_status render_pass(const rad_tracer *t, const photon_pass *pass, cons
                     camera_radiance(&r, &cs, view->eye,
                                     rad_view_direction(view, x + jitter[0], y + jitter[1]),
                                     radiance);
-                    for (int c = 0; c < 3; ++c) p[c] += radiance[c] / SEEN_SAMPLES;
+                    for (int c = 0; c < 3; ++c) p[c] += radiance[c] / seen_rays;
                 }
             }
             int done;
