@@ -115,15 +115,22 @@ int cmd_bake(int argc, char **argv) {
         exit_status = cli_fail(ctx, rs);
         goto done;
     }
+    /* What was baked: the elements, or a hierarchy's leaves (some drawn as fans). */
+    size_t polygons, leaves = rad_system_leaf_count(system, &polygons);
+    char baked[96];
+    if (leaves == polygons && leaves == rad_system_element_count(system))
+        snprintf(baked, sizeof baked, "%zu elements", leaves);
+    else
+        snprintf(baked, sizeof baked, "%zu leaves (%zu polygons)", leaves, polygons);
     if (!p.quiet && solution) {
-        printf("baked %zu elements of %zu surfaces into %s (solution from %s)\n",
-               rad_system_element_count(system), rad_system_surface_count(system), output,
-               solution);
+        printf("baked %s of %zu surfaces into %s (solution from %s)\n", baked,
+               rad_system_surface_count(system), output, solution);
     } else if (!p.quiet) {
-        int gathering =
-            solve.solver == RAD_SOLVER_JACOBI || solve.solver == RAD_SOLVER_GAUSS_SEIDEL;
-        printf("baked %zu elements of %zu surfaces into %s (%s", rad_system_element_count(system),
-               rad_system_surface_count(system), output, rad_solver_kind_name(solve.solver));
+        int gathering = solve.solver == RAD_SOLVER_JACOBI ||
+                        solve.solver == RAD_SOLVER_GAUSS_SEIDEL ||
+                        solve.solver == RAD_SOLVER_HIERARCHICAL;
+        printf("baked %s of %zu surfaces into %s (%s", baked, rad_system_surface_count(system),
+               output, rad_solver_kind_name(solve.solver));
         if (solve.solver != RAD_SOLVER_DIRECT)
             printf(": %d %s, %s", report.iterations, gathering ? "rounds" : "shots",
                    report.converged ? "converged" : "not converged");

@@ -242,6 +242,10 @@ const char *rad_system_ff_method(const rad_system *system);
 size_t rad_system_surface_count(const rad_system *system);
 size_t rad_system_patch_count(const rad_system *system);
 size_t rad_system_element_count(const rad_system *system);
+/* What render and bake draw: the solution's leaves (the elements; after --solver hierarchical
+ * or a loaded hierarchy, its quadtree leaves) and, in *polygons when not NULL, the polygons they
+ * are drawn as (a leaf beside finer ones is drawn as a fan). 0 for a patch system (.ffm). */
+size_t rad_system_leaf_count(const rad_system *system, size_t *polygons);
 
 /* A named input surface (a patch of a .ffm file, an object of a geometric scene) and its share
  * of the solution: radiosity is the area-weighted mean over its elements, power = radiosity *

@@ -33,8 +33,12 @@ check "time budget, then resume: the same bytes" cmp "$work/full.sol" "$work/bud
 "$radiosity" render cornell --sky 1 --solution "$work/full.sol" -o "$work/loaded.pfm" --width 16 --height 16 --spp 2 --final-gather 1 --quiet
 check "render --solution draws the saved hierarchy" cmp "$work/solved.pfm" "$work/loaded.pfm"
 "$radiosity" bake "${hier[@]}" -o "$work/solved.ply"
-"$radiosity" bake cornell --sky 1 --solution "$work/full.sol" -o "$work/loaded.ply" --quiet
+"$radiosity" bake cornell --sky 1 --solution "$work/full.sol" -o "$work/loaded.ply" >"$work/baked" 2>/dev/null
 check "bake --solution bakes the saved leaves" cmp "$work/solved.ply" "$work/loaded.ply"
+# It says what it baked: the saved leaves and the polygons they are drawn as (the element mesh
+# it loaded them onto has 2,634 elements), as many as the PLY's faces.
+faces=$(grep -a '^element face' "$work/loaded.ply" | awk '{print $3}')
+check "bake --solution counts the leaves baked" grep -Eq "^baked [0-9]+ leaves \($faces polygons\) of 8 surfaces" "$work/baked"
 imp=(cornell --solver hierarchical --importance --width 16 --height 16 --quiet)
 "$radiosity" solve "${imp[@]}" --save "$work/imp_full.sol" >/dev/null
 "$radiosity" solve "${imp[@]}" --iterations 2 --save "$work/imp_part.sol" >/dev/null
