@@ -16,7 +16,6 @@ int cmd_bake(int argc, char **argv) {
         "SCENE -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj [options]   "
         "(SCENE: a file or a built-in name)";
     cli_pipeline_args p = {0};
-    p.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
     p.ff = "default";
     const char *output = NULL, *tonemap = "clamp";
     const char *solution = NULL;
@@ -84,7 +83,7 @@ int cmd_bake(int argc, char **argv) {
     rad_system *system = NULL;
     rad_solve_report report = {0};
     int exit_status = 0;
-    rs = cli_pipeline_build(ctx, positional[0], &mesh, &ff, &scene, &system, NULL);
+    rs = cli_pipeline_build(ctx, positional[0], &p, &solve, &mesh, &ff, &scene, &system, NULL);
     if (!rs && (exit_status = cli_check_outputs_against_scene("bake", scene, &output, 1)))
         goto done; /* not the scene's .mtl, .bin, textures, ... */
     if (!rs && !rad_scene_is_geometric(scene)) {

@@ -67,7 +67,6 @@ int cmd_render(int argc, char **argv) {
         "[SCENE] [-o FILE] [options]   (SCENE: a file or a built-in name; default cornell)";
     render_args a = {0};
     /* solve's default, so that render and solve agree */
-    a.pipeline.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
     a.pipeline.ff = "default";
     a.tonemap = "clamp";
     a.shading = "smooth";
@@ -169,7 +168,8 @@ int cmd_render(int argc, char **argv) {
         free(fallback_output);
         return usage ? EXIT_USAGE : 1;
     }
-    rs = cli_pipeline_build(ctx, scene_name, &mesh, &ff, &scene, &system, &timings);
+    rs = cli_pipeline_build(ctx, scene_name, &a.pipeline, &solve, &mesh, &ff, &scene, &system,
+                            &timings);
     if (!rs && (status = cli_check_outputs_against_scene("render", scene, &output, 1))) {
         rad_system_destroy(system); /* the output is the scene's .mtl, .bin, a texture, ... */
         rad_scene_destroy(scene);

@@ -73,6 +73,26 @@ check "budget: not converged" grep -Eq '^hierarchical: [0-9]+ rounds, not conver
 check "solve stage: links and leaves" grep -Eq '^radiosity: \[solve\] hierarchical, [0-9]+ rounds, residual 0, converged, [0-9]+ links, [0-9]+ leaves' "$work/steps"
 check "step line" grep -Eq '^radiosity: hierarchical step 1: [0-9]+ links \([0-9]+ to clusters\), [0-9]+ leaves, [0-9]+ clusters, [0-9]+ refined, largest remaining error' "$work/steps"
 
+# The default solver by scene size (rad_scene_default_solver): shooting for Cornell, the hierarchy
+# for a scene of 30,000 polygons or more (a grid of 30,276 floor tiles; nothing emits, so it
+# solves at once), the same in solve, render and bake; --solver still chooses.
+"$radiosity" solve cornell --json --iterations 1 >"$work/small.json" 2>/dev/null
+check "default: shooting for Cornell" grep -q '"solver": "shooting"' "$work/small.json"
+awk 'BEGIN { n = 174; for (i = 0; i <= n; i++) for (j = 0; j <= n; j++) printf "v %g 0 %g\n", i / 10, j / 10;
+             for (i = 0; i < n; i++) for (j = 0; j < n; j++) { a = i * (n + 1) + j + 1;
+                 printf "f %d %d %d %d\n", a, a + 1, a + n + 2, a + n + 1 } }' >"$work/grid.obj"
+"$radiosity" solve "$work/grid.obj" --json >"$work/grid.json" 2>"$work/grid.err"
+check "default: hierarchical from 30000 polygons" grep -q '"solver": "hierarchical"' "$work/grid.json"
+check "default: says so" grep -q '30000 polygons or more: solving with --solver hierarchical' "$work/grid.err"
+"$radiosity" solve "$work/grid.obj" --solver shooting --json --iterations 1 >"$work/grid_shooting.json" 2>/dev/null
+check "default: --solver still chooses" grep -q '"solver": "shooting"' "$work/grid_shooting.json"
+"$radiosity" bake "$work/grid.obj" -o "$work/grid.ply" 2>/dev/null >"$work/grid.bake"
+check "default: bake agrees" grep -q '(hierarchical: ' "$work/grid.bake"
+"$radiosity" render "$work/grid.obj" -o "$work/grid.pfm" --width 8 --height 8 --spp 1 >/dev/null 2>"$work/grid_render.err"
+check "default: render agrees" grep -q 'solving with --solver hierarchical' "$work/grid_render.err"
+"$radiosity" render --help >"$work/help" 2>&1
+check "default: --help says so" grep -q 'hierarchical for scenes of 30000 polygons or more' "$work/help"
+
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error 0
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error -1
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" render cornell --solver hierarchical --link-error nan -o "$work/x.png"
