@@ -119,6 +119,8 @@ int cmd_render(int argc, char **argv) {
     rad_ff_options ff;
     status = cli_pipeline_check("render", &a.pipeline, &solve, &mesh, &ff);
     if (status) return status;
+    /* A saved solution is drawn on the mesh it was saved for: no default by scene size. */
+    if (a.solution) a.pipeline.solver_default = 0;
     if (a.width < 1 || a.width > MAX_SIDE || a.height < 1 || a.height > MAX_SIDE)
         return cli_error(EXIT_USAGE, "render: image size %dx%d: each side must be 1 to %d pixels",
                          a.width, a.height, MAX_SIDE);

@@ -90,6 +90,9 @@ check "default: --solver still chooses" grep -q '"solver": "shooting"' "$work/gr
 check "default: bake agrees" grep -q '(hierarchical: ' "$work/grid.bake"
 "$radiosity" render "$work/grid.obj" -o "$work/grid.pfm" --width 8 --height 8 --spp 1 >/dev/null 2>"$work/grid_render.err"
 check "default: render agrees" grep -q 'solving with --solver hierarchical' "$work/grid_render.err"
+"$radiosity" solve "$work/grid.obj" --solver shooting --iterations 1 --save "$work/grid_shooting.sol" --quiet >/dev/null
+"$radiosity" bake "$work/grid.obj" --solution "$work/grid_shooting.sol" -o "$work/grid_shooting.ply" --quiet
+check "default: a saved element solution is baked on its own mesh" test $? -eq 0 -a -s "$work/grid_shooting.ply"
 "$radiosity" render --help >"$work/help" 2>&1
 check "default: --help says so" grep -q 'hierarchical for scenes of 30000 polygons or more' "$work/help"
 
