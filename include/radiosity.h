@@ -576,6 +576,8 @@ typedef struct rad_render_options {
                            at least 1 */
     int max_depth;      /* specular bounces (mirrors, glass) per path; zero: 16 */
     int ambient;        /* add the ambient term of progressive refinement */
+    int no_gather_filter; /* final gather: keep each pixel's own gathered light instead of
+                             filtering it over its neighbours (docs/rendering.md) */
 } rad_render_options;
 
 typedef struct rad_render_stats {

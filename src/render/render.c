@@ -129,6 +129,7 @@ static rad_status settings_from(rad_context *ctx, const rad_render_options *o,
     s->light_samples = o->light_samples ? o->light_samples
                                         : (o->final_gather > 0 ? (o->final_gather + 3) / 4 : 0);
     s->max_depth = o->max_depth ? o->max_depth : DEFAULT_MAX_DEPTH;
+    s->gather_filter = !o->no_gather_filter;
     s->ambient = o->ambient;
     return RAD_OK;
 }
@@ -370,12 +371,18 @@ static int near_edge(const rad_view *view, const pixel_corner *corner_polygons, 
     return edge;
 }
 
+/* Gather rays per sample in edge pixels, as a multiple of --final-gather, when the irradiance
+ * filter is on (gather_filter.c): the filter leaves edge pixels as they are, and their noise
+ * was most of the border's error (image border 4x4 RMSE 3.0 % -> 2.0 % for 17 % more processor
+ * time, docs/rendering.md "Irradiance filter"). */
+#define EDGE_GATHER 4
+
 /* One pixel: the mean of its samples, at Owen-scrambled Sobol' points of the pixel (a (0,m,2)-net
  * for 2^m samples, core/sampler.h): every sample is uniform over the pixel, so the expected
  * value is the box-filtered image the path tracer converges to, with less noise along edges;
  * pixels on an edge between polygons are split by what covers them (render_edge_pixel). */
 static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polygons, int x, int y,
-                         rad_ray_counts *counts, float out[3]) {
+                         rad_ray_counts *counts, rad_gather_pixel *record, float out[3]) {
     const rad_view *view = &r->view;
     rad_sample sample;
     sample.seed = r->seed;
@@ -384,6 +391,10 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
     sample.count = (uint32_t)r->settings.samples_per_pixel;
     sample.counts = counts;
     sample.first_polygon = RAD_RENDER_NO_POLYGON;
+    rad_gather_tally tally;
+    memset(&tally, 0, sizeof tally);
+    sample.tally = record ? &tally : NULL;
+    uint32_t polygon = RAD_RENDER_NO_POLYGON; /* the one all samples met first, if any */
     int samples = r->settings.samples_per_pixel;
     double sum[3] = {0, 0, 0};
     pixel_group groups[MAX_GROUPS];
@@ -391,6 +402,8 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
     int group_count = 0;
     /* One sample per pixel stays one camera ray per pixel (a preview, a flat look at the mesh). */
     int split = corner_polygons ? near_edge(view, corner_polygons, x, y) : 0;
+    /* With the irradiance filter, which leaves edge pixels alone, they gather more rays. */
+    sample.gather_rays = split && record ? EDGE_GATHER * r->settings.final_gather : 0;
     for (int s = 0; s < samples; ++s) {
         double jitter[2];
         sample.index = (uint32_t)s;
@@ -400,6 +413,8 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
         rad_trace_radiance(r, &sample, view->eye, rad_view_direction(view, x + jx, y + jy), NULL,
                            radiance);
         for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
+        if (s == 0) polygon = sample.first_polygon;
+        else if (polygon != sample.first_polygon) polygon = RAD_RENDER_NO_POLYGON;
         int g = split ? group_of(groups, &group_count, sample.first_polygon) : -1;
         if (g < 0) split = 0;
         else {
@@ -407,6 +422,8 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
             for (int c = 0; c < 3; ++c) groups[g].sum[c] += radiance[c];
         }
     }
+    if (record) rad_gather_pixel_make(&tally, samples, polygon, split, record);
+    sample.tally = NULL;
     if (split && render_edge_pixel(r, &sample, groups, group_count, split == 2, out)) return;
     for (int c = 0; c < 3; ++c) out[c] = (float)(sum[c] / samples);
 }
@@ -425,11 +442,19 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
     if (!status) status = rad_texture_shading_prepare(r);
     rad_image *image = NULL;
     pixel_corner *corner_polygons = NULL;
+    rad_gather_pixel *records = NULL; /* the irradiance filter's (gather_filter.c) */
     if (!status) status = rad_image_new(ctx, r->view.width, r->view.height, &image);
     if (!status) status = corner_polygons_make(r, &corner_polygons);
+    if (!status && r->settings.final_gather > 0 && r->settings.gather_filter) {
+        size_t pixels = (size_t)r->view.width * (size_t)r->view.height;
+        status = rad_check_budget(ctx, (double)pixels * sizeof *records, "the gather filter");
+        if (!status) records = rad_alloc(ctx, pixels, sizeof *records);
+        if (!status && !records) status = RAD_ERROR_NO_MEMORY;
+    }
     if (status) {
         rad_image_free(image);
         rad_free(ctx, corner_polygons);
+        rad_free(ctx, records);
         return status;
     }
 
@@ -448,7 +473,9 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
             stop = cancelled;
             if (stop) continue;
             for (int x = 0; x < width; ++x)
-                render_pixel(r, corner_polygons, x, y, &counts, image->pixels + 3 * ((size_t)y * width + x));
+                render_pixel(r, corner_polygons, x, y, &counts,
+                             records ? records + (size_t)y * width + x : NULL,
+                             image->pixels + 3 * ((size_t)y * width + x));
 #pragma omp critical(rad_render_progress)
             {
                 ++rows_done;
@@ -471,6 +498,12 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
         }
     }
     rad_free(ctx, corner_polygons);
+    if (!cancelled && records) status = rad_gather_filter(r, records, image->pixels);
+    rad_free(ctx, records);
+    if (status) {
+        rad_image_free(image);
+        return status;
+    }
     if (cancelled) {
         rad_image_free(image);
         return rad_fail(ctx, RAD_ERROR_CANCELLED, "rendering cancelled after %d of %d rows",
