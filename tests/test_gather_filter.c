@@ -11,10 +11,11 @@
 #include <string.h>
 
 #define SIZE 64
-/* Measured (seeds 1, 2 of the CLI at 64 x 64 against 256 samples per pixel): filtered 1.47 %,
- * 1.16 %; unfiltered 2.03 %, 1.72 %: ratios 0.72, 0.67. */
+/* Measured here: 1.55 % filtered, 2.01 % not (ratio 0.77); with the CLI at 64 x 64 against 256
+ * samples per pixel (every edge pixel gathering 4 times then), seeds 1, 2: filtered 1.47 %,
+ * 1.16 %; unfiltered 2.03 %, 1.72 %. */
 #define MAX_RATIO 0.85
-#define MAX_RMSE 0.017
+#define MAX_RMSE 0.018
 
 static rad_context *make_context(int threads, uint64_t seed) {
     rad_context_options options = {0};
