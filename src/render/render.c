@@ -466,11 +466,13 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
     rad_gather_pixel *records = NULL; /* the irradiance filter's (gather_filter.c) */
     if (!status) status = rad_image_new(ctx, r->view.width, r->view.height, &image);
     if (!status) status = corner_polygons_make(r, &corner_polygons);
-    if (!status && r->settings.final_gather > 0 && r->settings.gather_filter) {
-        size_t pixels = (size_t)r->view.width * (size_t)r->view.height;
-        status = rad_check_budget(ctx, (double)pixels * sizeof *records, "the gather filter");
-        if (!status) records = rad_alloc(ctx, pixels, sizeof *records);
-        if (!status && !records) status = RAD_ERROR_NO_MEMORY;
+    /* The filter's records and its buffer (56 bytes a pixel); past the memory budget the image
+     * is rendered without the filter rather than refused. */
+    size_t pixels = (size_t)r->view.width * (size_t)r->view.height;
+    if (!status && r->settings.final_gather > 0 && r->settings.gather_filter &&
+        (double)pixels * (sizeof *records + 3 * sizeof(float)) <= (double)ctx->max_memory) {
+        records = rad_alloc(ctx, pixels, sizeof *records);
+        if (!records) status = RAD_ERROR_NO_MEMORY;
     }
     if (status) {
         rad_image_free(image);
