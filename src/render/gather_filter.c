@@ -71,7 +71,12 @@ static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels, 
     double depth = (p->position[0] - view->eye.x) * view->forward.x +
                    (p->position[1] - view->eye.y) * view->forward.y +
                    (p->position[2] - view->eye.z) * view->forward.z;
-    double pixel_size = 2 * view->tan_half_fov * fmax(depth, 1e-12) / height;
+    if (!(depth > 0)) { /* behind the eye: cannot be, but then the pixel keeps its own */
+        for (int c = 0; c < 3; ++c) out[c] = p->reflected[c];
+        return;
+    }
+    /* No absolute lengths below: a scene in any unit filters alike (tests/cli_units.sh). */
+    double pixel_size = 2 * view->tan_half_fov * depth / height;
     double least = MIN_PIXELS * pixel_size;
     double reach = fmax(RADIUS * p->distance, least) / pixel_size;
     int k = reach < MAX_PIXELS ? (int)reach : MAX_PIXELS;
