@@ -19,7 +19,7 @@
 typedef struct render_args {
     cli_pipeline_args pipeline;
     const char *output, *tonemap, *shading, *solution;
-    int width, height, spp, final_gather, light_samples, max_depth, stats, half;
+    int width, height, spp, final_gather, light_samples, max_depth, stats, half, no_filter;
     double exposure, time_budget;
     cli_camera_args camera;
     cli_light_args lights;
@@ -97,7 +97,11 @@ int cmd_render(int argc, char **argv) {
          "N  direct light sampled + N gather rays per sample into the solution (4; 0: the "
          "interpolated solution alone)"},
         {"--light-samples", CLI_INT, &a.light_samples,
-         "N  final gather: emitter samples per sample (a quarter of --final-gather)"},
+         "N  final gather: emitter samples per sample (half of --final-gather; a quarter with "
+         "--no-gather-filter)"},
+        {"--no-gather-filter", CLI_FLAG, &a.no_filter,
+         "final gather: each pixel keeps its own gathered light (default: filtered over its "
+         "neighbours on the same surface)"},
         {"--max-depth", CLI_INT, &a.max_depth, "N  mirror and glass bounces per path (16)"},
         {"--stats", CLI_FLAG, &a.stats, "print the time of each step and ray counts"},
         {"--time-budget", CLI_DOUBLE, &a.time_budget,
@@ -192,6 +196,7 @@ int cmd_render(int argc, char **argv) {
         render.light_samples = a.light_samples;
         render.max_depth = a.max_depth;
         render.ambient = p->ambient;
+        render.no_gather_filter = a.no_filter;
         double start = cli_seconds();
         rs = rad_renderer_create(scene, system, &render, &renderer);
         renderer_seconds = cli_seconds() - start;

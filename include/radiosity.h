@@ -584,10 +584,12 @@ typedef struct rad_render_options {
     int final_gather;   /* direct light sampled and this many rays per sample gathered into
                            the solution at the first diffuse hit; zero: off (the solution,
                            interpolated, alone) */
-    int light_samples;  /* final gather: emitter samples per sample; zero: final_gather / 4,
-                           at least 1 */
+    int light_samples;  /* final gather: emitter samples per sample; zero: final_gather / 2
+                           (final_gather / 4 with no_gather_filter), at least 1 */
     int max_depth;      /* specular bounces (mirrors, glass) per path; zero: 16 */
     int ambient;        /* add the ambient term of progressive refinement */
+    int no_gather_filter; /* final gather: keep each pixel's own gathered light instead of
+                             filtering it over its neighbours (docs/rendering.md) */
 } rad_render_options;
 
 typedef struct rad_render_stats {
