@@ -13,13 +13,14 @@ typedef struct cli_pipeline_args {
     size_t elements;
     size_t seed;
     int importance; /* --importance: the hierarchical solver weighs links by the camera's view */
+    int discontinuity; /* --discontinuity 1: cut at shadow boundaries too (D1/D2) */
     /* Filled by cli_pipeline_check: the chosen solver's and form-factor method's own options,
      * which the option structs it writes point to. */
     rad_options solver_options, ff_options;
 } cli_pipeline_args;
 
 /* How many entries cli_pipeline_options writes. */
-#define CLI_PIPELINE_OPTION_COUNT 17
+#define CLI_PIPELINE_OPTION_COUNT 18
 
 /* Writes the shared options (--solver ... --quiet) into `options`, which must have room for
  * CLI_PIPELINE_OPTION_COUNT entries; `default_solver` is the solver shown as the default. */
