@@ -7,6 +7,7 @@
  *   - meshed with shadow boundaries, no floor element straddles those lines where they bound
  *     the shadow (without, some do: the check can fail), and the element count stays within
  *     15% of --elements (measured 2,823 for 2,500; 2,550 without);
+ *   - the Cornell box: cut along its shadows, its contacts still cut, its count near N;
  *   - bad blockers (lying on the floor, of no area, level with the emitter, above it, edge-on)
  *     are meshed without a crash. */
 #include "mesh/contact.h"
@@ -132,12 +133,43 @@ static void test_bad_blockers(rad_context *ctx) {
     }
 }
 
+/* The Cornell box with shadow boundaries: its walls, floor and blocks are cut (the tall block
+ * shades the red wall, the short one the floor), the count stays near --elements. */
+static void test_cornell(rad_context *ctx) {
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_builtin(ctx, "cornell", &scene) == RAD_OK);
+    if (!scene) return;
+    rad_contact_options options = {1, 20};
+    rad_contact_cut *cut = NULL;
+    CHECK(rad_contact_cut_create_with(ctx, scene, &options, &cut) == RAD_OK);
+    if (cut) {
+        printf("cornell: %zu shadow segments, %zu cut along, %zu T-points, %zu pieces\n",
+               cut->shadow_segments, cut->shadow_cuts, cut->t_points, cut->piece_count);
+        CHECK(cut->shadow_cuts >= 20 && cut->shadow_cuts <= cut->shadow_segments);
+        CHECK(cut->hidden_pieces >= 3); /* the contacts are still cut */
+    }
+    rad_contact_cut_destroy(ctx, cut);
+    size_t elements[2] = {0, 0};
+    for (int shadows = 0; shadows < 2; ++shadows) {
+        rad_mesh_options mesh_options = {0};
+        mesh_options.shadow_boundaries = shadows;
+        rad_mesh *mesh = NULL;
+        CHECK(rad_mesh_create(ctx, scene, &mesh_options, &mesh) == RAD_OK);
+        if (mesh) elements[shadows] = mesh->element_count;
+        rad_mesh_destroy(mesh);
+    }
+    printf("cornell: %zu elements without shadow boundaries, %zu with\n", elements[0], elements[1]);
+    CHECK(fabs((double)elements[1] / (double)elements[0] - 1) < 0.1);
+    rad_scene_destroy(scene);
+}
+
 int main(void) {
     rad_context_options options = {0};
     rad_context *ctx = NULL;
     if (rad_context_create(&options, &ctx)) return 1;
     test_analytic_lines(ctx);
     test_bad_blockers(ctx);
+    test_cornell(ctx);
     rad_context_destroy(ctx);
     return test_finish();
 }

@@ -709,6 +709,7 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
         }
         if (made) cut->cut_polygons++, cut->contact_lines += made;
         /* Shadow boundaries on this polygon, the largest weight first. */
+        while (next_segment < segment_count && segments[next_segment].polygon < i) next_segment++;
         size_t first_segment = next_segment, shadow_lines = 0;
         while (next_segment < segment_count && segments[next_segment].polygon == i) next_segment++;
         for (size_t c = first_segment; c < next_segment && shadow_lines < MAX_SHADOW_LINES && !status; ++c) {
