@@ -19,7 +19,7 @@
 typedef struct render_args {
     cli_pipeline_args pipeline;
     const char *output, *tonemap, *shading, *solution;
-    int width, height, spp, final_gather, light_samples, max_depth, stats, half;
+    int width, height, spp, final_gather, light_samples, max_depth, stats, half, no_filter;
     double exposure, time_budget;
     cli_camera_args camera;
     cli_light_args lights;
@@ -67,7 +67,6 @@ int cmd_render(int argc, char **argv) {
         "[SCENE] [-o FILE] [options]   (SCENE: a file or a built-in name; default cornell)";
     render_args a = {0};
     /* solve's default, so that render and solve agree */
-    a.pipeline.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
     a.pipeline.ff = "default";
     a.tonemap = "clamp";
     a.shading = "smooth";
@@ -98,7 +97,11 @@ int cmd_render(int argc, char **argv) {
          "N  direct light sampled + N gather rays per sample into the solution (4; 0: the "
          "interpolated solution alone)"},
         {"--light-samples", CLI_INT, &a.light_samples,
-         "N  final gather: emitter samples per sample (a quarter of --final-gather)"},
+         "N  final gather: emitter samples per sample (half of --final-gather; a quarter with "
+         "--no-gather-filter)"},
+        {"--no-gather-filter", CLI_FLAG, &a.no_filter,
+         "final gather: each pixel keeps its own gathered light (default: filtered over its "
+         "neighbours on the same surface)"},
         {"--max-depth", CLI_INT, &a.max_depth, "N  mirror and glass bounces per path (16)"},
         {"--stats", CLI_FLAG, &a.stats, "print the time of each step and ray counts"},
         {"--time-budget", CLI_DOUBLE, &a.time_budget,
@@ -120,6 +123,8 @@ int cmd_render(int argc, char **argv) {
     rad_ff_options ff;
     status = cli_pipeline_check("render", &a.pipeline, &solve, &mesh, &ff);
     if (status) return status;
+    /* A saved solution is drawn on the mesh it was saved for: no default by scene size. */
+    if (a.solution) a.pipeline.solver_default = 0;
     if (a.width < 1 || a.width > MAX_SIDE || a.height < 1 || a.height > MAX_SIDE)
         return cli_error(EXIT_USAGE, "render: image size %dx%d: each side must be 1 to %d pixels",
                          a.width, a.height, MAX_SIDE);
@@ -169,7 +174,8 @@ int cmd_render(int argc, char **argv) {
         free(fallback_output);
         return usage ? EXIT_USAGE : 1;
     }
-    rs = cli_pipeline_build(ctx, scene_name, &mesh, &ff, &scene, &system, &timings);
+    rs = cli_pipeline_build(ctx, scene_name, &a.pipeline, &solve, &mesh, &ff, &scene, &system,
+                            &timings);
     if (!rs && (status = cli_check_outputs_against_scene("render", scene, &output, 1))) {
         rad_system_destroy(system); /* the output is the scene's .mtl, .bin, a texture, ... */
         rad_scene_destroy(scene);
@@ -190,6 +196,7 @@ int cmd_render(int argc, char **argv) {
         render.light_samples = a.light_samples;
         render.max_depth = a.max_depth;
         render.ambient = p->ambient;
+        render.no_gather_filter = a.no_filter;
         double start = cli_seconds();
         rs = rad_renderer_create(scene, system, &render, &renderer);
         renderer_seconds = cli_seconds() - start;

@@ -179,14 +179,18 @@ double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin
 /* ------------------------------------------------------------------------------------------- */
 
 void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_element_hit *hit,
-                      rad_vec3 x, rad_vec3 n, double out[3]) {
+                      rad_vec3 x, rad_vec3 n, int first_hit, double out[3]) {
     uint32_t element = hit->element;
     float rho[3]; /* the texture's at x on textured surfaces (texture_shading.c) */
-    rad_renderer_albedo(r, element, x, rho);
+    int textured = rad_renderer_albedo(r, element, x, rho);
     rad_visible_emission(r, hit, x, n, rho, out); /* caustics from the map (caustics.c) */
     if (!(rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return;
 
-    rad_gather_origin from = {n, r->settings.light_samples, r->settings.final_gather, 0, 0, 0};
+    /* The irradiance filter (gather_filter.c) takes untextured first hits only: there rho is
+     * one value over the polygon and the filtered radiance can be multiplied back by it. */
+    rad_gather_tally *tally = first_hit && !textured ? sample->tally : NULL;
+    int rays = sample->gather_rays ? sample->gather_rays : r->settings.final_gather;
+    rad_gather_origin from = {n, r->settings.light_samples, rays, 0, 0, 0, tally};
 
     /* Direct light. */
     double direct[3];
@@ -197,17 +201,28 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     /* Indirect light (and the emitted light they meet, weighted): cosine-weighted rays into the
      * solution. With density cos / pi the estimate of (rho / pi) * integral L cos dw is
      * rho * mean L. */
-    int rays = r->settings.final_gather;
-    double sum[3] = {0, 0, 0};
+    double sum[3] = {0, 0, 0}, reflected[3] = {0, 0, 0};
     for (int i = 0; i < rays; ++i) {
         double u[2];
         rad_sample_2d(sample, (uint32_t)rays, (uint32_t)i, RAD_RENDER_DIM_GATHER, u);
         from.ray = (uint32_t)i;
         double radiance[3];
+        if (tally) tally->ray_emitted[0] = tally->ray_emitted[1] = tally->ray_emitted[2] = 0;
         rad_trace_radiance(r, sample, x, cosine_direction(n, u), &from, radiance);
         for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
+        if (tally)
+            for (int c = 0; c < 3; ++c) reflected[c] += radiance[c] - tally->ray_emitted[c];
     }
     for (int c = 0; c < 3; ++c) out[c] += rho[c] * sum[c] / rays;
+    if (!tally) return;
+    tally->gathers++;
+    for (int c = 0; c < 3; ++c) {
+        tally->reflected[c] += reflected[c] / rays;
+        tally->rho[c] = rho[c];
+    }
+    tally->position[0] += x.x;
+    tally->position[1] += x.y;
+    tally->position[2] += x.z;
 }
 
 /* ------------------------------------------------------------------------------------------- */
@@ -238,7 +253,7 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
     /* The parent's place in the sampler: its run per camera sample and its point in it. */
     uint32_t run = from->level > 0 ? from->run : (uint32_t)from->gather_rays, point = from->ray;
     uint32_t dimension = RAD_RENDER_DIM_SHORT + 2 * (uint32_t)from->level;
-    rad_gather_origin next = {n, r->emitters.count ? 1 : 0, 1, point, from->level + 1, run};
+    rad_gather_origin next = {n, r->emitters.count ? 1 : 0, 1, point, from->level + 1, run, NULL};
     double direct[3], u[2], radiance[3];
     direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
     lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */

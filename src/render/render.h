@@ -28,6 +28,7 @@ typedef struct rad_render_settings {
     int width, height, samples_per_pixel;
     rad_shading shading;
     int final_gather, light_samples, max_depth, ambient;
+    int gather_filter; /* the final gather's irradiance filter (gather_filter.c) on */
 } rad_render_settings;
 
 struct rad_renderer {
@@ -93,6 +94,18 @@ typedef struct rad_ray_counts {
     uint64_t camera, gather, shadow, specular;
 } rad_ray_counts;
 
+/* What the final gather at a camera ray's first hit leaves for the irradiance filter
+ * (gather_filter.c), summed over the camera samples of one pixel. */
+typedef struct rad_gather_tally {
+    int gathers;              /* samples gathered at their first hit, untextured */
+    double reflected[3];      /* sum of the mean radiance the gather rays read, emitted aside */
+    double inverse_distance;  /* sum over the gather rays of 1 / hit distance (0: left) */
+    uint32_t rays;            /* the gather rays in that sum */
+    double position[3];       /* sum of the gathered points */
+    float rho[3];             /* the reflectance there (one polygon, untextured: constant) */
+    double ray_emitted[3];    /* the current gather ray's emitted light, weighted */
+} rad_gather_tally;
+
 /* One camera sample: its pixel and its place among the samples of the pixel, from which every
  * random number it needs is drawn (core/sampler.h: Owen-scrambled Sobol' points, the pixels in
  * Morton order). The final gather spreads its rays and emitter samples over the whole pixel:
@@ -105,6 +118,10 @@ typedef struct rad_sample {
     /* Set by rad_trace_radiance on camera paths: the input polygon the camera ray met first
      * (RAD_RENDER_NO_POLYGON when it left the scene), which render.c groups samples by. */
     uint32_t first_polygon;
+    /* The pixel's tally for the irradiance filter (gather_filter.c); NULL: none. */
+    rad_gather_tally *tally;
+    /* Gather rays per camera sample in this pixel; zero: the settings' final_gather. */
+    int gather_rays;
 } rad_sample;
 
 #define RAD_RENDER_NO_POLYGON UINT32_MAX
@@ -157,10 +174,11 @@ rad_status rad_reconstruct_build(rad_renderer *r);
 rad_status rad_reconstruct_prepare(rad_renderer *r);
 
 /* final_gather.c: the emitter table of the emitting elements, and the radiance leaving the
- * diffuse point x (on element, front normal n) by direct light plus gathered indirect light. */
+ * diffuse point x (on element, front normal n) by direct light plus gathered indirect light;
+ * first_hit: x is the camera ray's first hit, whose gather the pixel's tally records. */
 rad_status rad_emitters_build(rad_renderer *r);
 void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_element_hit *hit,
-                      rad_vec3 x, rad_vec3 n, double out[3]);
+                      rad_vec3 x, rad_vec3 n, int first_hit, double out[3]);
 
 /* Where a gather ray starts: what multiple importance sampling between the emitter samples and
  * the gather rays needs to weigh the emitted light a gather ray finds. */
@@ -172,6 +190,9 @@ typedef struct rad_gather_origin {
      * the sampler run of each sample is `run` points, of which this ray is point `ray`. */
     int level;
     uint32_t run;
+    /* Level 0 at a camera ray's first hit, with the irradiance filter on: what the gather rays
+     * met is tallied here (hit distance, emitted light); NULL otherwise. */
+    rad_gather_tally *tally;
 } rad_gather_origin;
 
 /* The power heuristic (Veach & Guibas 1995) for a sample of the strategy with (count times
@@ -210,6 +231,25 @@ int rad_light_unblocked(const rad_renderer *r, size_t i, rad_vec3 x,
  * mirror or glass the direct light is not sampled, and they take B / pi. */
 void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
                         rad_vec3 direction, const rad_gather_origin *gather, double out[3]);
+
+/* gather_filter.c: one pixel's record for the irradiance filter: the pixel's samples all met
+ * one untextured diffuse polygon and were gathered there (polygon RAD_RENDER_NO_POLYGON: not
+ * filtered, and not used by its neighbours). */
+typedef struct rad_gather_pixel {
+    uint32_t polygon;
+    float position[3];  /* mean of the gathered points */
+    float distance;     /* harmonic mean distance of the gather rays' hits */
+    float reflected[3]; /* mean radiance the gather rays read (emitted light aside) */
+    float rho[3];
+} rad_gather_pixel;
+
+/* gather_filter.c: the record of a pixel from its tally (split: an edge pixel, not filtered). */
+void rad_gather_pixel_make(const rad_gather_tally *tally, int samples, uint32_t polygon, int split,
+                           rad_gather_pixel *out);
+/* gather_filter.c: replaces, in every filtered pixel of the image, rho times its own gathered
+ * radiance by rho times the weighted mean of its neighbours' (irradiance filtering, Kontkanen,
+ * Raesaenen & Keller 2004). */
+rad_status rad_gather_filter(const rad_renderer *r, const rad_gather_pixel *pixels, float *image);
 
 /* texture_shading.c: the reflectance at point x of element (the texture's, times the factor,
  * on textured surfaces; 1 then), else the element's (0). */

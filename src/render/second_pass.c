@@ -56,6 +56,8 @@ static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
     }
     double weight = rad_gather_emission_weight(r, gather, direction, hit);
     for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - emitted[c]) + weight * emitted[c];
+    if (gather->tally)
+        for (int c = 0; c < 3; ++c) gather->tally->ray_emitted[c] = weight * emitted[c];
 }
 
 /* Light straight from the emitters reflected at a glossy point x towards wo: one emitter sample,
@@ -112,6 +114,10 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
         int found = rad_element_rays_intersect(r->rays, origin, direction, tnear, INFINITY, &hit);
         if (depth == 0 && !gather)
             sample->first_polygon = found ? r->mesh->element_polygon[hit.element] : RAD_RENDER_NO_POLYGON;
+        if (depth == 0 && gather && gather->tally) {
+            gather->tally->rays++;
+            if (found && hit.t > 0) gather->tally->inverse_distance += 1 / hit.t;
+        }
         if (!found) {
             /* Left the scene: the sky, if there is one (light/lights.h). */
             double sky[3];
@@ -127,7 +133,7 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
             if (!hit.front) return;
             double radiance[3];
             if (!gather && r->settings.final_gather > 0)
-                rad_final_gather(r, sample, &hit, x, normal, radiance);
+                rad_final_gather(r, sample, &hit, x, normal, depth == 0, radiance);
             else if (depth == 0 && rad_gather_is_short(r, gather, &hit)) {
                 /* Too near for the solution: gathered again from x, plus the emitted light
                  * weighted as solution_radiance weighs it. */
@@ -135,6 +141,8 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
                 const float *emitted = r->element_emission[hit.element];
                 double weight = rad_gather_emission_weight(r, gather, direction, &hit);
                 for (int c = 0; c < 3; ++c) radiance[c] += weight * emitted[c];
+                if (gather->tally)
+                    for (int c = 0; c < 3; ++c) gather->tally->ray_emitted[c] = weight * emitted[c];
             } else solution_radiance(r, &hit, gather, depth, direction, x, radiance);
             const float *emitted = r->element_emission[hit.element];
             if (glossy_pdf > 0 && (emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) {

@@ -1,0 +1,144 @@
+/* gather_filter.c - irradiance filtering of the final gather: the gathered (indirect) light of
+ * each pixel replaced by a weighted mean over its neighbours on the same polygon.
+ *
+ * The final gather's noise is in the light its gather rays read from the solution (the emitter
+ * samples are few and stratified; docs/rendering.md, "Choosing the defaults"). That light, the
+ * irradiance of the indirect field, varies slowly over a surface except where other surfaces
+ * are near (a block's base, a room's corner): Ward's irradiance cache bounds its relative change
+ * over a step dx by dx / R, R the harmonic mean distance of what the hemisphere sees (Ward,
+ * Rubinstein & Clear 1988). So every pixel's own estimate, from its S n gather rays, is
+ * replaced by the mean of its neighbours' estimates within a world-space radius A R (Kontkanen,
+ * Raesaenen & Keller 2004, "Irradiance filtering for Monte Carlo ray tracing"): many pixels'
+ * rays in open areas, few or none beside a contact, where R is small.
+ *
+ *   - Which pixels: those whose camera samples all met one untextured diffuse input polygon and
+ *     were gathered there (render.c, rad_gather_pixel_make); edge pixels (split by coverage),
+ *     pixels seen through mirrors or glass, textured ones, and those on an emitter's surface
+ *     stay as they are, and are nobody's neighbours. Neighbours must lie on the same polygon:
+ *     a wall and the floor, or a block's faces, never mix.
+ *   - The weight of neighbour q for pixel p: (1 - (d / h)^2)^2, d = |x_q - x_p|, h = A min(R_p,
+ *     R_q) but at least MIN_PIXELS pixels at p's depth, zero beyond h; the window is cut at
+ *     MAX_PIXELS pixels each way. Near a concave corner R shrinks to the distance from it and
+ *     Ward's bound keeps every pixel alone, though the light there varies mostly with the
+ *     radiosity of the other wall, which is smooth: the few pixels' floor halves the noise
+ *     along the room's corner lines. Edge pixels, which are not filtered, gather EDGE_GATHER
+ *     times the rays instead (render.c).
+ *   - Only the gathered part moves: the pixel's value changes by rho (I' - I), I its own mean
+ *     gathered radiance, I' the weighted mean; direct light (emitter samples and the emitted
+ *     light the gather rays met, weighted) keeps its own sharp shadows.
+ *   - Local linear regression (the mean of a plane fitted by weighted least squares in screen
+ *     offsets, not the plain weighted mean): where the window is cut by the polygon's edge or
+ *     the image's, a plain mean would be pulled towards the inside; the fitted plane's value at
+ *     the pixel is not, to first order. Where the fit is ill-conditioned (a line of pixels), the
+ *     plain mean.
+ * The result depends on the pixels' records only, not on the order of the work: the same bits
+ * for any thread count. */
+#include "render/render.h"
+
+#include <omp.h>
+
+#define RADIUS 0.1     /* A: the filter's radius in harmonic mean distances */
+#define MIN_PIXELS 4.0 /* ... but at least this many pixels (at the pixel's depth) */
+#define MAX_PIXELS 12  /* the window's half-size */
+
+void rad_gather_pixel_make(const rad_gather_tally *tally, int samples, uint32_t polygon, int split,
+                           rad_gather_pixel *out) {
+    out->polygon = RAD_RENDER_NO_POLYGON;
+    if (split || polygon == RAD_RENDER_NO_POLYGON || tally->gathers != samples || samples <= 0 ||
+        tally->rays == 0 || !(tally->inverse_distance > 0))
+        return;
+    out->polygon = polygon;
+    for (int c = 0; c < 3; ++c) {
+        out->position[c] = (float)(tally->position[c] / samples);
+        out->reflected[c] = (float)(tally->reflected[c] / samples);
+        out->rho[c] = tally->rho[c];
+    }
+    out->distance = (float)(tally->rays / tally->inverse_distance);
+}
+
+static double distance3(const float a[3], const float b[3]) {
+    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+/* The filtered gathered radiance of pixel (x, y) (its record p), into out. */
+static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels, int x, int y,
+                         double out[3]) {
+    const rad_view *view = &r->view;
+    const int width = view->width, height = view->height;
+    const rad_gather_pixel *p = &pixels[(size_t)y * width + x];
+    /* The window: as many pixels as the radius covers at p's depth, at most MAX_PIXELS. */
+    double depth = (p->position[0] - view->eye.x) * view->forward.x +
+                   (p->position[1] - view->eye.y) * view->forward.y +
+                   (p->position[2] - view->eye.z) * view->forward.z;
+    if (!(depth > 0)) { /* behind the eye: cannot be, but then the pixel keeps its own */
+        for (int c = 0; c < 3; ++c) out[c] = p->reflected[c];
+        return;
+    }
+    /* No absolute lengths below: a scene in any unit filters alike (tests/cli_units.sh). */
+    double pixel_size = 2 * view->tan_half_fov * depth / height;
+    double least = MIN_PIXELS * pixel_size;
+    double reach = fmax(RADIUS * p->distance, least) / pixel_size;
+    int k = reach < MAX_PIXELS ? (int)reach : MAX_PIXELS;
+    /* Weighted sums: of 1, dx, dy, dx^2, dx dy, dy^2, and of I, I dx, I dy per channel. */
+    double s0 = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+    double si[3] = {0, 0, 0}, six[3] = {0, 0, 0}, siy[3] = {0, 0, 0};
+    for (int qy = y - k; qy <= y + k; ++qy) {
+        if (qy < 0 || qy >= height) continue;
+        for (int qx = x - k; qx <= x + k; ++qx) {
+            if (qx < 0 || qx >= width) continue;
+            const rad_gather_pixel *q = &pixels[(size_t)qy * width + qx];
+            if (q->polygon != p->polygon) continue;
+            double h = fmax(RADIUS * fmin(p->distance, q->distance), least);
+            double d = distance3(p->position, q->position);
+            if (!(d < h) && q != p) continue;
+            double t = d / h, w = q == p ? 1 : (1 - t * t) * (1 - t * t);
+            double dx = qx - x, dy = qy - y;
+            s0 += w;
+            sx += w * dx;
+            sy += w * dy;
+            sxx += w * dx * dx;
+            sxy += w * dx * dy;
+            syy += w * dy * dy;
+            for (int c = 0; c < 3; ++c) {
+                si[c] += w * q->reflected[c];
+                six[c] += w * q->reflected[c] * dx;
+                siy[c] += w * q->reflected[c] * dy;
+            }
+        }
+    }
+    for (int c = 0; c < 3; ++c) out[c] = si[c] / s0;
+    /* The plane a + b dx + c dy by weighted least squares; its value at the pixel is a. The
+     * normal equations [s0 sx sy; sx sxx sxy; sy sxy syy] (a b c) = (si six siy), solved by
+     * Cramer's rule; a determinant small against its scale means the window is a line or a
+     * point, and the plain mean stays. */
+    double det = s0 * (sxx * syy - sxy * sxy) - sx * (sx * syy - sxy * sy) + sy * (sx * sxy - sxx * sy);
+    double scale = s0 * sxx * syy;
+    if (!(scale > 0) || !(det > 1e-3 * scale)) return;
+    for (int c = 0; c < 3; ++c) {
+        double a = si[c] * (sxx * syy - sxy * sxy) - sx * (six[c] * syy - sxy * siy[c]) +
+                   sy * (six[c] * sxy - sxx * siy[c]);
+        out[c] = a / det;
+    }
+}
+
+rad_status rad_gather_filter(const rad_renderer *r, const rad_gather_pixel *pixels, float *image) {
+    const int width = r->view.width, height = r->view.height;
+    float *change = rad_alloc(r->ctx, (size_t)width * height * 3, sizeof *change);
+    if (!change) return RAD_ERROR_NO_MEMORY;
+#pragma omp parallel for schedule(dynamic, 4) num_threads(rad_thread_count(r->ctx))
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            size_t i = (size_t)y * width + x;
+            const rad_gather_pixel *p = &pixels[i];
+            change[3 * i] = change[3 * i + 1] = change[3 * i + 2] = 0;
+            if (p->polygon == RAD_RENDER_NO_POLYGON) continue;
+            double filtered[3];
+            filter_pixel(r, pixels, x, y, filtered);
+            for (int c = 0; c < 3; ++c)
+                change[3 * i + c] = (float)(p->rho[c] * (filtered[c] - p->reflected[c]));
+        }
+    for (size_t i = 0; i < (size_t)width * height * 3; ++i) image[i] = fmaxf(0.0f, image[i] + change[i]);
+    rad_free(r->ctx, change);
+    return RAD_OK;
+}
