@@ -110,7 +110,7 @@ int cmd_formfactors(int argc, char **argv) {
     rad_scene *scene = NULL;
     rad_system *system = NULL;
     double *matrix = NULL;
-    rad_mesh_options mesh = {a.patch_size, a.element_size, a.elements, 0};
+    rad_mesh_options mesh = {a.patch_size, a.element_size, a.elements, 0, 0};
     rad_options own = {0};
     cli_ff_option(&own, (rad_ff_method)method, "ff-samples", a.ff_samples);
     cli_ff_option(&own, (rad_ff_method)method, "hemicube-res", a.hemicube_res);

@@ -43,6 +43,8 @@ void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, 
         {"--patch-size", CLI_DOUBLE, &a->patch_size, "S  longest patch edge (scene units)"},
         {"--element-size", CLI_DOUBLE, &a->element_size, "S  longest element edge (scene units)"},
         {"--elements", CLI_SIZE, &a->elements, "N  approximate element count (2500)"},
+        {"--discontinuity", CLI_INT, &a->discontinuity,
+         "N  0: cut the mesh at contacts; 1: and at the shadow boundaries of area lights (0)"},
         {"--max-memory", CLI_DOUBLE, &a->max_memory, "MIB  memory budget for matrices (2048)"},
         {"--threads", CLI_INT, &a->threads, "N  worker threads (all cores)"},
         {"--seed", CLI_SIZE, &a->seed, "S  random seed (0)"},
@@ -67,6 +69,8 @@ int cli_pipeline_check_values(const char *command, const cli_pipeline_args *a) {
     if (a->patch_size < 0 || a->element_size < 0)
         return cli_error(EXIT_USAGE, "%s: sizes must be positive", command);
     if (a->tolerance < 0) return cli_error(EXIT_USAGE, "%s: --tolerance must be positive", command);
+    if (a->discontinuity != 0 && a->discontinuity != 1)
+        return cli_error(EXIT_USAGE, "%s: --discontinuity must be 0 or 1, not %d", command, a->discontinuity);
     if (a->omega != 0 && !(a->omega > 0 && a->omega < 2))
         return cli_error(EXIT_USAGE, "%s: --omega must be in (0, 2), not %g", command, a->omega);
     return 0;
@@ -102,7 +106,7 @@ int cli_pipeline_check(const char *command, cli_pipeline_args *a, rad_solve_opti
     cli_solver_option(&a->solver_options, s.solver, "importance", a->importance);
     s.method_options = &a->solver_options;
     *solve = s;
-    *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements, 0};
+    *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements, 0, a->discontinuity};
     /* A solver that draws its own leaves needs no uniform mesh. */
     mesh->polygons_only = (rad_solver_get(s.solver)->capabilities & RAD_SOLVER_OWN_LEAVES) != 0;
     a->ff_options = (rad_options){0};

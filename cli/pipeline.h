@@ -13,6 +13,7 @@ typedef struct cli_pipeline_args {
     size_t elements;
     size_t seed;
     int importance; /* --importance: the hierarchical solver weighs links by the camera's view */
+    int discontinuity; /* --discontinuity 1: cut at shadow boundaries too (D1/D2) */
     /* --solver was not given (cli_pipeline_check sets it when `solver` is NULL): the solver is
      * the scene's default (rad_scene_default_solver, cli_pipeline_default_solver). */
     int solver_default;
@@ -22,7 +23,7 @@ typedef struct cli_pipeline_args {
 } cli_pipeline_args;
 
 /* How many entries cli_pipeline_options writes. */
-#define CLI_PIPELINE_OPTION_COUNT 17
+#define CLI_PIPELINE_OPTION_COUNT 18
 
 /* Writes the shared options (--solver ... --quiet) into `options`, which must have room for
  * CLI_PIPELINE_OPTION_COUNT entries; `default_solver` is the solver shown as the default. */

@@ -177,6 +177,10 @@ typedef struct rad_mesh_options {
      * contact cuts, no form-factor provider: for a solver that refines and draws its own leaves
      * (RAD_SOLVER_OWN_LEAVES); the sizes above are then not used. */
     int polygons_only;
+    /* Nonzero: besides the contacts (always cut), cut the surfaces along the shadow boundaries
+     * of the brightest area emitters before meshing (discontinuity meshing D1/D2,
+     * docs/meshing.md, "Shadow boundaries"). Off by default: it pays for sharp shadows. */
+    int shadow_boundaries;
 } rad_mesh_options;
 
 /* Per-method options: a bag of name = value pairs, as Mitsuba's plugins read their properties

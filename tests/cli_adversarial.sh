@@ -92,6 +92,7 @@ done
 expect 2 "solve: --tolerance must be positive" -- "$radiosity" solve four-walls --tolerance -1
 expect 2 "solve: --omega must be in (0, 2), not 2" -- "$radiosity" solve four-walls --omega 2
 expect 2 "render: --omega must be in (0, 2), not 2" -- "$radiosity" render cornell --omega 2 -o x.png
+expect 2 "render: --discontinuity must be 0 or 1, not 2" -- "$radiosity" render cornell --discontinuity 2 -o x.png
 nothing_left "option values"
 
 # The built-in geometric scenes render with their own cameras.

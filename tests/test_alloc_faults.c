@@ -150,7 +150,7 @@ static rad_status run_mirror(rad_context *ctx, const void *arg, double *result) 
     rad_system *system = NULL;
     rad_status status = rad_scene_builtin(ctx, "cornell-mirror", &scene);
     if (!status) status = rad_scene_set_specular_first(scene, 1, 2000);
-    rad_mesh_options mesh = {0, 0, 60, 0};
+    rad_mesh_options mesh = {0, 0, 60, 0, 0};
     rad_ff_options ff = {RAD_FF_DEFAULT, 0, 0, NULL};
     if (!status) status = rad_system_create(ctx, scene, &mesh, &ff, &system);
     rad_scene_destroy(scene);
@@ -215,7 +215,7 @@ static rad_status run_outputs(rad_context *ctx, const void *arg, double *result)
     } else {
         status = rad_scene_builtin(ctx, "cornell", &scene);
     }
-    rad_mesh_options mesh = {0, 0, 60, 0};
+    rad_mesh_options mesh = {0, 0, 60, 0, 0};
     rad_ff_options ff = {RAD_FF_DEFAULT, 0, 0, NULL};
     if (!status && what != OUT_PATHTRACE) status = rad_system_create(ctx, scene, &mesh, &ff, &system);
     if (!status && system) {
@@ -387,15 +387,15 @@ int main(void) {
     check_scenario("parse a larger .ffm", run_parse, many, 1);
     check_scenario("dense system, every solver", run_dense, NULL, 1);
 
-    scene_job four_walls = {"four-walls", 0, {0, 0, 0, 0}, RAD_FF_DEFAULT, 1, 0};
+    scene_job four_walls = {"four-walls", 0, {0, 0, 0, 0, 0}, RAD_FF_DEFAULT, 1, 0};
     check_scenario("four-walls, every solver", run_scene, &four_walls, 1);
-    scene_job file = {RAD_SOURCE_DIR "/scenes/four-walls.ffm", 1, {0, 0, 0, 0}, RAD_FF_DEFAULT, 0, 0};
+    scene_job file = {RAD_SOURCE_DIR "/scenes/four-walls.ffm", 1, {0, 0, 0, 0, 0}, RAD_FF_DEFAULT, 0, 0};
     check_scenario("four-walls.ffm from its file", run_scene, &file, 1);
 
     /* A small geometric scene: meshing, Embree, form factors, every solver. */
-    scene_job cube = {"unit-cube", 0, {0, 0, 24, 0}, RAD_FF_ANALYTIC, 1, 0};
+    scene_job cube = {"unit-cube", 0, {0, 0, 24, 0, 0}, RAD_FF_ANALYTIC, 1, 0};
     check_scenario("unit-cube, 24 elements, every solver", run_scene, &cube, 7);
-    scene_job hierarchy = {"unit-cube", 0, {0, 0, 24, 0}, RAD_FF_ANALYTIC, 0, 1};
+    scene_job hierarchy = {"unit-cube", 0, {0, 0, 24, 0, 0}, RAD_FF_ANALYTIC, 0, 1};
     check_scenario("unit-cube, hierarchical", run_scene, &hierarchy, 3);
     check_scenario("cornell-mirror, both specular passes, shooting", run_mirror, NULL, 5);
     static const rad_ff_method methods[] = {RAD_FF_HEMICUBE, RAD_FF_RAYCAST, RAD_FF_MONTECARLO};
@@ -403,7 +403,7 @@ int main(void) {
                                                 "unit-cube, ray-cast form factors",
                                                 "unit-cube, Monte Carlo form factors"};
     for (int m = 0; m < 3; ++m) {
-        scene_job job = {"unit-cube", 0, {0, 0, 24, 0}, methods[m], 1, 0};
+        scene_job job = {"unit-cube", 0, {0, 0, 24, 0, 0}, methods[m], 1, 0};
         check_scenario(method_labels[m], run_scene, &job, 7);
     }
 

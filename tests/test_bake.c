@@ -213,7 +213,7 @@ typedef struct solved {
 static solved solve(const char *name, size_t elements) {
     solved s = {0};
     CHECK(rad_scene_builtin(ctx, name, &s.scene) == RAD_OK);
-    rad_mesh_options mesh = {0, 0, elements, 0};
+    rad_mesh_options mesh = {0, 0, elements, 0, 0};
     CHECK(rad_system_create(ctx, s.scene, &mesh, NULL, &s.system) == RAD_OK);
     rad_solve_options options = {0};
     options.solver = RAD_SOLVER_SHOOTING;

@@ -466,7 +466,7 @@ static void test_bad_input(void) {
     if (scene) {
         CHECK_NEAR(scene->materials[scene->surfaces[0].material].reflectance[0], 1.5, 1e-6);
         rad_system *system = NULL;
-        rad_mesh_options mesh = {0, 0, 16, 0};
+        rad_mesh_options mesh = {0, 0, 16, 0, 0};
         CHECK(rad_system_create(ctx, scene, &mesh, NULL, &system) == RAD_ERROR_INVALID_ARGUMENT);
         CHECK(strstr(rad_context_error(ctx), "reflectance 1.5") != NULL);
         rad_system_destroy(system);
@@ -479,7 +479,7 @@ static void test_bad_input(void) {
     CHECK(rad_scene_load(ctx, temp_path("dark.obj"), &scene) == RAD_OK);
     if (scene) {
         rad_system *system = NULL;
-        rad_mesh_options mesh = {0, 0, 16, 0};
+        rad_mesh_options mesh = {0, 0, 16, 0, 0};
         CHECK(rad_system_create(ctx, scene, &mesh, NULL, &system) == RAD_OK);
         CHECK(strstr(log_text, "nothing emits light") != NULL);
         if (system) {
@@ -502,7 +502,7 @@ static void test_bad_input(void) {
 
 static rad_system *solve_scene(rad_context *ctx, const rad_scene *scene) {
     rad_system *system = NULL;
-    rad_mesh_options mesh = {0, 0, 400, 0};
+    rad_mesh_options mesh = {0, 0, 400, 0, 0};
     rad_ff_options ff = {RAD_FF_ANALYTIC, 0, 0, NULL};
     if (rad_system_create(ctx, scene, &mesh, &ff, &system)) {
         fprintf(stderr, "system: %s\n", rad_context_error(ctx));

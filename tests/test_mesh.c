@@ -521,7 +521,7 @@ static mesh_report check_mesh(const char *label, const rad_scene *scene, const r
 }
 
 static rad_mesh *mesh_of(const rad_scene *scene, double patch, double element, size_t elements) {
-    rad_mesh_options options = {patch, element, elements, 0};
+    rad_mesh_options options = {patch, element, elements, 0, 0};
     rad_mesh *mesh = NULL;
     rad_status status = rad_mesh_create(ctx, scene, &options, &mesh);
     CHECK(status == RAD_OK);
@@ -829,7 +829,7 @@ static void test_element_aim(void) {
     small.max_memory = 2500000;
     rad_context *tight = NULL;
     if (rad_context_create(&small, &tight) == RAD_OK) {
-        rad_mesh_options options = {0, 0, 10000, 0};
+        rad_mesh_options options = {0, 0, 10000, 0, 0};
         mesh = NULL;
         CHECK(rad_mesh_create(tight, room, &options, &mesh) == RAD_OK && mesh);
         rad_mesh_destroy(mesh);
@@ -934,10 +934,10 @@ static void test_bad_input(void) {
     CHECK(strstr(log_text, "warning: ") && strstr(log_text, "skipped 3 degenerate faces"));
     rad_mesh_destroy(mesh);
 
-    rad_mesh_options negative = {0, -1, 0, 0};
+    rad_mesh_options negative = {0, -1, 0, 0, 0};
     mesh = NULL;
     CHECK(rad_mesh_create(ctx, scene, &negative, &mesh) == RAD_ERROR_INVALID_ARGUMENT && !mesh);
-    rad_mesh_options huge = {0, 1e-6, 0, 0}; /* 10^12 elements */
+    rad_mesh_options huge = {0, 1e-6, 0, 0, 0}; /* 10^12 elements */
     CHECK(rad_mesh_create(ctx, scene, &huge, &mesh) == RAD_ERROR_MEMORY_BUDGET && !mesh);
     rad_scene_destroy(scene);
 

@@ -34,7 +34,7 @@ static void test_bag(void) {
 /* The Cornell box at 300 elements, solved; NULL on failure (message printed). */
 static rad_system *solve(rad_context *ctx, const rad_scene *scene, const rad_ff_options *ff,
                          const rad_solve_options *options) {
-    rad_mesh_options mesh = {0, 0, 300, 0};
+    rad_mesh_options mesh = {0, 0, 300, 0, 0};
     rad_system *system = NULL;
     rad_status status = rad_system_create(ctx, scene, &mesh, ff, &system);
     if (!status) status = rad_solve(system, options, NULL);

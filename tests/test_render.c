@@ -31,7 +31,7 @@ static rad_context *make_context(int threads, uint64_t seed) {
 
 static rad_system *solved(rad_context *ctx, const rad_scene *scene, size_t elements,
                           rad_solver_kind solver) {
-    rad_mesh_options mesh = {0, 0, elements, 0};
+    rad_mesh_options mesh = {0, 0, elements, 0, 0};
     rad_system *system = NULL;
     if (rad_system_create(ctx, scene, &mesh, NULL, &system)) return NULL;
     rad_solve_options solve = {0};

@@ -38,7 +38,16 @@ typedef struct rad_contact_cut {
     size_t covered_pairs;  /* a polygon lying on a larger one in its plane, facing the same way:
                               the larger is cut along its outline ... */
     size_t covered_pieces; /* ... and these pieces of it, under the smaller, are dropped */
+    size_t shadow_segments; /* shadow boundaries found (shadow.h) ... */
+    size_t shadow_cuts;     /* ... and those cut along (after dedupe and the cap per polygon) */
+    size_t t_points;        /* corners added where a cut ended on another piece's edge */
 } rad_contact_cut;
+
+typedef struct rad_contact_options {
+    int shadows;         /* nonzero: cut at shadow boundaries of area emitters too (shadow.h) */
+    double element_size; /* with shadows: segments shorter than a quarter of it are not cut
+                            along, and no cut leaves a piece narrower than SLIVER times it */
+} rad_contact_options;
 
 /* Finds the contacts of every polygon with the polygons of other surfaces and cuts. Polygons
  * the mesher would skip (zero area, not finite) are passed on uncut. Where two polygons overlap
@@ -46,6 +55,17 @@ typedef struct rad_contact_cut {
  * they are left as they are. Warns once for each, naming the first two surfaces. */
 rad_status rad_contact_cut_create(rad_context *ctx, const struct rad_scene *scene,
                                   rad_contact_cut **out);
+/* The same with options (NULL: contacts only). Where a cut ends on the edge of another piece
+ * of the same surface (a shadow segment inside a face, a contact line at an edge shared with
+ * a neighbouring polygon), that piece gets the end as a corner, so the pieces meet without
+ * T-junctions. */
+rad_status rad_contact_cut_create_with(rad_context *ctx, const struct rad_scene *scene,
+                                       const rad_contact_options *options, rad_contact_cut **out);
+/* Narrows [*t0, *t1] to where the line point + t direction (unit) lies inside the convex
+ * polygon p[0 .. n-1] (counter-clockwise about normal), eps inside its edges; 0 when nothing
+ * is left. */
+int rad_clip_line_convex(const rad_vec3 *p, size_t n, rad_vec3 normal, rad_vec3 point,
+                         rad_vec3 direction, double eps, double *t0, double *t1);
 void rad_contact_cut_destroy(rad_context *ctx, rad_contact_cut *cut);
 
 #endif

@@ -129,6 +129,73 @@ static void unite(uint32_t *parent, uint32_t a, uint32_t b) {
 
 static int cell_corners(const cell *c) { return c->corner[3] == RAD_NO_VERTEX ? 3 : 4; }
 
+/* Pieces cut along a shadow boundary that ends inside a face get the cut's end as a corner on
+ * the straight edge of their neighbour (contact.c, step 5). Such a piece is cut by chords from
+ * each straight-on corner to another corner (the chord most across the edge it lies on, into
+ * parts of as few corners as possible) until no part has one, rather than fanned from its
+ * centroid: a quad with a T-point becomes a quad and a triangle. `at` indexes ids/points. */
+#define FLAT_SPLIT_CORNERS 16
+
+static int flat_at(const rad_vec3 *points, const uint8_t *at, int n, rad_vec3 normal, int k) {
+    rad_vec3 a = points[at[(k + n - 1) % n]], b = points[at[k]], c = points[at[(k + 1) % n]];
+    rad_vec3 u = v3_sub(b, a), v = v3_sub(c, b);
+    return v3_dot(v3_cross(u, v), normal) <= 1e-9 * v3_length(u) * v3_length(v);
+}
+
+
+static void put_cell(mesher *m, const uint32_t *ids, const uint8_t *at, int n, uint32_t polygon,
+                     uint32_t surface, rad_vec3 normal) {
+    cell c = {{ids[at[0]], ids[at[1]], ids[at[2]], n == 4 ? ids[at[3]] : RAD_NO_VERTEX}, {0}, polygon, surface, normal};
+    m->cells[m->cell_count++] = c;
+}
+
+/* A convex part of more than four corners and none straight on, inside split_flat: cut into
+ * quads and a triangle from its first corner (few such parts: a straight-on corner's chord
+ * leaves at most n - 1 corners). */
+static void put_fan(mesher *m, const rad_vec3 *points, const uint32_t *ids, const uint8_t *at, int n,
+                    uint32_t polygon, uint32_t surface, rad_vec3 normal) {
+    (void)points;
+    int k = 1;
+    for (; k + 2 < n; k += 2) {
+        uint8_t q[4] = {at[0], at[k], at[k + 1], at[k + 2]};
+        put_cell(m, ids, q, 4, polygon, surface, normal);
+    }
+    if (k + 1 < n) {
+        uint8_t t[3] = {at[0], at[k], at[k + 1]};
+        put_cell(m, ids, t, 3, polygon, surface, normal);
+    }
+}
+
+/* Returns 0 when the part has no straight-on corner and more than four (left to ngon_cut). */
+static int split_flat(mesher *m, const rad_vec3 *points, const uint32_t *ids, const uint8_t *at, int n,
+                      uint32_t polygon, uint32_t surface, rad_vec3 normal, int top) {
+    int flat = -1;
+    for (int k = 0; k < n && flat < 0; ++k)
+        if (flat_at(points, at, n, normal, k)) flat = k;
+    if (flat < 0) {
+        if (n > 4) return top ? 0 : (put_fan(m, points, ids, at, n, polygon, surface, normal), 1);
+        put_cell(m, ids, at, n, polygon, surface, normal);
+        return 1;
+    }
+    if (n == 3) return 1; /* no area */
+    rad_vec3 edge = v3_normalize(v3_sub(points[at[(flat + 1) % n]], points[at[(flat + n - 1) % n]]));
+    int best = -1;
+    double best_score = INFINITY;
+    for (int d = 2; d <= n - 2; ++d) {
+        int j = (flat + d) % n, larger = d + 1 > n - d + 1 ? d + 1 : n - d + 1;
+        double across = fabs(v3_dot(v3_normalize(v3_sub(points[at[j]], points[at[flat]])), edge));
+        double score = 10.0 * (larger > 4 ? larger : 4) + across;
+        if (score < best_score) best_score = score, best = d;
+    }
+    uint8_t a[FLAT_SPLIT_CORNERS], b[FLAT_SPLIT_CORNERS];
+    int na = 0, nb = 0;
+    for (int k = 0; k <= best; ++k) a[na++] = at[(flat + k) % n];
+    for (int k = best; k <= n; ++k) b[nb++] = at[(flat + k) % n];
+    split_flat(m, points, ids, a, na, polygon, surface, normal, 0);
+    split_flat(m, points, ids, b, nb, polygon, surface, normal, 0);
+    return 1;
+}
+
 /* Steps 1 and 2: welded corners and cells. */
 static rad_status build_cells(mesher *m) {
     const rad_scene *scene = m->scene;
@@ -143,7 +210,7 @@ static rad_status build_cells(mesher *m) {
     size_t max_cells = 0, max_corners = cut->point_count + 1, largest = 4;
     for (size_t i = 0; i < cut->piece_count; ++i) {
         size_t n = cut->pieces[i].count;
-        max_cells += n <= 4 ? 1 : ngon_max_triangles(n);
+        max_cells += n <= 4 ? 2 : ngon_max_triangles(n);
         if (n > 4) max_corners += ngon_max_points(n);
         if (n > largest) largest = n;
     }
@@ -201,6 +268,11 @@ static rad_status build_cells(mesher *m) {
         }
         /* Anything larger than a quad is cut into triangles, peeled in rings (ngon.c). */
         rad_vec3 normal = rad_polygon_normal(scene, polygon);
+        if (count <= FLAT_SPLIT_CORNERS) {
+            uint8_t at[FLAT_SPLIT_CORNERS];
+            for (uint32_t k = 0; k < count; ++k) at[k] = (uint8_t)k;
+            if (count > 3 && split_flat(m, points, ids, at, (int)count, i, polygon->surface, normal, 1)) continue;
+        }
         if (count <= 4) {
             cell c = {{ids[0], ids[1], ids[2], count == 4 ? ids[3] : RAD_NO_VERTEX},
                       {0}, (uint32_t)i, polygon->surface, normal};
@@ -793,7 +865,8 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
     m.ctx = ctx;
     m.scene = scene;
     mesh_count count = {0};
-    rad_status status = rad_contact_cut_create(ctx, scene, &m.contacts);
+    rad_contact_options cuts = {o.shadow_boundaries, o.element_size};
+    rad_status status = rad_contact_cut_create_with(ctx, scene, &cuts, &m.contacts);
     if (!status) status = build_cells(&m);
     if (!status && m.cell_count == 0)
         status = rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
