@@ -28,11 +28,13 @@ typedef double rgb[3];
 
 /* What the oracle and the form factors need of a cluster (node cluster_first + i). */
 typedef struct cluster_info {
-    rad_vec3 lo, hi, centre;
+    /* What every link with the cluster at one end reads first, together (two cache lines). */
+    rad_vec3 centre;
     double radius;         /* of the bounding sphere about the box's centre */
     double axis_area[6];   /* sum over members of A max(0, +n_x), A max(0, -n_x), ... y, z */
     rad_vec3 normal_sum;   /* sum over members of A n */
     double reflectance;    /* the largest member reflectance (any channel) */
+    rad_vec3 lo, hi;       /* the box */
     double axis_power[6][3]; /* sum over members of e B A max(0, +n_x), ... as axis_area: the
                                 light leaving toward each signed axis, per channel, each member
                                 weighted by its exposure e (exposure() below) */
@@ -473,23 +475,38 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     return p;
 }
 
-/* Up to four points on a node's surfaces for visibility rays toward unit direction w: a
- * polygon node's jittered points; for a cluster, points on members reached by a fixed
- * pseudo-random walk (seeded by the pair) down it that picks each child in proportion to its
- * projected area toward w (members facing away, whose own bodies would block the rays, are not
- * sampled). The walk reads the compact tables (walk_cluster, walk_root): one cache line a level,
- * where the nodes and cluster_info cost three (the walk was two fifths of the solve at 10^6). */
-static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
-                         rad_vec3 *out, uint32_t *members) {
-    if (!is_cluster(&h->nodes[index])) return visibility_points(&h->nodes[index], seed, out);
+/* Four points on a node's surfaces for visibility rays toward unit direction w, for each of
+ * `sets` seeds (out[4 s + k] for seeds[s]): a polygon node's jittered points; for a cluster,
+ * points on members reached by a fixed pseudo-random walk (seeded by the pair) down it that
+ * picks each child in proportion to its projected area toward w (members facing away, whose own
+ * bodies would block the rays, are not sampled). The walk reads the compact tables
+ * (walk_cluster, walk_root): one cache line a level, where the nodes and cluster_info cost three
+ * (the walk was two fifths of the solve at 10^6). The walks go down together, a level each in
+ * turn: each level's read waits for the level above, so walks taken one after the other wait
+ * for every miss in a row, while walks taken in turn wait for theirs side by side (the walks
+ * were a quarter of the 10^6 office's samples). */
+#define MAX_WALKS 8
+static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const uint32_t *seeds,
+                          int sets, rad_vec3 *out, uint32_t *members) {
+    if (!is_cluster(&h->nodes[index])) {
+        for (int s = 0; s < sets; ++s) visibility_points(&h->nodes[index], seeds[s], out + 4 * s);
+        return;
+    }
     const float wx = (float)fabs(w.x), wy = (float)fabs(w.y), wz = (float)fabs(w.z);
     const int sx = w.x < 0, sy = 2 + (w.y < 0), sz = 4 + (w.z < 0);
-    for (int k = 0; k < 4; ++k) {
-        uint32_t state = pair_hash(seed, index, (uint32_t)k);
-        const walk_cluster *c = &h->walk[index - h->cluster_first];
-        uint32_t root;
-        for (;;) {
-            state = state * 1664525u + 1013904223u;
+    const int walks = 4 * sets;
+    const walk_cluster *at[MAX_WALKS];
+    uint32_t state[MAX_WALKS], root[MAX_WALKS];
+    for (int k = 0; k < walks; ++k) {
+        state[k] = pair_hash(seeds[k / 4], index, (uint32_t)(k % 4));
+        at[k] = &h->walk[index - h->cluster_first];
+        root[k] = RAD_HIER_NO_NODE;
+    }
+    for (int left = walks; left > 0;)
+        for (int k = 0; k < walks; ++k) {
+            if (root[k] != RAD_HIER_NO_NODE) continue;
+            const walk_cluster *c = at[k];
+            state[k] = state[k] * 1664525u + 1013904223u;
             float weight[LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total = 0;
             uint32_t count = c->count <= LEAF_CLUSTER ? c->count : LEAF_CLUSTER;
             for (uint32_t i = 0; i < count; ++i) {
@@ -504,21 +521,28 @@ static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t
                 }
                 total += weight[i];
             }
-            uint32_t pick = (state >> 16) % c->count;
+            uint32_t pick = 0;
             if (total > 0 && c->count <= LEAF_CLUSTER) {
-                float u = (float)((state >> 8) * (1.0 / 16777216.0)) * total;
-                for (pick = 0; pick + 1 < count && u >= weight[pick]; ++pick) u -= weight[pick];
-            }
+                float u = (float)((state[k] >> 8) * (1.0 / 16777216.0)) * total;
+                for (; pick + 1 < count && u >= weight[pick]; ++pick) u -= weight[pick];
+            } else
+                pick = (state[k] >> 16) % c->count;
             if (c->leaf) {
-                root = c->first + pick;
-                break;
+                root[k] = c->first + pick;
+                __builtin_prefetch(&h->nodes[root[k]]);
+                --left;
+            } else {
+                /* What this walk reads next is known now: ask for it while the others go on. */
+                const walk_cluster *next = &h->walk[c->first + pick];
+                at[k] = next;
+                if (next->leaf) __builtin_prefetch(&h->root_walk[next->first]);
+                else __builtin_prefetch(&h->walk[next->first]);
             }
-            c = &h->walk[c->first + pick];
         }
-        out[k] = visibility_point(&h->nodes[root], state, k);
-        if (members) members[k] = root;
+    for (int k = 0; k < walks; ++k) {
+        out[k] = visibility_point(&h->nodes[root[k]], state[k], k % 4);
+        if (members) members[k] = root[k];
     }
-    return 4;
 }
 
 /* A cluster's members are weighted by their exposure when it sends (pull_cluster): the
@@ -543,6 +567,8 @@ static double exposure(const rad_hier *h, uint32_t root) {
  * centres, its bound, and the visible fraction of the rays between sampled member points.
  * A self-link, or one whose bounding spheres overlap, carries nothing and must be refined.
  * Returns 0 when no light can pass. */
+static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *relative);
+
 static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t source,
                              rad_hier_link *out) {
     out->receiver = receiver;
@@ -563,6 +589,12 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     double estimate = pr.estimate * ps.estimate / (RAD_PI * d * d * area);
     double upper = pr.upper * ps.upper / (RAD_PI * (d - reach) * (d - reach) * area);
     double lower = pr.lower * ps.lower / (RAD_PI * (d + reach) * (d + reach) * area);
+    /* A link the oracle will refine whatever its rays say (its bound alone fails, or its
+     * receiver is a cluster, which only sends) is not sampled: it carries nothing until it is
+     * replaced (a tenth of the links made in the office at 10^5, each 32 rays). */
+    out->error = (float)fmin(upper - lower, UNKNOWN_ERROR);
+    double ignored;
+    if (decide_cluster(h, out, &ignored)) return 1;
     /* The factor itself from the rays between sampled member points (chosen in proportion to
      * projected area): the mean over the pairs of V P_r P_s / (pi r^2 A_r), with a polygon
      * end's A cos taken along each ray. The centres' distance alone underestimates it (the
@@ -579,16 +611,28 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
     int partial = 0, rn = 0, sn = 0, sets = 0;
     double sum = 0;
+    /* Every set's points at once (the walks of the fresh sets are wasted when the first is
+     * not partly hidden, but walked beside the first set's they cost little). */
+    enum { SETS = 1 + CLUSTER_PARTIAL_SETS };
+    rad_vec3 xs[4 * SETS], ys[4 * SETS];
+    uint32_t receiver_member[4 * SETS], source_member[4 * SETS];
+    uint32_t receiver_seed[SETS], source_seed[SETS];
+    for (int set = 0; set < SETS; ++set) {
+        receiver_seed[set] = pair_hash(receiver, source, 1 + 0x100u * (uint32_t)set);
+        source_seed[set] = pair_hash(receiver, source, 2 + 0x100u * (uint32_t)set);
+    }
+    if (is_cluster(nr)) {
+        sample_points(h, receiver, w, receiver_seed, SETS, xs, receiver_member);
+        rn = 4;
+    } else
+        rn = quadrature_points(nr, xs);
+    sample_points(h, source, v3_scale(w, -1), source_seed, SETS, ys, source_member);
+    sn = 4;
     for (int set = 0; set == 0 || (partial && set <= CLUSTER_PARTIAL_SETS); ++set) {
-        rad_vec3 x[4], y[4];
         uint8_t seen[16];
-        uint32_t receiver_members[4], source_members[4];
-        uint32_t salt = 0x100u * (uint32_t)set;
-        rn = is_cluster(nr) ? sample_points(h, receiver, w, pair_hash(receiver, source, 1 + salt), x,
-                                            receiver_members)
-                            : quadrature_points(nr, x);
-        sn = sample_points(h, source, v3_scale(w, -1), pair_hash(receiver, source, 2 + salt), y,
-                           source_members);
+        const rad_vec3 *x = is_cluster(nr) ? xs + 4 * set : xs, *y = ys + 4 * set;
+        const uint32_t *receiver_members = receiver_member + 4 * set;
+        const uint32_t *source_members = source_member + 4 * set;
         int blocked;
         visible_pairs(h, x, rn, y, sn, &blocked, seen);
         if (set == 0) partial = blocked;
