@@ -567,7 +567,10 @@ static double exposure(const rad_hier *h, uint32_t root) {
  * centres, its bound, and the visible fraction of the rays between sampled member points.
  * A self-link, or one whose bounding spheres overlap, carries nothing and must be refined.
  * Returns 0 when no light can pass. */
-static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *relative);
+/* The oracle for a link with a cluster at one end or both (below); with pick_end 0 it only
+ * says whether the link is refined (nonzero), not which end. */
+static int cluster_oracle(const rad_hier *h, const rad_hier_link *link, double *relative,
+                          int pick_end);
 
 static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t source,
                              rad_hier_link *out) {
@@ -594,7 +597,7 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
      * replaced (a tenth of the links made in the office at 10^5, each 32 rays). */
     out->error = (float)fmin(upper - lower, UNKNOWN_ERROR);
     double ignored;
-    if (decide_cluster(h, out, &ignored)) return 1;
+    if (cluster_oracle(h, out, &ignored, 0)) return 1;
     /* The factor itself from the rays between sampled member points (chosen in proportion to
      * projected area): the mean over the pairs of V P_r P_s / (pi r^2 A_r), with a polygon
      * end's A cos taken along each ray. The centres' distance alone underestimates it (the
@@ -708,7 +711,8 @@ static void source_radiosity(const rad_hier *h, const rad_hier_link *link, rad_v
 /* The oracle for a link with a cluster at one end or both: 0 keeps it, 1 opens (or splits) the
  * receiver, 2 the source, 3 a self-link into every pair of children. The end with the larger
  * bounding sphere is opened (Smits et al. 1994). */
-static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *relative) {
+static int cluster_oracle(const rad_hier *h, const rad_hier_link *link, double *relative,
+                          int pick_end) {
     const rad_hier_node *r = &h->nodes[link->receiver], *s = &h->nodes[link->source];
     double rho = 0;
     if (is_cluster(r)) rho = info(h, link->receiver)->reflectance;
@@ -728,12 +732,17 @@ static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *
     if (!(error > h->threshold)) return 0;
     if (link->receiver == link->source) return 3;
     int split_r = is_cluster(r) || can_split(h, r), split_s = is_cluster(s) || can_split(h, s);
+    if (!pick_end) return split_r || split_s;
     double radius_r, radius_s;
     node_centre(h, link->receiver, &radius_r);
     node_centre(h, link->source, &radius_s);
     if (split_r && (!split_s || radius_r >= radius_s)) return 1;
     if (split_s) return 2;
     return 0;
+}
+
+static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *relative) {
+    return cluster_oracle(h, link, relative, 1);
 }
 
 static int decide_any(const rad_hier *h, const rad_hier_link *link, double *relative) {
