@@ -75,19 +75,25 @@ for scene in $scenes; do
         fi
         header "Generated office (scenes --generate office 10000: 4,652 faces), 128 x 96, against $(basename "$ref")"
         row "pathtrace --spp 16" "$ref" pt.pfm -- "$radiosity" pathtrace office.obj "${size[@]}" --spp 16 --seed 1 -o pt.pfm
+        row "pathtrace --spp 64" "$ref" pt.pfm -- "$radiosity" pathtrace office.obj "${size[@]}" --spp 64 --seed 1 -o pt.pfm
+        row "render (shooting, final gather: the default)" "$ref" r.pfm -- "$radiosity" render office.obj "${size[@]}" -o r.pfm
         row "shooting (2,500 elements asked), 1% unshot, no final gather" "$ref" r.pfm -- "$radiosity" render office.obj --tolerance 0.01 --final-gather 0 "${size[@]}" -o r.pfm
         row "gauss-seidel (2,500 elements asked), 1e-3, no final gather" "$ref" r.pfm -- "$radiosity" render office.obj --solver gauss-seidel --tolerance 1e-3 --final-gather 0 "${size[@]}" -o r.pfm
         row "hierarchical, no final gather" "$ref" r.pfm -- "$radiosity" render office.obj --solver hierarchical --final-gather 0 "${size[@]}" -o r.pfm
         row "hierarchical (final gather)" "$ref" r.pfm -- "$radiosity" render office.obj --solver hierarchical "${size[@]}" -o r.pfm
         ;;
     sponza)
-        obj=$here/../shared/scenes/sponza/sponza_lit.obj
+        obj=${SPONZA:-/work/shared/scenes/sponza/sponza_lit.obj}
         ref=$refs/sponza160_2048.pfm
         view=(--eye -10,3,0 --look 10,4,0 --fov 60 --width 160 --height 120)
         header "Sponza (sponza_lit.obj), 160 x 120, against $(basename "$ref")"
         row "shooting, 60 s budget, no final gather" "$ref" r.pfm -- "$radiosity" render "$obj" "${view[@]}" --time-budget 60 --final-gather 0 -o r.pfm
         row "gauss-seidel, no final gather" "$ref" r.pfm -- "$radiosity" render "$obj" "${view[@]}" --solver gauss-seidel --final-gather 0 -o r.pfm
         row "hierarchical, no final gather" "$ref" r.pfm -- "$radiosity" render "$obj" "${view[@]}" --solver hierarchical --final-gather 0 -o r.pfm
+        row "render --solver hierarchical (final gather)" "$ref" r.pfm -- "$radiosity" render "$obj" "${view[@]}" --solver hierarchical -o r.pfm
+        row "render (shooting, final gather), 60 s budget" "$ref" r.pfm -- "$radiosity" render "$obj" "${view[@]}" --time-budget 60 -o r.pfm
+        row "pathtrace --spp 16" "$ref" pt.pfm -- "$radiosity" pathtrace "$obj" "${view[@]}" --spp 16 --seed 1 -o pt.pfm
+        row "pathtrace --spp 64" "$ref" pt.pfm -- "$radiosity" pathtrace "$obj" "${view[@]}" --spp 64 --seed 1 -o pt.pfm
         ;;
     esac
 done

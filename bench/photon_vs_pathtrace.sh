@@ -3,13 +3,15 @@
 # on cornell-mirror (issue 14: photon mapping should reach the path tracer's 1024-spp error in at
 # most 1/5 of its time). Every run in one go, under the same load; error = 8x8-block relative
 # RMSE (scripts/block_compare.py) against a far-converged reference of the same size.
-# Usage: bench/photon_vs_pathtrace.sh RADIOSITY REFERENCE.pfm [SIZE]   (SIZE 128: the reference's)
+# Usage: bench/photon_vs_pathtrace.sh RADIOSITY REFERENCE.pfm [SIZE] [SCENE]
+#   (SIZE 128: the reference's; SCENE cornell-mirror, or cornell with /work/refs/cornell128_16k.pfm)
 # Prints a Markdown table: command, processor seconds (user + system), mean, 4x4, 8x8 and 16x16
 # block RMSE.
 set -euo pipefail
 radiosity=$1
 reference=$2
 size=${3:-128}
+scene=${4:-cornell-mirror}
 here=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -31,8 +33,10 @@ run() {
     rmse16=$(sed -n 's/^16x16 blocks: relative RMSE \([0-9.]*%\).*/\1/p' <<<"$errors")
     echo "| \`$*\` | $cpu | $mean | $rmse4 | $rmse8 | $rmse16 |"
 }
-for spp in 64 256 1024; do run pathtrace cornell-mirror --spp "$spp"; done
-run photonmap cornell-mirror --spp 8 --gather 8
-run photonmap cornell-mirror --spp 16 --gather 8
-run photonmap cornell-mirror --spp 16 --gather 8 --photons 400000
-run photonmap cornell-mirror --spp 16 --gather 8 --nearest 50
+for spp in 64 256 1024; do run pathtrace "$scene" --spp "$spp"; done
+run photonmap "$scene" --spp 8 --gather 8
+run photonmap "$scene" --spp 16 --gather 8
+run photonmap "$scene" --spp 16 --gather 8 --photons 400000
+run photonmap "$scene" --spp 24 --gather 4 --photons 400000
+run photonmap "$scene" --spp 32 --gather 4 --photons 400000
+run photonmap "$scene" --spp 32 --gather 8 --photons 400000

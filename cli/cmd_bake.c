@@ -16,7 +16,6 @@ int cmd_bake(int argc, char **argv) {
         "SCENE -o FILE.glb|FILE.gltf|FILE.ply|FILE.obj [options]   "
         "(SCENE: a file or a built-in name)";
     cli_pipeline_args p = {0};
-    p.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
     p.ff = "default";
     const char *output = NULL, *tonemap = "clamp";
     const char *solution = NULL;
@@ -61,6 +60,8 @@ int cmd_bake(int argc, char **argv) {
     rad_ff_options ff;
     status = cli_pipeline_check("bake", &p, &solve, &mesh, &ff);
     if (status) return status;
+    /* A saved solution is baked on the mesh it was saved for: no default by scene size. */
+    if (solution) p.solver_default = 0;
     if ((status = cli_lights_check("bake", &lights))) return status;
     solve.time_budget = time_budget;
 
@@ -84,7 +85,7 @@ int cmd_bake(int argc, char **argv) {
     rad_system *system = NULL;
     rad_solve_report report = {0};
     int exit_status = 0;
-    rs = cli_pipeline_build(ctx, positional[0], &mesh, &ff, &scene, &system, NULL);
+    rs = cli_pipeline_build(ctx, positional[0], &p, &solve, &mesh, &ff, &scene, &system, NULL);
     if (!rs && (exit_status = cli_check_outputs_against_scene("bake", scene, &output, 1)))
         goto done; /* not the scene's .mtl, .bin, textures, ... */
     if (!rs && !rad_scene_is_geometric(scene)) {
@@ -115,15 +116,22 @@ int cmd_bake(int argc, char **argv) {
         exit_status = cli_fail(ctx, rs);
         goto done;
     }
+    /* What was baked: the elements, or a hierarchy's leaves (some drawn as fans). */
+    size_t polygons, leaves = rad_system_leaf_count(system, &polygons);
+    char baked[96];
+    if (leaves == polygons && leaves == rad_system_element_count(system))
+        snprintf(baked, sizeof baked, "%zu elements", leaves);
+    else
+        snprintf(baked, sizeof baked, "%zu leaves (%zu polygons)", leaves, polygons);
     if (!p.quiet && solution) {
-        printf("baked %zu elements of %zu surfaces into %s (solution from %s)\n",
-               rad_system_element_count(system), rad_system_surface_count(system), output,
-               solution);
+        printf("baked %s of %zu surfaces into %s (solution from %s)\n", baked,
+               rad_system_surface_count(system), output, solution);
     } else if (!p.quiet) {
-        int gathering =
-            solve.solver == RAD_SOLVER_JACOBI || solve.solver == RAD_SOLVER_GAUSS_SEIDEL;
-        printf("baked %zu elements of %zu surfaces into %s (%s", rad_system_element_count(system),
-               rad_system_surface_count(system), output, rad_solver_kind_name(solve.solver));
+        int gathering = solve.solver == RAD_SOLVER_JACOBI ||
+                        solve.solver == RAD_SOLVER_GAUSS_SEIDEL ||
+                        solve.solver == RAD_SOLVER_HIERARCHICAL;
+        printf("baked %s of %zu surfaces into %s (%s", baked, rad_system_surface_count(system),
+               output, rad_solver_kind_name(solve.solver));
         if (solve.solver != RAD_SOLVER_DIRECT)
             printf(": %d %s, %s", report.iterations, gathering ? "rounds" : "shots",
                    report.converged ? "converged" : "not converged");

@@ -67,7 +67,6 @@ int cmd_render(int argc, char **argv) {
         "[SCENE] [-o FILE] [options]   (SCENE: a file or a built-in name; default cornell)";
     render_args a = {0};
     /* solve's default, so that render and solve agree */
-    a.pipeline.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
     a.pipeline.ff = "default";
     a.tonemap = "clamp";
     a.shading = "smooth";
@@ -120,6 +119,8 @@ int cmd_render(int argc, char **argv) {
     rad_ff_options ff;
     status = cli_pipeline_check("render", &a.pipeline, &solve, &mesh, &ff);
     if (status) return status;
+    /* A saved solution is drawn on the mesh it was saved for: no default by scene size. */
+    if (a.solution) a.pipeline.solver_default = 0;
     if (a.width < 1 || a.width > MAX_SIDE || a.height < 1 || a.height > MAX_SIDE)
         return cli_error(EXIT_USAGE, "render: image size %dx%d: each side must be 1 to %d pixels",
                          a.width, a.height, MAX_SIDE);
@@ -169,7 +170,8 @@ int cmd_render(int argc, char **argv) {
         free(fallback_output);
         return usage ? EXIT_USAGE : 1;
     }
-    rs = cli_pipeline_build(ctx, scene_name, &mesh, &ff, &scene, &system, &timings);
+    rs = cli_pipeline_build(ctx, scene_name, &a.pipeline, &solve, &mesh, &ff, &scene, &system,
+                            &timings);
     if (!rs && (status = cli_check_outputs_against_scene("render", scene, &output, 1))) {
         rad_system_destroy(system); /* the output is the scene's .mtl, .bin, a texture, ... */
         rad_scene_destroy(scene);

@@ -267,6 +267,8 @@ int cmd_solve(int argc, char **argv) {
      * value is a usage error (2). Without --solver, a resumed run takes the saved solver. */
     int solver_given = a.pipe.solver != NULL;
     if (!solver_given) a.pipe.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
+    /* Not given and not resumed (a resumed run takes the saved solver): the scene's default. */
+    a.pipe.solver_default = !solver_given && !a.resume;
     rad_solve_options solve;
     rad_mesh_options mesh;
     rad_ff_options ff;
@@ -301,6 +303,10 @@ int cmd_solve(int argc, char **argv) {
     if (!rs && a.compare) {
         exit_status = solve_compare(ctx, scene, &mesh, &ff, &a, &camera);
         goto done;
+    }
+    if (!rs) {
+        cli_pipeline_default_solver("solve", &a.pipe, scene, &solve, &mesh);
+        kind = (int)solve.solver;
     }
     double mesh_start = cli_seconds();
     if (!rs) rs = rad_system_create(ctx, scene, &mesh, &ff, &system);

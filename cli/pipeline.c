@@ -17,9 +17,13 @@ void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, 
     /* The help lines that list or name solvers and methods, from the registries. */
     static char solver_help[256], ff_help[160], ambient_help[160], link_help[200],
         resolution_help[160], names[200], importance_help[240];
-    snprintf(solver_help, sizeof solver_help, "NAME  %s (%s)",
+    char by_size[96] = "";
+    if (default_solver == RAD_SOLVER_SHOOTING) /* rad_scene_default_solver */
+        snprintf(by_size, sizeof by_size, "; hierarchical for scenes of %d polygons or more",
+                 RAD_HIERARCHY_DEFAULT_POLYGONS);
+    snprintf(solver_help, sizeof solver_help, "NAME  %s (%s%s)",
              cli_solver_names(names, sizeof names, NULL, "|", "|"),
-             rad_solver_kind_name(default_solver));
+             rad_solver_kind_name(default_solver), by_size);
     snprintf(ff_help, sizeof ff_help, "METHOD  %s", cli_ff_method_names(names, sizeof names, "|"));
     cli_solver_option_help(ambient_help, sizeof ambient_help, "ambient");
     cli_solver_option_help(link_help, sizeof link_help, "link-error");
@@ -70,6 +74,10 @@ int cli_pipeline_check_values(const char *command, const cli_pipeline_args *a) {
 
 int cli_pipeline_check(const char *command, cli_pipeline_args *a, rad_solve_options *solve,
                        rad_mesh_options *mesh, rad_ff_options *ff) {
+    if (!a->solver) { /* not given: shooting, or the scene's default once it is loaded */
+        a->solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
+        a->solver_default = 1;
+    }
     int kind = rad_solver_kind_parse(a->solver);
     if (kind < 0) return cli_unknown_solver(command, a->solver);
     int method = cli_parse_ff_method(a->ff);
@@ -116,13 +124,38 @@ int cli_pipeline_link_error(const char *command, const cli_pipeline_args *a, dou
     return 0;
 }
 
-rad_status cli_pipeline_build(rad_context *ctx, const char *scene_name,
-                              const rad_mesh_options *mesh, const rad_ff_options *ff,
-                              rad_scene **scene, rad_system **system, cli_timings *timings) {
+void cli_pipeline_default_solver(const char *command, cli_pipeline_args *a,
+                                 const rad_scene *scene, rad_solve_options *solve,
+                                 rad_mesh_options *mesh) {
+    rad_solver_kind kind = rad_scene_default_solver(scene);
+    if (!a->solver_default || kind == solve->solver) return;
+    const char *was = a->solver;
+    a->solver = rad_solver_kind_name(kind);
+    rad_solve_options s;
+    rad_mesh_options m;
+    rad_ff_options f;
+    if (cli_pipeline_check(command, a, &s, &m, &f)) { /* cannot be: the values were checked */
+        a->solver = was;
+        return;
+    }
+    solve->solver = s.solver;
+    solve->tolerance = s.tolerance; /* not a default meant for the solver it replaces */
+    solve->method_options = s.method_options;
+    mesh->polygons_only = m.polygons_only;
+    if (!a->quiet)
+        fprintf(stderr, "radiosity: %d polygons or more: solving with --solver %s (give --solver "
+                        "to choose another)\n", RAD_HIERARCHY_DEFAULT_POLYGONS, a->solver);
+}
+
+rad_status cli_pipeline_build(rad_context *ctx, const char *scene_name, cli_pipeline_args *a,
+                              rad_solve_options *solve, rad_mesh_options *mesh,
+                              const rad_ff_options *ff, rad_scene **scene, rad_system **system,
+                              cli_timings *timings) {
     *scene = NULL;
     *system = NULL;
     double start = cli_seconds();
     rad_status status = cli_load_scene(ctx, scene_name, scene);
+    if (!status) cli_pipeline_default_solver("", a, *scene, solve, mesh);
     double loaded = cli_seconds();
     if (!status) status = rad_system_create(ctx, *scene, mesh, ff, system);
     if (!status) cli_stage_mesh(*system, cli_seconds() - loaded);

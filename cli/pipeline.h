@@ -13,6 +13,9 @@ typedef struct cli_pipeline_args {
     size_t elements;
     size_t seed;
     int importance; /* --importance: the hierarchical solver weighs links by the camera's view */
+    /* --solver was not given (cli_pipeline_check sets it when `solver` is NULL): the solver is
+     * the scene's default (rad_scene_default_solver, cli_pipeline_default_solver). */
+    int solver_default;
     /* Filled by cli_pipeline_check: the chosen solver's and form-factor method's own options,
      * which the option structs it writes point to. */
     rad_options solver_options, ff_options;
@@ -50,15 +53,25 @@ int cli_pipeline_check(const char *command, cli_pipeline_args *args, rad_solve_o
  * returns EXIT_USAGE, or 0. */
 int cli_pipeline_link_error(const char *command, const cli_pipeline_args *args, double *out);
 
+/* When --solver was not given, the scene's default solver (rad_scene_default_solver:
+ * hierarchical for a geometric scene of RAD_HIERARCHY_DEFAULT_POLYGONS polygons or more) in
+ * place of shooting: `solve` and `mesh` are changed to it (with a note on stderr), so that solve,
+ * render and bake agree. Nothing changes when the default is the solver already chosen. */
+void cli_pipeline_default_solver(const char *command, cli_pipeline_args *args,
+                                 const rad_scene *scene, rad_solve_options *solve,
+                                 rad_mesh_options *mesh);
+
 /* Seconds spent in each step, for --stats. */
 typedef struct cli_timings {
     double load, system, solve;
 } cli_timings;
 
-/* Loads SCENE (a built-in name or a file) and builds its system. */
-rad_status cli_pipeline_build(rad_context *ctx, const char *scene_name,
-                              const rad_mesh_options *mesh, const rad_ff_options *ff,
-                              rad_scene **scene, rad_system **system, cli_timings *timings);
+/* Loads SCENE (a built-in name or a file), takes its default solver when --solver was not
+ * given (cli_pipeline_default_solver: `solve` and `mesh` may change) and builds its system. */
+rad_status cli_pipeline_build(rad_context *ctx, const char *scene_name, cli_pipeline_args *args,
+                              rad_solve_options *solve, rad_mesh_options *mesh,
+                              const rad_ff_options *ff, rad_scene **scene, rad_system **system,
+                              cli_timings *timings);
 
 /* Solves, timed. */
 rad_status cli_pipeline_solve(rad_system *system, const rad_solve_options *solve,

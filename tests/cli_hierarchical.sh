@@ -33,8 +33,12 @@ check "time budget, then resume: the same bytes" cmp "$work/full.sol" "$work/bud
 "$radiosity" render cornell --sky 1 --solution "$work/full.sol" -o "$work/loaded.pfm" --width 16 --height 16 --spp 2 --final-gather 1 --quiet
 check "render --solution draws the saved hierarchy" cmp "$work/solved.pfm" "$work/loaded.pfm"
 "$radiosity" bake "${hier[@]}" -o "$work/solved.ply"
-"$radiosity" bake cornell --sky 1 --solution "$work/full.sol" -o "$work/loaded.ply" --quiet
+"$radiosity" bake cornell --sky 1 --solution "$work/full.sol" -o "$work/loaded.ply" >"$work/baked" 2>/dev/null
 check "bake --solution bakes the saved leaves" cmp "$work/solved.ply" "$work/loaded.ply"
+# It says what it baked: the saved leaves and the polygons they are drawn as (the element mesh
+# it loaded them onto has 2,634 elements), as many as the PLY's faces.
+faces=$(grep -a '^element face' "$work/loaded.ply" | awk '{print $3}')
+check "bake --solution counts the leaves baked" grep -Eq "^baked [0-9]+ leaves \($faces polygons\) of 8 surfaces" "$work/baked"
 imp=(cornell --solver hierarchical --importance --width 16 --height 16 --quiet)
 "$radiosity" solve "${imp[@]}" --save "$work/imp_full.sol" >/dev/null
 "$radiosity" solve "${imp[@]}" --iterations 2 --save "$work/imp_part.sol" >/dev/null
@@ -68,6 +72,29 @@ check "budget: not converged" grep -Eq '^hierarchical: [0-9]+ rounds, not conver
 "$radiosity" solve cornell --solver hierarchical >/dev/null 2>"$work/steps"
 check "solve stage: links and leaves" grep -Eq '^radiosity: \[solve\] hierarchical, [0-9]+ rounds, residual 0, converged, [0-9]+ links, [0-9]+ leaves' "$work/steps"
 check "step line" grep -Eq '^radiosity: hierarchical step 1: [0-9]+ links \([0-9]+ to clusters\), [0-9]+ leaves, [0-9]+ clusters, [0-9]+ refined, largest remaining error' "$work/steps"
+
+# The default solver by scene size (rad_scene_default_solver): shooting for Cornell, the hierarchy
+# for a scene of 30,000 polygons or more (a grid of 30,276 floor tiles; nothing emits, so it
+# solves at once), the same in solve, render and bake; --solver still chooses.
+"$radiosity" solve cornell --json --iterations 1 >"$work/small.json" 2>/dev/null
+check "default: shooting for Cornell" grep -q '"solver": "shooting"' "$work/small.json"
+awk 'BEGIN { n = 174; for (i = 0; i <= n; i++) for (j = 0; j <= n; j++) printf "v %g 0 %g\n", i / 10, j / 10;
+             for (i = 0; i < n; i++) for (j = 0; j < n; j++) { a = i * (n + 1) + j + 1;
+                 printf "f %d %d %d %d\n", a, a + 1, a + n + 2, a + n + 1 } }' >"$work/grid.obj"
+"$radiosity" solve "$work/grid.obj" --json >"$work/grid.json" 2>"$work/grid.err"
+check "default: hierarchical from 30000 polygons" grep -q '"solver": "hierarchical"' "$work/grid.json"
+check "default: says so" grep -q '30000 polygons or more: solving with --solver hierarchical' "$work/grid.err"
+"$radiosity" solve "$work/grid.obj" --solver shooting --json --iterations 1 >"$work/grid_shooting.json" 2>/dev/null
+check "default: --solver still chooses" grep -q '"solver": "shooting"' "$work/grid_shooting.json"
+"$radiosity" bake "$work/grid.obj" -o "$work/grid.ply" 2>/dev/null >"$work/grid.bake"
+check "default: bake agrees" grep -q '(hierarchical: ' "$work/grid.bake"
+"$radiosity" render "$work/grid.obj" -o "$work/grid.pfm" --width 8 --height 8 --spp 1 >/dev/null 2>"$work/grid_render.err"
+check "default: render agrees" grep -q 'solving with --solver hierarchical' "$work/grid_render.err"
+"$radiosity" solve "$work/grid.obj" --solver shooting --iterations 1 --save "$work/grid_shooting.sol" --quiet >/dev/null
+"$radiosity" bake "$work/grid.obj" --solution "$work/grid_shooting.sol" -o "$work/grid_shooting.ply" --quiet
+check "default: a saved element solution is baked on its own mesh" test $? -eq 0 -a -s "$work/grid_shooting.ply"
+"$radiosity" render --help >"$work/help" 2>&1
+check "default: --help says so" grep -q 'hierarchical for scenes of 30000 polygons or more' "$work/help"
 
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error 0
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error -1

@@ -96,6 +96,10 @@ for solver in jacobi gauss-seidel 'SOR, omega 1.1' shooting overshooting importa
     check "compare legend $solver" grep -q ">$solver</text>" "$work/compare.svg"
 done
 check "compare lines" test "$(grep -c "<polyline" "$work/compare.svg")" -eq 10
+# The hierarchy (its own leaves) is measured against its own converged solution, so it reaches
+# 1%; a line says how far that solution lies from the elements' reference.
+check "compare: the hierarchy reaches 1% of its own solution" grep -Eq '^hierarchical +[0-9]+ rounds, ' "$work/out"
+check "compare: says what the hierarchy is measured against" grep -Eq '^  \(hierarchical: against its own converged solution, [0-9]+ leaves at link error .*; that lies [0-9.e-]+ from the reference above' "$work/out"
 check "compare log" grep -q '^importance,1,' "$work/compare.csv"
 check "compare log quotes" grep -q '^"SOR, omega 1.1",1,' "$work/compare.csv"
 "$radiosity" solve four-walls --compare-solvers --quiet >"$work/out"

@@ -14,6 +14,7 @@
 #include "scene/rays.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -775,6 +776,157 @@ static void test_opening(void) {
     rad_context_destroy(ctx);
 }
 
+
+/* Ctrl-C while refining: a progress callback that asks to stop at the `stop_at`-th call of
+ * `phase` and at every call after it (as the CLI's does once interrupted). */
+typedef struct stopper {
+    const char *phase;
+    int stop_at, calls, stopped;
+} stopper;
+
+static int stop_progress(void *user, const char *phase, double done, double total) {
+    (void)done;
+    (void)total;
+    stopper *s = user;
+    if (!s->stopped && phase && strcmp(phase, s->phase) == 0 && ++s->calls == s->stop_at)
+        s->stopped = 1;
+    return s->stopped;
+}
+
+static rad_context *stopping_context(int threads, stopper *s) {
+    rad_context_options options = {0};
+    options.threads = threads;
+    options.progress = stop_progress;
+    options.progress_user = s;
+    rad_context *ctx = NULL;
+    CHECK(rad_context_create(&options, &ctx) == RAD_OK);
+    return ctx;
+}
+
+static int same_file(const char *a, const char *b) {
+    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+    int same = fa && fb;
+    while (same) {
+        int ca = fgetc(fa), cb = fgetc(fb);
+        if (ca != cb) same = 0;
+        if (ca == EOF || cb == EOF) break;
+    }
+    if (fa) fclose(fa);
+    if (fb) fclose(fb);
+    return same;
+}
+
+/* The solver on the tiled room (one element per polygon, as the CLI builds it), stopped by the
+ * callback or not, going on from `resume` when given, saved to `save`; returns the steps. */
+static long solve_tiled_room(rad_context *ctx, int importance, const char *resume, long steps,
+                             const char *save, rad_status *status) {
+    rad_scene *scene = tiled_room(ctx);
+    rad_mesh_options mesh = {0};
+    mesh.polygons_only = 1;
+    rad_system *system = NULL;
+    CHECK(rad_system_create(ctx, scene, &mesh, NULL, &system) == RAD_OK);
+    rad_solve_options options = {0};
+    options.solver = RAD_SOLVER_HIERARCHICAL;
+    options.link_error = importance ? 3e-4 : 1e-4;
+    /* Importance: a camera in a corner of the room, looking at the boxes. */
+    rad_options bag = {0};
+    rad_camera_desc camera = {{0.2, 1.5, 0.2}, {2, 0.3, 2}, {0, 1, 0}, 60};
+    if (importance) {
+        CHECK(rad_options_set(&bag, "importance", "1") == RAD_OK);
+        options.method_options = &bag;
+        options.camera = &camera;
+        options.view_width = options.view_height = 32;
+    }
+    rad_solution_info info = {RAD_SOLVER_HIERARCHICAL, steps};
+    if (resume) {
+        CHECK(rad_system_load_solution(system, resume, &info) == RAD_OK);
+        options.resume = 1;
+    }
+    rad_solve_report report = {0};
+    *status = rad_solve(system, &options, &report);
+    info.steps += report.iterations;
+    CHECK(rad_system_save_solution(system, save, &info) == RAD_OK);
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    return info.steps;
+}
+
+/* Stopped between two passes of a refinement (Ctrl-C), the hierarchy keeps the refinement as
+ * far as it got; refining again goes on from there and ends with the same nodes and links, to
+ * the bit, as a refinement never stopped. Through the solver and its files: stopped in the
+ * first step's refinement, saved, loaded and resumed on one thread, the file is byte for byte
+ * the one of a solve never stopped on two. */
+static void test_interrupted_refinement(void) {
+    rad_context *plain = context(2);
+    rad_scene *scene = tiled_room(plain);
+    rad_hier *whole = solve_hierarchy(plain, scene, 1e-4);
+    stopper s = {"hierarchical refinement", 4, 0, 0};
+    rad_context *ctx = stopping_context(2, &s);
+    rad_hier_options options = {1e-4, 0, 0, NULL, NULL, 0};
+    rad_hier *h = NULL;
+    CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
+    CHECK(rad_hier_link_roots(h) == RAD_OK);
+    CHECK(rad_hier_solve(h, 1e-7, 1000) == RAD_OK);
+    int rounds = 0, stops = 0;
+    for (; rounds < 60; ++rounds) {
+        rad_status status = rad_hier_refine(h);
+        if (status == RAD_ERROR_CANCELLED) {
+            size_t kept = 0, links = 0;
+            rad_hier_links(h, &links);
+            CHECK(rad_hier_refining(h, &kept) && kept < links);
+            CHECK(rad_hier_solve(h, 1e-7, 1000) == RAD_ERROR_INVALID_ARGUMENT);
+            s.stopped = 0; /* the user goes on */
+            s.stop_at = -1;
+            ++stops;
+            status = rad_hier_refine(h);
+        }
+        CHECK(status == RAD_OK);
+        CHECK(!rad_hier_refining(h, NULL));
+        if (rad_hier_get_stats(h).refined == 0) break;
+        CHECK(rad_hier_solve(h, 1e-7, 1000) == RAD_OK);
+    }
+    CHECK(stops == 1);
+    size_t n1, n2, l1, l2;
+    const rad_hier_node *a = rad_hier_nodes(whole, &n1), *b = rad_hier_nodes(h, &n2);
+    const rad_hier_link *la = rad_hier_links(whole, &l1), *lb = rad_hier_links(h, &l2);
+    printf("refinement stopped at its pass %d and resumed: %zu nodes, %zu links (never stopped: "
+           "%zu, %zu)\n", 4, n2, l2, n1, l1);
+    CHECK(n1 == n2 && memcmp(a, b, n1 * sizeof *a) == 0);
+    CHECK(l1 == l2 && memcmp(la, lb, l1 * sizeof *la) == 0);
+    rad_hier_destroy(h);
+    rad_hier_destroy(whole);
+    rad_context_destroy(ctx);
+
+    /* The same through the solver and its solution files; and with importance, stopped in the
+     * importance rounds (which go on after the light's converged ones, not one round after). */
+    const char *full = "test_hierarchy_full.sol", *part = "test_hierarchy_part.sol",
+               *resumed = "test_hierarchy_resumed.sol";
+    rad_context *one = context(1);
+    for (int importance = 0; importance < 2; ++importance) {
+        rad_status status;
+        long steps = solve_tiled_room(plain, importance, NULL, 0, full, &status);
+        CHECK(status == RAD_OK);
+        stopper t = {importance ? "hierarchical importance" : "hierarchical refinement", 3, 0, 0};
+        ctx = stopping_context(2, &t);
+        long part_steps = solve_tiled_room(ctx, importance, NULL, 0, part, &status);
+        CHECK(status == RAD_ERROR_CANCELLED && t.stopped);
+        rad_context_destroy(ctx);
+        long resumed_steps = solve_tiled_room(one, importance, part, part_steps, resumed, &status);
+        CHECK(status == RAD_OK);
+        printf("solver%s stopped in step %ld's %s and resumed: %ld steps (never stopped: %ld)\n",
+               importance ? " with importance" : "", part_steps, t.phase, resumed_steps, steps);
+        CHECK(resumed_steps == steps);
+        CHECK(same_file(full, resumed));
+        CHECK(!same_file(full, part));
+        remove(full);
+        remove(part);
+        remove(resumed);
+    }
+    rad_context_destroy(one);
+    rad_scene_destroy(scene);
+    rad_context_destroy(plain);
+}
+
 int main(void) {
     test_opening();
     test_image();
@@ -786,5 +938,6 @@ int main(void) {
     test_clusters();
     test_leaf_view();
     test_importance();
+    test_interrupted_refinement();
     return test_finish();
 }

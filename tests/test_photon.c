@@ -8,15 +8,21 @@
  *     8x8 block of a 32x32 image within the tolerance stated below;
  *   - photons from a point light: its light and its image in a plane mirror on a diffuse floor
  *     (the image-source construction) in 8x8 blocks;
+ *   - photons from a spot light and an IES profile leave by the light's intensity: none outside
+ *     the cone or where the profile is dark, nearly equal fluxes, and the flux landing in rings
+ *     of a floor against the integral of I(w) over each ring's solid angle;
  *   - 1 and 2 threads give the same image;
  *   - bad options and a scene without emitters. */
+#include "core/sampler.h"
 #include "image/image.h"
 #include "render/pathtrace.h"
 #include "render/photon_map.h"
+#include "scene/light_emission.h"
 #include "test.h"
 
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static rad_context *make_context(int threads, uint64_t seed) {
     rad_context_options options = {0};
@@ -511,6 +517,115 @@ static void test_point_light(void) {
     free_with_context(two);
 }
 
+/* ---- photons by the light's profile ------------------------------------------------------ */
+
+/* A lamp one unit over the floor y = 0, pointing down, sends `photons` photons
+ * (rad_light_emission_sample, the start of every photon of photonmap and the specular-first
+ * pass). Checked: every photon carries flux (none is drawn where the light sends nothing), none
+ * leaves past `widest` degrees from the axis, the fluxes are nearly equal (relative standard
+ * deviation below `spread`), and the flux that lands in each of 8 rings of the floor out to
+ * `widest` is the integral of I(w) over the ring's solid angle within 2 %. */
+static void check_profile_photons(const char *what, const rad_scene *scene, double widest,
+                                  double spread) {
+    rad_context *ctx = scene->ctx;
+    const rad_light *light = &scene->lights[0];
+    rad_emitter_table none = {0};
+    rad_light_emission e;
+    CHECK(rad_light_emission_build(ctx, &none, scene, 0, &e) == RAD_OK);
+    enum { PHOTONS = 200000, RINGS = 8 };
+    double lowest = cos(widest * RAD_PI / 180), ring_flux[RINGS] = {0}, sum = 0, sum2 = 0;
+    double ring_width = tan(fmin(widest, 80) * RAD_PI / 180) / RINGS;
+    size_t dark = 0, outside = 0;
+    for (uint64_t i = 0; i < PHOTONS; ++i) {
+        rad_sampler sampler = rad_sampler_make(11, i);
+        double u[4];
+        rad_sampler_4d(&sampler, u);
+        rad_vec3 origin, direction;
+        double flux[3];
+        if (!rad_light_emission_sample(&e, u, &origin, &direction, flux)) {
+            ++dark;
+            continue;
+        }
+        double cos_axis = v3_dot(direction, light->direction);
+        if (cos_axis < lowest - 1e-9) ++outside;
+        sum += flux[0];
+        sum2 += flux[0] * flux[0];
+        if (direction.y < 0) {
+            double t = -origin.y / direction.y;
+            double r = hypot(origin.x + t * direction.x, origin.z + t * direction.z);
+            int ring = (int)(r / ring_width);
+            if (ring < RINGS) ring_flux[ring] += flux[0] / PHOTONS;
+        }
+    }
+    double mean = sum / PHOTONS, sd = sqrt(fmax(0, sum2 / PHOTONS - mean * mean));
+    /* Each ring's flux: 2 pi times the integral of I(theta) sin(theta) over its angles. */
+    double worst = 0;
+    for (int k = 0; k < RINGS; ++k) {
+        double a0 = atan(k * ring_width), a1 = atan((k + 1) * ring_width), expected = 0;
+        const int steps = 2000;
+        for (int j = 0; j < steps; ++j) {
+            double theta = a0 + (a1 - a0) * (j + 0.5) / steps, intensity[3];
+            rad_vec3 w = v3(sin(theta), -cos(theta), 0);
+            rad_light_intensity(light, w, intensity);
+            expected += 2 * RAD_PI * intensity[0] * sin(theta) * (a1 - a0) / steps;
+        }
+        if (expected > 0) worst = fmax(worst, fabs(ring_flux[k] / expected - 1));
+    }
+    fprintf(stderr, "%s: %zu of %d photons dark, %zu outside %.0f degrees, flux spread %.3f, "
+            "worst ring %.2f%%\n", what, dark, PHOTONS, outside, widest, sd / mean, 100 * worst);
+    CHECK(dark == 0);
+    CHECK(outside == 0);
+    CHECK(sd < spread * mean);
+    CHECK(worst < 0.02);
+    rad_light_emission_free(ctx, &e);
+}
+
+/* A spot (inner 20, outer 30 degrees) and a point light with an IES profile that is dark above
+ * 90 degrees. Measured: spreads 0.010 and 0.015, no photon dark. The uniform choices before
+ * (over the outer cone, over the sphere) fail it: the spot's fluxes ran from 0 to the axis'
+ * (spread 0.50), and half the profile's photons went up carrying nothing (spread 1.41). */
+static void test_profile_photons(void) {
+    rad_context *ctx = make_context(1, 1);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_new(ctx, 1, "spot", &scene) == RAD_OK);
+    rad_light_desc spot = {0};
+    spot.type = RAD_LIGHT_TYPE_SPOT;
+    spot.position[1] = 1;
+    spot.direction[1] = -1;
+    spot.color[0] = spot.color[1] = spot.color[2] = 1;
+    spot.strength = 1;
+    spot.inner_degrees = 20;
+    spot.outer_degrees = 30;
+    CHECK(rad_scene_add_light(scene, &spot) == RAD_OK);
+    if (scene && scene->light_count == 1) check_profile_photons("spot", scene, 30, 0.05);
+    rad_scene_destroy(scene);
+    static const char half_dark[] = "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 5 1 1 2 0 0 0\n"
+                                    "1 1 100\n0 30 60 80 90\n0\n300 250 120 20 0\n";
+    char path[] = "/tmp/test_photon_XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    if (fd < 0) {
+        rad_context_destroy(ctx);
+        return;
+    }
+    CHECK(write(fd, half_dark, strlen(half_dark)) == (ssize_t)strlen(half_dark));
+    close(fd);
+    CHECK(rad_scene_new(ctx, 1, "ies", &scene) == RAD_OK);
+    rad_light_desc bulb = {0};
+    bulb.name = "bulb";
+    bulb.type = RAD_LIGHT_TYPE_POINT;
+    bulb.position[1] = 1;
+    bulb.strength = 1;
+    CHECK(rad_scene_add_light(scene, &bulb) == RAD_OK);
+    CHECK(rad_scene_set_light_ies(scene, "bulb", path) == RAD_OK);
+    unlink(path);
+    /* The light's axis points down (vertical 0): dark past 90 degrees from it. */
+    if (scene && scene->light_count == 1 && scene->lights[0].ies)
+        check_profile_photons("IES", scene, 90, 0.05);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
 static void test_threads(void) {
     rad_image *one = photonmap_image(1, "cornell-mirror", 24, 30000);
     rad_image *two = photonmap_image(2, "cornell-mirror", 24, 30000);
@@ -568,6 +683,7 @@ int main(void) {
     test_packing();
     test_grid();
     test_point_light();
+    test_profile_photons();
     test_furnace_irradiance();
     test_furnace();
     test_against_pathtracer();

@@ -107,6 +107,15 @@ struct rad_hier {
     double *importance, *importance_emitted, *importance_gathered;
     double (*cluster_axis_importance)[6], (*cluster_down_importance)[6], *cluster_z;
     double importance_mean; /* sum A Y over the roots over their area: the oracle's unit */
+    /* A refinement stopped by Ctrl-C between two of its passes (rad_hier_refining): the links
+     * are the ones it had passed (refine_kept of them, in the order it kept them) followed by
+     * the new ones it had made and not yet asked the oracle about; the next rad_hier_refine
+     * goes on from there. The receiver groups are not built meanwhile. */
+    int refining;
+    size_t refine_kept;
+    /* The importance rounds of the last solve were stopped (Ctrl-C) after the light's had
+     * converged: the next solve goes on with importance only. */
+    int importance_unfinished;
 };
 
 static int threads(const rad_hier *h) { return rad_thread_count(h->ctx); }
@@ -907,14 +916,37 @@ rad_status rad_hier_refine(rad_hier *h) {
      * new ones made by splitting. */
     rad_hier_link *pending = h->links, *kept = NULL, *fresh = NULL;
     size_t pending_count = h->link_count, kept_count = 0;
-    h->links = NULL;
-    h->link_count = 0;
     uint8_t *decision = NULL, *made = NULL;
     size_t refined = 0;
     double largest = 0;
-    int budget = 0;
-    rad_status status = refine_light(h, &refined, &largest);
-    for (int first_pass = 1; pending_count && !status; first_pass = 0) {
+    int budget = 0, first_pass = 1, cancelled = 0;
+    rad_status status = RAD_OK;
+    if (h->refining) {
+        /* Going on with a refinement stopped between two passes, from its next pass. */
+        pending_count = h->link_count - h->refine_kept;
+        pending = rad_alloc(ctx, pending_count ? pending_count : 1, sizeof *pending);
+        if (!pending) return RAD_ERROR_NO_MEMORY;
+        memcpy(pending, h->links + h->refine_kept, pending_count * sizeof *pending);
+        kept = h->links;
+        kept_count = h->refine_kept;
+        refined = h->stats.refined;
+        largest = h->stats.largest_error;
+        budget = h->stats.budget_reached;
+        first_pass = 0;
+        h->refining = 0;
+        h->refine_kept = 0;
+    } else {
+        status = refine_light(h, &refined, &largest);
+    }
+    h->links = NULL;
+    h->link_count = 0;
+    for (; pending_count && !status; first_pass = 0) {
+        /* Ctrl-C between two passes: the state (the links passed and the ones to ask about,
+         * every node made so far) is kept as it is, for the next call to go on from. */
+        if (!first_pass && rad_progress(ctx, "hierarchical refinement", (double)refined, 0)) {
+            cancelled = 1;
+            break;
+        }
         rad_free(ctx, decision);
         decision = rad_alloc(ctx, pending_count, 1);
         if (!decision) {
@@ -1069,10 +1101,30 @@ rad_status rad_hier_refine(rad_hier *h) {
     rad_free(ctx, decision);
     rad_free(ctx, made);
     rad_free(ctx, fresh);
-    rad_free(ctx, pending);
     h->stats.largest_error = largest;
     h->stats.refined = refined;
     h->stats.budget_reached = budget;
+    if (cancelled && !status) {
+        /* The links passed, then the ones still to ask about, in one array. */
+        rad_hier_link *all = rad_realloc(ctx, kept, kept_count + pending_count, sizeof *all);
+        if (!all) status = RAD_ERROR_NO_MEMORY;
+        else {
+            memcpy(all + kept_count, pending, pending_count * sizeof *all);
+            kept = NULL;
+            rad_free(ctx, h->group_first);
+            h->group_first = NULL;
+            h->group_count = 0;
+            h->links = all;
+            h->link_count = kept_count + pending_count;
+            h->stats.links = h->link_count;
+            h->refine_kept = kept_count;
+            h->refining = 1;
+            rad_free(ctx, pending);
+            return rad_fail(ctx, RAD_ERROR_CANCELLED,
+                            "refinement cancelled after %zu links refined", refined);
+        }
+    }
+    rad_free(ctx, pending);
     if (status) {
         rad_free(ctx, kept);
         return status;
@@ -1171,6 +1223,15 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
     const long nodes = (long)h->node_count;
     double limit = tolerance * (h->emission_max > 0 ? h->emission_max : 1);
     int round = 0;
+    if (h->refining)
+        return rad_fail(h->ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "the hierarchy's refinement was stopped: refine before solving");
+    if (h->importance_unfinished) {
+        /* The light's rounds converged before the importance rounds were stopped. */
+        rad_status status = solve_importance(h, tolerance, max_rounds);
+        h->importance_unfinished = status == RAD_ERROR_CANCELLED;
+        return status;
+    }
     pull_clusters(h); /* the clusters start from their members as they are now */
     for (round = 1; round <= max_rounds; ++round) {
         /* Gather: every receiver sums its links in their fixed order. */
@@ -1216,7 +1277,10 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
                             round);
     }
     h->stats.solve_rounds = round > max_rounds ? max_rounds : round;
-    return h->hit_point ? solve_importance(h, tolerance, max_rounds) : RAD_OK;
+    if (!h->hit_point) return RAD_OK;
+    rad_status status = solve_importance(h, tolerance, max_rounds);
+    h->importance_unfinished = status == RAD_ERROR_CANCELLED;
+    return status;
 }
 
 /* ---- Importance (Smits, Arvo & Salesin 1992) --------------------------------------------- */
@@ -1945,6 +2009,38 @@ void rad_hier_restore_exposure(rad_hier *h, uint32_t root, uint32_t rays, uint32
 
 rad_status rad_hier_restore_links(rad_hier *h, rad_hier_link *links, size_t count) {
     return adopt_links(h, links, count);
+}
+
+int rad_hier_refining(const rad_hier *h, size_t *kept) {
+    if (kept) *kept = h->refining ? h->refine_kept : 0;
+    return h->refining;
+}
+
+rad_status rad_hier_restore_refining(rad_hier *h, rad_hier_link *links, size_t count, size_t kept) {
+    if (kept > count) {
+        rad_free(h->ctx, links);
+        return RAD_ERROR_PARSE;
+    }
+    rad_free(h->ctx, h->links);
+    rad_free(h->ctx, h->group_first);
+    h->group_first = NULL;
+    h->group_count = 0;
+    h->links = links;
+    h->link_count = count;
+    h->stats.links = count;
+    size_t cluster_links = 0;
+    for (size_t i = 0; i < count; ++i)
+        cluster_links += cluster_index(h, links[i].receiver) || cluster_index(h, links[i].source);
+    h->stats.cluster_links = cluster_links;
+    h->refine_kept = kept;
+    h->refining = 1;
+    return RAD_OK;
+}
+
+int rad_hier_importance_unfinished(const rad_hier *h) { return h->importance_unfinished; }
+
+void rad_hier_restore_importance_unfinished(rad_hier *h, int unfinished) {
+    h->importance_unfinished = unfinished != 0;
 }
 
 void rad_hier_restore_stats(rad_hier *h, const rad_hier_stats *stats, double importance_mean) {

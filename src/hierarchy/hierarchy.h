@@ -110,8 +110,21 @@ rad_status rad_hier_link_roots(rad_hier *hier);
  * again about them, until every link passes or cannot be split. stats.refined says how many
  * links were refined. When the
  * new links would pass the memory budget nothing is refined, a warning names the link count
- * and stats.budget_reached is set: the solution so far stands. */
+ * and stats.budget_reached is set: the solution so far stands.
+ * The progress callback is asked between passes (phase "hierarchical refinement"); when it asks
+ * to stop, RAD_ERROR_CANCELLED, and the hierarchy keeps the refinement as far as it got
+ * (rad_hier_refining): the next call goes on from there exactly as this one would have, and
+ * rad_hier_solve refuses until then. */
 rad_status rad_hier_refine(rad_hier *hier);
+
+/* Nonzero while a refinement stopped by the progress callback waits to go on; *kept (when not
+ * NULL) is how many of the links, first in rad_hier_links, it had passed (the rest it had made
+ * and not yet asked about; not grouped by receiver). */
+int rad_hier_refining(const rad_hier *hier, size_t *kept);
+
+/* Nonzero when the last solve's importance rounds were stopped after the light's converged: the
+ * next rad_hier_solve goes on with importance alone. */
+int rad_hier_importance_unfinished(const rad_hier *hier);
 
 /* Gathers over the links and push-pulls until the largest change of a leaf's radiosity falls
  * under `tolerance` times the brightest emitter (or `max_rounds`). */
@@ -195,6 +208,10 @@ void rad_hier_restore_node(rad_hier *hier, uint32_t node, const double radiosity
 void rad_hier_restore_exposure(rad_hier *hier, uint32_t root, uint32_t rays, uint32_t seen);
 /* The links (taken over, also on failure), every end below the node count. */
 rad_status rad_hier_restore_links(rad_hier *hier, rad_hier_link *links, size_t count);
+/* A stopped refinement's links as rad_hier_refining described them (taken over, also on
+ * failure): the first `kept` passed, the rest to ask about; RAD_ERROR_PARSE when kept > count. */
+rad_status rad_hier_restore_refining(rad_hier *hier, rad_hier_link *links, size_t count, size_t kept);
+void rad_hier_restore_importance_unfinished(rad_hier *hier, int unfinished);
 /* largest_error, refined, solve_rounds, budget_reached and seen_share of `stats`. */
 void rad_hier_restore_stats(rad_hier *hier, const rad_hier_stats *stats, double importance_mean);
 

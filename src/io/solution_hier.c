@@ -14,7 +14,10 @@
  *   56  4  flags: 1 importance, 2 node light, 4 second specular pass's light per element,
  *          8 refinement stopped at the memory budget, 16 the last solve was interrupted (the
  *          next step finishes it before refining), 32 the last solve stopped at the loose
- *          tolerance (it refined much; the step that refines nothing asks the oracle again)
+ *          tolerance (it refined much; the step that refines nothing asks the oracle again),
+ *          64 the refinement was interrupted between two passes (the links are in the order
+ *          it kept them, not grouped by increasing receiver; the next step goes on with it),
+ *          128 the last solve's importance rounds were interrupted after the light's converged
  *   60  4  gathering rounds of the last solve
  *   64  8  node count          72  8  root count        80  8  split count
  *   88  8  link count          96  8  receiver runs     104 8  importance view hits
@@ -29,6 +32,7 @@
  *          source (uint32), form factor and error bound (float32)
  *          with flag 1, hits: polygon (uint32), point[3] float64
  *          with flag 4, per element: the second specular pass's light[3] float64
+ *          with flag 64: how many of the links, first, the refinement had passed (uint64)
  *   end 8  FNV-1a 64 of every byte before it
  * Written through a temporary renamed into place (core/atomic_file.h), checksummed on the way.
  * A load checks the whole file, rebuilds the hierarchy aside (rad_hier_create, the splits
@@ -62,7 +66,7 @@
 #define ELEMENT_BYTES 24u
 
 enum { FLAG_IMPORTANCE = 1, FLAG_LIGHT = 2, FLAG_REFLECTION = 4, FLAG_BUDGET = 8, FLAG_UNFINISHED = 16,
-       FLAG_LOOSE = 32 };
+       FLAG_LOOSE = 32, FLAG_REFINING = 64, FLAG_IMPORTANCE_UNFINISHED = 128, FLAGS_KNOWN = 255 };
 
 static uint64_t hash_f64(uint64_t h, double v) {
     unsigned char b[8];
@@ -197,6 +201,9 @@ rad_status rad_solution_hier_save(rad_system *s, const char *path, const rad_sol
                      (stats.budget_reached ? FLAG_BUDGET : 0) |
                      (rad_hier_setup_unfinished(setup) ? FLAG_UNFINISHED : 0) |
                      (setup && rad_hier_setup_loose(setup) ? FLAG_LOOSE : 0);
+    size_t refine_kept = 0;
+    if (rad_hier_refining(hier, &refine_kept)) flags |= FLAG_REFINING;
+    if (rad_hier_importance_unfinished(hier)) flags |= FLAG_IMPORTANCE_UNFINISHED;
     if (!(flags & FLAG_IMPORTANCE)) hits = 0;
 
     unsigned char header[HEADER];
@@ -269,6 +276,11 @@ rad_status rad_solution_hier_save(rad_system *s, const char *path, const rad_sol
     }
     for (size_t e = 0; (flags & FLAG_REFLECTION) && e < s->element_count; ++e)
         for (int c = 0; c < 3; ++c) put_f64(w, s->specular_reflection[e][c]);
+    if (flags & FLAG_REFINING) {
+        unsigned char kept[8];
+        rad_le_put_u64(kept, refine_kept);
+        put(w, kept, 8);
+    }
     flush(w);
     unsigned char sum[8];
     rad_le_put_u64(sum, w->checksum);
@@ -290,7 +302,7 @@ rad_status rad_solution_hier_save(rad_system *s, const char *path, const rad_sol
 typedef struct layout {
     uint32_t flags;
     uint64_t nodes, roots, splits, links, runs, hits, elements;
-    size_t node_bytes, split_at, node_at, root_at, link_at, hit_at, element_at, end;
+    size_t node_bytes, split_at, node_at, root_at, link_at, hit_at, element_at, kept_at, end;
 } layout;
 
 /* a += b * c, with overflow reported. */
@@ -313,7 +325,7 @@ static rad_status read_layout(rad_context *ctx, const char *path, const unsigned
     l.flags = rad_le_get_u32(bytes + 56);
     uint64_t *counts[7] = {&l.nodes, &l.roots, &l.splits, &l.links, &l.runs, &l.hits, &l.elements};
     for (int k = 0; k < 7; ++k) *counts[k] = rad_le_get_u64(bytes + 64 + 8 * k);
-    if (l.flags & ~63u) return corrupted(ctx, path, "unknown flags");
+    if (l.flags & ~(uint32_t)FLAGS_KNOWN) return corrupted(ctx, path, "unknown flags");
     l.node_bytes = NODE_BYTES + (l.flags & FLAG_LIGHT ? NODE_LIGHT_BYTES : 0) +
                    (l.flags & FLAG_IMPORTANCE ? NODE_IMPORTANCE_BYTES : 0);
     size_t at = HEADER;
@@ -329,6 +341,8 @@ static rad_status read_layout(rad_context *ctx, const char *path, const unsigned
     overflow |= add_product(&at, l.flags & FLAG_IMPORTANCE ? l.hits : 0, HIT_BYTES);
     l.element_at = at;
     overflow |= add_product(&at, l.flags & FLAG_REFLECTION ? l.elements : 0, ELEMENT_BYTES);
+    l.kept_at = at;
+    overflow |= add_product(&at, l.flags & FLAG_REFINING ? 1 : 0, 8);
     l.end = at;
     if (overflow || at > SIZE_MAX - 8) return corrupted(ctx, path, "section sizes");
     if (size < at + 8)
@@ -397,8 +411,10 @@ static rad_status check_values(rad_context *ctx, const char *path, const unsigne
     for (uint64_t run = 0; run < l->runs; ++run) {
         uint32_t receiver = rad_le_get_u32(p), count = rad_le_get_u32(p + 4);
         p += RUN_BYTES;
-        if ((int64_t)receiver <= previous || receiver >= l->nodes || count == 0 ||
-            count > l->links - seen)
+        /* Grouped by receiver, except while a refinement waits to go on (flag 64). */
+        int out_of_order = (l->flags & FLAG_REFINING) ? (int64_t)receiver == previous
+                                                      : (int64_t)receiver <= previous;
+        if (out_of_order || receiver >= l->nodes || count == 0 || count > l->links - seen)
             return corrupted(ctx, path, "a link's receiver");
         previous = receiver;
         for (uint32_t k = 0; k < count; ++k, p += LINK_BYTES) {
@@ -409,6 +425,8 @@ static rad_status check_values(rad_context *ctx, const char *path, const unsigne
         seen += count;
     }
     if (seen != l->links) return corrupted(ctx, path, "the link count");
+    if ((l->flags & FLAG_REFINING) && rad_le_get_u64(bytes + l->kept_at) > l->links)
+        return corrupted(ctx, path, "the links a refinement had passed");
     for (uint64_t i = 0; (l->flags & FLAG_IMPORTANCE) && i < l->hits; ++i)
         for (int k = 0; k < 3; ++k)
             if (!isfinite(rad_le_get_f64(bytes + l->hit_at + HIT_BYTES * i + 4 + 8 * k)))
@@ -496,7 +514,13 @@ static rad_status rebuild(rad_system *s, const char *path, const unsigned char *
                 links[at].error = get_f32(p + 8);
             }
         }
-        if (!status) status = rad_hier_restore_links(hier, links, at);
+        if (!status && (l->flags & FLAG_REFINING))
+            status = rad_hier_restore_refining(hier, links, at,
+                                               (size_t)rad_le_get_u64(bytes + l->kept_at));
+        else if (!status)
+            status = rad_hier_restore_links(hier, links, at);
+        if (status == RAD_ERROR_PARSE) status = corrupted(ctx, path, "the links a refinement had passed");
+        rad_hier_restore_importance_unfinished(hier, (l->flags & FLAG_IMPORTANCE_UNFINISHED) != 0);
     }
     if (!status) {
         rad_hier_stats saved = {0};

@@ -165,19 +165,37 @@ void rad_photon_map_free(rad_context *ctx, rad_photon_map *map) {
     memset(map, 0, sizeof *map);
 }
 
-/* The distinct buckets of the 27 cells around x (two cells may share a bucket). */
-static int query_buckets(const rad_photon_map *map, rad_vec3 x, uint32_t buckets[27]) {
-    int64_t cx = cell_of(x.x, map->cell), cy = cell_of(x.y, map->cell),
-            cz = cell_of(x.z, map->cell);
-    int n = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                uint32_t b = bucket_of(cx + dx, cy + dy, cz + dz, map->bucket_count);
-                int seen = 0;
-                for (int i = 0; i < n && !seen; ++i) seen = buckets[i] == b;
-                if (!seen) buckets[n++] = b;
-            }
+/* The distinct buckets of the 27 cells around x, in the order dz, dy, dx from -1 to 1 (with
+ * `home_first`, x's own cell first), and each cell's squared distance from x (gap2: no photon of
+ * the cell is nearer). The Morton code is the three axes' spread bits or-ed together, so the 27
+ * codes come from 9 spread coordinates. Two of the cells share a bucket only when an axis keeps
+ * fewer than 2 bits of the code (fewer than 64 buckets: cells 1 or 2 apart differ modulo 4);
+ * then the repeats are dropped and every gap is 0 (a bucket stands for more than one cell). */
+static int query_cells(const rad_photon_map *map, rad_vec3 x, int home_first, uint32_t buckets[27],
+                       double gap2[27]) {
+    double cell = map->cell, position[3] = {x.x, x.y, x.z};
+    uint64_t spread[3][3], mask = map->bucket_count - 1;
+    double gap[3][3];
+    for (int a = 0; a < 3; ++a) {
+        int64_t c = cell_of(position[a], cell);
+        /* Shortened by a billionth of the cell against rounding in the cell's bounds. */
+        double below = position[a] - (double)c * cell, slack = 1e-9 * cell;
+        double to_lower = fmax(0, below - slack), to_upper = fmax(0, cell - below - slack);
+        gap[a][0] = to_lower * to_lower, gap[a][1] = 0, gap[a][2] = to_upper * to_upper;
+        for (int d = 0; d < 3; ++d) spread[a][d] = spread3((uint64_t)(c + d - 1)) << a;
+    }
+    int distinct = map->bucket_count >= 64, n = 0;
+    for (int k = home_first ? -1 : 0; k < 27; ++k) {
+        if (home_first && k == 13) continue; /* the home cell, already first */
+        int cell_index = k < 0 ? 13 : k, dx = cell_index % 3, dy = cell_index / 3 % 3,
+            dz = cell_index / 9;
+        uint32_t b = (uint32_t)((spread[0][dx] | spread[1][dy] | spread[2][dz]) & mask);
+        int seen = 0;
+        for (int i = 0; i < n && !distinct && !seen; ++i) seen = buckets[i] == b;
+        if (seen) continue;
+        gap2[n] = distinct ? gap[0][dx] + gap[1][dy] + gap[2][dz] : 0;
+        buckets[n++] = b;
+    }
     return n;
 }
 
@@ -257,17 +275,23 @@ size_t rad_photon_map_nearest_heap(const rad_photon_map *map, rad_vec3 x, rad_ve
     *radius2 = r2;
     if (map->count == 0 || k == 0) return 0;
     uint32_t buckets[27];
-    int nb = query_buckets(map, x, buckets);
+    double gap2[27];
+    /* x's own cell first, so the k-th distance shrinks early and farther cells are skipped. */
+    int nb = query_cells(map, x, 1, buckets, gap2);
     surface_test test = {normal, UINT32_MAX, 0};
     size_t size = 0;
-    for (int b = 0; b < nb; ++b)
+    double bound = r2; /* the k-th distance so far: nothing at or past it can enter */
+    for (int b = 0; b < nb; ++b) {
+        if (gap2[b] >= bound) continue;
         for (uint32_t i = map->bucket_start[buckets[b]]; i < map->bucket_start[buckets[b] + 1]; ++i) {
             const rad_photon *p = &map->photons[i];
             rad_vec3 d = v3_sub(rad_photon_position(p), x);
             double d2 = v3_dot(d, d);
-            if (d2 >= r2 || !same_surface(&test, p)) continue;
+            if (d2 >= bound || !same_surface(&test, p)) continue;
             heap_push(found, &size, k, (rad_photon_near){p, d2});
+            if (size == k) bound = found[0].distance2;
         }
+    }
     if (size == k) *radius2 = found[0].distance2;
     return size;
 }
@@ -292,16 +316,19 @@ void rad_photon_map_irradiance(const rad_photon_map *map, rad_vec3 x, rad_vec3 n
     }
     double r2 = radius * radius;
     uint32_t buckets[27];
-    int nb = query_buckets(map, x, buckets);
+    double gap2[27];
+    int nb = query_cells(map, x, 0, buckets, gap2);
     surface_test test = {normal, UINT32_MAX, 0};
     for (int b = 0; b < nb; ++b)
-        for (uint32_t i = map->bucket_start[buckets[b]]; i < map->bucket_start[buckets[b] + 1]; ++i) {
-            const rad_photon *p = &map->photons[i];
-            rad_vec3 d = v3_sub(rad_photon_position(p), x);
-            if (v3_dot(d, d) >= r2 || !same_surface(&test, p)) continue;
-            double power[3];
-            rad_photon_power(p, 1, power);
-            for (int c = 0; c < 3; ++c) out[c] += power[c];
-        }
+        if (gap2[b] < r2)
+            for (uint32_t i = map->bucket_start[buckets[b]]; i < map->bucket_start[buckets[b] + 1];
+                 ++i) {
+                const rad_photon *p = &map->photons[i];
+                rad_vec3 d = v3_sub(rad_photon_position(p), x);
+                if (v3_dot(d, d) >= r2 || !same_surface(&test, p)) continue;
+                double power[3];
+                rad_photon_power(p, 1, power);
+                for (int c = 0; c < 3; ++c) out[c] += power[c];
+            }
     for (int c = 0; c < 3; ++c) out[c] /= RAD_PI * r2;
 }

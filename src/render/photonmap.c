@@ -15,6 +15,9 @@
  * indirect light: final-gather rays, cosine distributed, each ending (through mirrors and glass)
  * at a diffuse point y whose radiance is reflectance/pi times the precomputed irradiance nearest
  * to y. The delta lobes of that point go on with one BSDF sample.
+ * Where a pixel holds an edge of a light (or of its image in a mirror) or shows glass, what it sees
+ * of the sources directly or through mirrors and glass is taken from 16 times as many cheap rays
+ * (splitting at every glass surface), the reflected light from the camera samples.
  * --progressive: passes with fresh photons and radii shrinking as in progressive photon mapping
  * (Hachisuka, Ogaki & Jensen 2008) in its probabilistic form (Knaus & Zwicker 2011: r_{i+1}^2 =
  * r_i^2 (i + alpha) / (i + 1)), each pass's image averaged in, so bias and noise both fall.
@@ -48,6 +51,12 @@
 #define IRRADIANCE_STRIDE 4    /* irradiance precomputed at one global photon in four */
 #define PHOTON_SALT 0x7f4a7c159e3779b9ull
 #define GATHER_SALT 0x94d049bb133111ebull
+#define SEEN_SALT 0xd6e8feb86659fd93ull
+#define SEEN_SAMPLES 16 /* rays per camera sample for the sources seen, at a source's edge */
+#define SEEN_GLASS_SAMPLES 4 /* the same where glass is seen (they split at every surface) */
+#define SEEN_EDGE_CONTRAST 0.05f /* centres seeing sources this far apart make an edge */
+#define SEEN_SPLITS MAX_SPECULAR_CHAIN /* glass splits of a path that only looks for sources */
+#define SEEN_ROULETTE 0.05 /* its branches below this throughput play Russian roulette */
 #define GATHER_DIM 256 /* the gather samplers' first dimension, past the camera path's */
 
 static double cpu_seconds(void) {
@@ -386,13 +395,51 @@ static void gather_ray(const render_state *r, rad_sampler *sampler, rad_vec3 x, 
     }
 }
 
+/* The parts of a camera path's radiance: what it sees of the sources (emitting surfaces and the
+ * sky, directly or through mirrors and glass) and the light reflected at its diffuse and glossy
+ * points (direct, caustic, indirect). The image takes them together, or the seen sources apart
+ * with more samples where they have an edge in the pixel (render_pass). */
+enum { PART_SEEN = 1, PART_REFLECTED = 2, PART_ALL = 3 };
+
+/* One camera sample's state: its samplers, the gather rays' sequence, which parts it adds. */
+typedef struct camera_sample {
+    rad_sampler *sampler, *gather;
+    uint64_t gather_base;
+    int gather_rays;
+    int parts;
+    int splits;     /* glass surfaces where both lobes are followed */
+    int *met_glass; /* set when the path meets glass, or NULL */
+    rad_photon_near *scratch;
+    uint64_t *rays;
+} camera_sample;
+
+/* Russian roulette on a branch of a camera path that only looks for the sources it sees: one
+ * whose throughput is below SEEN_ROULETTE goes on with probability throughput / SEEN_ROULETTE,
+ * its throughput divided by it (so splitting at every glass surface keeps a bounded number of
+ * branches, each of weight SEEN_ROULETTE or more). Returns 0 when the branch ends. */
+static int seen_roulette(const camera_sample *cs, double throughput[3]) {
+    double largest = fmax(throughput[0], fmax(throughput[1], throughput[2]));
+    if (!(largest > 0)) return 0;
+    if (cs->parts != PART_SEEN || largest >= SEEN_ROULETTE) return 1;
+    double u[2];
+    rad_sampler_2d(cs->sampler, u);
+    double survive = largest / SEEN_ROULETTE;
+    if (u[0] >= survive) return 0;
+    for (int c = 0; c < 3; ++c) throughput[c] /= survive;
+    return 1;
+}
+
 /* Adds to out[3] the radiance along a camera path from `origin` with `start` throughput, its
  * specular chain already `first_chain` long, that may still split at `splits` glass surfaces. */
-static void camera_path(const render_state *r, rad_sampler *sampler, rad_sampler *gather,
-                        uint64_t gather_base, int gather_rays, rad_vec3 origin, rad_vec3 direction,
-                        const double start[3], int first_chain, int splits,
-                        rad_photon_near *scratch, uint64_t *rays, double out[3]) {
+static void camera_path(const render_state *r, const camera_sample *cs, rad_vec3 origin,
+                        rad_vec3 direction, const double start[3], int first_chain, int splits,
+                        double out[3]) {
     const rad_tracer *t = r->t;
+    rad_sampler *sampler = cs->sampler, *gather = cs->gather;
+    rad_photon_near *scratch = cs->scratch;
+    uint64_t *rays = cs->rays;
+    int gather_rays = cs->gather_rays;
+    uint64_t gather_base = cs->gather_base;
     double throughput[3] = {start[0], start[1], start[2]};
     for (int chain = first_chain; chain < MAX_SPECULAR_CHAIN; ++chain) {
         rad_hit hit;
@@ -402,7 +449,7 @@ static void camera_path(const render_state *r, rad_sampler *sampler, rad_sampler
         const rad_material *m = next_surface(t, origin, direction, rays, &hit, &x, &textured, &left);
         if (!m) {
             /* Left the scene: the sky, seen directly or through mirrors and glass. */
-            if (left) {
+            if (left && (cs->parts & PART_SEEN)) {
                 double sky[3];
                 rad_sky_radiance(&t->scene->sky, direction, sky);
                 for (int c = 0; c < 3; ++c) out[c] += throughput[c] * sky[c];
@@ -411,11 +458,11 @@ static void camera_path(const render_state *r, rad_sampler *sampler, rad_sampler
         }
         rad_vec3 wo = v3_scale(direction, -1);
         /* Emission seen directly or through mirrors and glass. */
-        if (hit.front && t->polygon_emitter[hit.polygon] >= 0)
+        if ((cs->parts & PART_SEEN) && hit.front && t->polygon_emitter[hit.polygon] >= 0)
             for (int c = 0; c < 3; ++c) out[c] += throughput[c] * m->emission[c];
         double u[4];
         rad_sampler_4d(sampler, u); /* (emitter point, lobe choice, spare) */
-        if (rad_bsdf_has_smooth_lobe(m) && hit.front) {
+        if ((cs->parts & PART_REFLECTED) && rad_bsdf_has_smooth_lobe(m) && hit.front) {
             double l[3] = {0, 0, 0};
             /* Direct light: one point on the emitters (next-event estimation). */
             rad_emitter_point light;
@@ -456,6 +503,7 @@ static void camera_path(const render_state *r, rad_sampler *sampler, rad_sampler
          * place of choosing one (splitting, as a Whitted ray tracer does): the light's reflection
          * in the glass sphere, chosen by a few percent of the samples with all its weight, was
          * most of cornell-mirror's block error at 16 samples per pixel. */
+        if (m->kind == RAD_MATERIAL_GLASS && cs->met_glass) *cs->met_glass = 1;
         if (m->kind == RAD_MATERIAL_GLASS && splits > 0) {
             double fresnel = rad_bsdf_glass_reflectance(m, hit.normal, wo);
             if (fresnel > 0 && fresnel < 1) {
@@ -465,13 +513,14 @@ static void camera_path(const render_state *r, rad_sampler *sampler, rad_sampler
                     RAD_LOBE_SPECULAR) {
                     double branch[3];
                     for (int c = 0; c < 3; ++c) branch[c] = throughput[c] * s.weight[c] * fresnel;
-                    camera_path(r, sampler, gather, gather_base, gather_rays, x, s.direction,
-                                branch, chain + 1, splits - 1, scratch, rays, out);
+                    if (seen_roulette(cs, branch))
+                        camera_path(r, cs, x, s.direction, branch, chain + 1, splits - 1, out);
                 }
                 if (rad_bsdf_sample_direction(m, hit.normal, wo, refract_u, &s) !=
                     RAD_LOBE_TRANSMISSION)
                     return;
                 for (int c = 0; c < 3; ++c) throughput[c] *= s.weight[c] * (1 - fresnel);
+                if (!seen_roulette(cs, throughput)) return;
                 origin = x;
                 direction = s.direction;
                 --splits;
@@ -496,15 +545,12 @@ static void camera_path(const render_state *r, rad_sampler *sampler, rad_sampler
     }
 }
 
-/* The radiance of one camera sample. */
-static void camera_radiance(const render_state *r, rad_sampler *sampler, rad_sampler *gather,
-                            uint64_t gather_base, int gather_rays, rad_vec3 origin,
-                            rad_vec3 direction, rad_photon_near *scratch, uint64_t *rays,
-                            double out[3]) {
+/* The radiance of one camera sample (the parts `cs` asks for). */
+static void camera_radiance(const render_state *r, const camera_sample *cs, rad_vec3 origin,
+                            rad_vec3 direction, double out[3]) {
     const double one[3] = {1, 1, 1};
     out[0] = out[1] = out[2] = 0;
-    camera_path(r, sampler, gather, gather_base, gather_rays, origin, direction, one, 0,
-                GLASS_SPLITS, scratch, rays, out);
+    camera_path(r, cs, origin, direction, one, 0, cs->splits, out);
 }
 
 /* ---- the image ---------------------------------------------------------------------------- */
@@ -576,7 +622,59 @@ static rad_status build_pass(const rad_tracer *t, const rad_light_emission *sour
     return status;
 }
 
-/* Adds pass `iteration`'s estimate to `sum` (per pixel, summed over samples). */
+/* What the ray through the middle of each pixel sees of the sources (PART_SEEN): its luminance
+ * into seen[width * height], and into glass[] whether it met glass. */
+static void seen_at_centres(const render_state *r, const rad_view *view, int threads, float *seen,
+                            uint8_t *glass, uint64_t *rays_out) {
+    uint64_t seed = (r->t->ctx->seed ^ SEEN_SALT) + 1, total_rays = 0;
+    int width = view->width, height = view->height;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 4) reduction(+ : total_rays)
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            rad_sampler sampler =
+                rad_sampler_make(seed, rad_sampler_pixel_index((uint32_t)x, (uint32_t)y, 1, 0));
+            uint64_t rays = 0;
+            int met_glass = 0;
+            camera_sample cs = {&sampler, NULL, 0, 0, PART_SEEN, GLASS_SPLITS, &met_glass, NULL,
+                                &rays};
+            double radiance[3];
+            camera_radiance(r, &cs, view->eye, rad_view_direction(view, x + 0.5, y + 0.5),
+                            radiance);
+            size_t i = (size_t)y * (size_t)width + (size_t)x;
+            seen[i] = (float)((radiance[0] + radiance[1] + radiance[2]) / 3);
+            glass[i] = (uint8_t)met_glass;
+            total_rays += rays;
+        }
+    *rays_out += total_rays;
+}
+
+/* How many rays per camera sample pixel (x, y) takes the sources it sees from, apart from the
+ * reflected light (render_pass; 0: none, they come with the samples): SEEN_SAMPLES when the
+ * centres of its 3 x 3 neighbourhood see sources that differ by more than SEEN_EDGE_CONTRAST of
+ * the brightest (an edge of a light, or of its image in a mirror or through glass), else
+ * SEEN_GLASS_SAMPLES when one of them meets glass (where a light is seen after several glass
+ * surfaces, along paths a few samples miss). */
+static int seen_apart(const float *seen, const uint8_t *glass, int width, int height, int x,
+                      int y) {
+    float lo = INFINITY, hi = 0;
+    int met_glass = 0;
+    for (int j = y > 0 ? y - 1 : 0; j <= y + 1 && j < height; ++j)
+        for (int i = x > 0 ? x - 1 : 0; i <= x + 1 && i < width; ++i) {
+            size_t k = (size_t)j * (size_t)width + (size_t)i;
+            met_glass |= glass[k];
+            lo = fminf(lo, seen[k]), hi = fmaxf(hi, seen[k]);
+        }
+    if (hi > 0 && hi - lo > SEEN_EDGE_CONTRAST * hi) return SEEN_SAMPLES;
+    return met_glass ? SEEN_GLASS_SAMPLES : 0;
+}
+
+/* Adds pass `iteration`'s estimate to `sum` (per pixel, summed over samples). A pixel holding an
+ * edge of a seen source (the light's outline, its image in the mirror) takes what it sees of the
+ * sources from SEEN_SAMPLES times as many camera rays (they only follow mirrors and glass), the
+ * reflected light from the `spp` samples: 16 samples put a light's edge into a pixel only in
+ * steps of 1/16 of its coverage, which was the largest 16x16-block error of both Cornell boxes
+ * against the path tracer (the row of pixels the light's front edge crosses). The estimate stays
+ * unbiased: which pixels are edges depends on the centre rays alone. */
 static rad_status render_pass(const rad_tracer *t, const photon_pass *pass, const rad_view *view,
                               int spp, int gather_rays, int iteration, int iterations, int threads,
                               double *sum, uint64_t *rays_out) {
@@ -585,7 +683,15 @@ static rad_status render_pass(const rad_tracer *t, const photon_pass *pass, cons
     r.scratch_size = pass->nearest ? pass->nearest : 4096;
     int width = view->width, height = view->height;
     rad_photon_near *scratch = rad_alloc(ctx, (size_t)threads * r.scratch_size, sizeof *scratch);
-    if (!scratch) return RAD_ERROR_NO_MEMORY;
+    float *seen = rad_alloc(ctx, (size_t)width * (size_t)height, sizeof *seen);
+    uint8_t *glass = rad_alloc(ctx, (size_t)width * (size_t)height, sizeof *glass);
+    if (!scratch || !seen || !glass) {
+        rad_free(ctx, scratch);
+        rad_free(ctx, seen);
+        rad_free(ctx, glass);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    seen_at_centres(&r, view, threads, seen, glass, rays_out);
     int rows_done = 0, cancelled = 0;
     uint64_t total_rays = 0;
     uint64_t seed = ctx->seed;
@@ -602,6 +708,7 @@ static rad_status render_pass(const rad_tracer *t, const photon_pass *pass, cons
             if (stop) continue;
             for (int x = 0; x < width; ++x) {
                 double *p = sum + 3 * ((size_t)y * (size_t)width + (size_t)x);
+                int seen_rays = seen_apart(seen, glass, width, height, x, y);
                 for (int s = 0; s < spp; ++s) {
                     uint32_t sample = (uint32_t)(iteration * spp + s);
                     rad_sampler sampler = rad_sampler_make(
@@ -612,11 +719,32 @@ static rad_status render_pass(const rad_tracer *t, const photon_pass *pass, cons
                     rad_sampler gather = rad_sampler_make(seed ^ GATHER_SALT, gather_base);
                     double jitter[4];
                     rad_sampler_4d(&sampler, jitter);
+                    camera_sample cs = {&sampler, &gather, gather_base, gather_rays,
+                                        seen_rays ? PART_REFLECTED : PART_ALL, GLASS_SPLITS, NULL,
+                                        mine, &rays};
                     double radiance[3];
-                    camera_radiance(&r, &sampler, &gather, gather_base, gather_rays, view->eye,
-                                    rad_view_direction(view, x + jitter[0], y + jitter[1]), mine,
-                                    &rays, radiance);
+                    camera_radiance(&r, &cs, view->eye,
+                                    rad_view_direction(view, x + jitter[0], y + jitter[1]),
+                                    radiance);
                     for (int c = 0; c < 3; ++c) p[c] += radiance[c];
+                }
+                /* The sources seen, from seen_rays times as many rays, each worth
+                 * 1 / seen_rays. */
+                for (int s = 0; s < spp * seen_rays; ++s) {
+                    uint32_t sample = (uint32_t)(iteration * spp * SEEN_SAMPLES + s);
+                    rad_sampler sampler = rad_sampler_make(
+                        seed ^ SEEN_SALT,
+                        rad_sampler_pixel_index((uint32_t)x, (uint32_t)y, samples * SEEN_SAMPLES,
+                                                sample));
+                    double jitter[4];
+                    rad_sampler_4d(&sampler, jitter);
+                    camera_sample cs = {&sampler, NULL, 0, 0, PART_SEEN, SEEN_SPLITS, NULL, NULL,
+                                        &rays};
+                    double radiance[3];
+                    camera_radiance(&r, &cs, view->eye,
+                                    rad_view_direction(view, x + jitter[0], y + jitter[1]),
+                                    radiance);
+                    for (int c = 0; c < 3; ++c) p[c] += radiance[c] / seen_rays;
                 }
             }
             int done;
@@ -632,6 +760,8 @@ static rad_status render_pass(const rad_tracer *t, const photon_pass *pass, cons
         total_rays += rays;
     }
     rad_free(ctx, scratch);
+    rad_free(ctx, seen);
+    rad_free(ctx, glass);
     *rays_out += total_rays;
     if (cancelled) return rad_fail(ctx, RAD_ERROR_CANCELLED, "photon mapping cancelled");
     return RAD_OK;
@@ -657,7 +787,9 @@ rad_status rad_photonmap(rad_context *ctx, const rad_scene *scene,
     uint64_t caustic_photons = o.caustic_photons ? o.caustic_photons : photons;
     if (!rad_scene_has_specular(scene)) caustic_photons = 0; /* no mirror or glass: no caustics */
     double alpha = o.alpha > 0 ? o.alpha : DEFAULT_ALPHA;
-    if ((uint64_t)spp * (uint64_t)iterations * (uint64_t)gather_rays > UINT32_MAX / 2)
+    if ((uint64_t)spp * (uint64_t)iterations *
+            (uint64_t)(gather_rays > SEEN_SAMPLES ? gather_rays : SEEN_SAMPLES) >
+        UINT32_MAX / 2)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "photon mapping: samples x iterations x gather rays is too large");
     /* The budget, before anything is allocated: the stored photons (a generous

@@ -6,40 +6,47 @@
 #include <math.h>
 #include <string.h>
 
-#define INTEGRATION_STEPS 512 /* cosine steps of the numerical power integrals */
-#define IES_AZIMUTH_STEPS 72  /* azimuth steps for an IES profile (5 degrees) */
-
-/* The cosine of the widest angle from its axis a point or spot light sends light at. */
-static double cone_cosine(const rad_light *light) {
-    if (light->kind != RAD_LIGHT_SPOT || !(light->outer_angle < RAD_PI)) return -1;
-    return cos(light->outer_angle);
-}
+#define INTEGRATION_STEPS 512 /* cosine steps of the sky's power integral */
 
 static double channel_sum(const double v[3]) { return v[0] + v[1] + v[2]; }
 
-/* The integral of a point or spot light's intensity over the sphere, summed over channels:
- * 4 pi I for a bare point light, else the midpoint rule over the cosine to the axis (and the
- * azimuth for an IES profile). */
-static double light_power(const rad_light *light) {
-    if (light->kind == RAD_LIGHT_DIRECTIONAL) return 0; /* by the disc, in build */
-    if (light->kind == RAD_LIGHT_POINT && !light->ies) return 4 * RAD_PI * channel_sum(light->intensity);
-    double lowest = cone_cosine(light);
-    int azimuths = light->ies ? IES_AZIMUTH_STEPS : 1;
-    rad_vec3 t, b;
-    v3_basis(light->direction, &t, &b);
-    double sum = 0, step = (1 - lowest) / INTEGRATION_STEPS;
-    for (int i = 0; i < INTEGRATION_STEPS; ++i) {
-        double c = lowest + (i + 0.5) * step, s = sqrt(fmax(0, 1 - c * c));
-        for (int j = 0; j < azimuths; ++j) {
-            double phi = 2 * RAD_PI * (j + 0.5) / azimuths;
-            rad_vec3 w = v3_add(v3_scale(light->direction, c),
-                                v3_add(v3_scale(t, s * cos(phi)), v3_scale(b, s * sin(phi))));
-            double intensity[3];
-            rad_light_intensity(light, w, intensity);
-            sum += channel_sum(intensity) * step * 2 * RAD_PI / azimuths;
-        }
+/* A light's intensity summed over its channels is its shape (light_directions.h) times this. */
+static double colour_sum(const rad_light *light) {
+    if (!light->ies) return channel_sum(light->intensity);
+    double peak = fmax(light->intensity[0], fmax(light->intensity[1], light->intensity[2]));
+    return peak > 0 ? channel_sum(light->intensity) / peak : 0;
+}
+
+/* The tables of the lights that need one (light_directions.h), one per kind, cone and profile:
+ * lights that share them point at the same one. */
+static rad_status build_directions(rad_context *ctx, rad_light_emission *out) {
+    if (!out->light_count) return RAD_OK;
+    out->light_directions = rad_alloc(ctx, out->light_count, sizeof *out->light_directions);
+    out->directions = rad_alloc_zero(ctx, out->light_count, sizeof *out->directions);
+    if (!out->light_directions || !out->directions) return RAD_ERROR_NO_MEMORY;
+    for (size_t i = 0; i < out->light_count; ++i) {
+        const rad_light *light = &out->lights[i];
+        out->light_directions[i] = NULL;
+        if (!rad_light_directions_needed(light)) continue;
+        for (size_t d = 0; d < out->direction_count && !out->light_directions[i]; ++d)
+            if (rad_light_directions_fit(&out->directions[d], light))
+                out->light_directions[i] = &out->directions[d];
+        if (out->light_directions[i]) continue;
+        rad_status status =
+            rad_light_directions_build(ctx, light, &out->directions[out->direction_count]);
+        if (status) return status;
+        out->light_directions[i] = &out->directions[out->direction_count++];
     }
-    return sum;
+    return RAD_OK;
+}
+
+/* The integral of a point or spot light's intensity over the sphere, summed over channels:
+ * 4 pi I for a bare point light, else its table's (light_directions.h). */
+static double light_power(const rad_light_emission *e, size_t i) {
+    const rad_light *light = &e->lights[i];
+    if (light->kind == RAD_LIGHT_DIRECTIONAL) return 0; /* by the disc, in build */
+    if (!e->light_directions[i]) return 4 * RAD_PI * channel_sum(light->intensity);
+    return colour_sum(light) * e->light_directions[i]->shape_power;
 }
 
 /* The integral of the sky's radiance over the upper hemisphere, summed over channels (it
@@ -82,9 +89,10 @@ rad_status rad_light_emission_build(rad_context *ctx, const rad_emitter_table *s
     out->source_count = 1 + out->light_count + 1;
     out->power = rad_alloc_zero(ctx, out->source_count, sizeof *out->power);
     out->cdf = rad_alloc_zero(ctx, out->source_count, sizeof *out->cdf);
-    if (!out->power || !out->cdf) {
+    rad_status status = out->power && out->cdf ? build_directions(ctx, out) : RAD_ERROR_NO_MEMORY;
+    if (status) {
         rad_light_emission_free(ctx, out);
-        return RAD_ERROR_NO_MEMORY;
+        return status;
     }
     for (size_t k = 0; k < surfaces->count; ++k)
         out->power[0] += RAD_PI * surfaces->emitters[k].area * channel_sum(surfaces->emitters[k].radiance);
@@ -93,7 +101,7 @@ rad_status rad_light_emission_build(rad_context *ctx, const rad_emitter_table *s
         const rad_light *light = &out->lights[i];
         out->power[1 + i] = light->kind == RAD_LIGHT_DIRECTIONAL
                                 ? disc * channel_sum(light->intensity)
-                                : light_power(light);
+                                : light_power(out, i);
         if (!(out->power[1 + i] > 0) || !isfinite(out->power[1 + i])) out->power[1 + i] = 0;
     }
     if (out->sky) out->power[out->source_count - 1] = disc * sky_integral(out->sky);
@@ -120,6 +128,10 @@ void rad_light_emission_free(rad_context *ctx, rad_light_emission *emission) {
     if (!emission) return;
     rad_free(ctx, emission->power);
     rad_free(ctx, emission->cdf);
+    for (size_t d = 0; d < emission->direction_count; ++d)
+        rad_light_directions_free(ctx, &emission->directions[d]);
+    rad_free(ctx, emission->directions);
+    rad_free(ctx, emission->light_directions);
     memset(emission, 0, sizeof *emission);
 }
 
@@ -181,14 +193,15 @@ int rad_light_emission_sample(const rad_light_emission *e, const double u[4], ra
         for (int c = 0; c < 3; ++c) flux[c] = light->intensity[c] * scale;
         return 1;
     }
-    /* A point or spot light: a direction uniform over the cap it lights (the sphere, or a spot's
-     * outer cone), flux I(w) / pdf / P. */
-    double lowest = cone_cosine(light);
+    /* A point light: a direction uniform over the sphere, flux 4 pi I / P; a spot light or an
+     * IES profile: a direction drawn by its intensity (light_directions.h), flux I(w) / pdf / P. */
     *origin = light->position;
-    *direction = cap_direction(light->direction, lowest, u[2], u[3]);
-    double intensity[3];
+    double intensity[3], pdf = 1 / (4 * RAD_PI);
+    const rad_light_directions *table = e->light_directions[i - 1];
+    if (table) *direction = rad_light_directions_sample(table, light, u[2], u[3], &pdf);
+    else *direction = cap_direction(light->direction, -1, u[2], u[3]);
+    if (!(pdf > 0)) return 0;
     rad_light_intensity(light, *direction, intensity);
-    double scale = 2 * RAD_PI * (1 - lowest) / share;
-    for (int c = 0; c < 3; ++c) flux[c] = intensity[c] * scale;
+    for (int c = 0; c < 3; ++c) flux[c] = intensity[c] / pdf / share;
     return channel_sum(flux) > 0;
 }

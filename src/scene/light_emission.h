@@ -8,8 +8,9 @@
  *
  * The sources' powers (W, summed over the three channels, the weight of the choice):
  *   surfaces          sum over triangles of pi A_k (L_r + L_g + L_b)
- *   point light       the integral of I(w) over the sphere: 4 pi I bare, numerically for a spot's
- *                     falloff and an IES profile (once, at set-up)
+ *   point light       the integral of I(w) over the sphere: 4 pi I bare; for a spot's falloff
+ *                     and an IES profile, from the table its directions are drawn from
+ *                     (light_directions.h, made once at set-up)
  *   directional light E_perp pi R^2: a disc of radius R across its direction that covers the
  *                     scene's bounding sphere (centre c, radius R), outside it
  *   sky               pi R^2 times the integral of L(w) over the upper hemisphere, the same disc
@@ -20,6 +21,7 @@
 #define RAD_SCENE_LIGHT_EMISSION_H
 
 #include "light/emitters.h"
+#include "scene/light_directions.h"
 #include "scene/scene.h"
 
 typedef struct rad_light_emission {
@@ -33,6 +35,9 @@ typedef struct rad_light_emission {
     double *power;       /* per source, W summed over channels (0: never chosen) */
     double *cdf;         /* per source, normalised; the last is 1 */
     double total_power;
+    rad_light_directions *directions; /* the lights' direction tables, direction_count of them */
+    size_t direction_count;
+    const rad_light_directions **light_directions; /* per light: its table, NULL: uniform */
 } rad_light_emission;
 
 /* The distribution over `surfaces` (built and finished by the caller) and, with `scene`, its
@@ -44,8 +49,8 @@ rad_status rad_light_emission_build(rad_context *ctx, const rad_emitter_table *s
 void rad_light_emission_free(rad_context *ctx, rad_light_emission *emission);
 
 /* A light path's start for four uniform numbers: its origin, unit direction and flux (W, before
- * dividing by the photon count). Returns 0 when it carries nothing (a direction an IES profile
- * or spot sends no light along). With the surfaces alone, the same start as
+ * dividing by the photon count). Returns 0 when it carries nothing (rare: a spot's and an IES
+ * profile's directions are drawn by their intensity, light_directions.h). With the surfaces alone, the same start as
  * rad_emitter_table_sample_point and a cosine direction give. */
 int rad_light_emission_sample(const rad_light_emission *emission, const double u[4],
                               rad_vec3 *origin, rad_vec3 *direction, double flux[3]);

@@ -318,22 +318,22 @@ static void report_step(rad_system *s, const rad_hier *hier, int iteration) {
              stats.refined, stats.largest_error, stats.solve_rounds);
 }
 
-static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *residual) {
+/* One refinement of the links and the solve after it. Cancelled (Ctrl-C) while refining, the
+ * hierarchy keeps the refinement as far as it got (rad_hier_refining) and *stopped is set, as
+ * it is when the solve is cancelled (setup->unfinished). */
+static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *residual,
+                                   int *stopped) {
     hierarchical_state *state = run->state;
     rad_hier *hier = state->hier;
     rad_hier_setup *setup = state->setup;
-    rad_status status = RAD_OK;
-    /* A solve cancelled in the last step (or before a saved file) is finished first, to the
-     * tolerance it was begun with. */
-    if (setup->unfinished) {
-        status = solve_links(run->system, hier, setup);
-        if (!status) evaluate(run->system, hier, setup->light);
-        if (!status && setup->unfinished) {
-            *residual = INFINITY;
-            return RAD_OK;
-        }
+    rad_status status = rad_hier_refine(hier);
+    *stopped = status == RAD_ERROR_CANCELLED && rad_hier_refining(hier, NULL);
+    if (*stopped) {
+        rad_warn(run->system->ctx, "%s; the refinement so far is kept",
+                 rad_context_error(run->system->ctx));
+        *residual = INFINITY;
+        return RAD_OK;
     }
-    if (!status) status = rad_hier_refine(hier);
     if (status) return status;
     rad_hier_stats stats = rad_hier_get_stats(hier);
     *residual = (double)stats.refined;
@@ -347,6 +347,7 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
          * threshold, so one more step asks the oracle again. */
         if (stats.refined == 0 && was_loose) *residual = 1;
         if (!status) evaluate(run->system, hier, setup->light);
+        *stopped = setup->unfinished;
     }
     if (!status) report_step(run->system, hier, iteration);
     if (!status) {
@@ -361,6 +362,32 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
         run->memory_budget_reached = 1;
         *residual = fmax(*residual, stats.largest_error);
     }
+    return status;
+}
+
+static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *residual) {
+    hierarchical_state *state = run->state;
+    rad_hier *hier = state->hier;
+    rad_hier_setup *setup = state->setup;
+    rad_status status = RAD_OK;
+    int stopped = 0;
+    /* What the last step (or the run before a saved file) left when Ctrl-C stopped it is done
+     * first: a solve is finished to the tolerance it was begun with, a refinement goes on and
+     * is solved. Then this step's own refinement and solve, so that the steps are the ones of a
+     * run never stopped. */
+    if (setup->unfinished) {
+        status = solve_links(run->system, hier, setup);
+        if (!status) evaluate(run->system, hier, setup->light);
+        stopped = setup->unfinished;
+    } else if (rad_hier_refining(hier, NULL)) {
+        status = refine_and_solve(run, iteration - 1, residual, &stopped); /* the last step's */
+        if (!status && run->memory_budget_reached) return RAD_OK;
+    }
+    if (!status && stopped) {
+        *residual = INFINITY;
+        return RAD_OK;
+    }
+    if (!status) status = refine_and_solve(run, iteration, residual, &stopped);
     return status;
 }
 

@@ -4,6 +4,8 @@
  * position is also what solution files store: append new solvers at the end. */
 #include "solve/solver.h"
 
+#include "scene/scene.h"
+
 #include <string.h>
 
 #define RAD_SOLVERS(X) X(direct) X(jacobi) X(gauss_seidel) X(shooting) X(importance) \
@@ -47,6 +49,12 @@ int rad_solver_kind_parse(const char *name) {
     for (size_t i = 0; i < SOLVER_COUNT; ++i)
         if (strcmp(solvers[i]->info.name, name) == 0) return (int)i + 1;
     return -1;
+}
+
+rad_solver_kind rad_scene_default_solver(const rad_scene *scene) {
+    if (scene && scene->geometric && scene->polygon_count >= RAD_HIERARCHY_DEFAULT_POLYGONS)
+        return RAD_SOLVER_HIERARCHICAL;
+    return RAD_SOLVER_SHOOTING;
 }
 
 const char *rad_solver_kind_name(rad_solver_kind kind) {

@@ -57,7 +57,7 @@ static void uniform_store(rad_solution_view *view, size_t leaf, const double rad
 const rad_solution_view_ops rad_uniform_view_ops = {
     "uniform mesh",      uniform_leaves,   uniform_generation, uniform_radiosity,
     uniform_unshot,      uniform_emission, uniform_reflectance, uniform_ambient,
-    uniform_store,       NULL,
+    uniform_store,       NULL,               NULL,
 };
 
 /* ------------------------------------------------------------------------------------------- */
@@ -66,6 +66,14 @@ const rad_solution_view_ops rad_uniform_view_ops = {
 const rad_solution_view *rad_system_view(const rad_system *system) { return &system->view; }
 
 rad_solution_view *rad_system_view_mutable(rad_system *system) { return &system->view; }
+
+size_t rad_system_leaf_count(const rad_system *system, size_t *polygons) {
+    const rad_mesh *mesh = system ? rad_solution_leaves(&system->view) : NULL;
+    size_t drawn = mesh ? mesh->element_count : 0;
+    if (polygons) *polygons = drawn;
+    if (!mesh) return 0;
+    return system->view.ops->leaf_count ? system->view.ops->leaf_count(&system->view) : drawn;
+}
 
 void rad_system_set_view(rad_system *system, const rad_solution_view_ops *ops, void *state) {
     if (system->view.ops && system->view.ops->destroy) system->view.ops->destroy(system->view.state);

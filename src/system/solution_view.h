@@ -49,6 +49,9 @@ typedef struct rad_solution_view_ops {
                   const double unshot[3]);
     /* Frees the state when the system goes; NULL when the state is not the view's. */
     void (*destroy)(void *state);
+    /* How many leaves the method holds, when a leaf may be drawn as several polygons; NULL:
+     * one polygon each (rad_system_leaf_count). */
+    size_t (*leaf_count)(const rad_solution_view *view);
 } rad_solution_view_ops;
 
 /* The system's current view (the uniform mesh unless a solver installed another); lives as long
