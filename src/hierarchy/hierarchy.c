@@ -29,11 +29,13 @@ typedef double rgb[3];
 
 /* What the oracle and the form factors need of a cluster (node cluster_first + i). */
 typedef struct cluster_info {
-    rad_vec3 lo, hi, centre;
+    /* What every link with the cluster at one end reads first, together (two cache lines). */
+    rad_vec3 centre;
     double radius;         /* of the bounding sphere about the box's centre */
     double axis_area[6];   /* sum over members of A max(0, +n_x), A max(0, -n_x), ... y, z */
     rad_vec3 normal_sum;   /* sum over members of A n */
     double reflectance;    /* the largest member reflectance (any channel) */
+    rad_vec3 lo, hi;       /* the box */
     double axis_power[6][3]; /* sum over members of e B A max(0, +n_x), ... as axis_area: the
                                 light leaving toward each signed axis, per channel, each member
                                 weighted by its exposure e (exposure() below) */
@@ -483,23 +485,38 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     return p;
 }
 
-/* Up to four points on a node's surfaces for visibility rays toward unit direction w: a
- * polygon node's jittered points; for a cluster, points on members reached by a fixed
- * pseudo-random walk (seeded by the pair) down it that picks each child in proportion to its
- * projected area toward w (members facing away, whose own bodies would block the rays, are not
- * sampled). The walk reads the compact tables (walk_cluster, walk_root): one cache line a level,
- * where the nodes and cluster_info cost three (the walk was two fifths of the solve at 10^6). */
-static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
-                         rad_vec3 *out, uint32_t *members) {
-    if (!is_cluster(&h->nodes[index])) return visibility_points(&h->nodes[index], seed, out);
+/* Four points on a node's surfaces for visibility rays toward unit direction w, for each of
+ * `sets` seeds (out[4 s + k] for seeds[s]): a polygon node's jittered points; for a cluster,
+ * points on members reached by a fixed pseudo-random walk (seeded by the pair) down it that
+ * picks each child in proportion to its projected area toward w (members facing away, whose own
+ * bodies would block the rays, are not sampled). The walk reads the compact tables
+ * (walk_cluster, walk_root): one cache line a level, where the nodes and cluster_info cost three
+ * (the walk was two fifths of the solve at 10^6). The walks go down together, a level each in
+ * turn: each level's read waits for the level above, so walks taken one after the other wait
+ * for every miss in a row, while walks taken in turn wait for theirs side by side (the walks
+ * were a quarter of the 10^6 office's samples). */
+#define MAX_WALKS 8
+static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const uint32_t *seeds,
+                          int sets, rad_vec3 *out, uint32_t *members) {
+    if (!is_cluster(&h->nodes[index])) {
+        for (int s = 0; s < sets; ++s) visibility_points(&h->nodes[index], seeds[s], out + 4 * s);
+        return;
+    }
     const float wx = (float)fabs(w.x), wy = (float)fabs(w.y), wz = (float)fabs(w.z);
     const int sx = w.x < 0, sy = 2 + (w.y < 0), sz = 4 + (w.z < 0);
-    for (int k = 0; k < 4; ++k) {
-        uint32_t state = pair_hash(seed, index, (uint32_t)k);
-        const walk_cluster *c = &h->walk[index - h->cluster_first];
-        uint32_t root;
-        for (;;) {
-            state = state * 1664525u + 1013904223u;
+    const int walks = 4 * sets;
+    const walk_cluster *at[MAX_WALKS];
+    uint32_t state[MAX_WALKS], root[MAX_WALKS];
+    for (int k = 0; k < walks; ++k) {
+        state[k] = pair_hash(seeds[k / 4], index, (uint32_t)(k % 4));
+        at[k] = &h->walk[index - h->cluster_first];
+        root[k] = RAD_HIER_NO_NODE;
+    }
+    for (int left = walks; left > 0;)
+        for (int k = 0; k < walks; ++k) {
+            if (root[k] != RAD_HIER_NO_NODE) continue;
+            const walk_cluster *c = at[k];
+            state[k] = state[k] * 1664525u + 1013904223u;
             float weight[LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total = 0;
             uint32_t count = c->count <= LEAF_CLUSTER ? c->count : LEAF_CLUSTER;
             for (uint32_t i = 0; i < count; ++i) {
@@ -514,21 +531,28 @@ static int sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t
                 }
                 total += weight[i];
             }
-            uint32_t pick = (state >> 16) % c->count;
+            uint32_t pick = 0;
             if (total > 0 && c->count <= LEAF_CLUSTER) {
-                float u = (float)((state >> 8) * (1.0 / 16777216.0)) * total;
-                for (pick = 0; pick + 1 < count && u >= weight[pick]; ++pick) u -= weight[pick];
-            }
+                float u = (float)((state[k] >> 8) * (1.0 / 16777216.0)) * total;
+                for (; pick + 1 < count && u >= weight[pick]; ++pick) u -= weight[pick];
+            } else
+                pick = (state[k] >> 16) % c->count;
             if (c->leaf) {
-                root = c->first + pick;
-                break;
+                root[k] = c->first + pick;
+                __builtin_prefetch(&h->nodes[root[k]]);
+                --left;
+            } else {
+                /* What this walk reads next is known now: ask for it while the others go on. */
+                const walk_cluster *next = &h->walk[c->first + pick];
+                at[k] = next;
+                if (next->leaf) __builtin_prefetch(&h->root_walk[next->first]);
+                else __builtin_prefetch(&h->walk[next->first]);
             }
-            c = &h->walk[c->first + pick];
         }
-        out[k] = visibility_point(&h->nodes[root], state, k);
-        if (members) members[k] = root;
+    for (int k = 0; k < walks; ++k) {
+        out[k] = visibility_point(&h->nodes[root[k]], state[k], k % 4);
+        if (members) members[k] = root[k];
     }
-    return 4;
 }
 
 /* A cluster's members are weighted by their exposure when it sends (pull_cluster): the
@@ -549,15 +573,19 @@ static double exposure(const rad_hier *h, uint32_t root) {
     return (h->member_seen[root] + 1.0) / (h->member_rays[root] + 1.0);
 }
 
-static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *relative);
+/* The oracle for a link with a cluster at one end or both (below); with pick_end 0 it only
+ * says whether the link is refined (nonzero), not which end. */
+static int cluster_oracle(const rad_hier *h, const rad_hier_link *link, double *relative,
+                          int pick_end);
 
-/* Whether the oracle refines a cluster link whose bound is `error` (sets link->error to it).
- * Partial visibility only adds to the bound, and the end the oracle opens does not depend on
- * it, so a link refined with a smaller bound is refined with any larger one. */
+/* Whether the oracle refines a cluster link whose bound is `error` (sets link->error to it):
+ * its bound fails, or its receiver is a cluster (which only sends) and the source is lit.
+ * Partial visibility only adds to the bound, so a link refined with a smaller bound is
+ * refined with any larger one. */
 static int refined_anyway(const rad_hier *h, rad_hier_link *link, double error) {
     double relative;
     link->error = (float)fmin(error, UNKNOWN_ERROR);
-    return decide_cluster(h, link, &relative) != 0;
+    return cluster_oracle(h, link, &relative, 0) != 0;
 }
 
 /* The link receiver <- source when either is a cluster: the point estimate between the
@@ -610,16 +638,28 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
     int partial = 0, rn = 0, sn = 0, sets = 0;
     double sum = 0;
+    /* Every set's points at once (the walks of the fresh sets are wasted when the first is
+     * not partly hidden, but walked beside the first set's they cost little). */
+    enum { SETS = 1 + CLUSTER_PARTIAL_SETS };
+    rad_vec3 xs[4 * SETS], ys[4 * SETS];
+    uint32_t receiver_member[4 * SETS], source_member[4 * SETS];
+    uint32_t receiver_seed[SETS], source_seed[SETS];
+    for (int set = 0; set < SETS; ++set) {
+        receiver_seed[set] = pair_hash(receiver, source, 1 + 0x100u * (uint32_t)set);
+        source_seed[set] = pair_hash(receiver, source, 2 + 0x100u * (uint32_t)set);
+    }
+    if (is_cluster(nr)) {
+        sample_points(h, receiver, w, receiver_seed, SETS, xs, receiver_member);
+        rn = 4;
+    } else
+        rn = quadrature_points(nr, xs);
+    sample_points(h, source, v3_scale(w, -1), source_seed, SETS, ys, source_member);
+    sn = 4;
     for (int set = 0; set == 0 || (partial && set <= CLUSTER_PARTIAL_SETS); ++set) {
-        rad_vec3 x[4], y[4];
         uint8_t seen[16];
-        uint32_t receiver_members[4], source_members[4];
-        uint32_t salt = 0x100u * (uint32_t)set;
-        rn = is_cluster(nr) ? sample_points(h, receiver, w, pair_hash(receiver, source, 1 + salt), x,
-                                            receiver_members)
-                            : quadrature_points(nr, x);
-        sn = sample_points(h, source, v3_scale(w, -1), pair_hash(receiver, source, 2 + salt), y,
-                           source_members);
+        const rad_vec3 *x = is_cluster(nr) ? xs + 4 * set : xs, *y = ys + 4 * set;
+        const uint32_t *receiver_members = receiver_member + 4 * set;
+        const uint32_t *source_members = source_member + 4 * set;
         int blocked;
         visible_pairs(h, x, rn, y, sn, &blocked, seen);
         if (set == 0) partial = blocked;
@@ -701,7 +741,8 @@ static void source_radiosity(const rad_hier *h, const rad_hier_link *link, rad_v
 /* The oracle for a link with a cluster at one end or both: 0 keeps it, 1 opens (or splits) the
  * receiver, 2 the source, 3 a self-link into every pair of children. The end with the larger
  * bounding sphere is opened (Smits et al. 1994). */
-static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *relative) {
+static int cluster_oracle(const rad_hier *h, const rad_hier_link *link, double *relative,
+                          int pick_end) {
     const rad_hier_node *r = &h->nodes[link->receiver], *s = &h->nodes[link->source];
     double rho = 0;
     if (is_cluster(r)) rho = info(h, link->receiver)->reflectance;
@@ -721,12 +762,17 @@ static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *
     if (!(error > h->threshold)) return 0;
     if (link->receiver == link->source) return 3;
     int split_r = is_cluster(r) || can_split(h, r), split_s = is_cluster(s) || can_split(h, s);
+    if (!pick_end) return split_r || split_s;
     double radius_r, radius_s;
     node_centre(h, link->receiver, &radius_r);
     node_centre(h, link->source, &radius_s);
     if (split_r && (!split_s || radius_r >= radius_s)) return 1;
     if (split_s) return 2;
     return 0;
+}
+
+static int decide_cluster(const rad_hier *h, const rad_hier_link *link, double *relative) {
+    return cluster_oracle(h, link, relative, 1);
 }
 
 static int decide_any(const rad_hier *h, const rad_hier_link *link, double *relative) {
