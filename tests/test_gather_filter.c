@@ -5,6 +5,7 @@
  * 2 threads. */
 #include "radiosity.h"
 #include "test.h"
+#include "test_image.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -67,29 +68,6 @@ static double image_mean(const rad_image *image) {
     return sum / (double)n;
 }
 
-/* Relative RMSE of the 4x4-block means (RGB summed) against `reference` (blocks whose
- * reference is black left out: scripts/block_compare.py --blocks 4 --emitter inf). */
-static double block_rmse(const rad_image *test, const rad_image *reference) {
-    int width = rad_image_width(test), height = rad_image_height(test);
-    const float *t = rad_image_pixels(test), *r = rad_image_pixels(reference);
-    double sum = 0;
-    int count = 0;
-    for (int by = 0; by + 4 <= height; by += 4)
-        for (int bx = 0; bx + 4 <= width; bx += 4) {
-            double a = 0, b = 0;
-            for (int y = by; y < by + 4; ++y)
-                for (int x = bx; x < bx + 4; ++x)
-                    for (int c = 0; c < 3; ++c) {
-                        a += t[3 * (y * width + x) + c];
-                        b += r[3 * (y * width + x) + c];
-                    }
-            if (b <= 1e-6) continue;
-            sum += (a - b) * (a - b) / (b * b);
-            ++count;
-        }
-    return count ? sqrt(sum / count) : 0;
-}
-
 static void test_accuracy(void) {
     solved_box box = solve_box(0, 1, 0);
     rad_render_options options = {0};
@@ -106,7 +84,8 @@ static void test_accuracy(void) {
     rad_image *reference = render(&box, &options);
     CHECK(filtered && plain && reference);
     if (filtered && plain && reference) {
-        double with = block_rmse(filtered, reference), without = block_rmse(plain, reference);
+        double with = test_block_rmse(filtered, reference, 4);
+        double without = test_block_rmse(plain, reference, 4);
         double mean = image_mean(filtered) / image_mean(reference) - 1;
         printf("gather filter: %dx%d, 4x4 blocks against 1024 gather rays a pixel: relative RMSE "
                "%.2f%% filtered, %.2f%% not (ratio %.2f); mean %+.3f%%\n",

@@ -12,6 +12,7 @@
 #include "system/solution_view.h"
 #include "system/system.h"
 #include "test.h"
+#include "test_image.h"
 
 #define RELMSE_SMOOTH 0.0015 /* measured 0.00098 (64 x 64, 64 samples per pixel) */
 #define RELMSE_GATHER 0.0012 /* measured 0.00083 with 16 gather rays per sample */
@@ -244,29 +245,6 @@ static void test_against_path_tracer(rad_context *ctx, const rad_scene *scene,
     rad_image_destroy(reference);
 }
 
-/* Relative RMSE of the 4x4-block means (RGB summed) of `test` against `reference`; blocks whose
- * reference is black are left out (scripts/block_compare.py --blocks 4 --emitter inf). */
-static double block_rmse(const rad_image *test, const rad_image *reference, int block) {
-    int width = rad_image_width(test), height = rad_image_height(test);
-    const float *t = rad_image_pixels(test), *r = rad_image_pixels(reference);
-    double sum = 0;
-    int count = 0;
-    for (int by = 0; by + block <= height; by += block)
-        for (int bx = 0; bx + block <= width; bx += block) {
-            double a = 0, b = 0;
-            for (int y = by; y < by + block; ++y)
-                for (int x = bx; x < bx + block; ++x)
-                    for (int c = 0; c < 3; ++c) {
-                        a += t[3 * (y * width + x) + c];
-                        b += r[3 * (y * width + x) + c];
-                    }
-            if (b <= 1e-6) continue;
-            sum += (a - b) * (a - b) / (b * b);
-            ++count;
-        }
-    return count ? sqrt(sum / count) : 0;
-}
-
 /* Pixels on the edge between polygons are split by what covers them (render.c): the light's edge
  * against the ceiling, the box against the black outside, the blocks against the floor. With
  * the solution alone (no gather noise) at 4 samples per pixel, the 4x4 blocks of the image are
@@ -281,7 +259,7 @@ static void test_edge_pixels(const rad_scene *scene, const rad_system *system) {
     options.samples_per_pixel = 1024;
     CHECK(rad_render(scene, system, &options, &many) == RAD_OK);
     if (few && many) {
-        double rmse = block_rmse(few, many, 4);
+        double rmse = test_block_rmse(few, many, 4);
         printf("edge pixels: 48x48, 4 against 1024 samples per pixel, 4x4 blocks: relative RMSE "
                "%.2f%%\n", 100 * rmse);
         CHECK(rmse < 0.01);
