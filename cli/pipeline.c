@@ -70,7 +70,8 @@ int cli_pipeline_check_values(const char *command, const cli_pipeline_args *a) {
         return cli_error(EXIT_USAGE, "%s: sizes must be positive", command);
     if (a->tolerance < 0) return cli_error(EXIT_USAGE, "%s: --tolerance must be positive", command);
     if (a->discontinuity != 0 && a->discontinuity != 1)
-        return cli_error(EXIT_USAGE, "%s: --discontinuity must be 0 or 1, not %d", command, a->discontinuity);
+        return cli_error(EXIT_USAGE, "%s: --discontinuity must be 0 or 1, not %d", command,
+                         a->discontinuity);
     if (a->omega != 0 && !(a->omega > 0 && a->omega < 2))
         return cli_error(EXIT_USAGE, "%s: --omega must be in (0, 2), not %g", command, a->omega);
     return 0;
