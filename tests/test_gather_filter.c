@@ -18,15 +18,6 @@
 #define MAX_RATIO 0.85
 #define MAX_RMSE 0.018
 
-static rad_context *make_context(int threads, uint64_t seed) {
-    rad_context_options options = {0};
-    options.threads = threads;
-    options.seed = seed;
-    rad_context *ctx = NULL;
-    if (rad_context_create(&options, &ctx)) return NULL;
-    return ctx;
-}
-
 /* The Cornell box of `elements` elements (zero: the default mesh) shot to 1e-3 unshot power, as
  * `render` solves it. */
 typedef struct solved_box {
@@ -36,7 +27,7 @@ typedef struct solved_box {
 } solved_box;
 
 static solved_box solve_box(int threads, uint64_t seed, size_t elements) {
-    solved_box box = {make_context(threads, seed), NULL, NULL};
+    solved_box box = {test_context(threads, seed), NULL, NULL};
     rad_mesh_options mesh = {0};
     mesh.elements = elements;
     rad_solve_options solve = {0};
@@ -60,14 +51,6 @@ static void box_destroy(solved_box *box) {
     rad_context_destroy(box->ctx);
 }
 
-static double image_mean(const rad_image *image) {
-    size_t n = (size_t)rad_image_width(image) * rad_image_height(image) * 3;
-    const float *p = rad_image_pixels(image);
-    double sum = 0;
-    for (size_t i = 0; i < n; ++i) sum += p[i];
-    return sum / (double)n;
-}
-
 static void test_accuracy(void) {
     solved_box box = solve_box(0, 1, 0);
     rad_render_options options = {0};
@@ -86,7 +69,7 @@ static void test_accuracy(void) {
     if (filtered && plain && reference) {
         double with = test_block_rmse(filtered, reference, 4);
         double without = test_block_rmse(plain, reference, 4);
-        double mean = image_mean(filtered) / image_mean(reference) - 1;
+        double mean = test_image_mean(filtered) / test_image_mean(reference) - 1;
         printf("gather filter: %dx%d, 4x4 blocks against 1024 gather rays a pixel: relative RMSE "
                "%.2f%% filtered, %.2f%% not (ratio %.2f); mean %+.3f%%\n",
                SIZE, SIZE, 100 * with, 100 * without, with / without, 100 * mean);

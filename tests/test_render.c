@@ -21,15 +21,6 @@
 #include <string.h>
 #include <unistd.h>
 
-static rad_context *make_context(int threads, uint64_t seed) {
-    rad_context_options options = {0};
-    options.threads = threads;
-    options.seed = seed;
-    rad_context *ctx = NULL;
-    if (rad_context_create(&options, &ctx)) return NULL;
-    return ctx;
-}
-
 static rad_system *solved(rad_context *ctx, const rad_scene *scene, size_t elements,
                           rad_solver_kind solver) {
     rad_mesh_options mesh = {0, 0, elements, 0, 0};
@@ -43,14 +34,6 @@ static rad_system *solved(rad_context *ctx, const rad_scene *scene, size_t eleme
         return NULL;
     }
     return system;
-}
-
-static double image_mean(const rad_image *image) {
-    size_t n = (size_t)rad_image_width(image) * rad_image_height(image) * 3;
-    const float *p = rad_image_pixels(image);
-    double sum = 0;
-    for (size_t i = 0; i < n; ++i) sum += p[i];
-    return sum / (double)n;
 }
 
 static rad_camera_desc camera(double ex, double ey, double ez, double lx, double ly, double lz,
@@ -93,7 +76,7 @@ static rad_scene *furnace(rad_context *ctx, double radiance, double rho) {
 }
 
 static void test_furnace(void) {
-    rad_context *ctx = make_context(0, 1);
+    rad_context *ctx = test_context(0, 1);
     const double radiance = 0.7, rho = 0.5, expected = radiance / (1 - rho);
     rad_scene *scene = furnace(ctx, radiance, rho);
     rad_system *system = scene ? solved(ctx, scene, 600, RAD_SOLVER_GAUSS_SEIDEL) : NULL;
@@ -130,7 +113,7 @@ static void test_furnace(void) {
     rad_image *image = NULL;
     CHECK(rad_render(scene, system, &options, &image) == RAD_OK);
     if (image) {
-        CHECK_NEAR(image_mean(image) / expected, 1, 0.01);
+        CHECK_NEAR(test_image_mean(image) / expected, 1, 0.01);
         rad_image_destroy(image);
     }
     rad_system_destroy(system);
@@ -263,7 +246,7 @@ static void test_edge_pixels(const rad_scene *scene, const rad_system *system) {
         printf("edge pixels: 48x48, 4 against 1024 samples per pixel, 4x4 blocks: relative RMSE "
                "%.2f%%\n", 100 * rmse);
         CHECK(rmse < 0.01);
-        CHECK_NEAR(image_mean(few) / image_mean(many), 1, 0.003);
+        CHECK_NEAR(test_image_mean(few) / test_image_mean(many), 1, 0.003);
     }
     rad_image_destroy(few);
     rad_image_destroy(many);
@@ -274,7 +257,7 @@ static void test_threads(const rad_scene *scene) {
     rad_context *contexts[2];
     rad_image *images[2] = {NULL, NULL};
     for (int k = 0; k < 2; ++k) {
-        contexts[k] = make_context(k + 1, 42);
+        contexts[k] = test_context(k + 1, 42);
         rad_system *system = solved(contexts[k], scene, 300, RAD_SOLVER_GAUSS_SEIDEL);
         rad_render_options options = {0};
         options.width = 20;
@@ -317,7 +300,7 @@ static double radiance_along(const rad_scene *scene, const rad_system *system, r
  * alone sees both as black (reflectance 0). The second pass must show through them what the
  * renderer shows along the continued ray. */
 static void test_second_pass(void) {
-    rad_context *ctx = make_context(0, 3);
+    rad_context *ctx = test_context(0, 3);
     rad_scene *scene = NULL;
     CHECK(rad_scene_builtin(ctx, "cornell-mirror", &scene) == RAD_OK);
     rad_system *system = scene ? solved(ctx, scene, 1500, RAD_SOLVER_GAUSS_SEIDEL) : NULL;
@@ -514,7 +497,7 @@ static void test_solution_view(rad_context *ctx, const rad_scene *scene) {
 
 int main(void) {
     test_furnace();
-    rad_context *ctx = make_context(0, 7);
+    rad_context *ctx = test_context(0, 7);
     rad_scene *cornell = NULL;
     CHECK(rad_scene_builtin(ctx, "cornell", &cornell) == RAD_OK);
     rad_system *system = cornell ? solved(ctx, cornell, 0, RAD_SOLVER_GAUSS_SEIDEL) : NULL;
