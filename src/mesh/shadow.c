@@ -316,9 +316,10 @@ rad_status rad_shadow_segments_find(rad_context *ctx, const rad_scene *scene, do
             rad_vec3 b0 = rad_polygon_vertex(scene, bp, edge[g].corner);
             rad_vec3 b1 = rad_polygon_vertex(scene, bp, (edge[g].corner + 1) % bp->count);
             if (v3_length(v3_sub(b1, b0)) < t.min_length) skip = 1;
+            /* An edge (partly) behind the emitter casts nothing from it. */
+            if (plane_distance(&t, ei, b0) < -t.eps || plane_distance(&t, ei, b1) < -t.eps) skip = 1;
             for (uint32_t k = 0; k < ep->count && !skip && !status; ++k) {
                 rad_vec3 v = rad_polygon_vertex(scene, ep, k);
-                if (plane_distance(&t, ei, b0) < -t.eps || plane_distance(&t, ei, b1) < -t.eps) break;
                 /* A silhouette: the polygons on the edge do not all face v the same way. */
                 int front = 0, back = 0;
                 for (size_t r = g; r < end; ++r) {
