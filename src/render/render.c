@@ -404,6 +404,7 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
                          rad_ray_counts *counts, rad_gather_pixel *record, float out[3]) {
     const rad_view *view = &r->view;
     rad_sample sample;
+    memset(&sample, 0, sizeof sample);
     sample.seed = r->seed;
     sample.x = (uint32_t)x;
     sample.y = (uint32_t)y;
