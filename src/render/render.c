@@ -391,11 +391,10 @@ static int near_edge(const rad_view *view, const pixel_corner *corner_polygons, 
 /* Gather rays per sample, as a multiple of --final-gather, in edge pixels against the outside
  * (the box's front edges) when the irradiance filter is on (gather_filter.c): the filter leaves
  * edge pixels as they are, and there a few samples carry the whole pixel. On the Cornell box
- * (256 x 256, seeds 1 / 2, 4x4 RMSE): 1.06 / 1.40 % with none, 0.97 / 0.97 % with these at 4
- * times, 0.90 / 0.92 % at 8 times (seed 0: 1.04 -> 1.01 %; 2 % more gather rays), 0.90 / 0.95 %
- * with every edge pixel at 4 times (2 times: 0.92 / 1.04 %), which doubled Sponza's gather rays
- * (docs/rendering.md, "Irradiance filter"). Sponza has no such pixels: its image is unchanged. */
-#define EDGE_GATHER 8
+ * (256 x 256, seeds 1 / 2, 4x4 RMSE): 1.06 / 1.40 % with none, 0.97 / 0.97 % with these, 0.90 /
+ * 0.95 % with every edge pixel at 4 times (2 times: 0.92 / 1.04 %), which doubled Sponza's
+ * gather rays (docs/rendering.md, "Irradiance filter"). */
+#define EDGE_GATHER 4
 
 /* One pixel: the mean of its samples, at Owen-scrambled Sobol' points of the pixel (a (0,m,2)-net
  * for 2^m samples, core/sampler.h): every sample is uniform over the pixel, so the expected
