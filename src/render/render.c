@@ -50,6 +50,8 @@ static void leaves_free(rad_renderer *r) {
     r->corner_deposit = NULL;
     rad_free(ctx, r->corner_radiance);
     r->corner_radiance = NULL;
+    rad_free(ctx, r->corner_collocated);
+    r->corner_collocated = NULL;
     r->rays = NULL;
     memset(&r->emitters, 0, sizeof r->emitters);
     r->element_emitter = NULL;

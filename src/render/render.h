@@ -79,6 +79,9 @@ struct rad_renderer {
     /* B / pi at each element's corners, smooth but scaled so the element keeps its own mean:
      * what gather rays read (reconstruct.c, rad_reconstruct_gather_radiance). */
     float (*corner_radiance)[4][3];
+    /* B / pi at each element's corners with the direct light evaluated there (collocate.c): what
+     * the smooth bare picture (no final gather) shows; NULL otherwise. */
+    float (*corner_collocated)[4][3];
 
     /* Textured surfaces (texture_shading.c): the irradiance (B - E) / (pi rho) averaged at mesh
      * vertices; NULL when no surface is textured. */
@@ -177,6 +180,13 @@ void rad_reconstruct_emission(const rad_renderer *r, uint32_t element, double u,
  * element's mean kept (flat shading: the element's value). */
 void rad_reconstruct_gather_radiance(const rad_renderer *r, uint32_t element, double u, double v,
                                      double out[3]);
+/* collocate.c: nonzero when the picture shows the smooth solution itself (no final gather), so
+ * the direct light is evaluated at the element corners. */
+int rad_collocate_wanted(const rad_renderer *r);
+/* collocate.c: the light reflected at each element's centroid and just inside each of its
+ * corners, B / pi units: rho times the direct light from the emitting leaves and the lights plus
+ * the light gathered from the solution (after rad_reconstruct_prepare's other arrays). */
+rad_status rad_collocate_light(rad_renderer *r, float (*centroid)[3], float (*corner)[4][3]);
 /* Finds the boundary vertices and their fitting weights (geometry only, once). */
 rad_status rad_reconstruct_build(rad_renderer *r);
 /* Fills the radiance arrays from the system's current solution. */
