@@ -646,6 +646,13 @@ rad_status rad_system_save_solution(rad_system *system, const char *path,
 rad_status rad_system_load_solution(rad_system *system, const char *path,
                                     rad_solution_info *info);
 
+/* What a solution file's header says (solver and steps), before any system is built for it: a
+ * command can then build the system the file needs (one element per polygon for a hierarchy's).
+ * Nothing else is checked; rad_system_load_solution checks everything. RAD_ERROR_IO when it
+ * cannot be read, RAD_ERROR_PARSE when it is not a solution file. `ctx` may be NULL (no message
+ * kept). */
+rad_status rad_solution_file_info(rad_context *ctx, const char *path, rad_solution_info *info);
+
 /* Area of an element (scene units squared); 0 for an index out of range. */
 double rad_system_element_area(const rad_system *system, size_t element);
 

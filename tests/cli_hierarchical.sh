@@ -110,8 +110,18 @@ check "importance: what the camera sees" grep -q 'hierarchical importance: the c
 check "importance: renders" test -s "$work/imp.pfm"
 "$radiosity" bake cornell --solver hierarchical --importance -o "$work/imp.ply" --quiet
 check "importance: bakes with the scene's camera" test -s "$work/imp.ply"
-expect_exit 2 'importance is for --solver hierarchical' -- "$radiosity" solve cornell --solver shooting --importance
-expect_exit 2 'importance is for --solver hierarchical' -- "$radiosity" render cornell --importance -o "$work/y.png"
+# --importance follows the solver, default or given: the hierarchy weighs its links by the view,
+# shooting becomes the importance solver; a solver with no use for a camera refuses it.
+"$radiosity" solve "$work/grid.obj" --importance --json --quiet >"$work/grid_imp.json"
+check "importance: the default hierarchy takes it" grep -q '"solver": "hierarchical".*"importance": true' "$work/grid_imp.json"
+"$radiosity" solve cornell --importance --json --iterations 1 --quiet >"$work/small_imp.json"
+check "importance: default shooting becomes the importance solver" grep -q '"solver": "importance".*"importance": true' "$work/small_imp.json"
+"$radiosity" solve cornell --solver shooting --importance --json --iterations 1 --quiet >"$work/shoot_imp.json"
+check "importance: --solver shooting too" grep -q '"solver": "importance"' "$work/shoot_imp.json"
+check "importance: false without it" grep -q '"solver": "shooting".*"importance": false' "$work/small.json"
+"$radiosity" solve cornell --importance --width 16 --height 16 --quiet --resume "$work/imp_part.sol" --save "$work/imp_resumed2.sol" >/dev/null
+check "importance: resumed without --solver, the saved hierarchy's" cmp "$work/imp_full.sol" "$work/imp_resumed2.sol"
+expect_exit 2 'importance is for the shooting, importance and hierarchical solvers, not jacobi' -- "$radiosity" render cornell --solver jacobi --importance -o "$work/y.png"
 check "importance: nothing written" test ! -e "$work/y.png"
 
 # Light through mirrors and glass (specular first, both passes) reaches the hierarchy's nodes:
