@@ -74,16 +74,23 @@ check "solve stage: links and leaves" grep -Eq '^radiosity: \[solve\] hierarchic
 check "step line" grep -Eq '^radiosity: hierarchical step 1: [0-9]+ links \([0-9]+ to clusters\), [0-9]+ leaves, [0-9]+ clusters, [0-9]+ refined, largest remaining error' "$work/steps"
 
 # The default solver by scene size (rad_scene_default_solver): shooting for Cornell, the hierarchy
-# for a scene of 30,000 polygons or more (a grid of 30,276 floor tiles; nothing emits, so it
-# solves at once), the same in solve, render and bake; --solver still chooses.
+# for a scene of 8,000 polygons or more (a grid of 8,100 floor tiles; nothing emits, so it
+# solves at once; one of 7,921 stays with shooting), the same in solve, render and bake;
+# --solver still chooses.
 "$radiosity" solve cornell --json --iterations 1 >"$work/small.json" 2>/dev/null
 check "default: shooting for Cornell" grep -q '"solver": "shooting"' "$work/small.json"
-awk 'BEGIN { n = 174; for (i = 0; i <= n; i++) for (j = 0; j <= n; j++) printf "v %g 0 %g\n", i / 10, j / 10;
-             for (i = 0; i < n; i++) for (j = 0; j < n; j++) { a = i * (n + 1) + j + 1;
-                 printf "f %d %d %d %d\n", a, a + 1, a + n + 2, a + n + 1 } }' >"$work/grid.obj"
+grid() { # N: a floor of N x N square tiles
+    awk -v n="$1" 'BEGIN { for (i = 0; i <= n; i++) for (j = 0; j <= n; j++) printf "v %g 0 %g\n", i / 10, j / 10;
+                    for (i = 0; i < n; i++) for (j = 0; j < n; j++) { a = i * (n + 1) + j + 1;
+                        printf "f %d %d %d %d\n", a, a + 1, a + n + 2, a + n + 1 } }'
+}
+grid 90 >"$work/grid.obj"
+grid 89 >"$work/grid89.obj"
+"$radiosity" solve "$work/grid89.obj" --json --iterations 1 >"$work/grid89.json" 2>/dev/null
+check "default: shooting below 8000 polygons" grep -q '"solver": "shooting"' "$work/grid89.json"
 "$radiosity" solve "$work/grid.obj" --json >"$work/grid.json" 2>"$work/grid.err"
-check "default: hierarchical from 30000 polygons" grep -q '"solver": "hierarchical"' "$work/grid.json"
-check "default: says so" grep -q '30000 polygons or more: solving with --solver hierarchical' "$work/grid.err"
+check "default: hierarchical from 8000 polygons" grep -q '"solver": "hierarchical"' "$work/grid.json"
+check "default: says so" grep -q '8000 polygons or more: solving with --solver hierarchical' "$work/grid.err"
 "$radiosity" solve "$work/grid.obj" --solver shooting --json --iterations 1 >"$work/grid_shooting.json" 2>/dev/null
 check "default: --solver still chooses" grep -q '"solver": "shooting"' "$work/grid_shooting.json"
 "$radiosity" bake "$work/grid.obj" -o "$work/grid.ply" 2>/dev/null >"$work/grid.bake"
@@ -94,7 +101,7 @@ check "default: render agrees" grep -q 'solving with --solver hierarchical' "$wo
 "$radiosity" bake "$work/grid.obj" --solution "$work/grid_shooting.sol" -o "$work/grid_shooting.ply" --quiet
 check "default: a saved element solution is baked on its own mesh" test $? -eq 0 -a -s "$work/grid_shooting.ply"
 "$radiosity" render --help >"$work/help" 2>&1
-check "default: --help says so" grep -q 'hierarchical for scenes of 30000 polygons or more' "$work/help"
+check "default: --help says so" grep -q 'hierarchical for scenes of 8000 polygons or more' "$work/help"
 
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error 0
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error -1

@@ -65,6 +65,7 @@
 #define LINK_BYTES 12u
 #define HIT_BYTES 28u
 #define ELEMENT_BYTES 24u
+#define NOT_ESTIMATED -1.0f /* a link's factor made without its estimate (hierarchy.c) */
 
 enum { FLAG_IMPORTANCE = 1, FLAG_LIGHT = 2, FLAG_REFLECTION = 4, FLAG_BUDGET = 8, FLAG_UNFINISHED = 16,
        FLAG_LOOSE = 32, FLAG_REFINING = 64, FLAG_IMPORTANCE_UNFINISHED = 128, FLAGS_KNOWN = 255 };
@@ -481,8 +482,11 @@ static rad_status check_values(rad_context *ctx, const char *path, reader *r, co
         if (!p) return truncated(ctx, path, r->offset + r->have, l->end + 8);
         if (rad_le_get_u32(p + 4) > rad_le_get_u32(p)) return corrupted(ctx, path, "a root's exposure");
     }
-    /* Receiver runs: increasing receivers, counts summing to the link count, ends in range. */
-    uint64_t seen = 0;
+    /* Receiver runs: increasing receivers, counts summing to the link count, ends in range.
+     * While a refinement waits to go on (flag 64), the links it has not passed yet may carry
+     * the factor NOT_ESTIMATED (-1: made without an estimate, as the oracle splits them
+     * whatever it would be; hierarchy.c), never one it kept. */
+    uint64_t seen = 0, first_unestimated = UINT64_MAX;
     int64_t previous = -1;
     for (uint64_t run = 0; run < l->runs; ++run) {
         const unsigned char *p = take(r, RUN_BYTES);
@@ -497,7 +501,10 @@ static rad_status check_values(rad_context *ctx, const char *path, reader *r, co
         for (uint32_t k = 0; k < count; ++k) {
             if (!(p = take(r, LINK_BYTES))) return truncated(ctx, path, r->offset + r->have, l->end + 8);
             float ff = get_f32(p + 4), error = get_f32(p + 8);
-            if (rad_le_get_u32(p) >= l->nodes || !(ff >= 0) || !isfinite(ff) || !isfinite(error))
+            if ((l->flags & FLAG_REFINING) && ff == NOT_ESTIMATED && first_unestimated == UINT64_MAX)
+                first_unestimated = seen + k;
+            int factor_ok = (ff >= 0 && isfinite(ff)) || ((l->flags & FLAG_REFINING) && ff == NOT_ESTIMATED);
+            if (rad_le_get_u32(p) >= l->nodes || !factor_ok || !isfinite(error))
                 return corrupted(ctx, path, "a link");
         }
         seen += count;
@@ -536,7 +543,8 @@ static rad_status check_values(rad_context *ctx, const char *path, reader *r, co
         const unsigned char *p = take(r, 8);
         if (!p) return truncated(ctx, path, r->offset + r->have, l->end + 8);
         t->kept = rad_le_get_u64(p);
-        if (t->kept > l->links) return corrupted(ctx, path, "the links a refinement had passed");
+        if (t->kept > l->links || first_unestimated < t->kept)
+            return corrupted(ctx, path, "the links a refinement had passed");
     }
     uint64_t sum = reader_checksum(r);
     const unsigned char *p = take(r, 8);
