@@ -115,6 +115,8 @@ static void print_table(const rad_system *system, const rad_solve_options *optio
         printf(": time budget of %g s used up", options->time_budget);
     else if (report->stop == RAD_STOP_CALLBACK)
         printf(": interrupted");
+    else if (report->stop == RAD_STOP_MEMORY_BUDGET)
+        printf(": memory budget reached (--max-memory), the solution so far");
     printf(" (residual %.3g)\n", report->residual);
     printf("%-16s %12s  %-38s %s\n", "surface", "area", "radiosity (R G B)", "power (R G B)");
     for (size_t i = 0; i < rad_system_surface_count(system); ++i) {

@@ -68,7 +68,7 @@ check "bakes the leaves" test "$faces" -gt 300 -a "$faces" -lt 2500
 "$radiosity" solve cornell --solver hierarchical --link-error 1e-5 --max-memory 2 >"$work/small" 2>"$work/warn"
 check "budget: still solved" grep -Eq '^floor +[0-9]+ +0\.[0-9]' "$work/small"
 check "budget: says so" grep -q 'links and [0-9]* nodes needs .* refinement stops at [0-9]* links' "$work/warn"
-check "budget: not converged" grep -Eq '^hierarchical: [0-9]+ rounds, not converged' "$work/small"
+check "budget: not converged" grep -Eq '^hierarchical: [0-9]+ rounds, not converged: memory budget reached' "$work/small"
 "$radiosity" solve cornell --solver hierarchical >/dev/null 2>"$work/steps"
 check "solve stage: links and leaves" grep -Eq '^radiosity: \[solve\] hierarchical, [0-9]+ rounds, residual 0, converged, [0-9]+ links, [0-9]+ leaves' "$work/steps"
 check "step line" grep -Eq '^radiosity: hierarchical step 1: [0-9]+ links \([0-9]+ to clusters\), [0-9]+ leaves, [0-9]+ clusters, [0-9]+ refined, largest remaining error' "$work/steps"
