@@ -24,6 +24,14 @@
 #define LOOSE_TOLERANCE 1e-4
 #define LOOSE_SHARE 0.01
 #define INNER_ROUNDS 1000
+/* A step that refines no more than TAIL_SHARE of its links after a tight solve, and solves
+ * them to INNER_TOLERANCE, ends the solve: every link passed the oracle at the radiosities it
+ * was refined with (rad_hier_refine asks again of the links it makes), and a solve after
+ * refining a hundredth of a percent of the links moves the radiosities too little to matter.
+ * On Sponza the three steps after the first such one refined 23, 4 and 0 of 5.7 M links for
+ * 12 gathering rounds, a tenth of the solve's time; a scene of fewer than 10^4 links never
+ * stops early (one link refined is more than the share). */
+#define TAIL_SHARE 1e-4
 
 /* Light the nodes hold besides their materials' emission. Point, spot and directional lights
  * and the sky on each node itself (src/system/lights_direct.c, rad_node_lights_reflected:
@@ -346,6 +354,9 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
         /* Nothing refined after a loose solve: the tight solve may move a link over the
          * threshold, so one more step asks the oracle again. */
         if (stats.refined == 0 && was_loose) *residual = 1;
+        if (stats.refined > 0 && !was_loose && !setup->loose &&
+            (double)stats.refined <= TAIL_SHARE * (double)stats.links)
+            *residual = 0;
         if (!status) evaluate(run->system, hier, setup->light);
         *stopped = setup->unfinished;
     }
