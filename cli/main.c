@@ -78,7 +78,8 @@ int main(int argc, char **argv) {
      * (docs/hierarchical.md): Sponza's solve 10% less processor time, 50 MB more peak memory. */
     mallopt(M_MMAP_MAX, 0);
     mallopt(M_TRIM_THRESHOLD, INT_MAX);
-    mallopt(M_TOP_PAD, 256 << 20);
+    /* No M_TOP_PAD: the importer's child runs under RLIMIT_AS (--max-memory), and a padded
+     * heap asked for more address space than a small budget allows (cli_formfactors). */
 #endif
     return finish(run(argc, argv));
 }
