@@ -12,7 +12,7 @@ check "the floor is lit" grep -Eq '^floor +[0-9]+ +0\.[34][0-9]+ ' "$work/table"
 "$radiosity" solve two-squares --solver hierarchical --link-error 1e-4 --json >"$work/json"
 check "json solver" grep -q '"solver": "hierarchical", "iterations": [0-9]*, "converged": true' "$work/json"
 check "json links, leaves, largest error" grep -Eq '"links": [1-9][0-9]*, "leaves": [1-9][0-9]*, "largest_error": [0-9.e+-]+' "$work/json"
-# Solution files of the hierarchy (docs/formats.md, version 2): stopping after two steps and
+# Solution files of the hierarchy (docs/formats.md, version 3): stopping after two steps and
 # going on gives the same bytes as never stopping, on 1 and 2 threads, with the sky's light on
 # the nodes (and with importance below); render and bake draw the saved hierarchy as the solve
 # would have.

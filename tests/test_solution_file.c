@@ -253,7 +253,8 @@ static void test_hierarchy_refusals(void) {
     uint64_t nodes = rad_le_get_u64(bytes + 64), roots = rad_le_get_u64(bytes + 72),
              splits = rad_le_get_u64(bytes + 80);
     size_t node_bytes = 24 + (flags & 2 ? 28 : 0) + (flags & 1 ? 8 : 0);
-    size_t node_at = 160 + 8 * splits, link_at = node_at + nodes * node_bytes + 8 * roots;
+    /* Version 3 keeps six exposure pairs (48 bytes) per root. */
+    size_t node_at = 160 + 8 * splits, link_at = node_at + nodes * node_bytes + 48 * roots;
     CHECK(splits > 0 && link_at + 8 < size);
 
     rad_system *target = hierarchy_system(1);

@@ -1,9 +1,9 @@
-/* solution_hier.c - solution files of the hierarchical solver (version 2 of the solution format;
+/* solution_hier.c - solution files of the hierarchical solver (version 3 of the solution format;
  * docs/formats.md, "Hierarchy solution files"): everything needed to go on exactly where a
  * hierarchical solve stopped, or to draw it again.
  *
  * Layout, little-endian throughout (a header of 160 bytes, then the sections in this order):
- *   0   8  magic "RADSOLN\n"            8   4  version (2)
+ *   0   8  magic "RADSOLN\n"            8   4  version (3)
  *   12  4  solver that wrote it (rad_solver_kind's file code: hierarchical)
  *   16  8  steps done (summed over resumed runs)
  *   24  8  scene fingerprint (as version 1's: surface names and materials)
@@ -27,7 +27,8 @@
  *   160    splits, in the order they were made: node, first child (uint32 each)
  *          nodes: radiosity[3] float64; with flag 2 light[3] float64 and spread float32; with
  *          flag 1 importance float64
- *          roots: exposure rays, rays seen (uint32 each)
+ *          roots: per signed axis (+x, -x, +y, -y, +z, -z) exposure rays, rays seen (uint32
+ *          each)
  *          links, grouped by receiver in their order: receiver, count (uint32), then per link
  *          source (uint32), form factor and error bound (float32)
  *          with flag 1, hits: polygon (uint32), point[3] float64
@@ -60,7 +61,7 @@
 #define NODE_BYTES 24u
 #define NODE_LIGHT_BYTES 28u
 #define NODE_IMPORTANCE_BYTES 8u
-#define ROOT_BYTES 8u
+#define ROOT_BYTES 48u
 #define RUN_BYTES 8u
 #define LINK_BYTES 12u
 #define HIT_BYTES 28u
@@ -254,10 +255,12 @@ rad_status rad_solution_hier_save(rad_system *s, const char *path, const rad_sol
         if (flags & FLAG_IMPORTANCE) put_f64(w, state.importance);
     }
     for (size_t r = 0; r < stats.roots; ++r) {
-        uint32_t rays, seen;
-        rad_hier_exposure_get(hier, (uint32_t)r, &rays, &seen);
-        put_u32(w, rays);
-        put_u32(w, seen);
+        uint32_t rays[6], seen[6];
+        rad_hier_exposure_get(hier, (uint32_t)r, rays, seen);
+        for (int a = 0; a < 6; ++a) {
+            put_u32(w, rays[a]);
+            put_u32(w, seen[a]);
+        }
     }
     for (size_t l = 0; l < link_count;) {
         size_t last = l + 1;
@@ -480,7 +483,9 @@ static rad_status check_values(rad_context *ctx, const char *path, reader *r, co
     for (uint64_t root = 0; root < l->roots; ++root) {
         const unsigned char *p = take(r, ROOT_BYTES);
         if (!p) return truncated(ctx, path, r->offset + r->have, l->end + 8);
-        if (rad_le_get_u32(p + 4) > rad_le_get_u32(p)) return corrupted(ctx, path, "a root's exposure");
+        for (int a = 0; a < 6; ++a)
+            if (rad_le_get_u32(p + 8 * a + 4) > rad_le_get_u32(p + 8 * a))
+                return corrupted(ctx, path, "a root's exposure");
     }
     /* Receiver runs: increasing receivers, counts summing to the link count, ends in range.
      * While a refinement waits to go on (flag 64), the links it has not passed yet may carry
@@ -614,8 +619,16 @@ static rad_status rebuild(rad_system *s, const char *path, reader *r, const layo
     }
     for (uint64_t root = 0; root < l->roots && !status; ++root) {
         const unsigned char *p = take(r, ROOT_BYTES);
-        if (!p) status = truncated(ctx, path, r->offset + r->have, l->end + 8);
-        else rad_hier_restore_exposure(hier, (uint32_t)root, rad_le_get_u32(p), rad_le_get_u32(p + 4));
+        if (!p) {
+            status = truncated(ctx, path, r->offset + r->have, l->end + 8);
+            break;
+        }
+        uint32_t rays[6], seen[6];
+        for (int a = 0; a < 6; ++a) {
+            rays[a] = rad_le_get_u32(p + 8 * a);
+            seen[a] = rad_le_get_u32(p + 8 * a + 4);
+        }
+        rad_hier_restore_exposure(hier, (uint32_t)root, rays, seen);
     }
     rad_hier_link *links = NULL;
     size_t at = 0;
