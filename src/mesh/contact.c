@@ -303,6 +303,7 @@ static int hidden(const rad_scene *scene, const rad_rays *rays, const plane_info
                             rays->epsilon, INFINITY, &hit) || hit.front)
         return 0;
     uint32_t solid = scene->polygons[hit.polygon].surface;
+    if (solid == scene->polygons[list[0].receiver].surface) return 0; /* step 4b's, if any */
     int touching = 0;
     for (size_t i = 0; i < count; ++i) {
         const plane_info *B = &info[list[i].other];
@@ -311,6 +312,75 @@ static int hidden(const rad_scene *scene, const rad_rays *rays, const plane_info
         if (v3_dot(B->normal, centre) - B->offset > -eps) return 0;
     }
     return touching > 0;
+}
+
+/* Step 4b: the surface whose backs the rays from x both ways along `axis`, tilted by 30 degrees
+ * towards `up`, meet first (x lies between two faces of one solid, facing away from it), or
+ * UINT32_MAX. The tilt keeps the rays off surfaces lying flush with the piece. */
+static uint32_t between_backs(const rad_scene *scene, const rad_rays *rays, rad_vec3 x, rad_vec3 axis,
+                              rad_vec3 up) {
+    rad_hit ahead, behind;
+    rad_vec3 lift = v3_scale(up, 0.5), along = v3_scale(axis, 0.8660254037844386);
+    if (!rad_rays_intersect(rays, x, v3_add(along, lift), rays->epsilon, INFINITY, &ahead) || ahead.front ||
+        !rad_rays_intersect(rays, x, v3_sub(lift, along), rays->epsilon, INFINITY, &behind) || behind.front)
+        return UINT32_MAX;
+    uint32_t surface = scene->polygons[ahead.polygon].surface;
+    return scene->polygons[behind.polygon].surface == surface ? surface : UINT32_MAX;
+}
+
+/* Step 4b: the share of 16 directions over the hemisphere above x (cosine-weighted: 4 rings
+ * of 4, turned from ring to ring) whose first hit is a back face. */
+static double back_share(const rad_rays *rays, rad_vec3 x, rad_vec3 normal) {
+    rad_vec3 t, b;
+    v3_basis(normal, &t, &b);
+    int backs = 0;
+    for (int ring = 0; ring < 4; ++ring)
+        for (int k = 0; k < 4; ++k) {
+            double r = sqrt((ring + 0.5) / 4), phi = 2 * RAD_PI * (k + 0.25 * ring + 0.125) / 4;
+            rad_vec3 d = v3_add(v3_add(v3_scale(t, r * cos(phi)), v3_scale(b, r * sin(phi))),
+                                v3_scale(normal, sqrt(1 - r * r)));
+            rad_hit hit;
+            backs += rad_rays_intersect(rays, x, d, rays->epsilon, INFINITY, &hit) && !hit.front;
+        }
+    return backs / 16.0;
+}
+
+/* Step 4b for one piece of polygon `receiver` (contacts list[0 .. count-1]): inside a wall or a
+ * slab whose faces are not closed around it (a floor slab running under a wall that has no
+ * bottom face, a wall's face running on into the wall it meets at a corner). Just in front of
+ * the piece, the rays both ways across one of its edges first meet the backs of one surface S
+ * that touches the polygon; the ray along its normal meets a back, or a front that lies between
+ * the same faces of S (the roof slab's underside inside the same wall: the two pieces face each
+ * other inside it, so step 4's single ray sees a front); and most of the hemisphere above it
+ * sees backs. An open box standing on a floor leaves the floor inside it in view: its normal
+ * ray goes out through the top. */
+static int enclosed(const rad_scene *scene, const rad_rays *rays, const contact *list, size_t count,
+                    rad_vec3 normal, const rad_vec3 *p, size_t n) {
+    rad_vec3 centre = corner_mean(p, n);
+    rad_vec3 x = v3_add(centre, v3_scale(normal, 4 * rays->epsilon));
+    for (size_t k = 0; k < n; ++k) {
+        rad_vec3 edge = v3_sub(p[(k + 1) % n], p[k]);
+        if (!(v3_length(edge) > 0)) continue;
+        rad_vec3 axis = v3_normalize(v3_cross(normal, edge));
+        int seen = 0; /* an axis already tried (the opposite edge of a quad) */
+        for (size_t j = 0; j < k && !seen; ++j) {
+            rad_vec3 other = v3_sub(p[(j + 1) % n], p[j]);
+            seen = v3_length(other) > 0 && v3_length(v3_cross(v3_normalize(other), v3_normalize(edge))) < 1e-6;
+        }
+        if (seen) continue;
+        uint32_t solid = between_backs(scene, rays, x, axis, normal);
+        int touching = 0;
+        for (size_t i = 0; i < count && !touching && solid != UINT32_MAX; ++i)
+            touching = scene->polygons[list[i].other].surface == solid;
+        if (!touching) continue;
+        rad_hit hit;
+        if (!rad_rays_intersect(rays, x, normal, rays->epsilon, INFINITY, &hit)) return 0;
+        rad_vec3 there = v3_add(x, v3_scale(normal, hit.t - 4 * rays->epsilon));
+        if (!hit.front || (hit.t > 8 * rays->epsilon &&
+                           between_backs(scene, rays, there, axis, v3_scale(normal, -1)) == solid))
+            return back_share(rays, x, normal) >= 0.5;
+    }
+    return 0;
 }
 
 /* The part [t0, t1] of the line point + t direction (unit) inside the convex piece p, eps
@@ -596,7 +666,10 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
         double reach_a = NEAR_GAP * v3_length(v3_sub(info[a].hi, info[a].lo));
         for (size_t t = s + 1; t < np && info[order[t]].lo.x <= info[a].hi.x + eps + fmax(reach_a, largest_reach); ++t) {
             uint32_t b = order[t];
-            if (scene->polygons[a].surface == scene->polygons[b].surface) continue;
+            /* Polygons of one surface are cut only where one passes through the other or
+             * stands on it (kind 1): a building exported as one material, walls of one surface
+             * running into each other at the corners. */
+            const int same = scene->polygons[a].surface == scene->polygons[b].surface;
             if (!isfinite(info[b].offset) || scene->polygons[b].count > 64) continue;
             double m = eps + fmax(reach_a, NEAR_GAP * v3_length(v3_sub(info[b].hi, info[b].lo)));
             if (info[b].lo.x > info[a].hi.x + m || info[b].lo.y > info[a].hi.y + m ||
@@ -607,6 +680,10 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
                 uint32_t receiver = way ? b : a, other = way ? a : b;
                 line l;
                 int kind = contact_line(scene, info, receiver, other, eps, &l);
+                if (same && kind != 1) {
+                    if (kind == 2) break;
+                    continue;
+                }
                 if (kind == 2) {
                     /* Coplanar: overlapping when the centre of one lies inside the other.
                      * Step 2c: facing the same way (a rug on a floor, a decal, a face given
@@ -731,7 +808,8 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
                 cut->covered_pieces++;
                 continue;
             }
-            if (made && hidden(scene, rays, info, contacts + first_contact, lines, p, work.count[w], eps)) {
+            if (made && (hidden(scene, rays, info, contacts + first_contact, lines, p, work.count[w], eps) ||
+                         enclosed(scene, rays, contacts + first_contact, lines, info[i].normal, p, work.count[w]))) {
                 cut->hidden_pieces++;
                 cut->hidden_area += polygon_area(p, work.count[w]);
                 continue;
