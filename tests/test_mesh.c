@@ -265,10 +265,13 @@ static double *kept_areas(const rad_scene *scene, const rad_contact_cut *cut) {
 }
 
 /* Is polygon `polygon` one piece, uncut? */
-static int uncut(const rad_contact_cut *cut, uint32_t polygon) {
-    size_t pieces = 0;
-    for (size_t i = 0; i < cut->piece_count; ++i) pieces += cut->pieces[i].polygon == polygon;
-    return pieces == 1;
+/* One piece with the polygon's own corners (no cut, no corner added where a neighbour's cut
+ * ends on its edge). */
+static int uncut(const rad_contact_cut *cut, const rad_scene *scene, uint32_t polygon) {
+    size_t pieces = 0, corners = 0;
+    for (size_t i = 0; i < cut->piece_count; ++i)
+        if (cut->pieces[i].polygon == polygon) pieces++, corners = cut->pieces[i].count;
+    return pieces == 1 && corners == scene->polygons[polygon].count;
 }
 
 typedef struct point2 {
@@ -402,7 +405,7 @@ static mesh_report check_mesh(const char *label, const rad_scene *scene, const r
         double block = k * mesh->element_size, area = 0;
         for (size_t e = first; e < end; ++e) area += mesh->element_area[e];
         CHECK(area <= block * block * (1 + 1e-9));
-        if (polygon->count == 4 && uncut(cut, mesh->element_polygon[first]))
+        if (polygon->count == 4 && uncut(cut, scene, mesh->element_polygon[first]))
             CHECK(quads <= (size_t)k * k && triangles == 0);
         report.widest_patch = fmax(report.widest_patch, diameter / mesh->patch_size);
         /* Convex: the hull of its corners (in its polygon's plane) has the patch's area. */
@@ -899,6 +902,39 @@ static void test_builtin_and_imported(void) {
         if (mesh) check_mesh(builtins[i], scene, mesh, i < 2);
         rad_mesh_destroy(mesh);
         rad_scene_destroy(scene);
+    }
+    /* A floor of two quads (one surface) with a block standing on the left one near the edge
+     * they share: the block's contact lines run across the left quad and end on that edge, so
+     * the right quad gets their ends as corners (contact.c, step 5). Without them its elements'
+     * edge along x = 2 skipped the left quad's vertices there: T-junctions, a crack in the
+     * smooth picture (before: 70 element pairs meeting at a T, 8 coinciding vertices). */
+    rad_scene *floor_scene = NULL;
+    CHECK(rad_scene_new(ctx, 1, "two-quad floor", &floor_scene) == RAD_OK);
+    if (floor_scene) {
+        rad_material white = {0};
+        white.reflectance[0] = white.reflectance[1] = white.reflectance[2] = 0.5;
+        uint32_t material, floor, block;
+        CHECK(rad_scene_add_material(floor_scene, &white, &material) == RAD_OK);
+        CHECK(rad_scene_add_surface(floor_scene, "floor", material, &floor) == RAD_OK);
+        CHECK(rad_scene_add_surface(floor_scene, "block", material, &block) == RAD_OK);
+        const rad_vec3 left[4] = {{0, 0, 0}, {0, 0, 4}, {2, 0, 4}, {2, 0, 0}};
+        const rad_vec3 right[4] = {{2, 0, 0}, {2, 0, 4}, {4, 0, 4}, {4, 0, 0}};
+        CHECK(rad_scene_add_polygon_points(floor_scene, floor, left, 4) == RAD_OK);
+        CHECK(rad_scene_add_polygon_points(floor_scene, floor, right, 4) == RAD_OK);
+        const double x0 = 1.4, x1 = 1.9, z0 = 1.3, z1 = 2.1, h = 0.7;
+        const rad_vec3 sides[5][4] = {
+            {{x0, 0, z0}, {x0, h, z0}, {x1, h, z0}, {x1, 0, z0}}, {{x1, 0, z1}, {x1, h, z1}, {x0, h, z1}, {x0, 0, z1}},
+            {{x0, 0, z1}, {x0, h, z1}, {x0, h, z0}, {x0, 0, z0}}, {{x1, 0, z0}, {x1, h, z0}, {x1, h, z1}, {x1, 0, z1}},
+            {{x0, h, z0}, {x0, h, z1}, {x1, h, z1}, {x1, h, z0}}};
+        for (int f = 0; f < 5; ++f) CHECK(rad_scene_add_polygon_points(floor_scene, block, sides[f], 4) == RAD_OK);
+        rad_contact_cut *cut = NULL;
+        CHECK(rad_contact_cut_create(ctx, floor_scene, &cut) == RAD_OK);
+        if (cut) CHECK(cut->t_points == 2);
+        rad_contact_cut_destroy(ctx, cut);
+        rad_mesh *mesh = mesh_of(floor_scene, 0, 0, 400);
+        if (mesh) check_mesh("two-quad floor and a block", floor_scene, mesh, 1);
+        rad_mesh_destroy(mesh);
+        rad_scene_destroy(floor_scene);
     }
     static const char *const files[] = {RAD_SOURCE_DIR "/scenes/room.obj",
                                         RAD_SOURCE_DIR "/scenes/lamp-room.gltf",

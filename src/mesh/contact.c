@@ -453,7 +453,14 @@ static int inside_edge(rad_vec3 x, rad_vec3 a, rad_vec3 b, double eps, double *a
 typedef struct edge_point {
     int64_t key[7];
     rad_vec3 point;
+    rad_vec3 normal; /* of the polygon whose piece has the point */
 } edge_point;
+
+/* Polygons bending by more than this across an edge do not share the mesh's vertices there
+ * (mesh.c's crease angle, 30 degrees): a T-junction across such an edge makes no crack, and
+ * its point is not added (a cut up a wall's face would otherwise put corners on the wall's
+ * thin top, cut into needles). */
+#define T_POINT_COSINE 0.866
 
 static int by_key(const void *x, const void *y) {
     const int64_t *a = ((const edge_point *)x)->key, *b = ((const edge_point *)y)->key;
@@ -502,6 +509,7 @@ static rad_status add_t_points(rad_context *ctx, const rad_scene *scene, double 
                     break;
                 }
                 edge_key(scene, piece->polygon, k, lo, quantum, marks[mark_count].key);
+                marks[mark_count].normal = rad_polygon_normal(scene, p);
                 marks[mark_count++].point = x;
             }
         }
@@ -548,8 +556,10 @@ static rad_status add_t_points(rad_context *ctx, const rad_scene *scene, double 
                 edge_point *hit = bsearch(&probe, marks, mark_count, sizeof *marks, by_key);
                 if (!hit) continue;
                 while (hit > marks && by_key(hit - 1, &probe) == 0) hit--;
+                rad_vec3 normal = rad_polygon_normal(scene, p);
                 for (; hit < marks + mark_count && by_key(hit, &probe) == 0; ++hit) {
                     double t;
+                    if (v3_dot(hit->normal, normal) < T_POINT_COSINE) continue;
                     if (!inside_edge(hit->point, a, b, eps, &t)) continue;
                     if (grow(ctx, (void **)&along, &along_capacity, found + 1, sizeof *along) ||
                         grow(ctx, (void **)&corners, &corner_capacity, found + 1, sizeof *corners)) {
@@ -588,8 +598,13 @@ static rad_status add_t_points(rad_context *ctx, const rad_scene *scene, double 
         if (status) break;
         fresh.count[fresh.pieces - 1] = (uint32_t)made;
         fresh.used += made;
-        cut->pieces[j].first = fresh.first[fresh.pieces - 1];
-        cut->pieces[j].count = (uint32_t)made;
+    }
+    /* The pieces point into the new list only now: the loop above reads the other pieces of a
+     * polygon from the old one (it read them at their new places in the old list, garbage
+     * that made NaN corners and a mesher that ran for minutes). */
+    for (size_t j = 0; j < cut->piece_count && !status; ++j) {
+        cut->pieces[j].first = fresh.first[j];
+        cut->pieces[j].count = fresh.count[j];
     }
     if (!status) {
         rad_free(ctx, list->points);
@@ -826,8 +841,9 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     }
     if (status) goto done;
     cut->piece_count = list.pieces;
-    /* Step 5, with shadows only: on contacts alone it made the house leak (docs/meshing.md). */
-    if (segment_count) status = add_t_points(ctx, scene, eps, cut, &list);
+    /* Step 5. (It was run with shadows only: on contacts it read the other pieces of a polygon
+     * at their new places in the old list, NaN corners that sent the mesher into minutes.) */
+    status = add_t_points(ctx, scene, eps, cut, &list);
     if (status) goto done;
     cut->points = list.points;
     cut->point_count = list.used;

@@ -149,6 +149,30 @@ static void put_cell(mesher *m, const uint32_t *ids, const uint8_t *at, int n, u
     m->cells[m->cell_count++] = c;
 }
 
+/* Do a quad part's opposite sides agree in length within a factor of 2 (its grid ties each
+ * side's count to the opposite one's)? */
+static int even_quad(const rad_vec3 *points, const uint8_t *at) {
+    double side[4];
+    for (int k = 0; k < 4; ++k) side[k] = v3_length(v3_sub(points[at[(k + 1) % 4]], points[at[k]]));
+    return fmax(side[0], side[2]) <= 2 * fmin(side[0], side[2]) && fmax(side[1], side[3]) <= 2 * fmin(side[1], side[3]);
+}
+
+/* A part of split_flat: a quad whose opposite sides differ much in length (a chord across a
+ * long strip from a T-point to a far corner) would have its grid give the short sides the long
+ * ones' counts, and every cell tied to them too (a 0.2 x 8.8 m wall top took 572 elements):
+ * it is put as two triangles, each cut to its own sides' counts, along the shorter diagonal. */
+static void put_part(mesher *m, const rad_vec3 *points, const uint32_t *ids, const uint8_t *at, int n,
+                     uint32_t polygon, uint32_t surface, rad_vec3 normal) {
+    if (n != 4 || even_quad(points, at)) {
+        put_cell(m, ids, at, n, polygon, surface, normal);
+        return;
+    }
+    int d = v3_length(v3_sub(points[at[2]], points[at[0]])) <= v3_length(v3_sub(points[at[3]], points[at[1]])) ? 0 : 1;
+    uint8_t first[3] = {at[d], at[d + 1], at[d + 2]}, second[3] = {at[d + 2], at[(d + 3) % 4], at[d]};
+    put_cell(m, ids, first, 3, polygon, surface, normal);
+    put_cell(m, ids, second, 3, polygon, surface, normal);
+}
+
 /* A convex part of more than four corners and none straight on, inside split_flat: cut into
  * quads and a triangle from its first corner (few such parts: a straight-on corner's chord
  * leaves at most n - 1 corners). */
@@ -158,7 +182,7 @@ static void put_fan(mesher *m, const rad_vec3 *points, const uint32_t *ids, cons
     int k = 1;
     for (; k + 2 < n; k += 2) {
         uint8_t q[4] = {at[0], at[k], at[k + 1], at[k + 2]};
-        put_cell(m, ids, q, 4, polygon, surface, normal);
+        put_part(m, points, ids, q, 4, polygon, surface, normal);
     }
     if (k + 1 < n) {
         uint8_t t[3] = {at[0], at[k], at[k + 1]};
@@ -174,7 +198,8 @@ static int split_flat(mesher *m, const rad_vec3 *points, const uint32_t *ids, co
         if (flat_at(points, at, n, normal, k)) flat = k;
     if (flat < 0) {
         if (n > 4) return top ? 0 : (put_fan(m, points, ids, at, n, polygon, surface, normal), 1);
-        put_cell(m, ids, at, n, polygon, surface, normal);
+        if (top) put_cell(m, ids, at, n, polygon, surface, normal);
+        else put_part(m, points, ids, at, n, polygon, surface, normal);
         return 1;
     }
     if (n == 3) return 1; /* no area */
@@ -183,10 +208,15 @@ static int split_flat(mesher *m, const rad_vec3 *points, const uint32_t *ids, co
     double best_score = INFINITY;
     for (int d = 2; d <= n - 2; ++d) {
         int j = (flat + d) % n, larger = d + 1 > n - d + 1 ? d + 1 : n - d + 1;
-        double across = fabs(v3_dot(v3_normalize(v3_sub(points[at[j]], points[at[flat]])), edge));
+        rad_vec3 chord = v3_normalize(v3_sub(points[at[j]], points[at[flat]]));
+        /* Not along the straight edge itself (to another corner on it): that chord would cut
+         * nothing off and skip the corners between, the T-junctions this split is for. */
+        if (v3_length(v3_cross(chord, edge)) <= 1e-9) continue;
+        double across = fabs(v3_dot(chord, edge));
         double score = 10.0 * (larger > 4 ? larger : 4) + across;
         if (score < best_score) best_score = score, best = d;
     }
+    if (best < 0) return 1; /* every corner on one line: no area */
     uint8_t a[FLAT_SPLIT_CORNERS], b[FLAT_SPLIT_CORNERS];
     int na = 0, nb = 0;
     for (int k = 0; k <= best; ++k) a[na++] = at[(flat + k) % n];
