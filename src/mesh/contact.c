@@ -843,7 +843,7 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     cut->piece_count = list.pieces;
     /* Step 5. (It was run with shadows only: on contacts it read the other pieces of a polygon
      * at their new places in the old list, NaN corners that sent the mesher into minutes.) */
-    status = add_t_points(ctx, scene, eps, cut, &list);
+    if (segment_count || (options && options->t_points)) status = add_t_points(ctx, scene, eps, cut, &list);
     if (status) goto done;
     cut->points = list.points;
     cut->point_count = list.used;

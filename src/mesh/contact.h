@@ -47,6 +47,10 @@ typedef struct rad_contact_options {
     int shadows;         /* nonzero: cut at shadow boundaries of area emitters too (shadow.h) */
     double element_size; /* with shadows: segments shorter than a quarter of it are not cut
                             along, and no cut leaves a piece narrower than SLIVER times it */
+    int t_points;        /* nonzero: where a contact cut ends on an edge shared with another
+                            polygon of the surface (bending less than 30 degrees), that polygon
+                            gets the end as a corner (the mesher asks for it; with shadows they
+                            are always added) */
 } rad_contact_options;
 
 /* Finds the contacts of every polygon with the polygons of other surfaces and cuts. Polygons
@@ -55,10 +59,11 @@ typedef struct rad_contact_options {
  * they are left as they are. Warns once for each, naming the first two surfaces. */
 rad_status rad_contact_cut_create(rad_context *ctx, const struct rad_scene *scene,
                                   rad_contact_cut **out);
-/* The same with options (NULL: contacts only). Where a cut ends on the edge of another piece
- * of the same surface (a shadow segment inside a face, a contact line at an edge shared with
- * a neighbouring polygon), that piece gets the end as a corner, so the pieces meet without
- * T-junctions. */
+/* The same with options (NULL: contacts only, no T-points). With shadows or t_points, where a
+ * cut ends on the edge of another piece of the same surface (a shadow segment inside a face, a
+ * contact line at an edge shared with a neighbouring polygon), that piece gets the end as a
+ * corner, so the pieces meet without T-junctions: a piece then has corners where it runs
+ * straight on. */
 rad_status rad_contact_cut_create_with(rad_context *ctx, const struct rad_scene *scene,
                                        const rad_contact_options *options, rad_contact_cut **out);
 /* Narrows [*t0, *t1] to where the line point + t direction (unit) lies inside the convex
