@@ -234,6 +234,10 @@ bad array1.mgf 'xf -a 2.5 -t 1 0 0\nxf\n' 'array1.mgf:1: xf -a: the count must b
 bad array2.mgf 'xf -a 1000 -t 1 0 0\nxf -a 1000 -t 0 1 0\nxf\nxf\n' 'array2.mgf:3: xf -a: more than 100000 copies in all'
 bad array3.mgf 'xf -a 3 -t 1 0 0\n' 'array3.mgf: a transform (xf) not ended'
 bad cxy.mgf 'c x =\n\tcxy 0.7 0.5\n' 'cxy.mgf:2: chromaticity outside'
+# A short file of arrays asks for millions of polygons: the memory budget stops it.
+printf 'm x =\n\trd 0.5\nv c =\n\tp 0 0 0\nxf -a 100000 -t 3 0 0\nsph c 1\nxf\n' >spheres.mgf
+expect_exit 1 "the MGF scene's geometry needs .* over the memory budget of 64.0 MiB" -- \
+    "$radiosity" scenes --info spheres.mgf --max-memory 64
 bad device.mgf 'i /dev/null\n' 'device.mgf:1: cannot include /dev/null: not a regular file'
 # A reflectance of 0.95 or more is read, with the warning every reader gives.
 printf 'm white =\n\tc\n\trd 0.97\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\nv c =\n\tp 1 1 0\no floor\nf a b c\no\n' \

@@ -411,8 +411,16 @@ static rad_status add_points(mgf_reader *r, rad_vec3 *p, size_t n) {
     }
     if (!(length > 1e-12 * extent * extent)) return RAD_OK;
     normal = v3_scale(normal, 1 / length);
+    /* The scene's arrays against the memory budget (they grow by doubling, and a short file
+     * of arrays, xf -a, can ask for millions of polygons). */
+    const rad_scene *scene = r->scene;
+    double bytes = (double)scene->vertex_capacity * sizeof *scene->vertices +
+                   (double)scene->polygon_vertex_capacity * sizeof *scene->polygon_vertices +
+                   (double)scene->polygon_capacity * sizeof *scene->polygons;
+    rad_status status = rad_check_budget(r->ctx, bytes, "the MGF scene's geometry");
+    if (status) return status;
     uint32_t surface;
-    rad_status status = current_surface(r, &surface);
+    status = current_surface(r, &surface);
     if (status) return status;
     int convex = 1;
     for (size_t i = 0; i < n && convex; ++i) {
