@@ -223,13 +223,21 @@ bad() { # bad FILE TEXT PATTERN: solve refuses FILE (holding TEXT) with one line
     expect_exit 1 "$3" -- "$radiosity" solve "$1"
 }
 bad undef.mgf 'v a =\n\tp 0 0 0\nf a b c\n' 'undef.mgf:3: undefined vertex: b'
-bad unknown.mgf 'm x =\n\trd 0.5\nfrobnicate 1 2\n' 'unknown.mgf:3: unknown MGF entity: frobnicate'
 bad bright.mgf 'm x =\n\trd 1.5\n' 'bright.mgf:2: reflectance must be in'
 bad nan.mgf 'v a =\n\tp 0 zero 0\n' 'nan.mgf:2: not a number: zero'
 bad inc.mgf 'i missing.mgf\n' 'inc.mgf:1: cannot include'
 bad inc2.mgf 'i inc2.mgf\n' 'includes nested too deep'
 bad open.mgf 'o open\n' 'not ended'
 bad empty.mgf '# nothing\n' 'empty.mgf: no faces'
+bad array0.mgf 'xf -a 0 -t 1 0 0\nxf\n' 'array0.mgf:1: xf -a: the count must be a whole number from 1 to 100000: 0'
+bad array1.mgf 'xf -a 2.5 -t 1 0 0\nxf\n' 'array1.mgf:1: xf -a: the count must be a whole number'
+bad array2.mgf 'xf -a 1000 -t 1 0 0\nxf -a 1000 -t 0 1 0\nxf\nxf\n' 'array2.mgf:3: xf -a: more than 100000 copies in all'
+bad array3.mgf 'xf -a 3 -t 1 0 0\n' 'array3.mgf: a transform (xf) not ended'
+bad cxy.mgf 'c x =\n\tcxy 0.7 0.5\n' 'cxy.mgf:2: chromaticity outside'
+# A short file of arrays asks for millions of polygons: the memory budget stops it.
+printf 'm x =\n\trd 0.5\nv c =\n\tp 0 0 0\nxf -a 100000 -t 3 0 0\nsph c 1\nxf\n' >spheres.mgf
+expect_exit 1 "the MGF scene's geometry needs .* over the memory budget of 64.0 MiB" -- \
+    "$radiosity" scenes --info spheres.mgf --max-memory 64
 bad device.mgf 'i /dev/null\n' 'device.mgf:1: cannot include /dev/null: not a regular file'
 # A reflectance of 0.95 or more is read, with the warning every reader gives.
 printf 'm white =\n\tc\n\trd 0.97\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\nv c =\n\tp 1 1 0\no floor\nf a b c\no\n' \
@@ -244,8 +252,80 @@ printf 'm shiny =\n\trd 0.9\n\trs 0.2 0.01\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\n
     >shiny.mgf
 "$radiosity" scenes --info shiny.mgf >/dev/null 2>shiny.err
 check "rd + rs over 1 is read (exit 0)" test $? -eq 0
-check "rd + rs over 1 is warned about at its line" grep -q "shiny.mgf:3: rd + rs is 1.1" shiny.err \
+check "rd + rs over 1 is warned about once, naming the material where it is first used" \
+    test "$(grep -c "shiny.mgf:11: material 'shiny' has rd + rs = 1.1, more than 1" shiny.err)" = 1 \
     || cat shiny.err >&2
+# The scaled values: rd 0.9 / 1.1 (grey, so R = G = B). Scaled where the material is used, not
+# where rd or rs is read: a material made from it that sets rs 0 keeps rd 0.9, as in RenderPark.
+printf 'm shiny =\n\trd 0.9\n\trs 0.2 0.01\nm matte = shiny\n\trs 0 0\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\nv c =\n\tp 1 1 0\no floor\nm shiny\nf a b c\no\no wall\nm matte\nf a c b\no\n' \
+    >shiny2.mgf
+"$radiosity" scenes --info shiny2.mgf --json >shiny2.json 2>/dev/null
+check "rd + rs over 1: rd scaled to 0.9 / 1.1, and a material that drops rs keeps rd 0.9" python3 -c '
+import json, sys
+m = {x["name"]: x["reflectance"] for x in json.load(open("shiny2.json"))["materials"]}
+sys.exit(0 if all(abs(v - 0.9 / 1.1) < 1e-9 for v in m["shiny"]) and
+         all(abs(v - 0.9) < 1e-9 for v in m["matte"]) else 1)' || cat shiny2.json >&2
+
+# Unknown entities are skipped with one warning, as MGF's own parser does (RenderPark's
+# office1/graz.mgf has a path name on a line of its own, its hospital a vertex missing its p).
+printf 'm x =\n\trd 0.5\nfrobnicate 1 2\n/usr/people/x.rad\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\nv c =\n\tp 1 1 0\nf a b c\n' \
+    >unknown.mgf
+"$radiosity" scenes --info unknown.mgf >/dev/null 2>unknown.err
+check "unknown entities are skipped (exit 0)" test $? -eq 0
+check "unknown entities: one warning, at the first" \
+    test "$(grep -c 'unknown MGF entity' unknown.err)" = 1 -a \
+    "$(grep -c "unknown.mgf:3: unknown MGF entity 'frobnicate' skipped (2 unknown entities" unknown.err)" = 1 \
+    || cat unknown.err >&2
+
+# Colours: a spectrum with negative samples is read (RenderPark's Materials/illums.mgf: the CIE
+# daylight components), a chromaticity with y = 0 is black where a material uses it, with a
+# warning (RenderPark's hospital/blokken2.mgf: 'cxy 0.4 0' for a lamp), and both as RenderPark.
+printf 'c day =\n\tcspec 400 700 6 6 6 5 5 5 -0.5\nc purple =\n\tcxy 0.4 0\nm x =\n\tc day\n\trd 0.5\nm lamp =\n\tc purple\n\ted 100\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\nv c =\n\tp 1 1 0\no floor\nm x\nf a b c\no\no light\nm lamp\nf a c b\no\n' \
+    >colours.mgf
+"$radiosity" scenes --info colours.mgf --json >colours.json 2>colours.err
+check "colours: a spectrum with negative samples, a chromaticity with y = 0 (exit 0)" test $? -eq 0
+check "colours: the spectrum is a bluish reflectance of luminance 0.5, the y = 0 lamp is black" python3 -c '
+import json, sys
+m = {x["name"]: x for x in json.load(open("colours.json"))["materials"]}
+r = m["x"]["reflectance"]; y = 0.2126 * r[0] + 0.7152 * r[1] + 0.0722 * r[2]
+sys.exit(0 if r[2] > r[0] and abs(y - 0.5) < 0.02 and m["lamp"]["emission"] == [0, 0, 0] else 1)' \
+    || cat colours.json >&2
+check "colours: the black lamp is warned about" \
+    grep -q "colours.mgf:10: colour 'purple' has no luminance: the emission of material 'lamp' is read as black" \
+    colours.err || cat colours.err >&2
+
+# Arrays (xf -a, i FILE -a): copy (i, j) is the transform before the first -a, then the one
+# after it i times, then the one after the second j times (MGF 2.0, RenderPark's reading).
+cat >arrays.mgf <<'MGF'
+m grey =
+	rd 0.5
+o row
+xf -t 10 0 0 -a 3 -t 2 0 0
+i parts/square.mgf
+xf
+o
+o grid
+xf -a 2 -t 0 2 0 -a 3 -t 2 0 0
+v g0 =
+	p 0 0 5
+v g1 =
+	p 1 0 5
+v g2 =
+	p 1 1 5
+f g0 g1 g2
+xf
+o
+o stack
+i parts/square.mgf -rx 90 -a 4 -t 0 0 -1
+o
+MGF
+"$radiosity" scenes --info arrays.mgf --json >arrays.json 2>/dev/null
+check "arrays: 3 squares in a row, 6 triangles in a grid, 4 stacked squares, where MGF puts them" python3 -c '
+import json, sys
+d = json.load(open("arrays.json")); a = {s["name"]: s["area"] for s in d["surfaces"]}
+ok = abs(a["row"] - 3) < 1e-9 and abs(a["grid"] - 3) < 1e-9 and abs(a["stack"] - 4) < 1e-9
+ok = ok and d["bounds"]["min"] == [0, 0, -3] and d["bounds"]["max"] == [15, 3, 5]
+sys.exit(0 if ok else 1)' || cat arrays.json >&2
 head -c 300 /dev/urandom >garbage.mgf
 expect_exit 1 'garbage.mgf' -- "$radiosity" solve garbage.mgf
 

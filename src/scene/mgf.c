@@ -3,10 +3,11 @@
  *
  * Entities read: v/p/n (named vertices), f (faces, convex or not), m with rd, rs, ed and sides
  * (materials), c with cxy and cspec (colours), o (objects: surface names), xf (transforms:
- * -t -rx -ry -rz -s -mx -my -mz), i (includes, relative to the including file, with an
- * optional transform), and the primitives sph, cyl, cone, ring, prism and torus, tessellated.
- * Entities that carry nothing a diffuse radiosity solver uses (td, ts, ir, cct, cmix, fh, ies)
- * are skipped with one note each; any other word is an error naming FILE:LINE.
+ * -t -rx -ry -rz -s -mx -my -mz, and -a arrays: the body read once per copy), i (includes,
+ * relative to the including file, with an optional transform, arrays too), and the primitives
+ * sph, cyl, cone, ring, prism and torus, tessellated. Entities that carry nothing a diffuse
+ * radiosity solver uses (td, ts, ir, cct, cmix, fh, ies) are skipped with one note each; any
+ * other word is skipped with one warning for the file set, as mgflib and RenderPark do.
  *
  * Colours: a chromaticity (cxy, or the CIE 1931 xy of a cspec spectrum, integrated with the
  * analytic colour-matching functions of Wyman, Sloan & Shirley 2013) with the reflectance or
@@ -35,6 +36,8 @@
 #define MGF_SEGMENTS 24         /* around a sphere, cylinder, cone, ring or torus */
 #define MGF_EFFICACY 179.0      /* lm/W, white light: Radiance's WHTEFFICACY */
 #define MGF_PI 3.14159265358979323846
+#define MGF_MAX_ARRAY_DIMS 8      /* xf -a dimensions, as RenderPark's reader */
+#define MGF_MAX_ARRAY_COPIES 100000 /* copies made by xf -a arrays in one file, all told */
 
 typedef struct mgf_vertex {
     char name[MGF_MAX_NAME];
@@ -54,6 +57,23 @@ typedef struct mgf_material {
 } mgf_material;
 
 typedef struct mgf_transform { double m[3][4]; } mgf_transform;
+
+/* An xf's arguments: the transform before the first -a, then per array dimension (-a N) the
+ * transform that follows it, applied 0, 1, ..., N-1 times (MGF 2.0; RenderPark's and mgflib's
+ * reading: copy (i1, i2, ...) is prefix, then step1 i1 times, then step2 i2 times, ...). */
+typedef struct mgf_xf_spec {
+    mgf_transform prefix, step[MGF_MAX_ARRAY_DIMS];
+    int dims;
+    int count[MGF_MAX_ARRAY_DIMS];
+} mgf_xf_spec;
+
+/* An open xf: its spec, the copy being read, and where its body starts in the file. */
+typedef struct mgf_array {
+    mgf_xf_spec spec;
+    int index[MGF_MAX_ARRAY_DIMS];
+    long body;     /* file offset of the line after the xf */
+    int body_line; /* its line number, less one */
+} mgf_array;
 
 typedef struct mgf_surface_key {
     char object[MGF_MAX_NAME];
@@ -80,9 +100,17 @@ typedef struct mgf_reader {
     char objects[MGF_MAX_DEPTH][MGF_MAX_NAME];
     int object_depth;
     mgf_transform transforms[MGF_MAX_DEPTH + 1];
+    mgf_array arrays[MGF_MAX_DEPTH + 1]; /* per transform depth; spec.dims 0: no array */
     int transform_depth;
+    int file_transform_base; /* the depth the current file started at: its xf cannot end below */
+    FILE *stream;            /* the file being read (an array's body is read again from it) */
+    int rewound_line;        /* -1, or the line to go on from after an array went back */
+    int line_end;            /* the last line of the entity being read */
+    long array_copies;       /* copies made by xf -a so far, all told */
     int include_depth;
     unsigned skipped_notes; /* one note per skipped entity kind */
+    size_t unknown_count;   /* unknown entities skipped */
+    char unknown_first[4200]; /* where the first was, and its name */
 } mgf_reader;
 
 #define MGF_FAIL(r, ...) rad_fail((r)->ctx, RAD_ERROR_PARSE, __VA_ARGS__)
@@ -147,11 +175,28 @@ static double transform_determinant(const mgf_transform *t) {
            m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
 
-/* Parses xf arguments (words[0..count-1]) into a transform, applied left to right. */
-static rad_status parse_transform(mgf_reader *r, char **words, int count, mgf_transform *out) {
-    transform_identity(out);
+/* Parses xf arguments (words[0..count-1]) into a transform spec, applied left to right. */
+static rad_status parse_transform(mgf_reader *r, char **words, int count, mgf_xf_spec *out) {
+    transform_identity(&out->prefix);
+    out->dims = 0;
+    mgf_transform *current = &out->prefix;
     for (int i = 0; i < count; ++i) {
         const char *flag = words[i];
+        if (strcmp(flag, "-a") == 0) {
+            char *end;
+            long copies = i + 1 < count ? strtol(words[i + 1], &end, 10) : 0;
+            if (i + 1 >= count || *end != '\0' || end == words[i + 1] || copies < 1 ||
+                copies > MGF_MAX_ARRAY_COPIES)
+                return fail_at(r, "xf -a: the count must be a whole number from 1 to 100000",
+                               i + 1 < count ? words[i + 1] : NULL);
+            if (out->dims == MGF_MAX_ARRAY_DIMS)
+                return fail_at(r, "xf: more than 8 array dimensions (-a)", NULL);
+            out->count[out->dims] = (int)copies;
+            current = &out->step[out->dims++];
+            transform_identity(current);
+            ++i;
+            continue;
+        }
         mgf_transform step;
         transform_identity(&step);
         int needs = strcmp(flag, "-t") == 0 ? 3
@@ -159,11 +204,7 @@ static rad_status parse_transform(mgf_reader *r, char **words, int count, mgf_tr
                        strcmp(flag, "-rz") == 0 || strcmp(flag, "-s") == 0) ? 1
                     : (strcmp(flag, "-mx") == 0 || strcmp(flag, "-my") == 0 ||
                        strcmp(flag, "-mz") == 0) ? 0 : -1;
-        if (needs < 0) {
-            if (strcmp(flag, "-a") == 0)
-                return fail_at(r, "xf -a (arrays) is not supported", NULL);
-            return fail_at(r, "unknown transform", flag);
-        }
+        if (needs < 0) return fail_at(r, "unknown transform", flag);
         double value[3];
         if (i + needs >= count + (needs == 0)) return fail_at(r, "xf: missing value after", flag);
         for (int k = 0; k < needs; ++k)
@@ -187,9 +228,32 @@ static rad_status parse_transform(mgf_reader *r, char **words, int count, mgf_tr
             step.m[b][a] = s;
             step.m[b][b] = c;
         }
-        *out = transform_then(out, &step);
+        *current = transform_then(current, &step);
     }
     return RAD_OK;
+}
+
+/* The transform of copy `index` (one index per array dimension) of a spec. */
+static mgf_transform xf_spec_copy(const mgf_xf_spec *spec, const int *index) {
+    mgf_transform out = spec->prefix;
+    for (int d = 0; d < spec->dims; ++d) {
+        /* step^index by squaring: copies of a long array cost log(index) products each. */
+        mgf_transform power = spec->step[d];
+        for (int k = index[d]; k > 0; k >>= 1) {
+            if (k & 1) out = transform_then(&out, &power);
+            power = transform_then(&power, &power);
+        }
+    }
+    return out;
+}
+
+/* The next copy of an array, the last dimension counting fastest; 0 after the last copy. */
+static int xf_spec_next(const mgf_xf_spec *spec, int *index) {
+    for (int d = spec->dims; d-- > 0;) {
+        if (++index[d] < spec->count[d]) return 1;
+        index[d] = 0;
+    }
+    return 0;
 }
 
 /* ---- colours ------------------------------------------------------------------------------ */
@@ -262,7 +326,19 @@ static rad_status current_surface(mgf_reader *r, uint32_t *out) {
     if (m->index == UINT32_MAX) {
         rad_material material = {0};
         material.name = m->name;
-        double rd = m->rd < 0.999 ? m->rd : 0.999;
+        double rd = m->rd;
+        /* More light reflected than arrives (rd + rs over 1): both scaled down to a total of 1
+         * when the material is first used, with one warning naming it, as RenderPark reads
+         * such files (its own cube.mgf has rd 0.9 with rs 0.2; RenderPark scales the RGB sum's
+         * largest channel, this reader the luminances MGF gives). */
+        if (m->rd + m->rs > 1) {
+            double total = m->rd + m->rs;
+            rd = m->rd / total;
+            rad_warn(r->ctx, "%s:%d: material '%s' has rd + rs = %.3g, more than 1: both scaled "
+                     "by %.3g (rd %.3g, rs %.3g) so that it reflects no more light than it "
+                     "receives", r->file, r->line, m->name, total, 1 / total, rd, m->rs / total);
+        }
+        if (rd > 0.999) rd = 0.999;
         xy_to_rgb(m->rd_x, m->rd_y, rd, material.reflectance);
         for (int c = 0; c < 3; ++c)
             if (material.reflectance[c] > 0.999) material.reflectance[c] = 0.999;
@@ -335,8 +411,16 @@ static rad_status add_points(mgf_reader *r, rad_vec3 *p, size_t n) {
     }
     if (!(length > 1e-12 * extent * extent)) return RAD_OK;
     normal = v3_scale(normal, 1 / length);
+    /* The scene's arrays against the memory budget (they grow by doubling, and a short file
+     * of arrays, xf -a, can ask for millions of polygons). */
+    const rad_scene *scene = r->scene;
+    double bytes = (double)scene->vertex_capacity * sizeof *scene->vertices +
+                   (double)scene->polygon_vertex_capacity * sizeof *scene->polygon_vertices +
+                   (double)scene->polygon_capacity * sizeof *scene->polygons;
+    rad_status status = rad_check_budget(r->ctx, bytes, "the MGF scene's geometry");
+    if (status) return status;
     uint32_t surface;
-    rad_status status = current_surface(r, &surface);
+    status = current_surface(r, &surface);
     if (status) return status;
     int convex = 1;
     for (size_t i = 0; i < n && convex; ++i) {
@@ -652,27 +736,27 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
         if (value[0] < 0 || (e[0] == 'r' && value[0] > 1))
             return fail_at(r, e[0] == 'r' ? "reflectance must be in [0, 1]" : "emission must not be negative", w[1]);
         mgf_material *m = &r->materials[r->current_material];
+        mgf_color color = r->color;
+        if (e[1] == 'd' && !(color.y > 0)) {
+            /* A colour without luminance (cxy with y = 0, or a spectrum with no visible
+             * light): black, with a warning, as RenderPark reads it. */
+            rad_warn(r->ctx, "%s:%d: colour '%s' has no luminance: the %s of material '%s' is "
+                     "read as black", r->file, r->line, color.name[0] ? color.name : "(unnamed)",
+                     e[0] == 'r' ? "reflectance" : "emission", m->name);
+            value[0] = 0;
+            color.x = color.y = 1.0 / 3;
+        }
         m->index = UINT32_MAX; /* changed: a new scene material on next use */
         if (e[0] == 'e') {
             m->ed = value[0];
-            m->ed_x = r->color.x;
-            m->ed_y = r->color.y;
+            m->ed_x = color.x;
+            m->ed_y = color.y;
         } else if (specular) {
             m->rs = value[0];
         } else {
             m->rd = value[0];
-            m->rd_x = r->color.x;
-            m->rd_y = r->color.y;
-        }
-        /* More light reflected than arrives: scaled down to a total of 1, with a warning, as
-         * RenderPark reads such files (its own cube.mgf has rd 0.9 with rs 0.2). */
-        if (m->rd + m->rs > 1) {
-            double total = m->rd + m->rs;
-            rad_warn(r->ctx, "%s:%d: rd + rs is %.3g, more than 1: both scaled by %.3g so the "
-                     "material reflects no more light than it receives", r->file, r->line, total,
-                     1 / total);
-            m->rd /= total;
-            m->rs /= total;
+            m->rd_x = color.x;
+            m->rd_y = color.y;
         }
         return RAD_OK;
     }
@@ -717,17 +801,24 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
             int samples = count - 3;
             for (int i = 0; i < samples; ++i) {
                 double v;
-                if (!parse_number(w[3 + i], &v) || v < 0) return fail_at(r, "cspec: bad value", w[3 + i]);
+                /* Negative samples are allowed (the CIE daylight components S1 and S2, in
+                 * RenderPark's Materials/illums.mgf, have them): only the sum is checked. */
+                if (!parse_number(w[3 + i], &v)) return fail_at(r, "cspec: bad value", w[3 + i]);
                 double nm = samples > 1 ? low + (high - low) * i / (samples - 1) : (low + high) / 2, f[3];
                 cie_xyz(nm, f);
                 for (int k = 0; k < 3; ++k) xyz[k] += v * f[k];
             }
             double sum = xyz[0] + xyz[1] + xyz[2];
-            if (!(sum > 0) || !(xyz[1] > 0)) return fail_at(r, "cspec: a spectrum with no visible light", NULL);
             x = xyz[0] / sum;
             y = xyz[1] / sum;
+            /* No colour (a spectrum with no visible light, or one whose chromaticity falls
+             * outside the diagram, as a basis spectrum for cmix can): kept, and refused only
+             * if a material takes it (rd, ed). */
+            if (!(sum > 0 && xyz[1] > 0 && x >= 0 && x + y <= 1)) x = y = NAN;
         }
-        if (!(x >= 0 && y > 0 && x + y <= 1)) return fail_at(r, "chromaticity outside 0 <= x, 0 < y, x + y <= 1", NULL);
+        if (e[1] == 'x' && !(x >= 0 && y >= 0 && x + y <= 1))
+            return fail_at(r, "chromaticity outside 0 <= x, 0 <= y, x + y <= 1", NULL);
+        if (!(y > 0)) x = y = NAN; /* no luminance: black where a material uses it */
         r->color.x = x;
         r->color.y = y;
         for (size_t i = 0; i < r->color_count; ++i) /* the named current colour too */
@@ -755,13 +846,35 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
     }
     if (strcmp(e, "xf") == 0) {
         if (count == 1) {
-            if (r->transform_depth == 0) return fail_at(r, "xf: no transform to end", NULL);
+            if (r->transform_depth <= r->file_transform_base)
+                return fail_at(r, "xf: no transform to end", NULL);
+            /* An array reads its body again for each copy, from the line after its xf. */
+            mgf_array *array = &r->arrays[r->transform_depth];
+            if (array->spec.dims > 0 && xf_spec_next(&array->spec, array->index)) {
+                if (++r->array_copies > MGF_MAX_ARRAY_COPIES)
+                    return fail_at(r, "xf -a: more than 100000 copies in all", NULL);
+                mgf_transform copy = xf_spec_copy(&array->spec, array->index);
+                r->transforms[r->transform_depth] =
+                    transform_then(&copy, &r->transforms[r->transform_depth - 1]);
+                if (fseek(r->stream, array->body, SEEK_SET) != 0)
+                    return fail_at(r, "xf -a: cannot go back in the file", strerror(errno));
+                r->rewound_line = array->body_line;
+                return RAD_OK;
+            }
+            array->spec.dims = 0;
             --r->transform_depth;
             return RAD_OK;
         }
         if (r->transform_depth >= MGF_MAX_DEPTH) return fail_at(r, "transforms nested too deep", NULL);
-        mgf_transform local;
-        if ((status = parse_transform(r, w + 1, count - 1, &local))) return status;
+        mgf_array *array = &r->arrays[r->transform_depth + 1];
+        if ((status = parse_transform(r, w + 1, count - 1, &array->spec))) return status;
+        memset(array->index, 0, sizeof array->index);
+        if (array->spec.dims > 0) {
+            array->body = ftell(r->stream);
+            if (array->body < 0) return fail_at(r, "xf -a: cannot tell where the array starts", NULL);
+            array->body_line = r->line_end;
+        }
+        mgf_transform local = xf_spec_copy(&array->spec, array->index);
         r->transforms[r->transform_depth + 1] = transform_then(&local, current_transform(r));
         ++r->transform_depth;
         return RAD_OK;
@@ -769,9 +882,8 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
     if (strcmp(e, "i") == 0) {
         if (count < 2) return fail_at(r, "usage: i FILE [transform]", NULL);
         if (r->include_depth >= MGF_MAX_INCLUDE_DEPTH) return fail_at(r, "includes nested too deep", w[1]);
-        mgf_transform local;
-        if ((status = parse_transform(r, w + 2, count - 2, &local))) return status;
-        mgf_transform combined = transform_then(&local, current_transform(r));
+        mgf_xf_spec spec;
+        if ((status = parse_transform(r, w + 2, count - 2, &spec))) return status;
         /* Relative to the including file's directory. */
         char path[4096];
         const char *slash = strrchr(r->file, '/');
@@ -779,9 +891,18 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
         else snprintf(path, sizeof path, "%.*s/%s", (int)(slash - r->file), r->file, w[1]);
         const char *file = r->file;
         int line = r->line;
-        status = read_file(r, path, &combined);
-        r->file = file;
-        r->line = line;
+        /* Once, or once per copy of an array (i FILE -a N ...). */
+        int index[MGF_MAX_ARRAY_DIMS] = {0}, first = 1;
+        do {
+            if (!first && ++r->array_copies > MGF_MAX_ARRAY_COPIES)
+                return fail_at(r, "i -a: more than 100000 copies in all", NULL);
+            first = 0;
+            mgf_transform local = xf_spec_copy(&spec, index);
+            mgf_transform combined = transform_then(&local, current_transform(r));
+            status = read_file(r, path, &combined);
+            r->file = file;
+            r->line = line;
+        } while (!status && xf_spec_next(&spec, index));
         return status;
     }
     if (strcmp(e, "sph") == 0 || strcmp(e, "cyl") == 0 || strcmp(e, "cone") == 0 ||
@@ -825,7 +946,18 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
             }
             return RAD_OK;
         }
-    return fail_at(r, "unknown MGF entity", e);
+    /* Any other word: skipped with one warning for the file set, as MGF's own parser (mgflib,
+     * and RenderPark after it) ignores unknown entities; RenderPark's office1/graz.mgf has a
+     * stray path name at line 53320. */
+    if (r->unknown_count++ == 0) { /* warned about once the file is read (an error first: none) */
+        char name[65];
+        size_t n = 0;
+        for (; e[n] && n < sizeof name - 1; ++n) name[n] = isprint((unsigned char)e[n]) ? e[n] : '?';
+        name[n] = '\0';
+        snprintf(r->unknown_first, sizeof r->unknown_first, "%s:%d: unknown MGF entity '%s'",
+                 r->file, r->line, name);
+    }
+    return RAD_OK;
 }
 
 /* Reads one file: lines (a backslash at the end continues), '#' comments, words. */
@@ -862,8 +994,13 @@ static rad_status read_file(mgf_reader *r, const char *path, const mgf_transform
             return MGF_FAIL(r, "%s: transforms nested too deep", path);
         }
         r->transforms[++r->transform_depth] = *include_xf;
+        r->arrays[r->transform_depth].spec.dims = 0;
         transform_base = r->transform_depth;
     }
+    FILE *includer_stream = r->stream;
+    int includer_transform_base = r->file_transform_base;
+    r->stream = file;
+    r->file_transform_base = transform_base;
     int object_base = r->object_depth;
     size_t capacity = 256, length = 0;
     char *text = rad_alloc(r->ctx, capacity, 1);
@@ -925,8 +1062,14 @@ static rad_status read_file(mgf_reader *r, const char *path, const mgf_transform
         if (status || count == 0) continue;
         int line = r->line;
         r->line = first_line;
+        r->line_end = line;
         status = entity(r, words, count);
         r->line = line;
+        if (r->rewound_line >= 0) { /* an array's next copy: its body again */
+            r->line = r->rewound_line;
+            r->rewound_line = -1;
+            c = 0;
+        }
     }
     if (!status && r->object_depth != object_base)
         status = MGF_FAIL(r, "%s: %d object%s (o NAME) not ended at the end of the file", r->file,
@@ -936,6 +1079,8 @@ static rad_status read_file(mgf_reader *r, const char *path, const mgf_transform
     if (!status && ferror(file)) status = rad_fail(r->ctx, RAD_ERROR_IO, "%s: read error", r->file);
     r->object_depth = object_base;
     r->transform_depth = include_xf ? transform_base - 1 : transform_base;
+    r->stream = includer_stream;
+    r->file_transform_base = includer_transform_base;
     --r->include_depth;
     rad_free(r->ctx, text);
     fclose(file);
@@ -950,6 +1095,7 @@ rad_status rad_scene_load_mgf(rad_context *ctx, const char *path, rad_scene **ou
     mgf_reader r = {0};
     r.ctx = ctx;
     r.current_vertex = SIZE_MAX;
+    r.rewound_line = -1;
     r.color.x = r.color.y = 1.0 / 3;
     transform_identity(&r.transforms[0]);
     rad_status status = rad_scene_new(ctx, 1, path, &r.scene);
@@ -965,6 +1111,9 @@ rad_status rad_scene_load_mgf(rad_context *ctx, const char *path, rad_scene **ou
     if (!status) status = read_file(&r, path, NULL);
     if (!status && r.scene->polygon_count == 0)
         status = rad_fail(ctx, RAD_ERROR_PARSE, "%s: no faces or primitives in the MGF file", path);
+    if (!status && r.unknown_count > 0)
+        rad_warn(ctx, "%s skipped (%zu unknown entit%s skipped in all, as MGF readers do)",
+                 r.unknown_first, r.unknown_count, r.unknown_count > 1 ? "ies" : "y");
     if (!status) rad_scene_warn_bright_materials(ctx, r.scene, path, NULL, 0);
     rad_free(ctx, r.vertices);
     rad_free(ctx, r.colors);
