@@ -195,7 +195,8 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     /* This sample's gather points: a run of the pixel's sequence (render.c sets it). */
     uint32_t total = sample->gather_total ? sample->gather_total : sample->count * (uint32_t)rays;
     uint32_t first = sample->gather_total ? sample->gather_first : sample->index * (uint32_t)rays;
-    rad_gather_origin from = {n, r->settings.light_samples, rays, 0, 0, total, tally};
+    int light_samples = sample->light_samples ? sample->light_samples : r->settings.light_samples;
+    rad_gather_origin from = {n, light_samples, rays, 0, 0, total, tally};
 
     /* Direct light. */
     double direct[3];

@@ -125,6 +125,8 @@ typedef struct rad_sample {
     rad_gather_tally *tally;
     /* Gather rays of this camera sample; zero: the settings' final_gather. */
     int gather_rays;
+    /* Emitter samples of this camera sample; zero: the settings' light_samples. */
+    int light_samples;
     /* Where they are in the pixel's sequence of gather points (gather_total points, of which
      * this sample's are gather_first on; render.c varies the rays per sample). Zero total: each
      * sample has gather_rays points, sample `index` the run index * gather_rays on. */
