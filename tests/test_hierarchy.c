@@ -927,6 +927,37 @@ static void test_interrupted_refinement(void) {
     rad_context_destroy(plain);
 }
 
+/* The n x n floor tiles (polygons 0 .. n^2 - 1, tile (i, j) at -4 + (i, j) 8 / n, z = 0, facing
+ * up, rho 0.5) against the exact 0.5 sum_f B_f F(tile -> f) over `count` emitting polygons
+ * `corners` corners each that nothing hides from the floor (the contour integral at 8 x 8
+ * points of each tile): the floor's mean over the exact mean, less 1, the tiles' RMS relative
+ * error and the worst. */
+static double tiles_against_exact(const rad_hier *h, int n, rad_vec3 (*polygon)[4], int corners,
+                                  const double *emission, int count, double *rms, double *worst) {
+    size_t node_count;
+    const rad_hier_node *nodes = rad_hier_nodes(h, &node_count);
+    double mean = 0, exact_mean = 0, squares = 0, size = 8.0 / n;
+    *worst = 0;
+    for (uint32_t p = 0; p < (uint32_t)(n * n); ++p) {
+        uint32_t roots;
+        double solved = nodes[rad_hier_polygon_roots(h, p, &roots)[0]].radiosity[0];
+        int i = (int)p / n, j = (int)p % n;
+        double exact = 0;
+        for (int u = 0; u < 8; ++u)
+            for (int v = 0; v < 8; ++v) {
+                rad_vec3 x = v3(-4 + (i + (u + 0.5) / 8) * size, -4 + (j + (v + 0.5) / 8) * size, 0);
+                for (int f = 0; f < count; ++f)
+                    exact += 0.5 * emission[f] * rad_ff_point_polygon(x, v3(0, 0, 1), polygon[f], corners) / 64;
+            }
+        mean += solved;
+        exact_mean += exact;
+        squares += (solved / exact - 1) * (solved / exact - 1);
+        *worst = fmax(*worst, fabs(solved / exact - 1));
+    }
+    *rms = sqrt(squares / (n * n));
+    return mean / exact_mean - 1;
+}
+
 /* Cluster links' form factors against the closed form: an emitting icosahedron (20 faces, no two
  * normals on an axis, B = 1, rho = 0) over a floor of 16 x 16 tiles (rho = 0.5). No face of the
  * convex body hides another from outside and the tiles are coplanar, so each tile's radiosity is
@@ -953,7 +984,7 @@ static double icosahedron_floor(double link_error, double *worst, size_t *cluste
         rad_vec3 p = k < 4 ? v3(0, a, b) : k < 8 ? v3(a, b, 0) : v3(b, 0, a);
         corner[k] = v3_add(centre, v3_scale(p, radius));
     }
-    rad_vec3 face[20][3];
+    rad_vec3 face[20][4];
     int faces = 0;
     const double edge = 2 * radius;
     for (int a = 0; a < 12; ++a)
@@ -971,34 +1002,17 @@ static double icosahedron_floor(double link_error, double *worst, size_t *cluste
                     p[2] = t;
                 }
                 CHECK(rad_scene_add_polygon_points(scene, ball, p, 3) == RAD_OK);
-                memcpy(face[faces++], p, sizeof p);
+                memcpy(face[faces++], p, sizeof p); /* the fourth corner is not read */
             }
     CHECK(faces == 20);
     rad_hier *h = solve_hierarchy(ctx, scene, link_error);
-    size_t count;
-    const rad_hier_node *nodes = rad_hier_nodes(h, &count);
-    double mean = 0, exact_mean = 0;
-    *worst = 0;
-    for (uint32_t p = 0; p < (uint32_t)(n * n); ++p) {
-        uint32_t roots;
-        double solved = nodes[rad_hier_polygon_roots(h, p, &roots)[0]].radiosity[0];
-        int i = (int)p / n, j = (int)p % n;
-        double exact = 0;
-        for (int u = 0; u < 8; ++u)
-            for (int v = 0; v < 8; ++v) {
-                rad_vec3 x = v3(-4 + (i + (u + 0.5) / 8) * size, -4 + (j + (v + 0.5) / 8) * size, 0);
-                for (int f = 0; f < 20; ++f)
-                    exact += 0.5 * rad_ff_point_polygon(x, v3(0, 0, 1), face[f], 3) / 64;
-            }
-        mean += solved;
-        exact_mean += exact;
-        *worst = fmax(*worst, fabs(solved / exact - 1));
-    }
+    const double emission[20] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+    double rms, off = tiles_against_exact(h, n, face, 3, emission, 20, &rms, worst);
     *cluster_links = rad_hier_get_stats(h).cluster_links;
     rad_hier_destroy(h);
     rad_scene_destroy(scene);
     rad_context_destroy(ctx);
-    return mean / exact_mean - 1;
+    return off;
 }
 
 /* The cluster links' sampled pairs weigh each member by its projected area along the ray over
@@ -1019,9 +1033,55 @@ static void test_cluster_form_factors(void) {
     }
 }
 
+/* A cluster that sends one bright member among dark ones: 16 x 16 floor tiles (rho 0.5) under
+ * a ceiling of 8 x 8 tiles facing down (rho 0), one of which emits 80 times what the others
+ * do (a sky seen through a roof, a lamp among ceiling tiles). Nothing hides anything and the
+ * floor is flat, so each tile's radiosity is exactly 0.5 sum_f B_f F(tile -> f). A link from
+ * a cluster of ceiling tiles sends their mean radiosity over the whole cluster: right on
+ * average, wrong under the bright tile and far from it unless the oracle opens the cluster,
+ * which it does when it charges a cluster's error at its brightest member's radiosity
+ * (cluster_oracle). Charged at the members' mean the tiles' RMS error was 13.7% at link error
+ * 1e-2 and 3.25% at 1e-3; at the brightest member's, 8.9% and 2.4%. */
+static void test_bright_member(void) {
+    const double errors[2] = {1e-2, 1e-3}, dark = 0.25, bright = 20;
+    const int n = 16, m = 8;
+    for (int k = 0; k < 2; ++k) {
+        rad_context *ctx = context(2);
+        rad_scene *scene = NULL;
+        CHECK(rad_scene_new(ctx, 1, "bright member", &scene) == RAD_OK);
+        uint32_t floor_surface = add_surface(scene, "floor", 0.5, 0);
+        uint32_t roof = add_surface(scene, "roof", 0, dark), sky = add_surface(scene, "sky", 0, bright);
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j)
+                add_rect(scene, floor_surface, v3(-4 + i * 8.0 / n, -4 + j * 8.0 / n, 0),
+                         v3(8.0 / n, 0, 0), v3(0, 8.0 / n, 0));
+        rad_vec3 tile[8 * 8][4];
+        double emission[8 * 8];
+        for (int t = 0; t < m * m; ++t) {
+            rad_vec3 o = v3(-4 + (t / m) * 8.0 / m, -4 + (t % m) * 8.0 / m, 2);
+            tile[t][0] = o;
+            tile[t][1] = v3_add(o, v3(0, 8.0 / m, 0));
+            tile[t][2] = v3_add(o, v3(8.0 / m, 8.0 / m, 0));
+            tile[t][3] = v3_add(o, v3(8.0 / m, 0, 0));
+            emission[t] = t == 2 * m + 5 ? bright : dark;
+            CHECK(rad_scene_add_polygon_points(scene, t == 2 * m + 5 ? sky : roof, tile[t], 4) == RAD_OK);
+        }
+        rad_hier *h = solve_hierarchy(ctx, scene, errors[k]);
+        double rms, worst, off = tiles_against_exact(h, n, tile, 4, emission, m * m, &rms, &worst);
+        printf("one bright tile among dark ones, link error %g: floor mean %+.2f%% of exact, tiles "
+               "RMS %.2f%%, worst %.1f%%\n", errors[k], 100 * off, 100 * rms, 100 * worst);
+        CHECK(rms < (k == 0 ? 0.11 : 0.03));
+        CHECK(fabs(off) < 0.02);
+        rad_hier_destroy(h);
+        rad_scene_destroy(scene);
+        rad_context_destroy(ctx);
+    }
+}
+
 int main(void) {
     test_opening();
     test_cluster_form_factors();
+    test_bright_member();
     test_image();
     test_closed_forms();
     test_furnace();

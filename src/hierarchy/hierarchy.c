@@ -43,6 +43,8 @@ typedef struct cluster_info {
     double axis_exposed[6];  /* sum over members of e A max(0, +n_x), ...: what axis_power is
                                 the power of */
     uint32_t parent;       /* the parent cluster's node, or RAD_HIER_NO_NODE for the top */
+    double brightest;      /* the largest radiosity (any channel) of a member root, as of the
+                              last refinement (brightest_members) */
 } cluster_info;
 
 /* The cluster tree as the sampling walks read it, compact (two clusters to a cache line): a
@@ -813,6 +815,12 @@ static int cluster_oracle(const rad_hier *h, const rad_hier_link *link, double *
     else
         for (int c = 0; c < 3; ++c) rho = fmax(rho, h->reflectance[r->polygon][c]);
     double brightest = fmax(s->radiosity[0], fmax(s->radiosity[1], s->radiosity[2]));
+    /* A cluster source sends its members' light: charge the error at its brightest member's
+     * radiosity (Smits, Arvo & Greenberg 1994 bound a cluster's transfer by its members' largest
+     * radiosity), not at their mean. A cluster that mixes a bright member with dark ones is then
+     * opened until the bright one is sent on its own, where the directional, exposure-weighted
+     * mean (source_radiosity) would spread its light over members the receiver does not see. */
+    if (is_cluster(s)) brightest = fmax(brightest, info(h, link->source)->brightest);
     /* A link that carries nothing yet (overlapping ends) is refined whatever its importance:
      * until it is, no importance crosses it either. */
     double weight = fabs(link->error) >= UNKNOWN_ERROR ? 1 : importance_weight(h, link->receiver);
@@ -995,6 +1003,33 @@ static rad_status refine_light(rad_hier *h, size_t *splits, double *largest) {
     return RAD_OK;
 }
 
+/* Sets every cluster's `brightest` from its members' radiosities, children first (leaf
+ * clusters in parallel, then the others from the last to the first): what the oracle charges a
+ * cluster source's links at (cluster_oracle). Taken at the start of every refinement from the
+ * radiosities it refines with, so a loaded hierarchy gets the same. */
+static void brightest_members(rad_hier *h) {
+    const long count = (long)h->cluster_count;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 64)
+    for (long c = 0; c < count; ++c) {
+        if (!h->walk[c].leaf) continue;
+        const rad_hier_node *n = &h->nodes[h->cluster_first + (size_t)c];
+        double brightest = 0;
+        for (uint32_t k = 0; k < n->child_count; ++k) {
+            const double *b = h->nodes[n->first_child + k].radiosity;
+            brightest = fmax(brightest, fmax(b[0], fmax(b[1], b[2])));
+        }
+        h->clusters[c].brightest = brightest;
+    }
+    for (size_t c = h->cluster_count; c-- > 0;) {
+        if (h->walk[c].leaf) continue;
+        const rad_hier_node *n = &h->nodes[h->cluster_first + c];
+        double brightest = 0;
+        for (uint32_t k = 0; k < n->child_count; ++k)
+            brightest = fmax(brightest, info(h, n->first_child + k)->brightest);
+        h->clusters[c].brightest = brightest;
+    }
+}
+
 rad_status rad_hier_refine(rad_hier *h) {
     rad_context *ctx = h->ctx;
     /* The links the oracle has yet to pass (at first all of them), those it passed, and the
@@ -1006,6 +1041,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     double largest = 0;
     int budget = 0, first_pass = 1, cancelled = 0;
     rad_status status = RAD_OK;
+    brightest_members(h);
     if (h->refining) {
         /* Going on with a refinement stopped between two passes, from its next pass. */
         pending_count = h->link_count - h->refine_kept;
