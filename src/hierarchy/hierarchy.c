@@ -588,6 +588,24 @@ static int refined_anyway(const rad_hier *h, rad_hier_link *link, double error) 
     return cluster_oracle(h, link, &relative, 0) != 0;
 }
 
+/* Nonzero when `surface` is a polygon node, `cluster` a cluster, and no corner of the
+ * cluster's box lies strictly in front of the surface's plane (the test any_in_front makes for
+ * two polygons): no member can reach the surface's front, nor be reached from it, so the link
+ * carries nothing whatever it is refined into. Without it such a link was estimated (its rays
+ * cast) or, when the bounding spheres overlapped, refined down to every member: in the 10^4
+ * office 105,854 links made with rays and 62,225 overlapping ones were of this kind (and
+ * 54,807 of the 293,344 cluster links kept, all of factor 0). */
+static int cluster_behind(const rad_hier *h, uint32_t surface, uint32_t cluster) {
+    const rad_hier_node *n = &h->nodes[surface];
+    if (is_cluster(n) || !cluster_index(h, cluster)) return 0;
+    const cluster_info *ci = info(h, cluster);
+    rad_vec3 normal = h->normal[n->polygon];
+    /* The box's corner farthest along the normal. */
+    rad_vec3 far = v3(normal.x > 0 ? ci->hi.x : ci->lo.x, normal.y > 0 ? ci->hi.y : ci->lo.y,
+                      normal.z > 0 ? ci->hi.z : ci->lo.z);
+    return !(v3_dot(normal, v3_sub(far, n->corner[0])) > 0);
+}
+
 /* The link receiver <- source when either is a cluster: the point estimate between the
  * centres, its bound, and the visible fraction of the rays between sampled member points.
  * A self-link, or one whose bounding spheres overlap, carries nothing and must be refined.
@@ -605,6 +623,7 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     out->form_factor = 0;
     out->error = UNKNOWN_ERROR;
     if (receiver == source) return 1;
+    if (cluster_behind(h, receiver, source) || cluster_behind(h, source, receiver)) return 0;
     double rr, rs;
     rad_vec3 cr = node_centre(h, receiver, &rr), cs = node_centre(h, source, &rs);
     rad_vec3 between = v3_sub(cs, cr);
