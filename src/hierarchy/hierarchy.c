@@ -21,7 +21,7 @@
 #define PARALLEL_MIN 256 /* loops shorter than this run on one thread */
 #define LEAF_CLUSTER 4   /* roots in a leaf cluster, at most */
 #define UNKNOWN_ERROR FLT_MAX /* the bound of a link that must be refined before it is trusted */
-#define NOT_ESTIMATED -1.0f /* the factor of a cluster link made without its estimate */
+#define NOT_ESTIMATED -1.0f /* the factor of a link made without its estimate */
 #define PARTIAL_BATCHES 4 /* sets of 16 visibility rays for a partly hidden polygon link */
 #define CLUSTER_PARTIAL_SETS 1 /* fresh sets of 16 sampled pairs for a partly hidden cluster link */
 
@@ -311,9 +311,17 @@ static double visible_pairs(const rad_hier *h, const rad_vec3 *x, int rn, const 
 }
 
 
+static int decide(const rad_hier *h, const rad_hier_link *link, double *relative);
+
 /* The link receiver <- source: its form factor and error bound. Returns 0 when no light can
- * pass (the two face away from each other). */
-static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_hier_link *out) {
+ * pass (the two face away from each other). With `may_skip`, a partly hidden link that the
+ * oracle refines in this pass whatever its visible fraction (its error is at least its whole
+ * unoccluded factor) does not cast the further PARTIAL_BATCHES - 1 sets: its factor is then
+ * NOT_ESTIMATED, as for cluster links (make_cluster_link). The decision is the one the full
+ * link gets (the fraction only adds to the error, and which end is split depends on partial
+ * visibility, not on the error's size), so the results are the same. */
+static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_hier_link *out,
+                     int may_skip) {
     const rad_hier_node *r = &h->nodes[receiver], *s = &h->nodes[source];
     if (r->polygon == s->polygon) return 0;
     rad_vec3 nr = h->normal[r->polygon], ns = h->normal[s->polygon];
@@ -349,6 +357,16 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
     sn = visibility_points(s, pair_hash(receiver, source, 2), y);
     uint8_t seen[16];
     double fraction = visible_pairs(h, x, rn, y, sn, &partial, seen);
+    out->receiver = receiver;
+    out->source = source;
+    if (partial && may_skip) {
+        double relative;
+        out->error = (float)-form_factor; /* the least error a partly hidden link can have */
+        if (decide(h, out, &relative)) {
+            out->form_factor = NOT_ESTIMATED;
+            return 1;
+        }
+    }
     if (partial) {
         /* Weigh the rays by the point-to-point kernel cos cos / r^2: the part of a large source
          * seen through an opening is the part overhead, where the kernel is largest (the sky
@@ -378,8 +396,6 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
         fraction = all > 0 ? visible / all : 0;
     }
     double error = 0.25 * (hi - lo) * fraction + (partial ? form_factor : 0);
-    out->receiver = receiver;
-    out->source = source;
     out->form_factor = (float)(form_factor * fraction);
     /* The sign keeps whether the visibility was partial. */
     out->error = (float)(partial ? -error : error);
@@ -764,7 +780,7 @@ static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, 
                          int may_skip) {
     if (cluster_index(h, receiver) || cluster_index(h, source))
         return make_cluster_link(h, receiver, source, out, may_skip);
-    return make_link(h, receiver, source, out);
+    return make_link(h, receiver, source, out, may_skip);
 }
 
 /* The radiosity a link's source sends toward its receiver. A cluster's is directional (Sillion
@@ -939,7 +955,7 @@ rad_status rad_hier_link_roots(rad_hier *h) {
         for (size_t j = 0; j < n; ++j)
             if ((size_t)i != j)
                 made[(size_t)i * n + j] = (uint8_t)make_link(h, (uint32_t)i, (uint32_t)j,
-                                                             &all[(size_t)i * n + j]);
+                                                             &all[(size_t)i * n + j], 0);
     size_t kept = 0;
     for (size_t i = 0; i < n * n; ++i)
         if (made[i]) all[kept++] = all[i];
