@@ -5,9 +5,14 @@
 # 16x16 blocks against the reference (scripts/block_compare.py --emitter inf). Rows without the
 # final gather measure the solution itself; the path tracer's rows give its time-to-error curve.
 # Timings only: nothing here passes or fails. Prints Markdown.
-# Usage: bench/equal_error.sh RADIOSITY WORKDIR [cornell] [office] [sponza]
+# Usage: bench/equal_error.sh RADIOSITY WORKDIR [cornell] [office] [sponza] [house] [officeN...]
 #   References: /work/refs/cornell256_16k.pfm, /work/refs/sponza160_2048.pfm and an office
 #   reference made here when missing (REFS=DIR to look elsewhere).
+#   house and officeN (N triangles asked of the generator, e.g. office20000): shooting and the
+#   hierarchy side by side below the default solver's threshold (bench/README.md, "Default
+#   solver: ..."), against /work/refs/house128x96_1024.pfm and officeN_128x96_1024.pfm
+#   (/work/refs/make_refs.sh hfin2). ROWS="pt shoot hier" (the default) picks the row groups, so
+#   the slow shooting rows can run beside the others.
 set -u
 radiosity=$(realpath "$1")
 work=$2
@@ -36,12 +41,39 @@ row() {
         "$wall" $((kb / 1024)) "$mean" "$b8" "$b16"
 }
 
+# The input polygons of a scene file (scenes --info).
+polygons() {
+    "$radiosity" scenes --info "$1" 2>/dev/null | awk '$1 == "polygons" { print $2 }'
+}
+
 header() {
     echo
     echo "### $1"
     echo
     echo "| command | processor s | wall s | peak MB | mean | 8x8 RMSE | 16x16 RMSE |"
     echo "|---|---|---|---|---|---|---|"
+}
+
+# The rows of house and officeN: the path tracer's curve, shooting at two tolerances and the
+# hierarchy at three link errors, all rendered with the final gather (the default render).
+threshold_rows() {
+    local ref=$1 scene=$2
+    shift 2
+    local view=("$@") groups=${ROWS:-pt shoot hier}
+    if [[ $groups == *pt* ]]; then
+        for spp in 16 64; do
+            row "pathtrace --spp $spp" "$ref" pt.pfm -- "$radiosity" pathtrace "$scene" "${view[@]}" --spp $spp --seed 1 -o pt.pfm
+        done
+    fi
+    if [[ $groups == *shoot* ]]; then
+        row "render --solver shooting (final gather; to 1e-3 unshot)" "$ref" r.pfm -- "$radiosity" render "$scene" --solver shooting "${view[@]}" -o r.pfm
+        row "render --solver shooting --tolerance 1e-2 (final gather)" "$ref" r.pfm -- "$radiosity" render "$scene" --solver shooting --tolerance 1e-2 "${view[@]}" -o r.pfm
+    fi
+    if [[ $groups == *hier* ]]; then
+        for e in 1e-3 3e-4 1e-4; do
+            row "render --solver hierarchical --link-error $e (final gather)" "$ref" r.pfm -- "$radiosity" render "$scene" --solver hierarchical --link-error $e "${view[@]}" -o r.pfm
+        done
+    fi
 }
 
 echo "load: $(uptime)"
@@ -81,6 +113,16 @@ for scene in $scenes; do
         row "gauss-seidel (2,500 elements asked), 1e-3, no final gather" "$ref" r.pfm -- "$radiosity" render office.obj --solver gauss-seidel --tolerance 1e-3 --final-gather 0 "${size[@]}" -o r.pfm
         row "hierarchical, no final gather" "$ref" r.pfm -- "$radiosity" render office.obj --solver hierarchical --final-gather 0 "${size[@]}" -o r.pfm
         row "hierarchical (final gather)" "$ref" r.pfm -- "$radiosity" render office.obj --solver hierarchical "${size[@]}" -o r.pfm
+        ;;
+    house)
+        "$radiosity" scenes --generate house house.obj --quiet
+        header "House (scenes --generate house: $(polygons house.obj) polygons), 128 x 96, against house128x96_1024.pfm"
+        threshold_rows "$refs/house128x96_1024.pfm" house.obj --eye 0.3,1.7,0.3 --look 4.2,1.0,3.4 --fov 75 --width 128 --height 96
+        ;;
+    office[0-9]*)
+        "$radiosity" scenes --generate office "${scene#office}" "$scene.obj" --quiet
+        header "Generated office (scenes --generate office ${scene#office}: $(polygons "$scene.obj") polygons), 128 x 96, against ${scene}_128x96_1024.pfm"
+        threshold_rows "$refs/${scene}_128x96_1024.pfm" "$scene.obj" --width 128 --height 96
         ;;
     sponza)
         obj=${SPONZA:-/work/shared/scenes/sponza/sponza_lit.obj}

@@ -61,7 +61,10 @@ int cmd_bake(int argc, char **argv) {
     status = cli_pipeline_check("bake", &p, &solve, &mesh, &ff);
     if (status) return status;
     /* A saved solution is baked on the mesh it was saved for: no default by scene size. */
-    if (solution) p.solver_default = 0;
+    if (solution) {
+        p.solver_default = 0;
+        cli_pipeline_saved_mesh(solution, &mesh);
+    }
     if ((status = cli_lights_check("bake", &lights))) return status;
     solve.time_budget = time_budget;
 

@@ -115,6 +115,8 @@ static void print_table(const rad_system *system, const rad_solve_options *optio
         printf(": time budget of %g s used up", options->time_budget);
     else if (report->stop == RAD_STOP_CALLBACK)
         printf(": interrupted");
+    else if (report->stop == RAD_STOP_MEMORY_BUDGET)
+        printf(": memory budget reached (--max-memory), the solution so far");
     printf(" (residual %.3g)\n", report->residual);
     printf("%-16s %12s  %-38s %s\n", "surface", "area", "radiosity (R G B)", "power (R G B)");
     for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
@@ -126,12 +128,15 @@ static void print_table(const rad_system *system, const rad_solve_options *optio
     }
 }
 
+/* `importance`: the camera guided the solve (--importance, or a solver that needs a camera). */
 static void print_json(const rad_system *system, const rad_solve_options *options,
-                       const rad_solve_report *report, long steps, const trace_log *trace) {
+                       const rad_solve_report *report, long steps, int importance,
+                       const trace_log *trace) {
     printf("{\"solver\": \"%s\", \"iterations\": %ld, \"converged\": %s, \"residual\": ",
            rad_solver_kind_name(options->solver), steps, report->converged ? "true" : "false");
     json_number(stdout, report->residual);
-    printf(", \"stop\": \"%s\", \"seconds\": ", stop_name(report->stop));
+    printf(", \"stop\": \"%s\", \"importance\": %s, \"seconds\": ", stop_name(report->stop),
+           importance ? "true" : "false");
     json_number(stdout, report->seconds);
     if (report->links) {
         printf(", \"links\": %zu, \"leaves\": %zu, \"largest_error\": ", report->links,
@@ -267,6 +272,11 @@ int cmd_solve(int argc, char **argv) {
      * value is a usage error (2). Without --solver, a resumed run takes the saved solver. */
     int solver_given = a.pipe.solver != NULL;
     if (!solver_given) a.pipe.solver = rad_solver_kind_name(RAD_SOLVER_SHOOTING);
+    /* Resumed without --solver: the saved solver's system (a hierarchy's needs no uniform mesh;
+     * an unreadable file is refused by the load below). */
+    rad_solution_info saved;
+    if (!solver_given && a.resume && rad_solution_file_info(NULL, a.resume, &saved) == RAD_OK)
+        a.pipe.solver = rad_solver_kind_name(saved.solver);
     /* Not given and not resumed (a resumed run takes the saved solver): the scene's default. */
     a.pipe.solver_default = !solver_given && !a.resume;
     rad_solve_options solve;
@@ -317,7 +327,13 @@ int cmd_solve(int argc, char **argv) {
     if (!rs && a.resume) {
         rs = rad_system_load_solution(system, a.resume, &resumed);
         if (!rs) {
-            if (!solver_given) kind = (int)resumed.solver;
+            if (!solver_given) { /* the saved solver, with --importance as for any other */
+                kind = cli_pipeline_importance_solver(resumed.solver, a.pipe.importance);
+                if (kind < 0) {
+                    exit_status = cli_importance_error("solve", resumed.solver);
+                    goto done;
+                }
+            }
             if (!rad_solver_can_resume((rad_solver_kind)kind, resumed.solver)) {
                 /* The iterative solvers that need no unshot light can go on from it. */
                 char names[200];
@@ -424,7 +440,9 @@ int cmd_solve(int argc, char **argv) {
         }
         free(watch.log_buffer);
         if (!rs && !exit_status) {
-            if (a.json) print_json(system, &solve, &report, steps, a.trace ? &trace : NULL);
+            int guided = a.pipe.importance ||
+                         (rad_solver_get(solve.solver)->capabilities & RAD_SOLVER_NEEDS_CAMERA);
+            if (a.json) print_json(system, &solve, &report, steps, guided, a.trace ? &trace : NULL);
             else print_table(system, &solve, &report, steps);
         }
         if (!rs && !exit_status && cli_interrupted()) exit_status = cli_interrupt_exit_status();

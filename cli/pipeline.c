@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 double cli_seconds(void) {
@@ -16,7 +17,7 @@ double cli_seconds(void) {
 void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, cli_option *o) {
     /* The help lines that list or name solvers and methods, from the registries. */
     static char solver_help[256], ff_help[160], ambient_help[160], link_help[200],
-        resolution_help[160], names[200], importance_help[240];
+        resolution_help[160], names[200];
     char by_size[96] = "";
     if (default_solver == RAD_SOLVER_SHOOTING) /* rad_scene_default_solver */
         snprintf(by_size, sizeof by_size, "; hierarchical for scenes of %d polygons or more",
@@ -27,7 +28,6 @@ void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, 
     snprintf(ff_help, sizeof ff_help, "METHOD  %s", cli_ff_method_names(names, sizeof names, "|"));
     cli_solver_option_help(ambient_help, sizeof ambient_help, "ambient");
     cli_solver_option_help(link_help, sizeof link_help, "link-error");
-    cli_solver_option_help(importance_help, sizeof importance_help, "importance");
     cli_ff_option_help(resolution_help, sizeof resolution_help, "N", "hemicube-res");
     const cli_option shared[CLI_PIPELINE_OPTION_COUNT] = {
         {"--solver", CLI_STRING, &a->solver, solver_help},
@@ -50,7 +50,9 @@ void cli_pipeline_options(cli_pipeline_args *a, rad_solver_kind default_solver, 
         {"--seed", CLI_SIZE, &a->seed, "S  random seed (0)"},
         {"--quiet", CLI_FLAG, &a->quiet, "no notes or progress on stderr"},
         {"--link-error", CLI_STRING, &a->link_error, link_help},
-        {"--importance", CLI_FLAG, &a->importance, importance_help},
+        {"--importance", CLI_FLAG, &a->importance,
+         "let the camera guide the solve: hierarchical refines links where the view needs them, "
+         "shooting becomes --solver importance (shots ordered by what the view sees)"},
     };
     for (int i = 0; i < CLI_PIPELINE_OPTION_COUNT; ++i) o[i] = shared[i];
 }
@@ -93,9 +95,11 @@ int cli_pipeline_check(const char *command, cli_pipeline_args *a, rad_solve_opti
     double link_error;
     status = cli_pipeline_link_error(command, a, &link_error);
     if (status) return status;
-    if (a->importance && !cli_solver_takes((rad_solver_kind)kind, "importance"))
-        return cli_error(EXIT_USAGE, "%s: --importance is for --solver hierarchical (--solver "
-                                     "importance weighs its shots by the camera itself)", command);
+    /* --importance follows the solver: shooting becomes the importance solver. */
+    int guided = cli_pipeline_importance_solver((rad_solver_kind)kind, a->importance);
+    if (guided < 0) return cli_importance_error(command, (rad_solver_kind)kind);
+    if (guided != kind) a->solver = rad_solver_kind_name((rad_solver_kind)guided);
+    kind = guided;
     s.solver = (rad_solver_kind)kind;
     s.max_iterations = a->iterations;
     s.tolerance = a->tolerance;
@@ -117,6 +121,29 @@ int cli_pipeline_check(const char *command, cli_pipeline_args *a, rad_solve_opti
     return 0;
 }
 
+int cli_pipeline_importance_solver(rad_solver_kind kind, int importance) {
+    if (!importance || cli_solver_takes(kind, "importance")) return (int)kind;
+    if (kind == RAD_SOLVER_SHOOTING) return (int)RAD_SOLVER_IMPORTANCE;
+    const rad_solver_info *info = rad_solver_get(kind);
+    return info && (info->capabilities & RAD_SOLVER_NEEDS_CAMERA) ? (int)kind : -1;
+}
+
+int cli_importance_error(const char *command, rad_solver_kind kind) {
+    char names[200] = "";
+    size_t count = 0, written = 0;
+    for (size_t i = 0; i < rad_solver_count(); ++i)
+        count += cli_pipeline_importance_solver((rad_solver_kind)(i + 1), 1) >= 0;
+    for (size_t i = 0; i < rad_solver_count(); ++i) {
+        if (cli_pipeline_importance_solver((rad_solver_kind)(i + 1), 1) < 0) continue;
+        size_t used = strlen(names);
+        snprintf(names + used, sizeof names - used, "%s%s",
+                 written == 0 ? "" : written + 1 == count ? " and " : ", ", rad_solver_at(i)->name);
+        ++written;
+    }
+    return cli_error(EXIT_USAGE, "%s: --importance is for the %s solvers, not %s", command, names,
+                     rad_solver_kind_name(kind));
+}
+
 int cli_pipeline_link_error(const char *command, const cli_pipeline_args *a, double *out) {
     *out = 0;
     if (!a->link_error) return 0;
@@ -133,7 +160,8 @@ void cli_pipeline_default_solver(const char *command, cli_pipeline_args *a,
                                  const rad_scene *scene, rad_solve_options *solve,
                                  rad_mesh_options *mesh) {
     rad_solver_kind kind = rad_scene_default_solver(scene);
-    if (!a->solver_default || kind == solve->solver) return;
+    if (!a->solver_default || cli_pipeline_importance_solver(kind, a->importance) == (int)solve->solver)
+        return;
     const char *was = a->solver;
     a->solver = rad_solver_kind_name(kind);
     rad_solve_options s;
@@ -150,6 +178,13 @@ void cli_pipeline_default_solver(const char *command, cli_pipeline_args *a,
     if (!a->quiet)
         fprintf(stderr, "radiosity: %d polygons or more: solving with --solver %s (give --solver "
                         "to choose another)\n", RAD_HIERARCHY_DEFAULT_POLYGONS, a->solver);
+}
+
+void cli_pipeline_saved_mesh(const char *path, rad_mesh_options *mesh) {
+    rad_solution_info saved;
+    if (rad_solution_file_info(NULL, path, &saved)) return; /* the load will say why */
+    const rad_solver_info *info = rad_solver_get(saved.solver);
+    if (info && (info->capabilities & RAD_SOLVER_OWN_LEAVES)) mesh->polygons_only = 1;
 }
 
 rad_status cli_pipeline_build(rad_context *ctx, const char *scene_name, cli_pipeline_args *a,

@@ -54,6 +54,16 @@ int cli_pipeline_check(const char *command, cli_pipeline_args *args, rad_solve_o
  * returns EXIT_USAGE, or 0. */
 int cli_pipeline_link_error(const char *command, const cli_pipeline_args *args, double *out);
 
+/* The solver that runs with --importance (`importance` nonzero) in place of `kind`: the same
+ * when it takes the option (the hierarchy: links refined where the view needs them) or needs a
+ * camera anyway (the importance solver); the importance solver for shooting (shots ordered by
+ * what the view sees); -1 when the solver has no use for a camera. `kind` without --importance. */
+int cli_pipeline_importance_solver(rad_solver_kind kind, int importance);
+
+/* "--importance is for the hierarchical, shooting and importance solvers, not KIND": a usage
+ * error (EXIT_USAGE, printed). */
+int cli_importance_error(const char *command, rad_solver_kind kind);
+
 /* When --solver was not given, the scene's default solver (rad_scene_default_solver:
  * hierarchical for a geometric scene of RAD_HIERARCHY_DEFAULT_POLYGONS polygons or more) in
  * place of shooting: `solve` and `mesh` are changed to it (with a note on stderr), so that solve,
@@ -61,6 +71,12 @@ int cli_pipeline_link_error(const char *command, const cli_pipeline_args *args, 
 void cli_pipeline_default_solver(const char *command, cli_pipeline_args *args,
                                  const rad_scene *scene, rad_solve_options *solve,
                                  rad_mesh_options *mesh);
+
+/* For render and bake --solution FILE: a hierarchy's file is drawn on one element per input
+ * polygon (`mesh->polygons_only`), as it was solved: the hierarchy reads no element mesh, and
+ * the uniform mesh of a large scene costs time and memory for nothing. Other files, and files
+ * that cannot be read (the load says why), change nothing. */
+void cli_pipeline_saved_mesh(const char *path, rad_mesh_options *mesh);
 
 /* Seconds spent in each step, for --stats. */
 typedef struct cli_timings {

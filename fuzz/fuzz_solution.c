@@ -1,7 +1,7 @@
 /* fuzz_solution.c - libFuzzer target for saved solution files (src/io/solution.c,
  * rad_system_load_solution) into the four-walls system, then a resumed shooting step; when the
  * first input byte has bit 2 set, into two-squares built for the hierarchy (one element per
- * polygon), then resumed hierarchical steps (src/io/solution_hier.c, version 2 files).
+ * polygon), then resumed hierarchical steps (src/io/solution_hier.c, version 3 files).
  *
  * The file ends with a checksum, which random mutations almost never keep. So when the first
  * input byte is odd the target rewrites the checksum of the rest before loading, and mutations

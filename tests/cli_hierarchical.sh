@@ -12,7 +12,7 @@ check "the floor is lit" grep -Eq '^floor +[0-9]+ +0\.[34][0-9]+ ' "$work/table"
 "$radiosity" solve two-squares --solver hierarchical --link-error 1e-4 --json >"$work/json"
 check "json solver" grep -q '"solver": "hierarchical", "iterations": [0-9]*, "converged": true' "$work/json"
 check "json links, leaves, largest error" grep -Eq '"links": [1-9][0-9]*, "leaves": [1-9][0-9]*, "largest_error": [0-9.e+-]+' "$work/json"
-# Solution files of the hierarchy (docs/formats.md, version 2): stopping after two steps and
+# Solution files of the hierarchy (docs/formats.md, version 3): stopping after two steps and
 # going on gives the same bytes as never stopping, on 1 and 2 threads, with the sky's light on
 # the nodes (and with importance below); render and bake draw the saved hierarchy as the solve
 # would have.
@@ -68,22 +68,29 @@ check "bakes the leaves" test "$faces" -gt 300 -a "$faces" -lt 2500
 "$radiosity" solve cornell --solver hierarchical --link-error 1e-5 --max-memory 2 >"$work/small" 2>"$work/warn"
 check "budget: still solved" grep -Eq '^floor +[0-9]+ +0\.[0-9]' "$work/small"
 check "budget: says so" grep -q 'links and [0-9]* nodes needs .* refinement stops at [0-9]* links' "$work/warn"
-check "budget: not converged" grep -Eq '^hierarchical: [0-9]+ rounds, not converged' "$work/small"
+check "budget: not converged" grep -Eq '^hierarchical: [0-9]+ rounds, not converged: memory budget reached' "$work/small"
 "$radiosity" solve cornell --solver hierarchical >/dev/null 2>"$work/steps"
 check "solve stage: links and leaves" grep -Eq '^radiosity: \[solve\] hierarchical, [0-9]+ rounds, residual 0, converged, [0-9]+ links, [0-9]+ leaves' "$work/steps"
 check "step line" grep -Eq '^radiosity: hierarchical step 1: [0-9]+ links \([0-9]+ to clusters\), [0-9]+ leaves, [0-9]+ clusters, [0-9]+ refined, largest remaining error' "$work/steps"
 
 # The default solver by scene size (rad_scene_default_solver): shooting for Cornell, the hierarchy
-# for a scene of 30,000 polygons or more (a grid of 30,276 floor tiles; nothing emits, so it
-# solves at once), the same in solve, render and bake; --solver still chooses.
+# for a scene of 8,000 polygons or more (a grid of 8,100 floor tiles; nothing emits, so it
+# solves at once; one of 7,921 stays with shooting), the same in solve, render and bake;
+# --solver still chooses.
 "$radiosity" solve cornell --json --iterations 1 >"$work/small.json" 2>/dev/null
 check "default: shooting for Cornell" grep -q '"solver": "shooting"' "$work/small.json"
-awk 'BEGIN { n = 174; for (i = 0; i <= n; i++) for (j = 0; j <= n; j++) printf "v %g 0 %g\n", i / 10, j / 10;
-             for (i = 0; i < n; i++) for (j = 0; j < n; j++) { a = i * (n + 1) + j + 1;
-                 printf "f %d %d %d %d\n", a, a + 1, a + n + 2, a + n + 1 } }' >"$work/grid.obj"
+grid() { # N: a floor of N x N square tiles
+    awk -v n="$1" 'BEGIN { for (i = 0; i <= n; i++) for (j = 0; j <= n; j++) printf "v %g 0 %g\n", i / 10, j / 10;
+                    for (i = 0; i < n; i++) for (j = 0; j < n; j++) { a = i * (n + 1) + j + 1;
+                        printf "f %d %d %d %d\n", a, a + 1, a + n + 2, a + n + 1 } }'
+}
+grid 90 >"$work/grid.obj"
+grid 89 >"$work/grid89.obj"
+"$radiosity" solve "$work/grid89.obj" --json --iterations 1 >"$work/grid89.json" 2>/dev/null
+check "default: shooting below 8000 polygons" grep -q '"solver": "shooting"' "$work/grid89.json"
 "$radiosity" solve "$work/grid.obj" --json >"$work/grid.json" 2>"$work/grid.err"
-check "default: hierarchical from 30000 polygons" grep -q '"solver": "hierarchical"' "$work/grid.json"
-check "default: says so" grep -q '30000 polygons or more: solving with --solver hierarchical' "$work/grid.err"
+check "default: hierarchical from 8000 polygons" grep -q '"solver": "hierarchical"' "$work/grid.json"
+check "default: says so" grep -q '8000 polygons or more: solving with --solver hierarchical' "$work/grid.err"
 "$radiosity" solve "$work/grid.obj" --solver shooting --json --iterations 1 >"$work/grid_shooting.json" 2>/dev/null
 check "default: --solver still chooses" grep -q '"solver": "shooting"' "$work/grid_shooting.json"
 "$radiosity" bake "$work/grid.obj" -o "$work/grid.ply" 2>/dev/null >"$work/grid.bake"
@@ -94,7 +101,7 @@ check "default: render agrees" grep -q 'solving with --solver hierarchical' "$wo
 "$radiosity" bake "$work/grid.obj" --solution "$work/grid_shooting.sol" -o "$work/grid_shooting.ply" --quiet
 check "default: a saved element solution is baked on its own mesh" test $? -eq 0 -a -s "$work/grid_shooting.ply"
 "$radiosity" render --help >"$work/help" 2>&1
-check "default: --help says so" grep -q 'hierarchical for scenes of 30000 polygons or more' "$work/help"
+check "default: --help says so" grep -q 'hierarchical for scenes of 8000 polygons or more' "$work/help"
 
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error 0
 expect_exit 2 'link-error must be a positive number' -- "$radiosity" solve cornell --solver hierarchical --link-error -1
@@ -110,8 +117,18 @@ check "importance: what the camera sees" grep -q 'hierarchical importance: the c
 check "importance: renders" test -s "$work/imp.pfm"
 "$radiosity" bake cornell --solver hierarchical --importance -o "$work/imp.ply" --quiet
 check "importance: bakes with the scene's camera" test -s "$work/imp.ply"
-expect_exit 2 'importance is for --solver hierarchical' -- "$radiosity" solve cornell --solver shooting --importance
-expect_exit 2 'importance is for --solver hierarchical' -- "$radiosity" render cornell --importance -o "$work/y.png"
+# --importance follows the solver, default or given: the hierarchy weighs its links by the view,
+# shooting becomes the importance solver; a solver with no use for a camera refuses it.
+"$radiosity" solve "$work/grid.obj" --importance --json --quiet >"$work/grid_imp.json"
+check "importance: the default hierarchy takes it" grep -q '"solver": "hierarchical".*"importance": true' "$work/grid_imp.json"
+"$radiosity" solve cornell --importance --json --iterations 1 --quiet >"$work/small_imp.json"
+check "importance: default shooting becomes the importance solver" grep -q '"solver": "importance".*"importance": true' "$work/small_imp.json"
+"$radiosity" solve cornell --solver shooting --importance --json --iterations 1 --quiet >"$work/shoot_imp.json"
+check "importance: --solver shooting too" grep -q '"solver": "importance"' "$work/shoot_imp.json"
+check "importance: false without it" grep -q '"solver": "shooting".*"importance": false' "$work/small.json"
+"$radiosity" solve cornell --importance --width 16 --height 16 --quiet --resume "$work/imp_part.sol" --save "$work/imp_resumed2.sol" >/dev/null
+check "importance: resumed without --solver, the saved hierarchy's" cmp "$work/imp_full.sol" "$work/imp_resumed2.sol"
+expect_exit 2 'importance is for the shooting, importance and hierarchical solvers, not jacobi' -- "$radiosity" render cornell --solver jacobi --importance -o "$work/y.png"
 check "importance: nothing written" test ! -e "$work/y.png"
 
 # Light through mirrors and glass (specular first, both passes) reaches the hierarchy's nodes:

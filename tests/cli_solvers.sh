@@ -23,9 +23,9 @@ expect_exit 2 "overshoot is for the shooting and importance solvers" -- \
     "$radiosity" solve four-walls --solver jacobi --overshoot
 "$radiosity" solve --help >"$work/help"
 check "solve --help lists the solvers" \
-    grep -q -- "--solver .*NAME  direct|jacobi|gauss-seidel|shooting|importance|hierarchical (shooting; hierarchical for scenes of 30000 polygons or more)" "$work/help"
+    grep -q -- "--solver .*NAME  direct|jacobi|gauss-seidel|shooting|importance|hierarchical (shooting; hierarchical for scenes of 8000 polygons or more)" "$work/help"
 "$radiosity" render --help >"$work/help"
-check "render's default is shooting, as solve's" grep -q -- "hierarchical (shooting; hierarchical for scenes of 30000 polygons or more)" "$work/help"
+check "render's default is shooting, as solve's" grep -q -- "hierarchical (shooting; hierarchical for scenes of 8000 polygons or more)" "$work/help"
 check "--ff lists the methods" grep -q -- "METHOD  analytic|hemicube|raycast|montecarlo" "$work/help"
 expect_exit 2 "unexpected argument" -- "$radiosity" solvers extra
 finish

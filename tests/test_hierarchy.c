@@ -970,8 +970,101 @@ static void test_interrupted_refinement(void) {
     rad_context_destroy(plain);
 }
 
+/* Cluster links' form factors against the closed form: an emitting icosahedron (20 faces, no two
+ * normals on an axis, B = 1, rho = 0) over a floor of 16 x 16 tiles (rho = 0.5). No face of the
+ * convex body hides another from outside and the tiles are coplanar, so each tile's radiosity is
+ * exactly 0.5 F(tile -> faces), the contour integral of every face summed (midpoint rule on the
+ * tile). At link error `link_error` most far tiles keep links from clusters. */
+static double icosahedron_floor(double link_error, double *worst, size_t *cluster_links) {
+    rad_context *ctx = context(2);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_new(ctx, 1, "icosahedron", &scene) == RAD_OK);
+    uint32_t floor_surface = add_surface(scene, "floor", 0.5, 0);
+    uint32_t ball = add_surface(scene, "ball", 0, 1);
+    const int n = 16;
+    const double size = 8.0 / n;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            rad_vec3 o = v3(-4 + i * size, -4 + j * size, 0);
+            add_rect(scene, floor_surface, o, v3(size, 0, 0), v3(0, size, 0));
+        }
+    const double phi = 0.5 * (1 + sqrt(5.0)), radius = 0.5 / sqrt(1 + phi * phi);
+    const rad_vec3 centre = v3(0.3, -0.2, 1.0);
+    rad_vec3 corner[12];
+    for (int k = 0; k < 12; ++k) {
+        double a = (k & 1) ? -1 : 1, b = (k & 2) ? -phi : phi;
+        rad_vec3 p = k < 4 ? v3(0, a, b) : k < 8 ? v3(a, b, 0) : v3(b, 0, a);
+        corner[k] = v3_add(centre, v3_scale(p, radius));
+    }
+    rad_vec3 face[20][3];
+    int faces = 0;
+    const double edge = 2 * radius;
+    for (int a = 0; a < 12; ++a)
+        for (int b = a + 1; b < 12; ++b)
+            for (int c = b + 1; c < 12; ++c) {
+                if (fabs(v3_length(v3_sub(corner[a], corner[b])) - edge) > 1e-9 ||
+                    fabs(v3_length(v3_sub(corner[b], corner[c])) - edge) > 1e-9 ||
+                    fabs(v3_length(v3_sub(corner[a], corner[c])) - edge) > 1e-9)
+                    continue;
+                rad_vec3 p[3] = {corner[a], corner[b], corner[c]};
+                rad_vec3 normal = v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
+                if (v3_dot(normal, v3_sub(p[0], centre)) < 0) {
+                    rad_vec3 t = p[1];
+                    p[1] = p[2];
+                    p[2] = t;
+                }
+                CHECK(rad_scene_add_polygon_points(scene, ball, p, 3) == RAD_OK);
+                memcpy(face[faces++], p, sizeof p);
+            }
+    CHECK(faces == 20);
+    rad_hier *h = solve_hierarchy(ctx, scene, link_error);
+    size_t count;
+    const rad_hier_node *nodes = rad_hier_nodes(h, &count);
+    double mean = 0, exact_mean = 0;
+    *worst = 0;
+    for (uint32_t p = 0; p < (uint32_t)(n * n); ++p) {
+        uint32_t roots;
+        double solved = nodes[rad_hier_polygon_roots(h, p, &roots)[0]].radiosity[0];
+        int i = (int)p / n, j = (int)p % n;
+        double exact = 0;
+        for (int u = 0; u < 8; ++u)
+            for (int v = 0; v < 8; ++v) {
+                rad_vec3 x = v3(-4 + (i + (u + 0.5) / 8) * size, -4 + (j + (v + 0.5) / 8) * size, 0);
+                for (int f = 0; f < 20; ++f)
+                    exact += 0.5 * rad_ff_point_polygon(x, v3(0, 0, 1), face[f], 3) / 64;
+            }
+        mean += solved;
+        exact_mean += exact;
+        *worst = fmax(*worst, fabs(solved / exact - 1));
+    }
+    *cluster_links = rad_hier_get_stats(h).cluster_links;
+    rad_hier_destroy(h);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+    return mean / exact_mean - 1;
+}
+
+/* The cluster links' sampled pairs weigh each member by its projected area along the ray over
+ * the probability of drawing it (member_weight in hierarchy.c). Weighing every ray by the
+ * cluster's projected area toward the centres' direction (the far-field limit) was 21% too
+ * bright at link error 1e-2 and 7.5% at 1e-3 here; the exact weight is +0.6% and +0.2%. */
+static void test_cluster_form_factors(void) {
+    const double errors[3] = {1e-2, 1e-3, 1e-4};
+    for (int k = 0; k < 3; ++k) {
+        double worst;
+        size_t cluster_links;
+        double off = icosahedron_floor(errors[k], &worst, &cluster_links);
+        printf("icosahedron over tiles, link error %g: floor mean %+.2f%% of exact, worst tile "
+               "%.1f%%, %zu links to or from clusters\n", errors[k], 100 * off, 100 * worst,
+               cluster_links);
+        CHECK(cluster_links > 1000); /* the far tiles are lit through clusters */
+        CHECK(fabs(off) < 0.02);
+    }
+}
+
 int main(void) {
     test_opening();
+    test_cluster_form_factors();
     test_image();
     test_closed_forms();
     test_furnace();

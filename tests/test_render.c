@@ -208,9 +208,11 @@ static void test_against_path_tracer(rad_context *ctx, const rad_scene *scene,
         CHECK_NEAR(b.mean_ratio, 1, 0.02);
         CHECK(a.relative_mse < RELMSE_SMOOTH);
         CHECK(b.relative_mse < RELMSE_GATHER);
-        /* The floor just in front of the short block, where its shadow begins: interpolated
-         * radiosity leaks light under the block (elements straddle the shadow's edge), the
-         * final gather samples the light and the block's occlusion at each pixel. */
+        /* The floor just in front of the short block, where its shadow begins: the smooth
+         * solution interpolates between element corners (the light evaluated there,
+         * render/collocate.c: measured +26% here; over +30% when it averaged the elements
+         * around each vertex), the final gather samples the light and the block's occlusion at
+         * each pixel. */
         double sum[3] = {0, 0, 0};
         const rad_image *images[3] = {smooth, gathered, reference};
         for (int k = 0; k < 3; ++k)
@@ -220,8 +222,23 @@ static void test_against_path_tracer(rad_context *ctx, const rad_scene *scene,
                         sum[k] += rad_image_pixels(images[k])[3 * (y * size + x) + c];
         printf("contact shadow: smooth %.4f, final gather %.4f, path tracer %.4f\n", sum[0],
                sum[1], sum[2]);
-        CHECK(sum[0] > 1.3 * sum[2]);
+        CHECK(sum[0] > sum[2] && sum[0] < 1.35 * sum[2]);
         CHECK(fabs(sum[1] - sum[2]) < 0.5 * fabs(sum[0] - sum[2]));
+        /* In 4 x 4 blocks the smooth picture, its light evaluated at the corners
+         * (render/collocate.c), beats the flat one (measured 2.03% against 2.20%); averaging
+         * the elements around each vertex did not (the same picture by the command line at
+         * 8d19884 against cornell256_16k.pfm averaged down to 64 x 64: 3.78% against 2.21%). */
+        options.final_gather = 0;
+        options.shading = RAD_SHADING_FLAT;
+        rad_image *flat = NULL;
+        CHECK(rad_render(scene, system, &options, &flat) == RAD_OK);
+        if (flat) {
+            double smooth_rmse = test_block_rmse(smooth, reference, 4);
+            double flat_rmse = test_block_rmse(flat, reference, 4);
+            printf("4x4 blocks: smooth %.2f%%, flat %.2f%%\n", 100 * smooth_rmse, 100 * flat_rmse);
+            CHECK(smooth_rmse < flat_rmse && smooth_rmse < 0.025);
+        }
+        rad_image_destroy(flat);
     }
     rad_image_destroy(smooth);
     rad_image_destroy(gathered);

@@ -7,6 +7,9 @@
  *   - meshed with shadow boundaries, no floor element straddles those lines where they bound
  *     the shadow (without, some do: the check can fail), and the element count stays within
  *     15% of --elements (measured 2,823 for 2,500; 2,550 without);
+ *   - a point light over the same blocker: one line on each side, the blocker's outline projected
+ *     from the light (|x|, |z| = 0.75), and no floor element across them; a spot turned away
+ *     casts none;
  *   - the Cornell box: cut along its shadows, its contacts still cut, its count near N;
  *   - bad blockers (lying on the floor, of no area, level with the emitter, above it, edge-on)
  *     are meshed without a crash. */
@@ -44,6 +47,35 @@ static rad_scene *shadow_scene(rad_context *ctx, const rad_vec3 *blocker, uint32
 
 static int on_line(rad_vec3 p, int axis, double at) { return fabs(v3_get(p, axis) - at) < 1e-6; }
 
+/* Is there a segment on the floor (polygon 0) lying on the line axis = at? */
+static int segment_on(const rad_shadow_segment *segments, size_t count, int axis, double at) {
+    int found = 0;
+    for (size_t i = 0; i < count; ++i)
+        found |= segments[i].polygon == 0 && on_line(segments[i].a, axis, at) && on_line(segments[i].b, axis, at);
+    return found;
+}
+
+/* Floor elements (polygon 0) with corners on both sides of one of the lines x = lines[l] or
+ * z = lines[l], where the line bounds the shadow (the other coordinate within `extent`). */
+static size_t straddling_elements(const rad_mesh *mesh, const double *lines, int line_count, double extent) {
+    size_t straddling = 0;
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        if (mesh->element_polygon[e] != 0) continue;
+        for (int axis = 0; axis <= 2; axis += 2)
+            for (int l = 0; l < line_count; ++l) {
+                int below = 0, above = 0, inside = 0;
+                for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) {
+                    rad_vec3 p = mesh->vertices[mesh->element_vertices[e][k]];
+                    double side = v3_get(p, axis) - lines[l], other = v3_get(p, 2 - axis);
+                    below |= side < -1e-9, above |= side > 1e-9;
+                    inside |= fabs(other) < extent - 1e-9;
+                }
+                straddling += below && above && inside;
+            }
+    }
+    return straddling;
+}
+
 static void test_analytic_lines(rad_context *ctx) {
     rad_vec3 b[4] = {{-0.5, 1, -0.5}, {-0.5, 1, 0.5}, {0.5, 1, 0.5}, {0.5, 1, -0.5}}; /* +y */
     rad_scene *scene = shadow_scene(ctx, b, 4);
@@ -57,13 +89,7 @@ static void test_analytic_lines(rad_context *ctx) {
     /* Each analytic line carries a segment; none lies outside the penumbra or off the floor. */
     const double lines[4] = {-1, -0.5, 0.5, 1};
     for (int axis = 0; axis <= 2; axis += 2)
-        for (int l = 0; l < 4; ++l) {
-            int found = 0;
-            for (size_t i = 0; i < count; ++i)
-                found |= segments[i].polygon == 0 && on_line(segments[i].a, axis, lines[l]) &&
-                         on_line(segments[i].b, axis, lines[l]);
-            CHECK(found);
-        }
+        for (int l = 0; l < 4; ++l) CHECK(segment_on(segments, count, axis, lines[l]));
     for (size_t i = 0; i < count; ++i) {
         CHECK(segments[i].polygon == 0); /* the floor: the blocker's top sees the whole lamp */
         rad_vec3 p[2] = {segments[i].a, segments[i].b};
@@ -84,21 +110,7 @@ static void test_analytic_lines(rad_context *ctx) {
         CHECK(rad_mesh_create(ctx, scene, &options, &mesh) == RAD_OK);
         if (!mesh) continue;
         elements[shadows] = mesh->element_count;
-        for (size_t e = 0; e < mesh->element_count; ++e) {
-            if (mesh->element_polygon[e] != 0) continue;
-            int n = rad_mesh_corner_count(mesh, e);
-            for (int axis = 0; axis <= 2; axis += 2)
-                for (int l = 0; l < 4; ++l) {
-                    int below = 0, above = 0, inside = 0;
-                    for (int k = 0; k < n; ++k) {
-                        rad_vec3 p = mesh->vertices[mesh->element_vertices[e][k]];
-                        double s = v3_get(p, axis) - lines[l], other = v3_get(p, 2 - axis);
-                        below |= s < -1e-9, above |= s > 1e-9;
-                        inside |= fabs(other) < 1 - 1e-9;
-                    }
-                    if (below && above && inside) straddling[shadows]++;
-                }
-        }
+        straddling[shadows] = straddling_elements(mesh, lines, 4, 1);
         rad_mesh_destroy(mesh);
     }
     printf("floor elements straddling a shadow line: %zu without, %zu with (elements %zu, %zu)\n",
@@ -107,6 +119,69 @@ static void test_analytic_lines(rad_context *ctx) {
     CHECK(straddling[1] == 0);
     CHECK(fabs((double)elements[1] / 2500 - 1) < 0.15); /* measured +12.9% (without: +2.0%) */
     rad_scene_destroy(scene);
+}
+
+/* A point light 3 above the floor over the same blocker: its shadow's edge is the blocker's
+ * outline projected from the light, |x| = 0.75 and |z| = 0.75 (0.5 * 3 / (3 - 1)), one line
+ * each (no penumbra); a spot turned away from the blocker casts none. */
+static void test_point_light(rad_context *ctx) {
+    const double edge = 0.75;
+    for (int kind = 0; kind < 2; ++kind) {
+        rad_scene *scene = NULL;
+        CHECK(rad_scene_new(ctx, 1, "point", &scene) == RAD_OK);
+        if (!scene) return;
+        rad_material white = {0};
+        white.reflectance[0] = white.reflectance[1] = white.reflectance[2] = 0.5;
+        uint32_t grey, floor, block;
+        CHECK(rad_scene_add_material(scene, &white, &grey) == RAD_OK);
+        CHECK(rad_scene_add_surface(scene, "floor", grey, &floor) == RAD_OK);
+        CHECK(rad_scene_add_surface(scene, "blocker", grey, &block) == RAD_OK);
+        rad_vec3 f[4] = {{-4.93, 0, -4.87}, {-4.93, 0, 5.07}, {5.11, 0, 5.07}, {5.11, 0, -4.87}};
+        rad_vec3 b[4] = {{-0.5, 1, -0.5}, {-0.5, 1, 0.5}, {0.5, 1, 0.5}, {0.5, 1, -0.5}};
+        CHECK(rad_scene_add_polygon_points(scene, floor, f, 4) == RAD_OK);
+        CHECK(rad_scene_add_polygon_points(scene, block, b, 4) == RAD_OK);
+        rad_light light = {0};
+        light.name = "bulb";
+        light.kind = kind ? RAD_LIGHT_SPOT : RAD_LIGHT_POINT;
+        light.position = v3(0, 3, 0);
+        light.direction = v3(0, 1, 0); /* the spot looks up, away from the blocker */
+        light.intensity[0] = light.intensity[1] = light.intensity[2] = 5;
+        light.inner_angle = 0.3, light.outer_angle = 0.4;
+        CHECK(rad_scene_append_light(scene, &light) == RAD_OK);
+        rad_shadow_segment *segments = NULL;
+        size_t count = 0;
+        rad_shadow_stats stats;
+        CHECK(rad_shadow_segments_find(ctx, scene, 0.2, &segments, &count, &stats) == RAD_OK);
+        printf("%s light over a square: %zu source, %zu events, %zu segments\n", kind ? "spot" : "point",
+               stats.emitters, stats.events, count);
+        CHECK(stats.emitters == 1 && !stats.capped);
+        if (kind) {
+            CHECK(count == 0);
+        } else {
+            const double lines[2] = {-edge, edge};
+            for (int axis = 0; axis <= 2; axis += 2)
+                for (int l = 0; l < 2; ++l) CHECK(segment_on(segments, count, axis, lines[l]));
+            for (size_t i = 0; i < count; ++i) {
+                CHECK(segments[i].polygon == 0);
+                rad_vec3 p[2] = {segments[i].a, segments[i].b};
+                for (int k = 0; k < 2; ++k)
+                    CHECK(fabs(p[k].y) < 1e-9 && fabs(p[k].x) <= edge + 1e-6 && fabs(p[k].z) <= edge + 1e-6);
+            }
+            /* Meshed along them: no floor element straddles the shadow's edge. */
+            rad_mesh_options options = {0};
+            options.elements = 2500;
+            options.shadow_boundaries = 1;
+            rad_mesh *mesh = NULL;
+            CHECK(rad_mesh_create(ctx, scene, &options, &mesh) == RAD_OK);
+            size_t straddling = mesh ? straddling_elements(mesh, lines, 2, edge) : 1;
+            printf("point light: floor elements straddling the shadow's edge: %zu of %zu\n", straddling,
+                   mesh ? mesh->element_count : 0);
+            CHECK(straddling == 0);
+            rad_mesh_destroy(mesh);
+        }
+        rad_free(ctx, segments);
+        rad_scene_destroy(scene);
+    }
 }
 
 static void test_bad_blockers(rad_context *ctx) {
@@ -168,6 +243,7 @@ int main(void) {
     rad_context *ctx = NULL;
     if (rad_context_create(&options, &ctx)) return 1;
     test_analytic_lines(ctx);
+    test_point_light(ctx);
     test_bad_blockers(ctx);
     test_cornell(ctx);
     rad_context_destroy(ctx);

@@ -213,6 +213,95 @@ static void test_refusals(void) {
     rad_system_destroy(other_ff);
 }
 
+/* The checksum (the last 8 bytes) made to match the bytes before it. */
+static void forge_checksum(unsigned char *bytes, size_t size) {
+    rad_le_put_u64(bytes + size - 8, rad_fnv1a(RAD_FNV1A_START, bytes, size - 8));
+}
+
+static rad_system *hierarchy_system(int iterations) {
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    rad_mesh_options mesh = {0};
+    mesh.polygons_only = 1; /* as the commands build it for the hierarchy */
+    CHECK(rad_scene_builtin(ctx, "cornell", &scene) == RAD_OK);
+    CHECK(rad_system_create(ctx, scene, &mesh, NULL, &system) == RAD_OK);
+    rad_scene_destroy(scene);
+    rad_solve_options o = {.solver = RAD_SOLVER_HIERARCHICAL, .max_iterations = iterations};
+    o.link_error = 3e-4;
+    CHECK(rad_solve(system, &o, NULL) == RAD_OK);
+    return system;
+}
+
+/* A hierarchy's file (version 2) is read as a stream, in two passes: cut short anywhere,
+ * damaged, or forged with a matching checksum (found in the first pass or only while the
+ * second rebuilds), it is refused in one line with the system as it was; whole, it loads and
+ * gives the saved solution back. rad_solution_file_info reads its solver from the header. */
+static void test_hierarchy_refusals(void) {
+    rad_system *system = hierarchy_system(0);
+    const char *good = path_of("hier.sol"), *bad = path_of("bad.sol");
+    rad_solution_info saved = {RAD_SOLVER_HIERARCHICAL, 5};
+    CHECK(rad_system_save_solution(system, good, &saved) == RAD_OK);
+    rad_solution_info info = {0};
+    CHECK(rad_solution_file_info(ctx, good, &info) == RAD_OK);
+    CHECK(info.solver == RAD_SOLVER_HIERARCHICAL && info.steps == 5);
+    CHECK(rad_solution_file_info(NULL, path_of("missing.sol"), &info) == RAD_ERROR_IO);
+    size_t size = 0;
+    unsigned char *bytes = read_file(good, &size);
+    CHECK(bytes != NULL && size > 1000);
+    /* Where the sections start (docs/formats.md, "Hierarchy solution files"). */
+    uint32_t flags = rad_le_get_u32(bytes + 56);
+    uint64_t nodes = rad_le_get_u64(bytes + 64), roots = rad_le_get_u64(bytes + 72),
+             splits = rad_le_get_u64(bytes + 80);
+    size_t node_bytes = 24 + (flags & 2 ? 28 : 0) + (flags & 1 ? 8 : 0);
+    /* Version 3 keeps six exposure pairs (48 bytes) per root. */
+    size_t node_at = 160 + 8 * splits, link_at = node_at + nodes * node_bytes + 48 * roots;
+    CHECK(splits > 0 && link_at + 8 < size);
+
+    rad_system *target = hierarchy_system(1);
+    const size_t cuts[] = {100, 168, node_at + 3, link_at + 13, size - 9, size - 1};
+    for (size_t k = 0; k < sizeof cuts / sizeof cuts[0]; ++k) {
+        write_file(bad, bytes, cuts[k]);
+        check_refused(target, bad, RAD_ERROR_PARSE, "truncated solution file");
+    }
+    write_file(bad, bytes, size + 1);
+    check_refused(target, bad, RAD_ERROR_PARSE, "checksum mismatch");
+    bytes[link_at + 20] ^= 0x10;
+    write_file(bad, bytes, size);
+    check_refused(target, bad, RAD_ERROR_PARSE, "checksum mismatch");
+    bytes[link_at + 20] ^= 0x10;
+    /* Forged, the checksum made to match: a negative radiosity and a link to no receiver are
+     * found by the first pass, a split of a node that does not exist only by the rebuild. */
+    const struct {
+        size_t at;
+        uint32_t value;
+        const char *message;
+    } forgeries[] = {{node_at + 4, 0xbff00000u, "a negative radiosity"},
+                     {link_at, 0xfffffff0u, "a link's receiver"},
+                     {160, (uint32_t)nodes + 7, "the refinement tree"}};
+    for (size_t k = 0; k < sizeof forgeries / sizeof forgeries[0]; ++k) {
+        unsigned char *forged = malloc(size);
+        memcpy(forged, bytes, size);
+        rad_le_put_u32(forged + forgeries[k].at, forgeries[k].value);
+        forge_checksum(forged, size);
+        write_file(bad, forged, size);
+        check_refused(target, bad, RAD_ERROR_PARSE, forgeries[k].message);
+        free(forged);
+    }
+    /* Whole: the saved solution back, surface by surface. */
+    CHECK(rad_system_load_solution(target, good, &info) == RAD_OK);
+    CHECK(info.solver == RAD_SOLVER_HIERARCHICAL && info.steps == 5);
+    for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
+        rad_surface_info a, b;
+        rad_system_surface(system, i, &a);
+        rad_system_surface(target, i, &b);
+        CHECK(memcmp(a.radiosity, b.radiosity, sizeof a.radiosity) == 0);
+    }
+    free(bytes);
+    unlink(good);
+    rad_system_destroy(system);
+    rad_system_destroy(target);
+}
+
 /* The fingerprints: meshing-independent for the scene, exact for the mesh. */
 static void test_fingerprints(void) {
     rad_system *a = build("cornell", 300, RAD_FF_DEFAULT), *b = build("cornell", 300, RAD_FF_DEFAULT),
@@ -235,6 +324,7 @@ int main(void) {
     CHECK(mkdtemp(dir) != NULL);
     test_round_trip_and_resume();
     test_refusals();
+    test_hierarchy_refusals();
     test_fingerprints();
     /* Clean up the scratch directory. */
     const char *names[] = {"cornell.sol", "walls.sol", "good.sol", "bad.sol"};

@@ -188,14 +188,15 @@ rad_status rad_system_save_solution(rad_system *s, const char *path, const rad_s
     return status;
 }
 
-/* Reads the whole file; *size is its length. */
-static rad_status read_all(rad_context *ctx, const char *path, unsigned char **out, size_t *size) {
+/* Reads the whole of an open file whose first `got` bytes (at most 64 KiB) were read into
+ * `first`; *size is its length. */
+static rad_status read_all(rad_context *ctx, const char *path, FILE *f, const unsigned char *first,
+                           size_t got, unsigned char **out, size_t *size) {
     *out = NULL;
-    FILE *f = fopen(path, "rb");
-    if (!f) return rad_fail(ctx, RAD_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
-    size_t capacity = 1 << 16, length = 0;
+    size_t capacity = 1 << 16, length = got;
     unsigned char *bytes = rad_alloc(ctx, capacity, 1);
     rad_status status = bytes ? RAD_OK : RAD_ERROR_NO_MEMORY;
+    if (bytes) memcpy(bytes, first, got);
     while (!status) {
         if (length == capacity) {
             /* A file without end (/dev/zero, a runaway pipe) stops at the memory budget. */
@@ -215,7 +216,6 @@ static rad_status read_all(rad_context *ctx, const char *path, unsigned char **o
             break;
         }
     }
-    fclose(f);
     if (status) {
         rad_free(ctx, bytes);
         return status;
@@ -286,18 +286,43 @@ static rad_status check_file(rad_system *s, const char *path, const unsigned cha
     return RAD_OK;
 }
 
+rad_status rad_solution_file_info(rad_context *ctx, const char *path, rad_solution_info *info) {
+    if (!path || !info) return RAD_ERROR_INVALID_ARGUMENT;
+    FILE *file = fopen(path, "rb");
+    if (!file) return rad_fail(ctx, RAD_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
+    unsigned char head[24];
+    size_t got = fread(head, 1, sizeof head, file);
+    fclose(file);
+    if (got < sizeof head || memcmp(head, RAD_SOLUTION_MAGIC, 8) != 0)
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: not a radiosity solution file", path);
+    uint32_t version = rad_le_get_u32(head + 8);
+    int solver = rad_solver_from_file_code(rad_le_get_u32(head + 12));
+    if ((version != RAD_SOLUTION_VERSION && version != RAD_SOLUTION_HIER_VERSION) || solver < 0)
+        return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "%s: solution file version %u, solver %u: "
+                        "not one this build reads", path, version, rad_le_get_u32(head + 12));
+    info->solver = (rad_solver_kind)solver;
+    info->steps = (long)rad_le_get_u64(head + 16);
+    return RAD_OK;
+}
+
 rad_status rad_system_load_solution(rad_system *s, const char *path, rad_solution_info *info) {
     if (!s || !path) return RAD_ERROR_INVALID_ARGUMENT;
-    unsigned char *bytes = NULL;
-    size_t size = 0;
-    rad_status status = read_all(s->ctx, path, &bytes, &size);
-    if (status) return status;
-    if (size >= 12 && memcmp(bytes, RAD_SOLUTION_MAGIC, 8) == 0 &&
-        rad_le_get_u32(bytes + 8) == RAD_SOLUTION_HIER_VERSION) {
-        status = rad_solution_hier_load(s, path, bytes, size, info);
-        rad_free(s->ctx, bytes);
+    FILE *file = fopen(path, "rb");
+    if (!file) return rad_fail(s->ctx, RAD_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
+    /* A hierarchy's file (version 2) is read as a stream, never whole (solution_hier.c). */
+    unsigned char head[12];
+    size_t got = fread(head, 1, sizeof head, file);
+    if (got == sizeof head && memcmp(head, RAD_SOLUTION_MAGIC, 8) == 0 &&
+        rad_le_get_u32(head + 8) == RAD_SOLUTION_HIER_VERSION) {
+        rad_status status = rad_solution_hier_load(s, path, file, info);
+        fclose(file);
         return status;
     }
+    unsigned char *bytes = NULL;
+    size_t size = 0;
+    rad_status status = read_all(s->ctx, path, file, head, got, &bytes, &size);
+    fclose(file);
+    if (status) return status;
     status = check_file(s, path, bytes, size);
     if (!status && !rad_system_view(s)->ops->store)
         status = rad_fail(s->ctx, RAD_ERROR_UNSUPPORTED, "%s: the %s solution cannot be restored "

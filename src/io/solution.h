@@ -8,6 +8,7 @@
 #include "system/system.h"
 
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #define RAD_SOLUTION_MAGIC "RADSOLN\n"
@@ -59,13 +60,14 @@ static inline double rad_le_get_f64(const unsigned char *p) {
     return v;
 }
 
-/* The hierarchy's solution files (solution_hier.c, version 2): rad_system_save_solution and
+/* The hierarchy's solution files (solution_hier.c, version 3): rad_system_save_solution and
  * rad_system_load_solution hand them over when the system's view is a hierarchy's, or the
- * file's version says so (`bytes` is the whole file, its magic checked). */
-#define RAD_SOLUTION_HIER_VERSION 2u
+ * file's version says so (`file` is open on it, its magic and version checked; it is read as a
+ * stream, twice, from its start, so it must be a regular file, not a pipe). */
+#define RAD_SOLUTION_HIER_VERSION 3u
 rad_status rad_solution_hier_save(rad_system *system, const char *path,
                                   const rad_solution_info *info);
-rad_status rad_solution_hier_load(rad_system *system, const char *path, const unsigned char *bytes,
-                                  size_t size, rad_solution_info *info);
+rad_status rad_solution_hier_load(rad_system *system, const char *path, FILE *file,
+                                  rad_solution_info *info);
 
 #endif

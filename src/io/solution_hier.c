@@ -1,9 +1,9 @@
-/* solution_hier.c - solution files of the hierarchical solver (version 2 of the solution format;
+/* solution_hier.c - solution files of the hierarchical solver (version 3 of the solution format;
  * docs/formats.md, "Hierarchy solution files"): everything needed to go on exactly where a
  * hierarchical solve stopped, or to draw it again.
  *
  * Layout, little-endian throughout (a header of 160 bytes, then the sections in this order):
- *   0   8  magic "RADSOLN\n"            8   4  version (2)
+ *   0   8  magic "RADSOLN\n"            8   4  version (3)
  *   12  4  solver that wrote it (rad_solver_kind's file code: hierarchical)
  *   16  8  steps done (summed over resumed runs)
  *   24  8  scene fingerprint (as version 1's: surface names and materials)
@@ -27,7 +27,8 @@
  *   160    splits, in the order they were made: node, first child (uint32 each)
  *          nodes: radiosity[3] float64; with flag 2 light[3] float64 and spread float32; with
  *          flag 1 importance float64
- *          roots: exposure rays, rays seen (uint32 each)
+ *          roots: per signed axis (+x, -x, +y, -y, +z, -z) exposure rays, rays seen (uint32
+ *          each)
  *          links, grouped by receiver in their order: receiver, count (uint32), then per link
  *          source (uint32), form factor and error bound (float32)
  *          with flag 1, hits: polygon (uint32), point[3] float64
@@ -53,17 +54,19 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/types.h>
 
 #define HEADER 160u
 #define SPLIT_BYTES 8u
 #define NODE_BYTES 24u
 #define NODE_LIGHT_BYTES 28u
 #define NODE_IMPORTANCE_BYTES 8u
-#define ROOT_BYTES 8u
+#define ROOT_BYTES 48u
 #define RUN_BYTES 8u
 #define LINK_BYTES 12u
 #define HIT_BYTES 28u
 #define ELEMENT_BYTES 24u
+#define NOT_ESTIMATED -1.0f /* a link's factor made without its estimate (hierarchy.c) */
 
 enum { FLAG_IMPORTANCE = 1, FLAG_LIGHT = 2, FLAG_REFLECTION = 4, FLAG_BUDGET = 8, FLAG_UNFINISHED = 16,
        FLAG_LOOSE = 32, FLAG_REFINING = 64, FLAG_IMPORTANCE_UNFINISHED = 128, FLAGS_KNOWN = 255 };
@@ -252,10 +255,12 @@ rad_status rad_solution_hier_save(rad_system *s, const char *path, const rad_sol
         if (flags & FLAG_IMPORTANCE) put_f64(w, state.importance);
     }
     for (size_t r = 0; r < stats.roots; ++r) {
-        uint32_t rays, seen;
-        rad_hier_exposure_get(hier, (uint32_t)r, &rays, &seen);
-        put_u32(w, rays);
-        put_u32(w, seen);
+        uint32_t rays[6], seen[6];
+        rad_hier_exposure_get(hier, (uint32_t)r, rays, seen);
+        for (int a = 0; a < 6; ++a) {
+            put_u32(w, rays[a]);
+            put_u32(w, seen[a]);
+        }
     }
     for (size_t l = 0; l < link_count;) {
         size_t last = l + 1;
@@ -298,12 +303,78 @@ rad_status rad_solution_hier_save(rad_system *s, const char *path, const rad_sol
 
 /* ---- Reading ----------------------------------------------------------------------------- */
 
+/* The file is read as a stream, twice, never whole: the first pass checks every value and the
+ * checksum and keeps the small sections the rebuild needs first (the importance hits, the
+ * second specular pass's light, the links a refinement had passed); the second builds the
+ * hierarchy from the splits, nodes and links, checking the checksum again. Beside the rebuilt
+ * hierarchy it needs one buffer of READ_BUFFER bytes. */
+#define READ_BUFFER (1u << 16)
+
+typedef struct reader {
+    FILE *file;
+    uint64_t checksum;   /* FNV-1a of the bytes before `hashed` */
+    size_t hashed, next, have; /* in the buffer: hashed <= next <= have */
+    uint64_t offset;     /* of the buffer's first byte in the file */
+    unsigned char buffer[READ_BUFFER];
+} reader;
+
+static void reader_start(reader *r, FILE *file) {
+    r->file = file;
+    r->checksum = RAD_FNV1A_START;
+    r->hashed = r->next = r->have = 0;
+    r->offset = 0;
+}
+
+/* The next `count` bytes (at most READ_BUFFER), hashed into the checksum; NULL when the file
+ * ends first or cannot be read. */
+static const unsigned char *take(reader *r, size_t count) {
+    if (r->have - r->next < count) {
+        r->checksum = rad_fnv1a(r->checksum, r->buffer + r->hashed, r->next - r->hashed);
+        size_t left = r->have - r->next;
+        memmove(r->buffer, r->buffer + r->next, left);
+        r->offset += r->next;
+        r->hashed = r->next = 0;
+        r->have = left;
+        while (r->have < count) {
+            size_t got = fread(r->buffer + r->have, 1, READ_BUFFER - r->have, r->file);
+            if (got == 0) return NULL;
+            r->have += got;
+        }
+    }
+    const unsigned char *p = r->buffer + r->next;
+    r->next += count;
+    return p;
+}
+
+/* The checksum of every byte taken so far. */
+static uint64_t reader_checksum(reader *r) {
+    r->checksum = rad_fnv1a(r->checksum, r->buffer + r->hashed, r->next - r->hashed);
+    r->hashed = r->next;
+    return r->checksum;
+}
+
+/* Passes over `count` records of `size` bytes (checksummed). */
+static int skip(reader *r, uint64_t count, size_t size) {
+    for (uint64_t i = 0; i < count; ++i)
+        if (!take(r, size)) return 1;
+    return 0;
+}
+
 /* The file's layout from its header: where each section starts. */
 typedef struct layout {
     uint32_t flags;
     uint64_t nodes, roots, splits, links, runs, hits, elements;
-    size_t node_bytes, split_at, node_at, root_at, link_at, hit_at, element_at, kept_at, end;
+    size_t node_bytes, end;
+    unsigned char header[HEADER];
 } layout;
+
+/* What the first pass keeps for the rebuild. */
+typedef struct tail {
+    uint32_t *hit_polygon;
+    rad_vec3 *hit_point;
+    rad_rgb *reflection;
+    uint64_t kept;
+} tail;
 
 /* a += b * c, with overflow reported. */
 static int add_product(size_t *a, uint64_t b, size_t c) {
@@ -317,11 +388,20 @@ static rad_status corrupted(rad_context *ctx, const char *path, const char *what
     return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted hierarchy solution file (%s)", path, what);
 }
 
-static rad_status read_layout(rad_context *ctx, const char *path, const unsigned char *bytes,
-                              size_t size, layout *out) {
-    if (size < HEADER + 8)
-        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: truncated solution file (%zu bytes)", path, size);
+static rad_status truncated(rad_context *ctx, const char *path, uint64_t size, size_t expected) {
+    return rad_fail(ctx, RAD_ERROR_PARSE, "%s: truncated solution file (%llu of %zu bytes)", path,
+                    (unsigned long long)size, expected);
+}
+
+/* The header, and the file's length against the one it gives. */
+static rad_status read_layout(rad_context *ctx, const char *path, reader *r, uint64_t size,
+                              layout *out) {
+    const unsigned char *bytes = size >= HEADER + 8 ? take(r, HEADER) : NULL;
+    if (!bytes)
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: truncated solution file (%llu bytes)", path,
+                        (unsigned long long)size);
     layout l = {0};
+    memcpy(l.header, bytes, HEADER);
     l.flags = rad_le_get_u32(bytes + 56);
     uint64_t *counts[7] = {&l.nodes, &l.roots, &l.splits, &l.links, &l.runs, &l.hits, &l.elements};
     for (int k = 0; k < 7; ++k) *counts[k] = rad_le_get_u64(bytes + 64 + 8 * k);
@@ -329,26 +409,17 @@ static rad_status read_layout(rad_context *ctx, const char *path, const unsigned
     l.node_bytes = NODE_BYTES + (l.flags & FLAG_LIGHT ? NODE_LIGHT_BYTES : 0) +
                    (l.flags & FLAG_IMPORTANCE ? NODE_IMPORTANCE_BYTES : 0);
     size_t at = HEADER;
-    l.split_at = at;
     int overflow = add_product(&at, l.splits, SPLIT_BYTES);
-    l.node_at = at;
     overflow |= add_product(&at, l.nodes, l.node_bytes);
-    l.root_at = at;
     overflow |= add_product(&at, l.roots, ROOT_BYTES);
-    l.link_at = at;
     overflow |= add_product(&at, l.runs, RUN_BYTES) || add_product(&at, l.links, LINK_BYTES);
-    l.hit_at = at;
     overflow |= add_product(&at, l.flags & FLAG_IMPORTANCE ? l.hits : 0, HIT_BYTES);
-    l.element_at = at;
     overflow |= add_product(&at, l.flags & FLAG_REFLECTION ? l.elements : 0, ELEMENT_BYTES);
-    l.kept_at = at;
     overflow |= add_product(&at, l.flags & FLAG_REFINING ? 1 : 0, 8);
     l.end = at;
     if (overflow || at > SIZE_MAX - 8) return corrupted(ctx, path, "section sizes");
-    if (size < at + 8)
-        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: truncated solution file (%zu of %zu bytes)",
-                        path, size, at + 8);
-    if (size > at + 8 || rad_le_get_u64(bytes + at) != rad_fnv1a(RAD_FNV1A_START, bytes, at))
+    if (size < at + 8) return truncated(ctx, path, size, at + 8);
+    if (size > at + 8)
         return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (checksum mismatch)", path);
     *out = l;
     return RAD_OK;
@@ -361,10 +432,19 @@ static float get_f32(const unsigned char *p) {
     return v;
 }
 
-/* Every value that needs no hierarchy to check: finite, radiosity and light not below zero
- * (beyond rounding), counts and indices within the file's own counts. */
-static rad_status check_values(rad_context *ctx, const char *path, const unsigned char *bytes,
-                               const layout *l) {
+static void tail_free(rad_context *ctx, tail *t) {
+    rad_free(ctx, t->hit_polygon);
+    rad_free(ctx, t->hit_point);
+    rad_free(ctx, t->reflection);
+    *t = (tail){0};
+}
+
+/* The first pass, after the header: every value that needs no hierarchy to check (finite,
+ * radiosity and light not below zero beyond rounding, counts and indices within the file's own
+ * counts) and the checksum; keeps the tail sections. A short read is a truncated file. */
+static rad_status check_values(rad_context *ctx, const char *path, reader *r, const layout *l,
+                               tail *t) {
+    const unsigned char *bytes = l->header;
     const size_t scalars[5] = {48, 128, 136, 144, 152};
     for (int k = 0; k < 5; ++k)
         if (!isfinite(rad_le_get_f64(bytes + scalars[k])))
@@ -372,20 +452,25 @@ static rad_status check_values(rad_context *ctx, const char *path, const unsigne
     if (!(rad_le_get_f64(bytes + 48) > 0)) return corrupted(ctx, path, "link error");
     if (l->roots == 0 || l->roots > l->nodes || l->nodes > UINT32_MAX || l->splits > l->nodes / 4)
         return corrupted(ctx, path, "node counts");
+    if (skip(r, l->splits, SPLIT_BYTES)) return truncated(ctx, path, r->offset + r->have, l->end + 8);
     /* Radiosity and light are never negative: a solve may leave rounding below zero (a
-     * millionth of the largest), no more. */
-    double largest = 0;
+     * millionth of the largest radiosity), no more. */
+    double largest = 0, lowest = 0;
     for (uint64_t i = 0; i < l->nodes; ++i) {
-        const unsigned char *p = bytes + l->node_at + i * l->node_bytes;
+        const unsigned char *p = take(r, l->node_bytes);
+        if (!p) return truncated(ctx, path, r->offset + r->have, l->end + 8);
         for (int k = 0; k < 3; ++k) {
             double b = rad_le_get_f64(p + 8 * k);
             if (!isfinite(b)) return corrupted(ctx, path, "a value is not finite");
             largest = fmax(largest, fabs(b));
+            lowest = fmin(lowest, b);
         }
         if (l->flags & FLAG_LIGHT) {
-            for (int k = 0; k < 3; ++k)
-                if (!isfinite(rad_le_get_f64(p + 24 + 8 * k)))
-                    return corrupted(ctx, path, "a value is not finite");
+            for (int k = 0; k < 3; ++k) {
+                double light = rad_le_get_f64(p + 24 + 8 * k);
+                if (!isfinite(light)) return corrupted(ctx, path, "a value is not finite");
+                lowest = fmin(lowest, light);
+            }
             float spread = get_f32(p + 48);
             if (!(spread >= 0) || !isfinite(spread)) return corrupted(ctx, path, "a light's spread");
         }
@@ -394,59 +479,97 @@ static rad_status check_values(rad_context *ctx, const char *path, const unsigne
             if (!(y >= 0) || !isfinite(y)) return corrupted(ctx, path, "a node's importance");
         }
     }
-    for (uint64_t i = 0; i < l->nodes; ++i) {
-        const unsigned char *p = bytes + l->node_at + i * l->node_bytes;
-        for (int k = 0; k < 3; ++k)
-            if (rad_le_get_f64(p + 8 * k) < -1e-6 * largest ||
-                ((l->flags & FLAG_LIGHT) && rad_le_get_f64(p + 24 + 8 * k) < -1e-6 * largest))
-                return corrupted(ctx, path, "a negative radiosity");
+    if (lowest < -1e-6 * largest) return corrupted(ctx, path, "a negative radiosity");
+    for (uint64_t root = 0; root < l->roots; ++root) {
+        const unsigned char *p = take(r, ROOT_BYTES);
+        if (!p) return truncated(ctx, path, r->offset + r->have, l->end + 8);
+        for (int a = 0; a < 6; ++a)
+            if (rad_le_get_u32(p + 8 * a + 4) > rad_le_get_u32(p + 8 * a))
+                return corrupted(ctx, path, "a root's exposure");
     }
-    for (uint64_t r = 0; r < l->roots; ++r)
-        if (rad_le_get_u32(bytes + l->root_at + 8 * r + 4) > rad_le_get_u32(bytes + l->root_at + 8 * r))
-            return corrupted(ctx, path, "a root's exposure");
-    /* Receiver runs: increasing receivers, counts summing to the link count, ends in range. */
-    const unsigned char *p = bytes + l->link_at;
-    uint64_t seen = 0;
+    /* Receiver runs: increasing receivers, counts summing to the link count, ends in range.
+     * While a refinement waits to go on (flag 64), the links it has not passed yet may carry
+     * the factor NOT_ESTIMATED (-1: made without an estimate, as the oracle splits them
+     * whatever it would be; hierarchy.c), never one it kept. */
+    uint64_t seen = 0, first_unestimated = UINT64_MAX;
     int64_t previous = -1;
     for (uint64_t run = 0; run < l->runs; ++run) {
+        const unsigned char *p = take(r, RUN_BYTES);
+        if (!p) return truncated(ctx, path, r->offset + r->have, l->end + 8);
         uint32_t receiver = rad_le_get_u32(p), count = rad_le_get_u32(p + 4);
-        p += RUN_BYTES;
         /* Grouped by receiver, except while a refinement waits to go on (flag 64). */
         int out_of_order = (l->flags & FLAG_REFINING) ? (int64_t)receiver == previous
                                                       : (int64_t)receiver <= previous;
         if (out_of_order || receiver >= l->nodes || count == 0 || count > l->links - seen)
             return corrupted(ctx, path, "a link's receiver");
         previous = receiver;
-        for (uint32_t k = 0; k < count; ++k, p += LINK_BYTES) {
+        for (uint32_t k = 0; k < count; ++k) {
+            if (!(p = take(r, LINK_BYTES))) return truncated(ctx, path, r->offset + r->have, l->end + 8);
             float ff = get_f32(p + 4), error = get_f32(p + 8);
-            if (rad_le_get_u32(p) >= l->nodes || !(ff >= 0) || !isfinite(ff) || !isfinite(error))
+            if ((l->flags & FLAG_REFINING) && ff == NOT_ESTIMATED && first_unestimated == UINT64_MAX)
+                first_unestimated = seen + k;
+            int factor_ok = (ff >= 0 && isfinite(ff)) || ((l->flags & FLAG_REFINING) && ff == NOT_ESTIMATED);
+            if (rad_le_get_u32(p) >= l->nodes || !factor_ok || !isfinite(error))
                 return corrupted(ctx, path, "a link");
         }
         seen += count;
     }
     if (seen != l->links) return corrupted(ctx, path, "the link count");
-    if ((l->flags & FLAG_REFINING) && rad_le_get_u64(bytes + l->kept_at) > l->links)
-        return corrupted(ctx, path, "the links a refinement had passed");
-    for (uint64_t i = 0; (l->flags & FLAG_IMPORTANCE) && i < l->hits; ++i)
-        for (int k = 0; k < 3; ++k)
-            if (!isfinite(rad_le_get_f64(bytes + l->hit_at + HIT_BYTES * i + 4 + 8 * k)))
-                return corrupted(ctx, path, "an importance hit");
-    for (uint64_t i = 0; (l->flags & FLAG_REFLECTION) && i < 3 * l->elements; ++i)
-        if (!isfinite(rad_le_get_f64(bytes + l->element_at + 8 * i)))
-            return corrupted(ctx, path, "a specular light");
+    /* The tail: kept for the rebuild, which needs it before the nodes and links. */
+    size_t hits = (l->flags & FLAG_IMPORTANCE) ? (size_t)l->hits : 0;
+    size_t elements = (l->flags & FLAG_REFLECTION) ? (size_t)l->elements : 0;
+    if (l->flags & FLAG_IMPORTANCE) {
+        t->hit_polygon = rad_alloc(ctx, hits ? hits : 1, sizeof *t->hit_polygon);
+        t->hit_point = rad_alloc(ctx, hits ? hits : 1, sizeof *t->hit_point);
+        if (!t->hit_polygon || !t->hit_point) return RAD_ERROR_NO_MEMORY;
+    }
+    for (size_t i = 0; i < hits; ++i) {
+        const unsigned char *p = take(r, HIT_BYTES);
+        if (!p) return truncated(ctx, path, r->offset + r->have, l->end + 8);
+        t->hit_polygon[i] = rad_le_get_u32(p);
+        t->hit_point[i] = v3(rad_le_get_f64(p + 4), rad_le_get_f64(p + 12), rad_le_get_f64(p + 20));
+        if (!isfinite(t->hit_point[i].x) || !isfinite(t->hit_point[i].y) ||
+            !isfinite(t->hit_point[i].z))
+            return corrupted(ctx, path, "an importance hit");
+    }
+    if (l->flags & FLAG_REFLECTION) {
+        t->reflection = rad_alloc(ctx, elements ? elements : 1, sizeof *t->reflection);
+        if (!t->reflection) return RAD_ERROR_NO_MEMORY;
+    }
+    for (size_t e = 0; e < elements; ++e) {
+        const unsigned char *p = take(r, ELEMENT_BYTES);
+        if (!p) return truncated(ctx, path, r->offset + r->have, l->end + 8);
+        for (int c = 0; c < 3; ++c) {
+            t->reflection[e][c] = rad_le_get_f64(p + 8 * c);
+            if (!isfinite(t->reflection[e][c])) return corrupted(ctx, path, "a specular light");
+        }
+    }
+    if (l->flags & FLAG_REFINING) {
+        const unsigned char *p = take(r, 8);
+        if (!p) return truncated(ctx, path, r->offset + r->have, l->end + 8);
+        t->kept = rad_le_get_u64(p);
+        if (t->kept > l->links || first_unestimated < t->kept)
+            return corrupted(ctx, path, "the links a refinement had passed");
+    }
+    uint64_t sum = reader_checksum(r);
+    const unsigned char *p = take(r, 8);
+    if (!p) return truncated(ctx, path, r->offset + r->have, l->end + 8);
+    if (rad_le_get_u64(p) != sum)
+        return rad_fail(ctx, RAD_ERROR_PARSE, "%s: corrupted solution file (checksum mismatch)", path);
     return RAD_OK;
 }
 
-/* Builds the saved hierarchy aside, on one fresh from the same scene and options. */
-static rad_status rebuild(rad_system *s, const char *path, const unsigned char *bytes,
-                          const layout *l, rad_rgb *reflection, rad_hier_setup **setup_out,
-                          rad_hier **hier_out) {
+/* The second pass, after the header: builds the saved hierarchy aside, on one fresh from the
+ * same scene and options. `t`'s hits go to the hierarchy (whatever the outcome). */
+static rad_status rebuild(rad_system *s, const char *path, reader *r, const layout *l, tail *t,
+                          rad_hier_setup **setup_out, rad_hier **hier_out) {
     rad_context *ctx = s->ctx;
+    const unsigned char *bytes = l->header;
     double link_error = rad_le_get_f64(bytes + 48);
     rad_hier_setup *setup = NULL;
     rad_hier *hier = NULL;
     rad_status status = rad_hier_setup_create(s, link_error, (l->flags & FLAG_IMPORTANCE) != 0,
-                                              reflection, &setup, &hier);
+                                              t->reflection, &setup, &hier);
     if (status) return status;
     rad_hier_stats stats = rad_hier_get_stats(hier);
     if (rad_hier_fingerprint(hier) != rad_le_get_u64(bytes + 40) || stats.roots != l->roots ||
@@ -456,36 +579,34 @@ static rad_status rebuild(rad_system *s, const char *path, const unsigned char *
                           "light or link error differ)", path);
     if (!status && (l->flags & FLAG_IMPORTANCE)) {
         size_t hits = (size_t)l->hits;
-        uint32_t *polygon = rad_alloc(ctx, hits ? hits : 1, sizeof *polygon);
-        rad_vec3 *point = rad_alloc(ctx, hits ? hits : 1, sizeof *point);
-        for (size_t i = 0; polygon && point && i < hits; ++i) {
-            const unsigned char *p = bytes + l->hit_at + HIT_BYTES * i;
-            polygon[i] = rad_le_get_u32(p);
-            point[i] = v3(rad_le_get_f64(p + 4), rad_le_get_f64(p + 12), rad_le_get_f64(p + 20));
+        for (size_t i = 0; i < hits && !status; ++i) {
             uint32_t count;
-            if (!rad_hier_polygon_roots(hier, polygon[i], &count)) {
+            if (!rad_hier_polygon_roots(hier, t->hit_polygon[i], &count))
                 status = corrupted(ctx, path, "an importance hit's polygon");
-                break;
-            }
         }
-        if (!polygon || !point) status = RAD_ERROR_NO_MEMORY;
-        if (!status) status = rad_hier_restore_view(hier, polygon, point, hits, rad_le_get_f64(bytes + 144));
-        else {
-            rad_free(ctx, polygon);
-            rad_free(ctx, point);
+        if (!status) {
+            status = rad_hier_restore_view(hier, t->hit_polygon, t->hit_point, hits,
+                                           rad_le_get_f64(bytes + 144));
+            t->hit_polygon = NULL; /* the hierarchy's now */
+            t->hit_point = NULL;
         }
     }
     /* The splits, in the order they were made: the nodes get their numbers back. */
     for (uint64_t k = 0; k < l->splits && !status; ++k) {
-        const unsigned char *p = bytes + l->split_at + SPLIT_BYTES * k;
-        if (rad_hier_restore_split(hier, rad_le_get_u32(p), rad_le_get_u32(p + 4)))
+        const unsigned char *p = take(r, SPLIT_BYTES);
+        if (!p) status = truncated(ctx, path, r->offset + r->have, l->end + 8);
+        else if (rad_hier_restore_split(hier, rad_le_get_u32(p), rad_le_get_u32(p + 4)))
             status = corrupted(ctx, path, "the refinement tree");
     }
     size_t node_count = 0;
     if (!status) rad_hier_nodes(hier, &node_count);
     if (!status && node_count != l->nodes) status = corrupted(ctx, path, "the node count");
     for (uint64_t i = 0; i < l->nodes && !status; ++i) {
-        const unsigned char *p = bytes + l->node_at + i * l->node_bytes;
+        const unsigned char *p = take(r, l->node_bytes);
+        if (!p) {
+            status = truncated(ctx, path, r->offset + r->have, l->end + 8);
+            break;
+        }
         double radiosity[3];
         rad_hier_node_state state = {{0, 0, 0}, 0, 0};
         for (int c = 0; c < 3; ++c) radiosity[c] = rad_le_get_f64(p + 8 * c);
@@ -496,32 +617,61 @@ static rad_status rebuild(rad_system *s, const char *path, const unsigned char *
         if (l->flags & FLAG_IMPORTANCE) state.importance = rad_le_get_f64(p + l->node_bytes - 8);
         rad_hier_restore_node(hier, (uint32_t)i, radiosity, &state);
     }
-    for (uint64_t r = 0; r < l->roots && !status; ++r)
-        rad_hier_restore_exposure(hier, (uint32_t)r, rad_le_get_u32(bytes + l->root_at + 8 * r),
-                                  rad_le_get_u32(bytes + l->root_at + 8 * r + 4));
-    if (!status) {
-        rad_hier_link *links = rad_alloc(ctx, l->links ? (size_t)l->links : 1, sizeof *links);
-        if (!links) status = RAD_ERROR_NO_MEMORY;
-        const unsigned char *p = bytes + l->link_at;
-        size_t at = 0;
-        for (uint64_t run = 0; run < l->runs && !status; ++run) {
-            uint32_t receiver = rad_le_get_u32(p), count = rad_le_get_u32(p + 4);
-            p += RUN_BYTES;
-            for (uint32_t k = 0; k < count; ++k, p += LINK_BYTES, ++at) {
-                links[at].receiver = receiver;
-                links[at].source = rad_le_get_u32(p);
-                links[at].form_factor = get_f32(p + 4);
-                links[at].error = get_f32(p + 8);
-            }
+    for (uint64_t root = 0; root < l->roots && !status; ++root) {
+        const unsigned char *p = take(r, ROOT_BYTES);
+        if (!p) {
+            status = truncated(ctx, path, r->offset + r->have, l->end + 8);
+            break;
         }
-        if (!status && (l->flags & FLAG_REFINING))
-            status = rad_hier_restore_refining(hier, links, at,
-                                               (size_t)rad_le_get_u64(bytes + l->kept_at));
-        else if (!status)
-            status = rad_hier_restore_links(hier, links, at);
+        uint32_t rays[6], seen[6];
+        for (int a = 0; a < 6; ++a) {
+            rays[a] = rad_le_get_u32(p + 8 * a);
+            seen[a] = rad_le_get_u32(p + 8 * a + 4);
+        }
+        rad_hier_restore_exposure(hier, (uint32_t)root, rays, seen);
+    }
+    rad_hier_link *links = NULL;
+    size_t at = 0;
+    if (!status) {
+        links = rad_alloc(ctx, l->links ? (size_t)l->links : 1, sizeof *links);
+        if (!links) status = RAD_ERROR_NO_MEMORY;
+    }
+    for (uint64_t run = 0; run < l->runs && !status; ++run) {
+        const unsigned char *p = take(r, RUN_BYTES);
+        uint32_t receiver = p ? rad_le_get_u32(p) : 0, count = p ? rad_le_get_u32(p + 4) : 0;
+        if (!p || count > l->links - at) status = corrupted(ctx, path, "the links changed while read");
+        for (uint32_t k = 0; k < count && !status; ++k, ++at) {
+            if (!(p = take(r, LINK_BYTES))) {
+                status = corrupted(ctx, path, "the links changed while read");
+                break;
+            }
+            links[at].receiver = receiver;
+            links[at].source = rad_le_get_u32(p);
+            links[at].form_factor = get_f32(p + 4);
+            links[at].error = get_f32(p + 8);
+        }
+    }
+    /* The rest was kept by the first pass; its bytes are read again for the checksum, which
+     * must be the first pass's (the file did not change in between). */
+    size_t rest = l->end - (size_t)(r->offset + r->next);
+    for (; !status && rest > 0;) {
+        size_t n = rest < READ_BUFFER ? rest : READ_BUFFER;
+        if (!take(r, n)) status = corrupted(ctx, path, "the file changed while read");
+        rest -= n;
+    }
+    if (!status) {
+        uint64_t sum = reader_checksum(r);
+        const unsigned char *p = take(r, 8);
+        if (!p || rad_le_get_u64(p) != sum) status = corrupted(ctx, path, "the file changed while read");
+    }
+    if (!status) {
+        if (l->flags & FLAG_REFINING) status = rad_hier_restore_refining(hier, links, at, (size_t)t->kept);
+        else status = rad_hier_restore_links(hier, links, at);
+        links = NULL; /* the hierarchy's now */
         if (status == RAD_ERROR_PARSE) status = corrupted(ctx, path, "the links a refinement had passed");
         rad_hier_restore_importance_unfinished(hier, (l->flags & FLAG_IMPORTANCE_UNFINISHED) != 0);
     }
+    rad_free(ctx, links);
     if (!status) {
         rad_hier_stats saved = {0};
         saved.largest_error = rad_le_get_f64(bytes + 128);
@@ -541,67 +691,88 @@ static rad_status rebuild(rad_system *s, const char *path, const unsigned char *
     return RAD_OK;
 }
 
-rad_status rad_solution_hier_load(rad_system *s, const char *path, const unsigned char *bytes,
-                                  size_t size, rad_solution_info *info) {
+/* Both passes over the open file (its magic and version checked by the caller). */
+static rad_status load(rad_system *s, const char *path, FILE *file, reader *r, layout *l,
+                       tail *t, rad_hier_setup **setup, rad_hier **hier) {
     rad_context *ctx = s->ctx;
-    layout l = {0};
-    rad_status status = read_layout(ctx, path, bytes, size, &l);
+    uint64_t size = 0;
+    off_t end = fseeko(file, 0, SEEK_END) == 0 ? ftello(file) : -1;
+    if (end < 0 || fseeko(file, 0, SEEK_SET) != 0)
+        return rad_fail(ctx, RAD_ERROR_IO, "%s: cannot read a hierarchy solution from a pipe or "
+                        "device (it is read twice): %s", path, strerror(errno));
+    size = (uint64_t)end;
+    reader_start(r, file);
+    rad_status status = read_layout(ctx, path, r, size, l);
     if (status) return status;
+    const unsigned char *bytes = l->header;
     if (rad_solver_from_file_code(rad_le_get_u32(bytes + 12)) != (int)RAD_SOLVER_HIERARCHICAL)
         return corrupted(ctx, path, "not made by the hierarchical solver");
     if (!s->geometry || !s->mesh)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "%s: a hierarchy's solution needs the scene's geometry; this is a patch "
                         "system (.ffm)", path);
-    if ((status = check_values(ctx, path, bytes, &l))) return status;
+    if ((status = check_values(ctx, path, r, l, t))) return status;
     if (rad_le_get_u64(bytes + 24) != scene_fingerprint(s->geometry))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "%s: saved for a different scene (surfaces or materials differ)", path);
     if (rad_le_get_u64(bytes + 32) != element_fingerprint(s) ||
-        ((l.flags & FLAG_REFLECTION) && l.elements != s->element_count))
+        ((l->flags & FLAG_REFLECTION) && l->elements != s->element_count))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "%s: saved for a different mesh or specular light (the elements the "
                         "hierarchy reads light through mirrors and glass from differ): use the "
                         "same scene and meshing options", path);
     /* What the rebuilt hierarchy will hold, against the memory budget. */
-    double bytes_needed = (double)l.nodes * 160.0 + 2.0 * (double)l.links * sizeof(rad_hier_link);
+    double bytes_needed = (double)l->nodes * 160.0 + 2.0 * (double)l->links * sizeof(rad_hier_link);
     if ((status = rad_check_budget(ctx, bytes_needed, path))) return status;
-    rad_rgb *reflection = NULL;
-    if (l.flags & FLAG_REFLECTION) {
-        reflection = rad_alloc(ctx, s->element_count ? s->element_count : 1, sizeof *reflection);
-        if (!reflection) return RAD_ERROR_NO_MEMORY;
-        for (size_t e = 0; e < s->element_count; ++e)
-            for (int c = 0; c < 3; ++c)
-                reflection[e][c] = rad_le_get_f64(bytes + l.element_at + 24 * e + 8 * c);
-    }
+    if (fseeko(file, 0, SEEK_SET) != 0)
+        return rad_fail(ctx, RAD_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
+    reader_start(r, file);
+    if (!take(r, HEADER) || memcmp(r->buffer, bytes, HEADER) != 0)
+        return corrupted(ctx, path, "the file changed while read");
+    return rebuild(s, path, r, l, t, setup, hier);
+}
+
+rad_status rad_solution_hier_load(rad_system *s, const char *path, FILE *file,
+                                  rad_solution_info *info) {
+    rad_context *ctx = s->ctx;
+    reader *r = rad_alloc(ctx, 1, sizeof *r);
+    layout *l = rad_alloc_zero(ctx, 1, sizeof *l);
+    tail t = {0};
     rad_hier_setup *setup = NULL;
     rad_hier *hier = NULL;
-    status = rebuild(s, path, bytes, &l, reflection, &setup, &hier);
+    rad_status status = r && l ? load(s, path, file, r, l, &t, &setup, &hier) : RAD_ERROR_NO_MEMORY;
+    rad_free(ctx, r);
     if (status) {
-        rad_free(ctx, reflection);
+        tail_free(ctx, &t);
+        rad_free(ctx, l);
         return status;
     }
     /* Checked and rebuilt: now the system takes it. The second specular pass's light joins the
      * elements' emission as rad_system_add_specular_reflection would have added it. */
     rad_system_remove_specular_reflection(s);
+    rad_rgb *reflection = t.reflection;
+    t.reflection = NULL;
     if (reflection) {
         for (size_t e = 0; e < s->element_count; ++e)
             for (int c = 0; c < 3; ++c) s->emission[e][c] += reflection[e][c];
         s->specular_reflection = reflection;
     }
-    rad_hier_setup_set_unfinished(setup, (l.flags & FLAG_UNFINISHED) != 0);
-    rad_hier_setup_set_loose(setup, (l.flags & FLAG_LOOSE) != 0);
+    tail_free(ctx, &t);
+    rad_hier_setup_set_unfinished(setup, (l->flags & FLAG_UNFINISHED) != 0);
+    rad_hier_setup_set_loose(setup, (l->flags & FLAG_LOOSE) != 0);
     status = rad_hier_view_install(s, hier, setup, 1);
     if (status) {
         rad_hier_destroy(hier);
         rad_hier_setup_destroy(s, setup);
+        rad_free(ctx, l);
         return status;
     }
     rad_hier_view_evaluate(s);
     for (int c = 0; c < 3; ++c) s->ambient[c] = 0;
     if (info) {
         info->solver = RAD_SOLVER_HIERARCHICAL;
-        info->steps = (long)rad_le_get_u64(bytes + 16);
+        info->steps = (long)rad_le_get_u64(l->header + 16);
     }
+    rad_free(ctx, l);
     return RAD_OK;
 }

@@ -9,7 +9,8 @@ rad_status rad_emitter_table_reserve(rad_context *ctx, rad_emitter_table *table,
     if (capacity == 0) return RAD_OK;
     table->emitters = rad_alloc(ctx, capacity, sizeof *table->emitters);
     table->cdf = rad_alloc(ctx, capacity, sizeof *table->cdf);
-    if (!table->emitters || !table->cdf) return RAD_ERROR_NO_MEMORY;
+    table->guide = capacity < UINT32_MAX ? rad_alloc(ctx, capacity + 1, sizeof *table->guide) : NULL;
+    if (!table->emitters || !table->cdf || !table->guide) return RAD_ERROR_NO_MEMORY;
     table->capacity = capacity;
     return RAD_OK;
 }
@@ -47,23 +48,36 @@ void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection se
     }
     for (size_t i = 0; i < table->count; ++i) table->cdf[i] /= total;
     table->cdf[table->count - 1] = 1;
+    size_t first = 0;
+    for (size_t b = 0; b <= table->count; ++b) {
+        double u = (double)b / (double)table->count;
+        while (first + 1 < table->count && table->cdf[first] <= u) ++first;
+        table->guide[b] = (uint32_t)first;
+    }
 }
 
 void rad_emitter_table_free(rad_context *ctx, rad_emitter_table *table) {
     rad_free(ctx, table->emitters);
     rad_free(ctx, table->cdf);
+    rad_free(ctx, table->guide);
     *table = (rad_emitter_table){0};
 }
 
 /* The triangle whose share of the cumulative distribution holds u, and u rescaled to [0, 1)
  * inside that share (so one number picks the triangle and places the point). */
 static size_t pick(const rad_emitter_table *table, double *u) {
-    size_t lo = 0, hi = table->count - 1;
+    /* The first entry with cdf > u lies between the guides of u's bucket and the next one. */
+    size_t bucket = (size_t)(*u * (double)table->count);
+    if (bucket >= table->count) bucket = table->count - 1;
+    size_t lo = table->guide[bucket], hi = table->guide[bucket + 1];
     while (lo < hi) { /* the first entry with cdf > u */
         size_t mid = (lo + hi) / 2;
         if (table->cdf[mid] <= *u) lo = mid + 1;
         else hi = mid;
     }
+    /* u's bucket by rounding may be one off where a cdf entry lies within an ulp of its edge. */
+    while (lo > 0 && table->cdf[lo - 1] > *u) --lo;
+    while (lo + 1 < table->count && table->cdf[lo] <= *u) ++lo;
     double before = lo ? table->cdf[lo - 1] : 0;
     double p = table->cdf[lo] - before;
     *u = p > 0 ? fmin((*u - before) / p, 0x1.fffffffffffffp-1) : 0;

@@ -37,6 +37,9 @@ typedef struct rad_emitter_table {
     size_t count, capacity;
     rad_emitter *emitters;
     double *cdf; /* count entries, the last is 1 (after rad_emitter_table_finish) */
+    /* A guide table (Chen & Asau 1974): guide[b] is the first entry whose cdf exceeds b / count,
+     * where the search for u in [b / count, (b + 1) / count) starts (count + 1 entries). */
+    uint32_t *guide;
 } rad_emitter_table;
 
 /* A point drawn on the emitters, as seen from a receiver x. */

@@ -203,15 +203,69 @@ static rad_status corner_event(tracer *t, rad_vec3 v0, rad_vec3 v1, rad_vec3 b, 
     return RAD_OK;
 }
 
+/* A source of shadows: an emitting polygon, or (light >= 0) a point or spot light of the scene. */
 typedef struct emitter {
     uint32_t polygon;
+    int32_t light;
     double power;
 } emitter;
 
 static int by_power(const void *x, const void *y) {
     const emitter *a = x, *b = y;
     if (a->power != b->power) return a->power > b->power ? -1 : 1;
+    if (a->light != b->light) return a->light < b->light ? -1 : 1;
     return a->polygon < b->polygon ? -1 : a->polygon > b->polygon;
+}
+
+/* The power a point or spot light sends out (the mean of its channels): 4 pi I for a point
+ * light, the cone's solid angle 2 pi (1 - cos outer) times I for a spot (its peak candela for an
+ * IES profile, an upper bound); zero for directional lights (no position: no wedge). */
+static double light_power(const rad_light *light) {
+    double intensity = (light->intensity[0] + light->intensity[1] + light->intensity[2]) / 3;
+    if (light->ies) intensity = light->ies->max_candela / RAD_LUMINOUS_EFFICACY;
+    if (light->kind == RAD_LIGHT_POINT) return 4 * RAD_PI * intensity;
+    if (light->kind == RAD_LIGHT_SPOT) return 2 * RAD_PI * (1 - cos(fmin(light->outer_angle, RAD_PI))) * intensity;
+    return 0;
+}
+
+/* EV events of a point or spot light at v: each welded silhouette edge seen from v (the light
+ * reaching it: inside a spot's cone) casts a hard shadow's edge on the receivers behind it. */
+static rad_status point_events(tracer *t, const rad_light *light, const edge_record *edge, size_t edges,
+                               double share, rad_shadow_stats *stats) {
+    const rad_scene *scene = t->scene;
+    rad_vec3 v = light->position;
+    rad_status status = RAD_OK;
+    for (size_t g = 0; g < edges && !status && !stats->capped;) {
+        size_t end = g + 1;
+        while (end < edges && by_edge(&edge[g], &edge[end]) == 0) end++;
+        const rad_polygon *bp = &scene->polygons[edge[g].polygon];
+        rad_vec3 b0 = rad_polygon_vertex(scene, bp, edge[g].corner);
+        rad_vec3 b1 = rad_polygon_vertex(scene, bp, (edge[g].corner + 1) % bp->count);
+        int skip = v3_length(v3_sub(b1, b0)) < t->min_length;
+        for (size_t r = g; r < end; ++r) skip |= t->emits[edge[r].polygon];
+        if (!skip && light->kind == RAD_LIGHT_SPOT) {
+            double towards[3];
+            rad_light_intensity(light, v3_normalize(v3_sub(v3_lerp(b0, b1, 0.5), v)), towards);
+            skip = !(towards[0] > 0 || towards[1] > 0 || towards[2] > 0);
+        }
+        /* A silhouette: the polygons on the edge do not all face v the same way. */
+        int front = 0, back = 0;
+        for (size_t r = g; r < end && !skip; ++r) {
+            double side = plane_distance(t, edge[r].polygon, v);
+            if (side > t->eps) front = 1;
+            else if (side < -t->eps) back = 1;
+            else front = back = 2; /* v in the polygon's plane: no wedge */
+        }
+        size_t polygons = end - g;
+        g = end;
+        if (skip || front == 2 || (polygons > 1 && !(front && back))) continue;
+        if (++stats->events > MAX_EVENTS) {
+            stats->capped = 1;
+            break;
+        }
+        status = edge_event(t, v, b0, b1, share);
+    }
+    return status;
 }
 
 rad_status rad_shadow_segments_find(rad_context *ctx, const rad_scene *scene, double element_size,
@@ -232,7 +286,7 @@ rad_status rad_shadow_segments_find(rad_context *ctx, const rad_scene *scene, do
 
     /* Step 1: emitters. */
     uint8_t *emits = rad_alloc_zero(ctx, np, 1);
-    emitter *emitters = rad_alloc(ctx, np, sizeof *emitters);
+    emitter *emitters = rad_alloc(ctx, np + scene->light_count, sizeof *emitters);
     rad_vec3 *normal = rad_alloc(ctx, np, sizeof *normal);
     double *offset = rad_alloc(ctx, np, sizeof *offset);
     size_t edges = 0;
@@ -260,7 +314,13 @@ rad_status rad_shadow_segments_find(rad_context *ctx, const rad_scene *scene, do
         emits[i] = 1;
         double power = radiance * rad_polygon_area(scene, p);
         if (!isfinite(power) || !isfinite(offset[i])) continue;
-        emitters[emitter_count++] = (emitter){(uint32_t)i, power};
+        emitters[emitter_count++] = (emitter){(uint32_t)i, -1, RAD_PI * power};
+        total += power;
+    }
+    for (size_t l = 0; l < scene->light_count; ++l) {
+        double power = light_power(&scene->lights[l]);
+        if (!(power > 0) || !isfinite(power)) continue;
+        emitters[emitter_count++] = (emitter){0, (int32_t)l, power};
         total += power;
     }
     if (!emitter_count || !(total > 0)) goto done;
@@ -306,6 +366,10 @@ rad_status rad_shadow_segments_find(rad_context *ctx, const rad_scene *scene, do
         const rad_polygon *ep = &scene->polygons[ei];
         double share = emitters[e].power / total;
         stats->emitters++;
+        if (emitters[e].light >= 0) {
+            status = point_events(&t, &scene->lights[emitters[e].light], edge, edges, share, stats);
+            continue;
+        }
         /* EV: each welded edge once. */
         for (size_t g = 0; g < edges && !status && !stats->capped;) {
             size_t end = g + 1;

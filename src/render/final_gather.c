@@ -104,10 +104,10 @@ double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_elem
 
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
  * by `from->light_samples` stratified emitter samples, each weighted against the gather rays
- * that could have found the same point. Sample i is point first + i of each camera sample's run
- * of `run` points in `dimension`. */
+ * that could have found the same point. Sample i is point first + i of the pixel's `total` points
+ * in `dimension`. */
 static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
-                         uint32_t run, uint32_t first, uint32_t dimension, rad_vec3 x,
+                         uint32_t total, uint32_t first, uint32_t dimension, rad_vec3 x,
                          const float rho[3], double out[3]) {
     out[0] = out[1] = out[2] = 0;
     int count = from->light_samples;
@@ -115,7 +115,7 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
     rad_vec3 n = from->normal;
     for (int i = 0; i < count; ++i) {
         double u[2];
-        rad_sample_2d(sample, run, first + (uint32_t)i, dimension, u);
+        rad_sample_2d_at(sample, total, first + (uint32_t)i, dimension, u);
         rad_emitter_point light;
         if (!rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light)) continue;
         double cos_x = v3_dot(n, light.direction);
@@ -157,14 +157,16 @@ int rad_light_unblocked(const rad_renderer *r, size_t i, rad_vec3 x,
     return !rad_element_rays_occluded(r->rays, x, r->lights[i].position);
 }
 
-/* A cosine-weighted direction about n from the point u of the unit square. */
-static rad_vec3 cosine_direction(rad_vec3 n, const double u[2]) {
-    rad_vec3 t, b;
-    v3_basis(n, &t, &b);
-    double radius = sqrt(u[0]), phi = 2 * RAD_PI * u[1];
+/* A cosine-weighted direction about n (basis t, b, n) from the point u of the unit square;
+ * unit length up to rounding (the ray's frame normalises it). The angle in single precision:
+ * a direction is good to 1e-7 either way, and the double sincos was 5 % of the render. */
+static rad_vec3 cosine_direction(rad_vec3 t, rad_vec3 b, rad_vec3 n, const double u[2]) {
+    double radius = sqrt(u[0]);
+    float phi = (float)(2 * RAD_PI) * (float)u[1];
+    float sin_phi = sinf(phi), cos_phi = cosf(phi);
     double z = sqrt(fmax(0.0, 1 - u[0]));
-    return v3_normalize(v3_add(v3_add(v3_scale(t, radius * cos(phi)), v3_scale(b, radius * sin(phi))),
-                               v3_scale(n, z)));
+    double a = radius * cos_phi, c = radius * sin_phi;
+    return v3(a * t.x + c * b.x + z * n.x, a * t.y + c * b.y + z * n.y, a * t.z + c * b.z + z * n.z);
 }
 
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
@@ -190,11 +192,16 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
      * one value over the polygon and the filtered radiance can be multiplied back by it. */
     rad_gather_tally *tally = first_hit && !textured ? sample->tally : NULL;
     int rays = sample->gather_rays ? sample->gather_rays : r->settings.final_gather;
-    rad_gather_origin from = {n, r->settings.light_samples, rays, 0, 0, 0, tally};
+    /* This sample's gather points: a run of the pixel's sequence (render.c sets it). */
+    uint32_t total = sample->gather_total ? sample->gather_total : sample->count * (uint32_t)rays;
+    uint32_t first = sample->gather_total ? sample->gather_first : sample->index * (uint32_t)rays;
+    rad_gather_origin from = {n, r->settings.light_samples, rays, 0, 0, total, tally};
 
     /* Direct light. */
     double direct[3];
-    direct_light(r, sample, &from, (uint32_t)from.light_samples, 0, RAD_RENDER_DIM_LIGHT, x, rho, direct);
+    uint32_t lights = (uint32_t)from.light_samples;
+    direct_light(r, sample, &from, sample->count * lights, sample->index * lights, RAD_RENDER_DIM_LIGHT,
+                 x, rho, direct);
     lights_direct(r, sample, x, n, rho, direct);
     for (int c = 0; c < 3; ++c) out[c] += direct[c];
 
@@ -202,13 +209,15 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
      * solution. With density cos / pi the estimate of (rho / pi) * integral L cos dw is
      * rho * mean L. */
     double sum[3] = {0, 0, 0}, reflected[3] = {0, 0, 0};
+    rad_vec3 t, b;
+    v3_basis(n, &t, &b);
     for (int i = 0; i < rays; ++i) {
         double u[2];
-        rad_sample_2d(sample, (uint32_t)rays, (uint32_t)i, RAD_RENDER_DIM_GATHER, u);
-        from.ray = (uint32_t)i;
+        from.ray = first + (uint32_t)i;
+        rad_sample_2d_at(sample, total, from.ray, RAD_RENDER_DIM_GATHER, u);
         double radiance[3];
         if (tally) tally->ray_emitted[0] = tally->ray_emitted[1] = tally->ray_emitted[2] = 0;
-        rad_trace_radiance(r, sample, x, cosine_direction(n, u), &from, radiance);
+        rad_trace_radiance(r, sample, x, cosine_direction(t, b, n, u), &from, radiance);
         for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
         if (tally)
             for (int c = 0; c < 3; ++c) reflected[c] += radiance[c] - tally->ray_emitted[c];
@@ -250,14 +259,16 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
     out[0] = out[1] = out[2] = 0;
     const float *rho = r->element_reflectance[hit->element];
     if (!(rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return;
-    /* The parent's place in the sampler: its run per camera sample and its point in it. */
-    uint32_t run = from->level > 0 ? from->run : (uint32_t)from->gather_rays, point = from->ray;
+    /* The parent's place in the sampler: the pixel's gather points and its point among them. */
+    uint32_t run = from->run, point = from->ray;
     uint32_t dimension = RAD_RENDER_DIM_SHORT + 2 * (uint32_t)from->level;
     rad_gather_origin next = {n, r->emitters.count ? 1 : 0, 1, point, from->level + 1, run, NULL};
     double direct[3], u[2], radiance[3];
     direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
     lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */
-    rad_sample_2d(sample, run, point, dimension + 1, u);
-    rad_trace_radiance(r, sample, y, cosine_direction(n, u), &next, radiance);
+    rad_sample_2d_at(sample, run, point, dimension + 1, u);
+    rad_vec3 t, b;
+    v3_basis(n, &t, &b);
+    rad_trace_radiance(r, sample, y, cosine_direction(t, b, n, u), &next, radiance);
     for (int c = 0; c < 3; ++c) out[c] = direct[c] + rho[c] * radiance[c];
 }

@@ -56,9 +56,9 @@ void rad_gather_pixel_make(const rad_gather_tally *tally, int samples, uint32_t 
     out->distance = (float)(tally->rays / tally->inverse_distance);
 }
 
-static double distance3(const float a[3], const float b[3]) {
+static double distance_squared(const float a[3], const float b[3]) {
     double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    return sqrt(dx * dx + dy * dy + dz * dz);
+    return dx * dx + dy * dy + dz * dz;
 }
 
 /* The filtered gathered radiance of pixel (x, y) (its record p), into out. */
@@ -90,9 +90,9 @@ static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels, 
             const rad_gather_pixel *q = &pixels[(size_t)qy * width + qx];
             if (q->polygon != p->polygon) continue;
             double h = fmax(RADIUS * fmin(p->distance, q->distance), least);
-            double d = distance3(p->position, q->position);
-            if (!(d < h) && q != p) continue;
-            double t = d / h, w = q == p ? 1 : (1 - t * t) * (1 - t * t);
+            double d2 = distance_squared(p->position, q->position);
+            if (!(d2 < h * h) && q != p) continue;
+            double t2 = d2 / (h * h), w = q == p ? 1 : (1 - t2) * (1 - t2);
             double dx = qx - x, dy = qy - y;
             s0 += w;
             sx += w * dx;

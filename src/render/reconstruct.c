@@ -281,6 +281,52 @@ static rad_status deposit_prepare(rad_renderer *r) {
     return status;
 }
 
+/* The smooth bare picture (collocate.c): what each element holds besides the light evaluated at
+ * its centroid (its emission, and whatever the one evaluation misses) is averaged at the vertices
+ * (and fitted on boundaries) as the radiosity is; each corner adds the light evaluated just
+ * inside it. The evaluations use the same rays at every point, so their errors mostly cancel in
+ * the difference between a corner and the centroids around it. */
+static rad_status collocated_prepare(rad_renderer *r) {
+    rad_context *ctx = r->ctx;
+    const rad_mesh *mesh = r->mesh;
+    size_t n = mesh->element_count;
+    float(*rest)[3] = rad_alloc(ctx, n + 1, sizeof *rest);
+    float(*vertex)[3] = rad_alloc(ctx, mesh->vertex_count + 1, sizeof *vertex);
+    double *weight = rad_alloc_zero(ctx, mesh->vertex_count + 1, sizeof *weight);
+    double(*sum)[3] = rad_alloc_zero(ctx, mesh->vertex_count + 1, sizeof *sum);
+    r->corner_collocated = rad_alloc(ctx, n + 1, sizeof *r->corner_collocated);
+    rad_status status = rest && vertex && weight && sum && r->corner_collocated ? RAD_OK : RAD_ERROR_NO_MEMORY;
+    if (!status) status = rad_collocate_light(r, rest, r->corner_collocated);
+    if (!status) {
+        for (size_t e = 0; e < n; ++e) {
+            for (int c = 0; c < 3; ++c) rest[e][c] = r->element_radiance[e][c] - rest[e][c];
+            for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) {
+                uint32_t v = mesh->element_vertices[e][k];
+                weight[v] += mesh->element_area[e];
+                for (int c = 0; c < 3; ++c) sum[v][c] += mesh->element_area[e] * rest[e][c];
+            }
+        }
+        for (size_t v = 0; v < mesh->vertex_count; ++v)
+            for (int c = 0; c < 3; ++c) vertex[v][c] = weight[v] > 0 ? (float)(sum[v][c] / weight[v]) : 0;
+        fit_boundary(r, rest, vertex);
+        for (size_t e = 0; e < n; ++e)
+            for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k)
+                for (int c = 0; c < 3; ++c) {
+                    float *value = &r->corner_collocated[e][k][c];
+                    *value = fmaxf(0.0f, vertex[mesh->element_vertices[e][k]][c] + *value);
+                }
+    }
+    rad_free(ctx, rest);
+    rad_free(ctx, vertex);
+    rad_free(ctx, weight);
+    rad_free(ctx, sum);
+    if (status) {
+        rad_free(ctx, r->corner_collocated);
+        r->corner_collocated = NULL;
+    }
+    return status;
+}
+
 rad_status rad_reconstruct_prepare(rad_renderer *r) {
     const rad_solution_view *solution = r->solution;
     const rad_mesh *mesh = r->mesh;
@@ -318,7 +364,12 @@ rad_status rad_reconstruct_prepare(rad_renderer *r) {
     r->corner_radiance = rad_alloc(ctx, mesh->element_count + 1, sizeof *r->corner_radiance);
     if (!r->corner_radiance) return RAD_ERROR_NO_MEMORY;
     mean_keeping_corners(r, r->element_radiance, r->vertex_radiance, r->corner_radiance);
-    return deposit_prepare(r);
+    status = deposit_prepare(r);
+    /* The smooth bare picture: the light evaluated at the corners (collocate.c). */
+    rad_free(ctx, r->corner_collocated);
+    r->corner_collocated = NULL;
+    if (!status && rad_collocate_wanted(r)) status = collocated_prepare(r);
+    return status;
 }
 
 /* The element's value at (u, v) interpolated from its corners' (corner k, channel c at
@@ -338,6 +389,10 @@ static void interpolate(const rad_renderer *r, uint32_t element, double u, doubl
 
 void rad_reconstruct_radiance(const rad_renderer *r, uint32_t element, double u, double v,
                               double out[3]) {
+    if (r->corner_collocated) {
+        interpolate(r, element, u, v, &r->corner_collocated[element][0][0], out);
+        return;
+    }
     float corner[4][3];
     for (int k = 0; k < rad_mesh_corner_count(r->mesh, element); ++k)
         memcpy(corner[k], r->vertex_radiance[r->mesh->element_vertices[element][k]], sizeof corner[k]);

@@ -50,6 +50,8 @@ static void leaves_free(rad_renderer *r) {
     r->corner_deposit = NULL;
     rad_free(ctx, r->corner_radiance);
     r->corner_radiance = NULL;
+    rad_free(ctx, r->corner_collocated);
+    r->corner_collocated = NULL;
     r->rays = NULL;
     memset(&r->emitters, 0, sizeof r->emitters);
     r->element_emitter = NULL;
@@ -404,6 +406,7 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
                          rad_ray_counts *counts, rad_gather_pixel *record, float out[3]) {
     const rad_view *view = &r->view;
     rad_sample sample;
+    memset(&sample, 0, sizeof sample);
     sample.seed = r->seed;
     sample.x = (uint32_t)x;
     sample.y = (uint32_t)y;

@@ -79,6 +79,9 @@ struct rad_renderer {
     /* B / pi at each element's corners, smooth but scaled so the element keeps its own mean:
      * what gather rays read (reconstruct.c, rad_reconstruct_gather_radiance). */
     float (*corner_radiance)[4][3];
+    /* B / pi at each element's corners with the direct light evaluated there (collocate.c): what
+     * the smooth bare picture (no final gather) shows; NULL otherwise. */
+    float (*corner_collocated)[4][3];
 
     /* Textured surfaces (texture_shading.c): the irradiance (B - E) / (pi rho) averaged at mesh
      * vertices; NULL when no surface is textured. */
@@ -120,8 +123,12 @@ typedef struct rad_sample {
     uint32_t first_polygon;
     /* The pixel's tally for the irradiance filter (gather_filter.c); NULL: none. */
     rad_gather_tally *tally;
-    /* Gather rays per camera sample in this pixel; zero: the settings' final_gather. */
+    /* Gather rays of this camera sample; zero: the settings' final_gather. */
     int gather_rays;
+    /* Where they are in the pixel's sequence of gather points (gather_total points, of which
+     * this sample's are gather_first on; render.c varies the rays per sample). Zero total: each
+     * sample has gather_rays points, sample `index` the run index * gather_rays on. */
+    uint32_t gather_first, gather_total;
 } rad_sample;
 
 #define RAD_RENDER_NO_POLYGON UINT32_MAX
@@ -142,13 +149,18 @@ enum {
 
 /* Number i of `per_sample` numbers of this sample (of count * per_sample for the pixel) in 2D
  * dimension `dimension`. */
-static inline void rad_sample_2d(const rad_sample *sample, uint32_t per_sample, uint32_t i,
-                                 uint32_t dimension, double out[2]) {
+static inline void rad_sample_2d_at(const rad_sample *sample, uint32_t total, uint32_t point,
+                                    uint32_t dimension, double out[2]) {
     rad_sampler sampler = rad_sampler_make(sample->seed, 0);
-    sampler.index = rad_sampler_pixel_index(sample->x, sample->y, sample->count * per_sample,
-                                            sample->index * per_sample + i);
+    sampler.index = rad_sampler_pixel_index(sample->x, sample->y, total, point);
     sampler.dimension = dimension;
     rad_sampler_2d(&sampler, out);
+}
+
+static inline void rad_sample_2d(const rad_sample *sample, uint32_t per_sample, uint32_t i,
+                                 uint32_t dimension, double out[2]) {
+    rad_sample_2d_at(sample, sample->count * per_sample, sample->index * per_sample + i, dimension,
+                     out);
 }
 
 /* The material of an element. */
@@ -168,6 +180,13 @@ void rad_reconstruct_emission(const rad_renderer *r, uint32_t element, double u,
  * element's mean kept (flat shading: the element's value). */
 void rad_reconstruct_gather_radiance(const rad_renderer *r, uint32_t element, double u, double v,
                                      double out[3]);
+/* collocate.c: nonzero when the picture shows the smooth solution itself (no final gather), so
+ * the direct light is evaluated at the element corners. */
+int rad_collocate_wanted(const rad_renderer *r);
+/* collocate.c: the light reflected at each element's centroid and just inside each of its
+ * corners, B / pi units: rho times the direct light from the emitting leaves and the lights plus
+ * the light gathered from the solution (after rad_reconstruct_prepare's other arrays). */
+rad_status rad_collocate_light(rad_renderer *r, float (*centroid)[3], float (*corner)[4][3]);
 /* Finds the boundary vertices and their fitting weights (geometry only, once). */
 rad_status rad_reconstruct_build(rad_renderer *r);
 /* Fills the radiance arrays from the system's current solution. */
@@ -185,9 +204,9 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
 typedef struct rad_gather_origin {
     rad_vec3 normal;
     int light_samples, gather_rays;
-    uint32_t ray; /* which of the gather_rays (its sampler index) */
-    /* A short gather ray's recursion (final_gather.c): level 0 at the camera hit; at level > 0
-     * the sampler run of each sample is `run` points, of which this ray is point `ray`. */
+    /* This gather ray's point in the pixel's sequence of `run` gather points (rad_sample_2d_at);
+     * a short gather ray's recursion (final_gather.c, level > 0) keeps its parent's. */
+    uint32_t ray;
     int level;
     uint32_t run;
     /* Level 0 at a camera ray's first hit, with the irradiance filter on: what the gather rays

@@ -170,15 +170,15 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
              * straight from the emitters at glossy points. */
             /* This bounce's numbers: (emitter point, BSDF direction, lobe choice), drawn for the
              * camera sample, or for this gather ray among the pixel's. */
-            uint32_t per_sample = gather ? (gather->level ? gather->run : (uint32_t)gather->gather_rays) : 1;
-            uint32_t ray = gather ? gather->ray : 0;
+            uint32_t total = gather ? gather->run : sample->count;
+            uint32_t point = gather ? gather->ray : sample->index;
             uint32_t dimension = (gather ? RAD_RENDER_DIM_GATHER_BOUNCE + 100 * (uint32_t)gather->level
                                          : RAD_RENDER_DIM_BOUNCE) +
                                  3 * (uint32_t)depth;
             double u_light[2], u_direction[2], u_choice[2];
-            rad_sample_2d(sample, per_sample, ray, dimension, u_light);
-            rad_sample_2d(sample, per_sample, ray, dimension + 1, u_direction);
-            rad_sample_2d(sample, per_sample, ray, dimension + 2, u_choice);
+            rad_sample_2d_at(sample, total, point, dimension, u_light);
+            rad_sample_2d_at(sample, total, point, dimension + 1, u_direction);
+            rad_sample_2d_at(sample, total, point, dimension + 2, u_choice);
             if (!gather && rad_bsdf_has_smooth_lobe(material)) {
                 double direct[3];
                 glossy_direct(r, u_light, material, x, normal, wo, counts, direct);

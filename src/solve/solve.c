@@ -60,6 +60,22 @@ static int emit_iteration(const rad_solver_run *run, const rad_solver_impl *impl
     return stop;
 }
 
+/* The time budget inside a step. A hierarchy's step is long (the first refinement of the 10^5
+ * office: about 10 processor-s) and stops cleanly when the progress callback asks, keeping what
+ * it did as for Ctrl-C; past the budget the callback asks, and the loop below then stops for
+ * the budget. Other solvers' steps (a shot, a round) are short and are not asked. */
+typedef struct step_deadline {
+    rad_progress_fn progress; /* the caller's, asked until the deadline */
+    void *user;
+    double end;
+} step_deadline;
+
+static int deadline_progress(void *user, const char *phase, double done, double total) {
+    const step_deadline *d = user;
+    if (rad_seconds() >= d->end) return 1;
+    return d->progress ? d->progress(d->user, phase, done, total) : 0;
+}
+
 rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                      rad_solve_report *report) {
     if (!system || !options) return RAD_ERROR_INVALID_ARGUMENT;
@@ -140,8 +156,17 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
         double residual = INFINITY;
         local.stop = RAD_STOP_ITERATIONS;
         /* One loop for every solver: step, report, then decide whether to go on. */
+        int step_budget = options->time_budget > 0 &&
+                          (impl->info.capabilities & RAD_SOLVER_OWN_LEAVES);
+        step_deadline deadline = {ctx->progress, ctx->progress_user, start + options->time_budget};
         for (int iteration = 1; iteration <= cap; ++iteration) {
+            if (step_budget) {
+                ctx->progress = deadline_progress;
+                ctx->progress_user = &deadline;
+            }
             status = impl->step(&run, iteration, &residual);
+            ctx->progress = deadline.progress;
+            ctx->progress_user = deadline.user;
             if (status) break;
             local.iterations = iteration;
             if (run.tracing && (status = emit_trace(&run, iteration, shooting)))
