@@ -32,6 +32,7 @@ int rad_shading_parse(const char *name) {
 /* Frees what was built from one generation of the solution's leaves. */
 static void leaves_free(rad_renderer *r) {
     rad_context *ctx = r->ctx;
+    if (r->inner_rays != r->rays) rad_element_rays_destroy(r->inner_rays);
     rad_element_rays_destroy(r->rays);
     rad_emitter_table_free(ctx, &r->emitters);
     rad_free(ctx, r->element_emitter);
@@ -52,7 +53,7 @@ static void leaves_free(rad_renderer *r) {
     r->corner_radiance = NULL;
     rad_free(ctx, r->corner_collocated);
     r->corner_collocated = NULL;
-    r->rays = NULL;
+    r->rays = r->inner_rays = NULL;
     memset(&r->emitters, 0, sizeof r->emitters);
     r->element_emitter = NULL;
     r->fit_count = 0;
@@ -86,6 +87,10 @@ static rad_status leaves_build(rad_renderer *r) {
         !r->element_reflectance)
         return RAD_ERROR_NO_MEMORY;
     rad_status status = rad_element_rays_create(ctx, mesh, &r->rays);
+    /* Gather and shadow rays on a structure without Embree's robust traversal (see render.h). */
+    r->inner_rays = r->rays;
+    if (!status && r->settings.final_gather > 0)
+        status = rad_element_rays_create_robust(ctx, mesh, 0, &r->inner_rays);
     if (!status) status = rad_emitters_build(r);
     if (!status) status = rad_reconstruct_build(r);
     r->leaves_ready = status == RAD_OK;

@@ -50,6 +50,11 @@ static rad_status add_geometry(rad_element_rays *rays, int corners, size_t count
 }
 
 rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_element_rays **out) {
+    return rad_element_rays_create_robust(ctx, mesh, 1, out);
+}
+
+rad_status rad_element_rays_create_robust(rad_context *ctx, const rad_mesh *mesh, int robust,
+                                          rad_element_rays **out) {
     *out = NULL;
     rad_element_rays *rays = rad_alloc_zero(ctx, 1, sizeof *rays);
     if (!rays) return RAD_ERROR_NO_MEMORY;
@@ -71,6 +76,7 @@ rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_e
         rad_element_rays_destroy(rays);
         return status;
     }
+    if (!robust) rtcSetSceneFlags(rays->scene, RTC_SCENE_FLAG_NONE);
     rad_vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
     for (size_t i = 0; i < mesh->vertex_count; ++i) {
         rad_vec3 p = mesh->vertices[i];
