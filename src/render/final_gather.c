@@ -43,6 +43,12 @@
 
 #include <float.h>
 
+/* Short gather rays (below): nearer than SHORT_RANGE element sizes of what they hit, or
+ * DARK_SHORT_RANGE from a dark receiver, at most SHORT_LEVELS times along a path. */
+#define SHORT_RANGE 4.0
+#define DARK_SHORT_RANGE 8.0
+#define SHORT_LEVELS 2
+
 /* ------------------------------------------------------------------------------------------- */
 /* The emitters                                                                                 */
 
@@ -316,7 +322,13 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     uint32_t total = sample->gather_total ? sample->gather_total : sample->count * (uint32_t)rays;
     uint32_t first = sample->gather_total ? sample->gather_first : sample->index * (uint32_t)rays;
     int light_samples = sample->light_samples ? sample->light_samples : r->settings.light_samples;
-    rad_gather_origin from = {n, light_samples, rays, 0, 0, total, tally};
+    /* Dark receivers (the short block's front face, lit by the floor in the block's shadow)
+     * gather again over twice the range: the solution read 4 to 8 element sizes away there
+     * (the floor's elements across the penumbra) made the face 1.5 % dark (docs/rendering.md,
+     * "Dark pixels"). Dark: the element's radiance under render.c's threshold. */
+    const float *own = r->element_radiance[element];
+    double range = (own[0] + own[1] + own[2]) / 3 < r->dark_radiance ? DARK_SHORT_RANGE : SHORT_RANGE;
+    rad_gather_origin from = {n, light_samples, rays, 0, 0, total, tally, range};
 
     /* Direct light. */
     double direct[3];
@@ -367,8 +379,8 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
 /* ------------------------------------------------------------------------------------------- */
 /* Short gather rays                                                                            */
 
-/* A gather ray shorter than SHORT_RANGE element sizes (the square root of the hit element's
- * area) looks at the solution from closer than its elements resolve: beside a block's base the
+/* A gather ray shorter than SHORT_RANGE element sizes (DARK_SHORT_RANGE from dark receivers;
+ * the size is the square root of the hit element's area) looks at the solution from closer than its elements resolve: beside a block's base the
  * floor element it meets holds the mean over its area, brighter than the dark corner the ray
  * sees, and the bias does not shrink with more rays. There the radiance is gathered once more
  * (one emitter sample and one gather ray from the hit), as the final gathers of photon maps do
@@ -376,12 +388,10 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
  * 4 sizes rather than 2: the short block's front face, lit only by the floor in its own shadow,
  * was 2-3% too bright at 2 (the shadow's edge inside floor elements), 1.5% at 4, for 12% more
  * rays (docs/rendering.md, "Choosing the defaults"). */
-#define SHORT_RANGE 4.0
-#define SHORT_LEVELS 2
 
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit) {
     if (!from || from->level >= SHORT_LEVELS) return 0;
-    return hit->t < SHORT_RANGE * sqrt(r->mesh->element_area[hit->element]);
+    return hit->t < from->short_range * sqrt(r->mesh->element_area[hit->element]);
 }
 
 void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
@@ -392,7 +402,8 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
     /* The parent's place in the sampler: the pixel's gather points and its point among them. */
     uint32_t run = from->run, point = from->ray;
     uint32_t dimension = RAD_RENDER_DIM_SHORT + 2 * (uint32_t)from->level;
-    rad_gather_origin next = {n, r->emitters.count ? 1 : 0, 1, point, from->level + 1, run, NULL};
+    rad_gather_origin next = {n, r->emitters.count ? 1 : 0, 1, point, from->level + 1, run, NULL,
+                              from->short_range};
     double direct[3], u[2], radiance[3];
     direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
     lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */

@@ -95,6 +95,10 @@ struct rad_renderer {
     float (*vertex_irradiance)[3];
 
     /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
+    /* Under this radiance (B / pi, mean of the channels) a surface counts as dark: DARK times
+     * the mean the pixel corners see (render.c); set by each render, 0: none. */
+    double dark_radiance;
+
     rad_photon_map caustics;
     double caustic_radius; /* the largest radius of its density estimate */
 };
@@ -222,6 +226,9 @@ typedef struct rad_gather_origin {
     /* Level 0 at a camera ray's first hit, with the irradiance filter on: what the gather rays
      * met is tallied here (hit distance, emitted light); NULL otherwise. */
     rad_gather_tally *tally;
+    /* Gather rays nearer than this many element sizes of what they hit are gathered again
+     * (final_gather.c, rad_gather_is_short). */
+    double short_range;
 } rad_gather_origin;
 
 /* The power heuristic (Veach & Guibas 1995) for a sample of the strategy with (count times
