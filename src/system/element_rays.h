@@ -29,7 +29,7 @@ typedef struct rad_element_rays {
 
 /* Builds the Embree scene of the mesh's elements. The mesh must outlive the result. */
 rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_element_rays **out);
-/* The same; robust 0 leaves Embree's robust traversal (RTC_SCENE_FLAG_ROBUST) off: about 10 %
+/* The same; robust 0 leaves Embree's robust traversal (RTC_SCENE_FLAG_ROBUST) off: a few %
  * less processor time per ray, at the risk of a ray slipping through an edge shared by two
  * elements (the renderer's, docs/rendering.md, "Where the time goes"). */
 rad_status rad_element_rays_create_robust(rad_context *ctx, const rad_mesh *mesh, int robust,
