@@ -44,7 +44,7 @@ struct rad_renderer {
     rad_element_rays *rays;
     /* The same elements without Embree's robust traversal, for the rays that start on a surface
      * (gather and shadow rays: 87 % of the Cornell box's): 2.5 % less processor time for the
-     * Cornell box's render (9 % with the camera rays and the solve's too), where about
+     * Cornell box's render (9 % with the camera rays' and the solve's too), where about
      * 2 rays in a million slip through an edge shared by two elements (a closed cube seen from
      * inside: 2 black pixels of 1024 x 1024 at one ray each, none robust). A camera ray that
      * slips shows a dark speck, so camera rays keep `rays`; a gather or shadow ray that slips
