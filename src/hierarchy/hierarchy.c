@@ -2012,7 +2012,7 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
     h->root_count = h->node_count;
     h->min_area = o.min_area * total_area;
     double rho_max = 0;
-    for (size_t p = 0; p < np; ++p)
+    for (size_t p = 0; p < np && !status; ++p)
         for (int c = 0; c < 3; ++c) rho_max = fmax(rho_max, h->reflectance[p][c]);
     h->radiosity_cap = rho_max < 1 ? h->emission_max / (1 - rho_max) : 0;
     h->threshold = o.link_error * (h->emitted_power > 0 ? h->emitted_power : 1);
