@@ -637,7 +637,7 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
     size_t pixels = (size_t)r->view.width * (size_t)r->view.height;
     if (!status && r->settings.final_gather > 0 && r->settings.gather_filter &&
         (double)pixels * (sizeof *records + 3 * sizeof(float)) <= (double)ctx->max_memory) {
-        records = rad_alloc(ctx, pixels, sizeof *records);
+        records = rad_alloc_zero(ctx, pixels, sizeof *records); /* every field read by the filter */
         if (!records) status = RAD_ERROR_NO_MEMORY;
     }
     if (status) {
