@@ -724,6 +724,15 @@ static int no_light_between(const rad_hier *h, uint32_t receiver, uint32_t sourc
            cluster_faces_away(h, source, receiver);
 }
 
+/* The largest reflectance (any channel) of a link's receiver: a cluster's is its members'
+ * largest (cluster_info.reflectance), what the oracles charge a link's error with. */
+static double receiver_reflectance(const rad_hier *h, uint32_t receiver) {
+    const rad_hier_node *r = &h->nodes[receiver];
+    if (is_cluster(r)) return info(h, receiver)->reflectance;
+    const double *rho = h->reflectance[r->polygon];
+    return fmax(rho[0], fmax(rho[1], rho[2]));
+}
+
 /* Whether a cluster link with form-factor bound `bound` (its spread plus its estimate, the
  * most it has with partial visibility) passes the oracle whatever its rays say and whatever the
  * radiosities become: charged at the radiosity cap (no radiosity E + rho H exceeds
@@ -735,12 +744,8 @@ static int no_light_between(const rad_hier *h, uint32_t receiver, uint32_t sourc
  * area) more. */
 static int cheap_link(const rad_hier *h, uint32_t receiver, double bound) {
     if (!(h->radiosity_cap > 0) || h->importance || h->light) return 0;
-    const rad_hier_node *r = &h->nodes[receiver];
-    double rho = 0;
-    if (is_cluster(r)) rho = info(h, receiver)->reflectance;
-    else
-        for (int c = 0; c < 3; ++c) rho = fmax(rho, h->reflectance[r->polygon][c]);
-    return rho * h->radiosity_cap * bound * r->area < h->threshold;
+    return receiver_reflectance(h, receiver) * h->radiosity_cap * bound * h->nodes[receiver].area <
+           h->threshold;
 }
 
 /* A cheap link (cheap_link): one ray per receiver point (a cluster receiver's four sampled
@@ -759,8 +764,8 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
     rad_vec3 x[4], y[4];
     uint32_t receiver_member[4], source_member[4];
     double receiver_chance[4], source_chance[4];
-    const uint32_t receiver_seed = pair_hash(receiver, source, 1);
-    const uint32_t source_seed = pair_hash(receiver, source, 2);
+    const uint32_t receiver_seed = link_hash(h, receiver, source, 1);
+    const uint32_t source_seed = link_hash(h, receiver, source, 2);
     const rad_vec3 back = v3_scale(w, -1);
     int pairs = 4;
     if (is_cluster(nr))
@@ -959,10 +964,7 @@ static void source_radiosity(const rad_hier *h, const rad_hier_link *link, rad_v
 static int cluster_oracle(const rad_hier *h, const rad_hier_link *link, double *relative,
                           int pick_end) {
     const rad_hier_node *r = &h->nodes[link->receiver], *s = &h->nodes[link->source];
-    double rho = 0;
-    if (is_cluster(r)) rho = info(h, link->receiver)->reflectance;
-    else
-        for (int c = 0; c < 3; ++c) rho = fmax(rho, h->reflectance[r->polygon][c]);
+    double rho = receiver_reflectance(h, link->receiver);
     double brightest = fmax(s->radiosity[0], fmax(s->radiosity[1], s->radiosity[2]));
     /* A cluster source sends its members' light: charge the error at its brightest member's
      * radiosity (Smits, Arvo & Greenberg 1994 bound a cluster's transfer by its members' largest
