@@ -41,8 +41,6 @@
  * hemisphere and the light evenly across the pixel. */
 #include "render/render.h"
 
-#include <float.h>
-
 /* Short gather rays (below): nearer than SHORT_RANGE element sizes of what they hit, or
  * DARK_SHORT_RANGE from a dark receiver, at most SHORT_LEVELS times along a path. */
 #define SHORT_RANGE 4.0
@@ -113,52 +111,6 @@ double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_elem
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
  * by `from->light_samples` stratified emitter samples, each weighted against the gather rays
  * that could have found the same point. Sample i is point first + i of the pixel's `total` points
- * in `dimension`. */
-/* Whether the segments from x to point[i], i < n <= 16, are blocked, as one Embree packet:
- * rad_element_rays_occluded's answers (the same floats go in). */
-static void occluded_packet(const rad_element_rays *rays, rad_vec3 x, const rad_vec3 *point, int n,
-                            int *occluded) {
-    struct RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTC_ALIGN(64) struct RTCRay16 ray;
-    RTC_ALIGN(64) int valid[16];
-    float org[3];
-    rad_ray_frame_point(&rays->frame, x, org);
-    for (int i = 0; i < 16; ++i) {
-        rad_vec3 d = i < n ? v3_sub(point[i], x) : v3(0, 0, 0);
-        double length = v3_length(d);
-        int live = i < n && length > 2 * rays->epsilon;
-        valid[i] = live ? -1 : 0;
-        ray.org_x[i] = org[0];
-        ray.org_y[i] = org[1];
-        ray.org_z[i] = org[2];
-        ray.time[i] = 0;
-        ray.mask[i] = UINT32_MAX;
-        ray.id[i] = (unsigned)i;
-        ray.flags[i] = 0;
-        if (!live) { /* an empty segment: every lane is read whatever valid[] says */
-            ray.dir_x[i] = ray.dir_y[i] = 0;
-            ray.dir_z[i] = 1;
-            ray.tnear[i] = 1;
-            ray.tfar[i] = 0;
-            continue;
-        }
-        /* As rad_element_rays_occluded through rad_ray_frame_ray. */
-        double to_frame = length * rays->frame.scale, inverse = 1 / length;
-        ray.dir_x[i] = (float)(d.x * inverse);
-        ray.dir_y[i] = (float)(d.y * inverse);
-        ray.dir_z[i] = (float)(d.z * inverse);
-        ray.tnear[i] = (float)(rays->epsilon / length * to_frame);
-        double far = (1 - rays->epsilon / length) * to_frame;
-        ray.tfar[i] = far < FLT_MAX ? (float)far : FLT_MAX;
-    }
-    rtcOccluded16(valid, rays->scene, &context, &ray);
-    for (int i = 0; i < n; ++i) occluded[i] = valid[i] && ray.tfar[i] < 0;
-}
-
-/* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
- * by `from->light_samples` stratified emitter samples, each weighted against the gather rays
- * that could have found the same point. Sample i is point first + i of the pixel's `total` points
  * in `dimension`. The shadow rays of one point go to Embree 16 at a time (they share the origin
  * and head for the same lamp: a coherent packet). */
 static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
@@ -183,7 +135,7 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
         }
         sample->counts->shadow += (uint64_t)traced;
         if (traced == 1) occluded[0] = rad_element_rays_occluded(r->inner_rays, x, position[0]);
-        else if (traced > 1) occluded_packet(r->inner_rays, x, position, traced, occluded);
+        else if (traced > 1) rad_element_rays_occluded16(r->inner_rays, x, position, traced, occluded);
         for (int i = 0, k = 0; i < lanes; ++i) {
             if (!live[i] || occluded[k++]) continue;
             /* Densities over solid angle at x. */
@@ -235,65 +187,7 @@ static rad_vec3 cosine_direction(rad_vec3 t, rad_vec3 b, rad_vec3 n, const doubl
     return v3(a * t.x + c * b.x + z * n.x, a * t.y + c * b.y + z * n.y, a * t.z + c * b.z + z * n.z);
 }
 
-/* The first hits of n <= 16 rays from x along direction[] (any length), t in (tnear, inf) in
- * units of each direction, as one Embree packet: rad_element_rays_intersect's hits (the same
- * floats go in), element RAD_RENDER_NO_ELEMENT where a ray meets nothing. */
-#define PACKET 16
-static void intersect_packet(const rad_element_rays *rays, rad_vec3 x, const rad_vec3 *direction,
-                             int n, double tnear, rad_element_hit *hit) {
-    struct RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTC_ALIGN(64) struct RTCRayHit16 rh;
-    RTC_ALIGN(64) int valid[PACKET];
-    double to_caller[PACKET];
-    float org[3];
-    rad_ray_frame_point(&rays->frame, x, org);
-    for (int i = 0; i < PACKET; ++i) {
-        int live = i < n;
-        valid[i] = live ? -1 : 0;
-        rh.ray.org_x[i] = org[0];
-        rh.ray.org_y[i] = org[1];
-        rh.ray.org_z[i] = org[2];
-        rh.ray.time[i] = 0;
-        rh.ray.mask[i] = UINT32_MAX;
-        rh.ray.id[i] = (unsigned)i;
-        rh.ray.flags[i] = 0;
-        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-        if (!live) { /* an empty segment: every lane is read whatever valid[] says */
-            rh.ray.dir_x[i] = rh.ray.dir_y[i] = 0;
-            rh.ray.dir_z[i] = 1;
-            rh.ray.tnear[i] = 1;
-            rh.ray.tfar[i] = 0;
-            continue;
-        }
-        /* As rad_ray_frame_ray: unit direction, t scaled to the frame. */
-        double length = v3_length(direction[i]);
-        if (!(length > 0)) length = 1;
-        double to_frame = length * rays->frame.scale, inverse = 1 / length;
-        rh.ray.dir_x[i] = (float)(direction[i].x * inverse);
-        rh.ray.dir_y[i] = (float)(direction[i].y * inverse);
-        rh.ray.dir_z[i] = (float)(direction[i].z * inverse);
-        rh.ray.tnear[i] = (float)(tnear * to_frame);
-        rh.ray.tfar[i] = FLT_MAX;
-        to_caller[i] = 1 / to_frame;
-    }
-    rtcIntersect16(valid, rays->scene, &context, &rh);
-    for (int i = 0; i < n; ++i) {
-        rad_element_hit *h = &hit[i];
-        if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
-            h->element = RAD_RENDER_NO_ELEMENT;
-            continue;
-        }
-        h->t = rh.ray.tfar[i] * to_caller[i];
-        h->element = rh.hit.geomID[i] == rays->quad_geometry ? rays->quad_element[rh.hit.primID[i]]
-                                                             : rays->triangle_element[rh.hit.primID[i]];
-        h->u = rh.hit.u[i];
-        h->v = rh.hit.v[i];
-        h->front = (double)rh.hit.Ng_x[i] * direction[i].x + (double)rh.hit.Ng_y[i] * direction[i].y +
-                       (double)rh.hit.Ng_z[i] * direction[i].z < 0;
-    }
-}
+#define PACKET 16 /* gather rays traced together (rad_element_rays_intersect16) */
 
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
                                   rad_vec3 direction, const rad_element_hit *hit) {
@@ -353,7 +247,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
             rad_sample_2d_at(sample, total, first + (uint32_t)(start + i), RAD_RENDER_DIM_GATHER, u);
             direction[i] = cosine_direction(t, b, n, u);
         }
-        intersect_packet(r->inner_rays, x, direction, lanes, r->rays->epsilon, hits);
+        rad_element_rays_intersect16(r->inner_rays, x, direction, lanes, r->rays->epsilon, hits);
         for (int i = 0; i < lanes; ++i) {
             from.ray = first + (uint32_t)(start + i);
             double radiance[3];

@@ -44,8 +44,8 @@
 
 void rad_gather_pixel_make(const rad_gather_tally *tally, int samples, uint32_t polygon, int split,
                            rad_gather_pixel *out) {
-    out->polygon = RAD_RENDER_NO_POLYGON;
-    out->distance = 0; /* read by rad_gather_filter for every pixel */
+    *out = (rad_gather_pixel){.polygon = RAD_RENDER_NO_POLYGON}; /* every field defined: the
+                                                                     filter packs every record */
     if (split || polygon == RAD_RENDER_NO_POLYGON || tally->gathers != samples || samples <= 0 ||
         tally->rays == 0 || !(tally->inverse_distance > 0))
         return;

@@ -90,7 +90,7 @@ static rad_status leaves_build(rad_renderer *r) {
     /* Gather and shadow rays on a structure without Embree's robust traversal (see render.h). */
     r->inner_rays = r->rays;
     if (!status && r->settings.final_gather > 0)
-        status = rad_element_rays_create_robust(ctx, mesh, 0, &r->inner_rays);
+        status = rad_element_rays_create_with(ctx, mesh, 0, &r->inner_rays);
     if (!status) status = rad_emitters_build(r);
     if (!status) status = rad_reconstruct_build(r);
     r->leaves_ready = status == RAD_OK;
@@ -637,7 +637,7 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
     size_t pixels = (size_t)r->view.width * (size_t)r->view.height;
     if (!status && r->settings.final_gather > 0 && r->settings.gather_filter &&
         (double)pixels * (sizeof *records + 3 * sizeof(float)) <= (double)ctx->max_memory) {
-        records = rad_alloc_zero(ctx, pixels, sizeof *records); /* every field read by the filter */
+        records = rad_alloc(ctx, pixels, sizeof *records);
         if (!records) status = RAD_ERROR_NO_MEMORY;
     }
     if (status) {

@@ -95,11 +95,11 @@ struct rad_renderer {
      * vertices; NULL when no surface is textured. */
     float (*vertex_irradiance)[3];
 
-    /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
     /* Under this radiance (B / pi, mean of the channels) a surface counts as dark: DARK times
      * the mean the pixel corners see (render.c); set by each render, 0: none. */
     double dark_radiance;
 
+    /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
     rad_photon_map caustics;
     double caustic_radius; /* the largest radius of its density estimate */
 };
@@ -269,8 +269,7 @@ int rad_light_unblocked(const rad_renderer *r, size_t i, rad_vec3 x,
 void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
                         rad_vec3 direction, const rad_gather_origin *gather, double out[3]);
 /* The same with the first hit given (traced by the caller, gather rays in packets: final_gather.c);
- * first->element RAD_RENDER_NO_ELEMENT: the ray left the scene. */
-#define RAD_RENDER_NO_ELEMENT UINT32_MAX
+ * first->element RAD_NO_ELEMENT: the ray left the scene. */
 void rad_trace_radiance_hit(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
                             rad_vec3 direction, const rad_gather_origin *gather,
                             const rad_element_hit *first, double out[3]);

@@ -120,7 +120,7 @@ void rad_trace_radiance_hit(const rad_renderer *r, rad_sample *sample, rad_vec3 
         int found;
         if (depth == 0 && first) { /* traced already (a packet of gather rays) */
             hit = *first;
-            found = hit.element != RAD_RENDER_NO_ELEMENT;
+            found = hit.element != RAD_NO_ELEMENT;
         } else
             found = rad_element_rays_intersect(gather ? r->inner_rays : r->rays, origin, direction,
                                                tnear, INFINITY, &hit);
