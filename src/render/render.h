@@ -197,11 +197,10 @@ void rad_reconstruct_gather_radiance(const rad_renderer *r, uint32_t element, do
 /* collocate.c: nonzero when the picture shows the smooth solution itself (no final gather), so
  * the direct light is evaluated at the element corners. */
 int rad_collocate_wanted(const rad_renderer *r);
-/* collocate.c: the light reflected at each element's centroid and just inside each of its
- * corners, B / pi units: rho times the direct light from the emitting leaves and the lights plus
- * the light gathered from the solution (after rad_reconstruct_prepare's other arrays).
- * centroid may be NULL (not evaluated). */
-rad_status rad_collocate_light(rad_renderer *r, float (*centroid)[3], float (*corner)[4][3]);
+/* collocate.c: the light reflected just inside each corner of each element, B / pi units: rho
+ * times the direct light from the emitting leaves and the lights plus the light gathered from
+ * the solution (after rad_reconstruct_prepare's other arrays). */
+rad_status rad_collocate_light(rad_renderer *r, float (*corner)[4][3]);
 /* Finds the boundary vertices and their fitting weights (geometry only, once). */
 rad_status rad_reconstruct_build(rad_renderer *r);
 /* Fills the radiance arrays from the system's current solution. */
