@@ -462,6 +462,13 @@ static int same_face(const pixel_corner *a, const pixel_corner *b) {
            SAME_NORMAL;
 }
 
+/* Whether a corner's ray met an emitter (RAD_RENDER_NO_POLYGON, the outside, has every bit set:
+ * until corn4 it counted as one, and every pixel beside the box's front edges was split with 256
+ * coverage rays). */
+static int emits(const pixel_corner *c) {
+    return c->key != RAD_RENDER_NO_POLYGON && (c->key & EMITTER_BIT);
+}
+
 /* Whether the rays through the corners of pixel (x, y) meet more than one face: 0 no, 1 yes,
  * 2 yes and one of them emits. */
 static int on_edge(const rad_view *view, const pixel_corner *corners, int x, int y) {
@@ -469,7 +476,7 @@ static int on_edge(const rad_view *view, const pixel_corner *corners, int x, int
     size_t stride = (size_t)view->width + 1;
     const pixel_corner *c = corners + (size_t)y * stride + (size_t)x;
     if (same_face(c, c + 1) && same_face(c, c + stride) && same_face(c, c + stride + 1)) return 0;
-    return (c[0].key | c[1].key | c[stride].key | c[stride + 1].key) & EMITTER_BIT ? 2 : 1;
+    return emits(&c[0]) || emits(&c[1]) || emits(&c[stride]) || emits(&c[stride + 1]) ? 2 : 1;
 }
 
 /* Whether a corner of pixel (x, y) sees the outside (no surface): 0 no; 2 yes and the edge
