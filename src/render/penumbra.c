@@ -50,7 +50,9 @@ static int element_uneven(const rad_renderer *r, size_t e, const rad_vec3 *lamp,
     for (int k = 0; k < count; ++k)
         for (int l = 0; l < lamps; ++l) {
             rad_vec3 to_lamp = v3_sub(lamp[l], points[k]);
-            int seen = v3_dot(to_lamp, normal) > 0 &&
+            /* In front by more than rounding: a lamp in the element's own plane (a ceiling
+             * lamp seen from the ceiling) is behind it at every scale of the scene. */
+            int seen = v3_dot(to_lamp, normal) > 1e-9 * v3_length(to_lamp) &&
                        !rad_element_rays_occluded(r->inner_rays, points[k], lamp[l]);
             if (seen) ++lit;
             else ++dark;
