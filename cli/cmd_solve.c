@@ -122,7 +122,7 @@ static void print_table(const rad_system *system, const rad_solve_options *optio
     else if (report->stop == RAD_STOP_MEMORY_BUDGET)
         printf(": memory budget reached (--max-memory) at %zu links, the solution so far",
                report->links);
-    printf(" (residual %.3g)\n", report->residual);
+    printf(report->links ? " (residual %.0f)\n" : " (residual %.3g)\n", report->residual);
     printf("%-16s %12s  %-38s %s\n", "surface", "area", "radiosity (R G B)", "power (R G B)");
     for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
         rad_surface_info info;

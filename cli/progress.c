@@ -171,7 +171,10 @@ void cli_stage_solve(const rad_solve_options *solve, const rad_solve_report *rep
     if (report->links) /* the hierarchical solver's links and leaves */
         snprintf(hierarchy, sizeof hierarchy, ", %zu links, %zu leaves", report->links,
                  report->leaves);
-    cli_stage("solve", "%s, %d %s, residual %.3g, %s%s, %.2f s", rad_solver_kind_name(solve->solver),
+    /* The hierarchy's residual counts links: whole, not 6.67e+03. */
+    cli_stage("solve", report->links ? "%s, %d %s, residual %.0f, %s%s, %.2f s"
+                                     : "%s, %d %s, residual %.3g, %s%s, %.2f s",
+              rad_solver_kind_name(solve->solver),
               report->iterations, shooting ? "shots" : "rounds", report->residual,
               cli_solve_outcome(report), hierarchy, report->seconds);
 }
