@@ -44,6 +44,15 @@ expect_exit 1 'with 5 links and [0-9]* nodes needs .* not even the first links f
 check "budget too small: no log written" test ! -e tiny.csv
 check "budget too small: no warning that keeps a solution" bash -c '! grep -q "keeping the solution" "$0"' "$work/err"
 
+# --max-memory with a unit, as users write it (60M used to be refused as not a number).
+expect_exit 1 'over the memory budget of 1.0 MiB (--max-memory): not even the first links fit' -- \
+    "$radiosity" solve big.obj --solver hierarchical --max-memory 1M --quiet
+expect_exit 1 'over the memory budget of 1024.0 MiB' -- \
+    "$radiosity" pathtrace cornell --width 16384 --height 16384 --max-memory 1GiB -o huge.pfm --quiet
+expect_exit 2 'max-memory wants a number of MiB, or a size such as 512M or 2G, not .60X' -- \
+    "$radiosity" solve cornell --max-memory 60X
+expect_exit 2 'max-memory wants MiB from 1 to' -- "$radiosity" solve cornell --max-memory 512K
+
 # ---- The tail rule is not convergence (issue 15) -----------------------------------------------
 "$radiosity" solve cornell --solver hierarchical --json >tail.json 2>tail.err
 tail_numbers() {
