@@ -5,6 +5,7 @@
 #include "progress.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -71,6 +72,9 @@ static int parse_value(const char *command, const cli_option *o, const char *tex
         double value = strtod(text, &end);
         int memory = strcmp(o->name, "--max-memory") == 0;
         if (memory && end != text) value *= memory_unit(end, &end);
+        if (end != text && !*end && errno == ERANGE)
+            return cli_error(EXIT_USAGE, "%s: %s: '%s' is out of range (a double is %g to %g)",
+                             command, o->name, text, DBL_MIN, DBL_MAX);
         if (end == text || *end || errno || !isfinite(value))
             return cli_error(EXIT_USAGE, "%s: %s wants a number%s, not '%s'", command, o->name,
                              memory ? " of MiB, or a size such as 512M or 2G" : "", text);

@@ -52,6 +52,8 @@ expect_exit 1 'over the memory budget of 1024.0 MiB' -- \
 expect_exit 2 'max-memory wants a number of MiB, or a size such as 512M or 2G, not .60X' -- \
     "$radiosity" solve cornell --max-memory 60X
 expect_exit 2 'max-memory wants MiB from 1 to' -- "$radiosity" solve cornell --max-memory 512K
+# A number past double's range says so (it used to read "wants a number, not '1e-320'").
+expect_exit 2 "tolerance: '1e-320' is out of range" -- "$radiosity" solve cornell --tolerance 1e-320
 
 # ---- The tail rule is not convergence (issue 15) -----------------------------------------------
 "$radiosity" solve cornell --solver hierarchical --json >tail.json 2>tail.err
