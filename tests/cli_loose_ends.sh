@@ -14,7 +14,7 @@ cd "$work" || exit 1
 "$radiosity" scenes --generate office 2000 office.obj >/dev/null 2>&1
 check "office generated" test -s office.obj
 "$radiosity" solve office.obj --solver hierarchical --max-memory 2 --json --log budget.csv \
-    >budget.json 2>budget.err
+    --threads 2 >budget.json 2>budget.err
 check "budget: exit 0, the solution so far" test $? -eq 0
 budget_numbers() {
     python3 - budget.json budget.csv <<'PY'
@@ -34,6 +34,9 @@ sys.exit(0 if ok else 1)
 PY
 }
 check "budget: finite residual and largest error in --json and --log" budget_numbers
+"$radiosity" solve office.obj --solver hierarchical --max-memory 2 --json --threads 1 >budget1.json 2>/dev/null
+check "budget: the same report on 1 and 2 threads" \
+    cmp <(sed 's/"seconds": [0-9.e+-]*//' budget.json) <(sed 's/"seconds": [0-9.e+-]*//' budget1.json)
 check "budget: the step says what is left" grep -Eq 'the memory budget leaves [0-9]+ links over the threshold' budget.err
 "$radiosity" solve office.obj --solver hierarchical --max-memory 2 >budget.table 2>/dev/null
 check "budget: the table names the link count" grep -Eq '^hierarchical: [0-9]+ rounds, not converged: memory budget reached \(--max-memory\) at [0-9]+ links' budget.table
