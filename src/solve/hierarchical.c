@@ -363,8 +363,9 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
          * threshold, so one more step asks the oracle again. */
         if (stats.refined == 0 && was_loose) *residual = 1;
         /* The tail rule: the solve ends here, short of a step that refines nothing (the
-         * driver reports RAD_STOP_TAIL, not convergence); the residual stays the count. */
-        if (stats.refined > 0 && !setup->loose &&
+         * driver reports RAD_STOP_TAIL, not convergence); the residual stays the count. Not
+         * when the solve was cancelled (Ctrl-C, the time budget): that stop is reported. */
+        if (stats.refined > 0 && !setup->loose && !setup->unfinished &&
             (double)stats.refined <= TAIL_SHARE * (double)stats.links)
             run->tail_stop = 1;
         if (!status) evaluate(run->system, hier, setup->light);
