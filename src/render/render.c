@@ -148,13 +148,17 @@ static rad_status settings_from(rad_context *ctx, const rad_render_options *o,
     return RAD_OK;
 }
 
-/* Refuses cameras that see nothing or only the backs of one-sided surfaces: the image would be
- * black (scene/camera.h's rule, the same for every image command). */
+/* Refuses cameras that see nothing, warns of one that sees only the backs of one-sided
+ * surfaces (scene/camera.h's rule, the same for every image command); the sky is seen. */
 static int renderer_see(const void *user, rad_vec3 eye, rad_vec3 direction, int *front,
                         const char **surface) {
     const rad_renderer *r = user;
     rad_element_hit hit;
-    if (!rad_element_rays_intersect(r->rays, eye, direction, 0, INFINITY, &hit)) return 0;
+    if (!rad_element_rays_intersect(r->rays, eye, direction, 0, INFINITY, &hit)) {
+        *front = 1;
+        *surface = "sky";
+        return r->sky.kind != RAD_SKY_OFF;
+    }
     *front = hit.front || rad_renderer_material(r, hit.element)->kind == RAD_MATERIAL_GLASS;
     *surface = r->system->surface_name[r->mesh->element_surface[hit.element]];
     return 1;
