@@ -137,7 +137,7 @@ int cmd_bake(int argc, char **argv) {
                output, rad_solver_kind_name(solve.solver));
         if (solve.solver != RAD_SOLVER_DIRECT)
             printf(": %d %s, %s", report.iterations, gathering ? "rounds" : "shots",
-                   report.converged ? "converged" : "not converged");
+                   cli_solve_outcome(&report));
         printf(")\n");
     }
 done:

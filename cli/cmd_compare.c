@@ -14,7 +14,7 @@ typedef struct compare_args {
 } compare_args;
 
 int cmd_compare(int argc, char **argv) {
-    static const char synopsis[] = "TEST REF [--diff FILE] [--json]   (TEST, REF: .pfm or .hdr)";
+    static const char synopsis[] = "TEST REF [--diff FILE] [--json]   (TEST, REF: .pfm, .hdr or .exr)";
     compare_args a = {0};
     const cli_option options[] = {
         {"--diff", CLI_STRING, &a.diff, "FILE  false-colour map of the relative error (.png ...)"},

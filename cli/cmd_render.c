@@ -52,7 +52,7 @@ static void print_stats(const cli_timings *t, double renderer_seconds, double wr
                rad_solver_kind_name(solve->solver), report->iterations,
                solve->solver == RAD_SOLVER_SHOOTING || solve->solver == RAD_SOLVER_IMPORTANCE
                    ? "shots" : "rounds",
-               report->converged ? "converged" : "not converged");
+               cli_solve_outcome(report));
     printf("ray structures %8.3f s\n", renderer_seconds);
     printf("render         %8.3f s   %.3g Mrays/s (camera %llu, gather %llu, shadow %llu, "
            "specular %llu)\n", stats->seconds, stats->seconds > 0 ? rays / stats->seconds * 1e-6 : 0,

@@ -101,6 +101,7 @@ static const char *stop_name(rad_solve_stop stop) {
     case RAD_STOP_TIME_BUDGET: return "time-budget";
     case RAD_STOP_CALLBACK: return "interrupted";
     case RAD_STOP_MEMORY_BUDGET: return "memory-budget";
+    case RAD_STOP_TAIL: return "tail";
     case RAD_STOP_ERROR: break;
     }
     return "error";
@@ -110,14 +111,18 @@ static void print_table(const rad_system *system, const rad_solve_options *optio
                         const rad_solve_report *report, long steps) {
     printf("%s: %ld %s, %s", rad_solver_kind_name(options->solver), steps,
            cli_solver_shoots(options->solver) ? "shots" : "rounds",
-           report->converged ? "converged" : "not converged");
-    if (report->stop == RAD_STOP_TIME_BUDGET)
+           cli_solve_outcome(report));
+    if (report->stop == RAD_STOP_TAIL)
+        printf(": the last step refined %.0f of %zu links (at most 0.2%%) and solved them; the "
+               "oracle was not asked again", report->residual, report->links);
+    else if (report->stop == RAD_STOP_TIME_BUDGET)
         printf(": time budget of %g s used up", options->time_budget);
     else if (report->stop == RAD_STOP_CALLBACK)
         printf(": interrupted");
     else if (report->stop == RAD_STOP_MEMORY_BUDGET)
-        printf(": memory budget reached (--max-memory), the solution so far");
-    printf(" (residual %.3g)\n", report->residual);
+        printf(": memory budget reached (--max-memory) at %zu links, the solution so far",
+               report->links);
+    printf(report->links ? " (residual %.0f)\n" : " (residual %.3g)\n", report->residual);
     printf("%-16s %12s  %-38s %s\n", "surface", "area", "radiosity (R G B)", "power (R G B)");
     for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
         rad_surface_info info;
@@ -434,7 +439,7 @@ int cmd_solve(int argc, char **argv) {
         if (!rs && !exit_status && a.plot) {
             plot_chart chart = {"Convergence", "seconds",
                                 watch.shooting    ? "unshot power / emitted power"
-                                : watch.hierarchy ? "links refined by the step"
+                                : watch.hierarchy ? "links over the threshold"
                                                   : "largest change / largest radiosity", 0};
             exit_status = plot_write_svg(a.plot, &chart, &series, 1);
         }

@@ -5,6 +5,7 @@
 #include "progress.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -27,6 +28,20 @@ void cli_print_help(FILE *out, const char *command, const char *synopsis,
     fprintf(out, "\noptions:\n");
     for (const cli_option *o = options; o->name; ++o) fprintf(out, "  %-18s %s\n", o->name, o->help);
     fprintf(out, "  %-18s %s\n", "--help", "show this help");
+}
+
+/* --max-memory's unit after its number: none or M (MiB, MB) is MiB; K, G and T (each with
+ * an optional iB or B) scale it by 1024 steps. *end moves past a unit it knows; 1 otherwise. */
+static double memory_unit(const char *unit, char **end) {
+    static const char letters[] = "KMGT";
+    const char *at = *unit ? strchr(letters, unit[0] & ~0x20) : NULL;
+    if (!at) return 1;
+    const char *rest = unit + 1;
+    if ((rest[0] == 'i' || rest[0] == 'I') && (rest[1] == 'B' || rest[1] == 'b')) rest += 2;
+    else if (rest[0] == 'B' || rest[0] == 'b') rest += 1;
+    if (*rest) return 1;
+    *end = (char *)rest;
+    return ldexp(1.0, 10 * (int)(at - letters - 1));
 }
 
 static int parse_value(const char *command, const cli_option *o, const char *text) {
@@ -55,8 +70,14 @@ static int parse_value(const char *command, const cli_option *o, const char *tex
     }
     case CLI_DOUBLE: {
         double value = strtod(text, &end);
+        int memory = strcmp(o->name, "--max-memory") == 0;
+        if (memory && end != text) value *= memory_unit(end, &end);
+        if (end != text && !*end && errno == ERANGE)
+            return cli_error(EXIT_USAGE, "%s: %s: '%s' is out of range (a double is %g to %g)",
+                             command, o->name, text, DBL_MIN, DBL_MAX);
         if (end == text || *end || errno || !isfinite(value))
-            return cli_error(EXIT_USAGE, "%s: %s wants a number, not '%s'", command, o->name, text);
+            return cli_error(EXIT_USAGE, "%s: %s wants a number%s, not '%s'", command, o->name,
+                             memory ? " of MiB, or a size such as 512M or 2G" : "", text);
         *(double *)o->target = value;
         break;
     }

@@ -160,13 +160,21 @@ void cli_stage_mesh(const rad_system *system, double seconds) {
               rad_system_element_count(system), seconds);
 }
 
+const char *cli_solve_outcome(const rad_solve_report *report) {
+    if (report->converged) return "converged";
+    return report->stop == RAD_STOP_TAIL ? "tail rule" : "not converged";
+}
+
 void cli_stage_solve(const rad_solve_options *solve, const rad_solve_report *report) {
     int shooting = solve->solver == RAD_SOLVER_SHOOTING || solve->solver == RAD_SOLVER_IMPORTANCE;
     char hierarchy[96] = "";
     if (report->links) /* the hierarchical solver's links and leaves */
         snprintf(hierarchy, sizeof hierarchy, ", %zu links, %zu leaves", report->links,
                  report->leaves);
-    cli_stage("solve", "%s, %d %s, residual %.3g, %s%s, %.2f s", rad_solver_kind_name(solve->solver),
+    /* The hierarchy's residual counts links: whole, not 6.67e+03. */
+    cli_stage("solve", report->links ? "%s, %d %s, residual %.0f, %s%s, %.2f s"
+                                     : "%s, %d %s, residual %.3g, %s%s, %.2f s",
+              rad_solver_kind_name(solve->solver),
               report->iterations, shooting ? "shots" : "rounds", report->residual,
-              report->converged ? "converged" : "not converged", hierarchy, report->seconds);
+              cli_solve_outcome(report), hierarchy, report->seconds);
 }

@@ -29,4 +29,9 @@ void cli_stage(const char *stage, const char *format, ...) __attribute__((format
 void cli_stage_mesh(const rad_system *system, double seconds);
 void cli_stage_solve(const rad_solve_options *solve, const rad_solve_report *report);
 
+/* How a solve ended, in the words every command prints: "converged", "tail rule" (the
+ * hierarchical solver's tail of steps ended it: final, but the oracle was not met everywhere,
+ * RAD_STOP_TAIL) or "not converged". */
+const char *cli_solve_outcome(const rad_solve_report *report);
+
 #endif

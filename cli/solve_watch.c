@@ -54,7 +54,7 @@ static void draw_progress(solve_watch *w, const rad_iteration_event *event) {
                 event->shots + w->step_offset, 100 * event->unshot_fraction, eta);
     else if (event->links)
         fprintf(stderr, "\r\033[K%s: step %ld, %zu links, %zu leaves, largest error %.3g of the "
-                        "threshold, %.0f refined%s", w->solver_name, event->rounds + w->step_offset,
+                        "threshold, %.0f over it%s", w->solver_name, event->rounds + w->step_offset,
                 event->links, event->leaves, event->largest_error, event->residual, eta);
     else
         fprintf(stderr, "\r\033[K%s: round %ld, change %.3g%s", w->solver_name,

@@ -440,8 +440,13 @@ typedef enum rad_solve_stop {
     RAD_STOP_TIME_BUDGET,   /* time_budget used up: the best solution so far */
     RAD_STOP_CALLBACK,      /* on_iteration asked to stop */
     RAD_STOP_ERROR,         /* an error or a cancel; the status says which */
-    RAD_STOP_MEMORY_BUDGET  /* the solver could not go on within max_memory: the best solution
+    RAD_STOP_MEMORY_BUDGET, /* the solver could not go on within max_memory: the best solution
                                so far, not converged (the hierarchical solver's refinement) */
+    RAD_STOP_TAIL           /* the solver's tail rule ended it short of its measure: the
+                               hierarchical solver after a step that refined at most 0.2% of
+                               its links, solved (docs/hierarchical.md, "The tail rule"); final
+                               as far as the solver goes (the specular pass follows), but not
+                               converged: the oracle was not asked again */
 } rad_solve_stop;
 
 typedef struct rad_solve_report {

@@ -52,21 +52,23 @@ check "usage errors leave no file" no_stray_files
 # Errors: exit 1, nothing written.
 expect_exit 1 'cannot write' -- "$radiosity" pathtrace -o "$work/no/such/dir/x.png" "${small[@]}"
 expect_exit 1 'camera sees nothing' -- "$radiosity" pathtrace -o "$work/x.png" "${small[@]}" --look 278,273,-1600
-expect_exit 1 'inside an object' -- "$radiosity" pathtrace -o "$work/x.png" "${small[@]}" --eye 368,165,351 --look 368,165,600
 expect_exit 1 'memory budget' -- "$radiosity" pathtrace -o "$work/x.pfm" --width 16384 --height 16384 --quiet
 expect_exit 1 'no-such-scene' -- "$radiosity" pathtrace "$work/no-such-scene.obj" -o "$work/x.png" "${small[@]}"
 expect_exit 1 'up must not be' -- "$radiosity" pathtrace -o "$work/x.png" "${small[@]}" --up 0,0,1
 check "errors leave no file" no_stray_files
 
-# One camera rule for every image command: the same refusal, word for word, from render,
-# pathtrace and photonmap; and the automatic camera of a room without one (scenes/lights-room.gltf,
-# which pathtrace and photonmap used to refuse as "inside an object") serves all three.
+# One camera rule for every image command: the same warning, word for word, from render,
+# pathtrace and photonmap for a camera inside the tall block (drawn: its backs are black,
+# tests/cli_loose_ends.sh); and the automatic camera of a room without one
+# (scenes/lights-room.gltf, which pathtrace and photonmap used to refuse as "inside an object")
+# serves all three.
 inside=(--eye 368,165,351 --look 368,165,600 --width 16 --height 16)
 for command in render pathtrace photonmap; do
     "$radiosity" $command cornell "${inside[@]}" -o "$work/x.png" 2> "$work/$command.err"
-    check "$command: the camera inside the tall block is refused" test $? -eq 1
+    check "$command: the camera inside the tall block draws (a warning)" test $? -eq 0
     grep -v '^radiosity: \[' "$work/$command.err" > "$work/$command.msg"
 done
+rm -f "$work/x.png"
 check "render and pathtrace: one message" cmp -s "$work/render.msg" "$work/pathtrace.msg"
 check "pathtrace and photonmap: one message" cmp -s "$work/pathtrace.msg" "$work/photonmap.msg"
 rm -f "$work"/*.err "$work"/*.msg

@@ -438,12 +438,18 @@ static void test_bad_cameras(void) {
     CHECK(rad_pathtrace(ctx, scene, &options, &image, NULL) == RAD_ERROR_INVALID_ARGUMENT);
     CHECK(image == NULL);
     CHECK(strstr(rad_context_error(ctx), "camera sees nothing") != NULL);
-    /* Inside the tall block (its faces point out). */
+    /* Inside the tall block (its faces point out): drawn, the backs black (a warning). */
     rad_camera_desc inside = {{368, 165, 351}, {368, 165, 600}, {0, 1, 0}, 60};
     options.camera = &inside;
-    CHECK(rad_pathtrace(ctx, scene, &options, &image, NULL) == RAD_ERROR_INVALID_ARGUMENT);
-    CHECK(strstr(rad_context_error(ctx), "inside an object") != NULL);
-    CHECK(strstr(rad_context_error(ctx), "tall-block") != NULL);
+    CHECK(rad_pathtrace(ctx, scene, &options, &image, NULL) == RAD_OK);
+    if (image) {
+        double sum = 0;
+        for (size_t i = 0; i < (size_t)image->width * image->height * 3; ++i)
+            sum += image->pixels[i];
+        CHECK(sum == 0);
+    }
+    rad_image_destroy(image);
+    image = NULL;
     /* Zero and huge sizes, bad field of view. */
     options.camera = NULL;
     options.width = 100000;

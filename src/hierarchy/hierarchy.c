@@ -1195,7 +1195,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     rad_hier_link *pending = h->links, *kept = NULL, *fresh = NULL;
     size_t pending_count = h->link_count, kept_count = 0;
     uint8_t *decision = NULL, *made = NULL;
-    size_t refined = 0;
+    size_t refined = 0, unrefined = 0, unknown_error = 0;
     double largest = 0;
     int budget = 0, first_pass = 1, cancelled = 0;
     rad_status status = RAD_OK;
@@ -1243,7 +1243,7 @@ rad_status rad_hier_refine(rad_hier *h) {
             if (decision[i]) {
                 splits++;
                 candidates += children_made(h, &pending[i], decision[i]);
-            } else
+            } else if (fabsf(pending[i].error) < UNKNOWN_ERROR) /* a known error */
                 pass_largest = fmax(pass_largest, relative);
         }
         largest = fmax(largest, pass_largest);
@@ -1279,9 +1279,11 @@ rad_status rad_hier_refine(rad_hier *h) {
         if (splits &&
             check_memory(h, kept_count + pending_count + candidates,
                          h->node_count + new_nodes) == RAD_ERROR_MEMORY_BUDGET) {
-            /* Keep the solution so far: say why refinement stops, then stop refining. */
-            rad_warn(ctx, "%s; refinement stops at %zu links, keeping the solution so far",
-                     rad_context_error(ctx), kept_count + pending_count);
+            /* Keep the solution so far: say why refinement stops, then stop refining (not
+             * when not even the first links fit: the solver fails with the budget's message). */
+            if (kept_count + pending_count > 1)
+                rad_warn(ctx, "%s; refinement stops at %zu links, keeping the solution so far",
+                         rad_context_error(ctx), kept_count + pending_count);
             budget = 1;
             memset(decision, 0, pending_count);
             splits = 0;
@@ -1292,10 +1294,15 @@ rad_status rad_hier_refine(rad_hier *h) {
         for (long i = 0; i < (long)pending_count; ++i)
             if (!decision[i] && pending[i].form_factor == NOT_ESTIMATED)
                 make_any_link(h, pending[i].receiver, pending[i].source, &pending[i], 0);
+        /* What the budget leaves over the threshold; the largest error is the largest known
+         * (a link between overlapping ends carries UNKNOWN_ERROR until it is refined). */
         for (size_t i = 0; budget && i < pending_count; ++i) {
             double relative;
-            decide_any(h, &pending[i], &relative);
-            largest = fmax(largest, relative);
+            int over = decide_any(h, &pending[i], &relative) != 0;
+            int unknown = fabsf(pending[i].error) >= UNKNOWN_ERROR;
+            unrefined += over;
+            unknown_error += over && unknown;
+            if (!unknown) largest = fmax(largest, relative);
         }
         refined += splits;
         /* Split the leaves the decisions ask for, in link order (receiver end first), so the
@@ -1389,6 +1396,8 @@ rad_status rad_hier_refine(rad_hier *h) {
     h->stats.largest_error = largest;
     h->stats.refined = refined;
     h->stats.budget_reached = budget;
+    h->stats.unrefined = unrefined;
+    h->stats.unknown_error = unknown_error;
     if (cancelled && !status) {
         /* The links passed, then the ones still to ask about, in one array. */
         rad_hier_link *all = rad_realloc(ctx, kept, kept_count + pending_count, sizeof *all);

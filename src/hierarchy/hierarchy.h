@@ -85,9 +85,12 @@ typedef struct rad_hier_options {
 typedef struct rad_hier_stats {
     size_t nodes, leaves, links, roots, clusters;
     size_t refined;        /* links refined by the last call of rad_hier_refine */
-    double largest_error;  /* the oracle's largest error over the links, relative to threshold */
+    double largest_error;  /* the oracle's largest error over the links, relative to threshold;
+                              at the budget, over the links whose error is known */
     int solve_rounds;      /* gathering rounds of the last rad_hier_solve */
     int budget_reached;    /* refinement stopped at the memory budget (a warning said so) */
+    size_t unrefined;      /* at the budget: links the oracle would still refine */
+    size_t unknown_error;  /* of those, links whose error is not known yet (overlapping ends) */
     size_t cluster_links;  /* links with a cluster at one end or both */
     double seen_share;     /* with a view: the share of its pixels that meet a surface's front */
 } rad_hier_stats;

@@ -27,8 +27,29 @@ int32_t rad_emitter_table_add(rad_emitter_table *table, rad_vec3 a, rad_vec3 b, 
     t.normal = normal;
     for (int k = 0; k < 3; ++k) t.radiance[k] = radiance[k];
     t.source = source;
+    t.parallelogram = 0;
     table->emitters[table->count] = t;
     return (int32_t)table->count++;
+}
+
+int32_t rad_emitter_table_add_parallelogram(rad_emitter_table *table, rad_vec3 p0, rad_vec3 e1,
+                                            rad_vec3 e2, rad_vec3 normal, const double radiance[3],
+                                            uint32_t source) {
+    int32_t k = rad_emitter_table_add(table, p0, v3_add(p0, e1), v3_add(p0, e2), normal, radiance,
+                                      source);
+    if (k < 0) return k;
+    table->emitters[k].area *= 2;
+    table->emitters[k].parallelogram = 1;
+    return k;
+}
+
+/* The point of entry `light` for (u0, u1): uniform on its parallelogram or triangle (Turk 1990). */
+static rad_vec3 emitter_point(const rad_emitter *light, double u0, double u1) {
+    if (light->parallelogram)
+        return v3_add(light->p0, v3_add(v3_scale(light->e1, u0), v3_scale(light->e2, u1)));
+    double root = sqrt(u0);
+    return v3_add(light->p0, v3_add(v3_scale(light->e1, root * (1 - u1)),
+                                    v3_scale(light->e2, root * u1)));
 }
 
 void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection selection) {
@@ -89,10 +110,7 @@ int rad_emitter_table_sample(const rad_emitter_table *table, double u0, double u
     if (table->count == 0) return 0;
     size_t k = pick(table, &u0);
     const rad_emitter *light = &table->emitters[k];
-    /* Uniform point on the triangle (Turk 1990). */
-    double root = sqrt(u0);
-    out->position = v3_add(light->p0, v3_add(v3_scale(light->e1, root * (1 - u1)),
-                                             v3_scale(light->e2, root * u1)));
+    out->position = emitter_point(light, u0, u1);
     rad_vec3 to_light = v3_sub(out->position, x);
     double distance2 = v3_dot(to_light, to_light);
     if (!(distance2 > 0)) return 0;
@@ -118,9 +136,6 @@ double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 
 size_t rad_emitter_table_sample_point(const rad_emitter_table *table, double u0, double u1,
                                       rad_vec3 *position) {
     size_t k = pick(table, &u0);
-    const rad_emitter *light = &table->emitters[k];
-    double root = sqrt(u0);
-    *position = v3_add(light->p0, v3_add(v3_scale(light->e1, root * (1 - u1)),
-                                         v3_scale(light->e2, root * u1)));
+    *position = emitter_point(&table->emitters[k], u0, u1);
     return k;
 }

@@ -254,7 +254,11 @@ static int tracer_see(const void *user, rad_vec3 eye, rad_vec3 direction, int *f
                       const char **surface) {
     const rad_tracer *t = user;
     rad_hit hit;
-    if (!rad_rays_intersect(t->rays, eye, direction, 0, INFINITY, &hit)) return 0;
+    if (!rad_rays_intersect(t->rays, eye, direction, 0, INFINITY, &hit)) {
+        *front = 1; /* the sky, when there is one, is what the camera sees */
+        *surface = "sky";
+        return t->scene->sky.kind != RAD_SKY_OFF;
+    }
     *front = hit.front || t->polygon_material[hit.polygon]->kind == RAD_MATERIAL_GLASS;
     *surface = t->scene->surfaces[t->scene->polygons[hit.polygon].surface].name;
     return 1;

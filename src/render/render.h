@@ -58,9 +58,13 @@ struct rad_renderer {
     size_t surface_count;
     rad_material *surface_material;
 
-    /* Light sampling: the emitting elements' triangles, picked by power (light/emitters.h). */
+    /* Light sampling: the emitting elements' triangles, or their polygon when it is a
+     * parallelogram, picked by power (light/emitters.h, emitters_build.c). */
     rad_emitter_table emitters;
-    int32_t (*element_emitter)[2]; /* per element, its emitter triangles (-1: none) */
+    int32_t (*element_emitter)[2]; /* per element, its emitter entries (-1: none) */
+    /* Per element, nonzero where the emitters light it unevenly (penumbra.c); NULL without the
+     * final gather or emitters. */
+    uint8_t *element_uneven;
     /* The scene's point, spot and directional lights and its sky (light/lights.h), copied:
      * sampled at every final-gather point, the sky seen by rays that leave the scene. */
     size_t light_count;
@@ -206,10 +210,14 @@ rad_status rad_reconstruct_build(rad_renderer *r);
 /* Fills the radiance arrays from the system's current solution. */
 rad_status rad_reconstruct_prepare(rad_renderer *r);
 
-/* final_gather.c: the emitter table of the emitting elements, and the radiance leaving the
- * diffuse point x (on element, front normal n) by direct light plus gathered indirect light;
- * first_hit: x is the camera ray's first hit, whose gather the pixel's tally records. */
+/* emitters_build.c: the emitter table of the emitting elements (a parallelogram lamp one entry)
+ * and each element's entries (element_emitter). */
 rad_status rad_emitters_build(rad_renderer *r);
+/* penumbra.c: element_uneven, from the rays and the emitter table. */
+rad_status rad_penumbra_build(rad_renderer *r);
+/* final_gather.c: the radiance leaving the diffuse point x (on element, front normal n) by
+ * direct light plus gathered indirect light; first_hit: x is the camera ray's first hit, whose
+ * gather the pixel's tally records. */
 void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_element_hit *hit,
                       rad_vec3 x, rad_vec3 n, int first_hit, double out[3]);
 

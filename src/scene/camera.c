@@ -192,11 +192,14 @@ rad_status rad_view_check(rad_context *ctx, const rad_view *view, rad_view_see s
     if (!hits)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "camera sees nothing: no surface in the view (check --eye, --look, --fov)");
-    return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
-                    "camera is inside an object or behind the scene: it sees only the backs of "
-                    "surfaces (such as '%s'); place it with --eye and --look, or leave the file "
-                    "without a camera for the automatic one",
-                    back_surface ? back_surface : "?");
+    /* Only backs: the picture is what the camera sees, one-sided surfaces from behind, black
+     * (as the path tracer draws them); a warning says why it is dark. */
+    rad_warn(ctx,
+             "the camera sees only the backs of surfaces (such as '%s'), which are one-sided and "
+             "drawn black; it may be inside an object or behind the scene (place it with --eye "
+             "and --look, or give the surfaces backs with --two-sided)",
+             back_surface ? back_surface : "?");
+    return RAD_OK;
 }
 
 /* ---- the public camera description ---------------------------------------------------- */

@@ -36,10 +36,11 @@ rad_status rad_view_make(rad_context *ctx, const rad_camera *camera, int width, 
 
 /* The one camera rule of every command that makes an image (render, pathtrace, photonmap):
  * rays through a grid of pixel centres (at most 64 x 64), then through every pixel while none
- * has met a front, must meet the front of something (or glass). `see` casts one ray and tells
- * whether it hit, and if so whether it counts as a front and which surface it met. Errors:
- * "camera sees nothing ..." when no ray hits, "camera is inside an object or behind the scene:
- * it sees only the backs of surfaces (such as 'S') ..." when every hit is a back. */
+ * has met a front, must meet something (the sky counts: `see` reports it as a front). `see`
+ * casts one ray and tells whether it hit, and if so whether it counts as a front and which
+ * surface it met. Error: "camera sees nothing ..." when no ray hits. When every hit is a back,
+ * a warning ("the camera sees only the backs of surfaces (such as 'S'), which are one-sided and
+ * drawn black ...") and RAD_OK: the image is drawn, black where the backs are. */
 typedef int (*rad_view_see)(const void *user, rad_vec3 eye, rad_vec3 direction, int *front,
                             const char **surface);
 rad_status rad_view_check(rad_context *ctx, const rad_view *view, rad_view_see see,

@@ -15,6 +15,7 @@
 #include "solve/hierarchical_view.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define INNER_TOLERANCE 1e-5 /* gathering rounds stop when no leaf changes by more (relative) */
@@ -325,6 +326,11 @@ static void report_step(rad_system *s, const rad_hier *hier, int iteration) {
              "%zu refined, largest remaining error %.3g of the threshold, %d gathering rounds",
              iteration, stats.links, stats.cluster_links, stats.leaves, stats.clusters,
              stats.refined, stats.largest_error, stats.solve_rounds);
+    if (stats.budget_reached)
+        rad_info(s->ctx,
+                 "hierarchical step %d: the memory budget leaves %zu links over the threshold "
+                 "(%zu of them not yet estimated: their ends overlap)",
+                 iteration, stats.unrefined, stats.unknown_error);
 }
 
 /* One refinement of the links and the solve after it. Cancelled (Ctrl-C) while refining, the
@@ -335,6 +341,7 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
     hierarchical_state *state = run->state;
     rad_hier *hier = state->hier;
     rad_hier_setup *setup = state->setup;
+    run->tail_stop = 0;
     rad_status status = rad_hier_refine(hier);
     *stopped = status == RAD_ERROR_CANCELLED && rad_hier_refining(hier, NULL);
     if (*stopped) {
@@ -355,11 +362,21 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
         /* Nothing refined after a loose solve: the tight solve may move a link over the
          * threshold, so one more step asks the oracle again. */
         if (stats.refined == 0 && was_loose) *residual = 1;
-        if (stats.refined > 0 && !setup->loose &&
+        /* The tail rule: the solve ends here, short of a step that refines nothing (the
+         * driver reports RAD_STOP_TAIL, not convergence); the residual stays the count. Not
+         * when the solve was cancelled (Ctrl-C, the time budget): that stop is reported. */
+        if (stats.refined > 0 && !setup->loose && !setup->unfinished &&
             (double)stats.refined <= TAIL_SHARE * (double)stats.links)
-            *residual = 0;
+            run->tail_stop = 1;
         if (!status) evaluate(run->system, hier, setup->light);
         *stopped = setup->unfinished;
+    }
+    if (!status && stats.budget_reached && stats.links <= 1) {
+        /* Not even the top cluster's first links fit: the budget's message, which names them. */
+        char budget[512];
+        snprintf(budget, sizeof budget, "%s", rad_context_error(run->system->ctx));
+        return rad_fail(run->system->ctx, RAD_ERROR_MEMORY_BUDGET,
+                        "%s: not even the first links fit", budget);
     }
     if (!status) report_step(run->system, hier, iteration);
     if (!status) {
@@ -367,12 +384,13 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
         run->leaves = stats.leaves;
         run->largest_error = stats.largest_error;
     }
-    if (!status && stats.budget_reached && stats.links <= 1)
-        return RAD_ERROR_MEMORY_BUDGET; /* not even the top cluster's first links fit */
     if (!status && stats.budget_reached) {
-        /* The oracle is not met: the best solution within the budget, not converged. */
+        /* The oracle is not met: the best solution within the budget, not converged. The
+         * residual is the count of links still over the threshold (the measure every step
+         * reports: the links the oracle found over it), the largest error the largest known. */
         run->memory_budget_reached = 1;
-        *residual = fmax(*residual, stats.largest_error);
+        run->tail_stop = 0;
+        *residual = (double)stats.unrefined;
     }
     return status;
 }

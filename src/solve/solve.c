@@ -177,6 +177,10 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                 local.stop = RAD_STOP_MEMORY_BUDGET;
                 break;
             }
+            if (run.tail_stop && residual > tolerance) {
+                local.stop = RAD_STOP_TAIL;
+                break;
+            }
             if (residual <= tolerance || !iterative) {
                 local.converged = 1;
                 local.stop = RAD_STOP_CONVERGED;
@@ -218,7 +222,8 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
      * resumed solve does it too when it knows whether it was done: a hierarchy's solution file
      * keeps that light (RAD_SOLVER_OWN_LEAVES), an element file does not. */
     int pass_known = !options->resume || (impl->info.capabilities & RAD_SOLVER_OWN_LEAVES);
-    if (!status && local.converged && pass_known &&
+    int finished = local.converged || local.stop == RAD_STOP_TAIL;
+    if (!status && finished && pass_known &&
         system->specular_emission && !system->specular_reflection) {
         status = rad_system_add_specular_reflection(system);
         rad_solve_report second = {0};

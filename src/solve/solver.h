@@ -22,6 +22,8 @@ typedef struct rad_solver_run {
     int importance_shots;   /* set by the importance solver's begin */
     void *state;          /* the solver's own */
     int memory_budget_reached; /* set by a step that cannot go on within the memory budget */
+    int tail_stop; /* set by a step after which the solver's own rule ends the solve short of
+                      its measure (the hierarchical tail rule): RAD_STOP_TAIL, not converged */
     size_t links, leaves;      /* set by hierarchical steps (rad_iteration_event) */
     double largest_error;      /* set by hierarchical steps; NaN otherwise */
 } rad_solver_run;

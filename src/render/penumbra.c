@@ -1,0 +1,82 @@
+/* penumbra.c - which elements the emitters light unevenly (a shadow's edge crosses them, or the
+ * lamp stands at their horizon), so the final gather spends its emitter samples there.
+ *
+ * The direct light's noise is the emitter samples' where the share of the lamp a point sees
+ * varies (penumbras); where it sees all of it or none the light varies little over the lamp,
+ * and a few stratified samples (a net over the lamp: emitters_build.c) get it. So before the
+ * picture each element is tested from PENUMBRA_POINTS points (its centroid and its corners, a
+ * little inside) against a fixed set of points on the emitters (the lamp's corners, edge
+ * middles and centre when the table is one parallelogram or triangle, else LAMP_SPREAD points
+ * spread over the table by power): the element is uneven when some pairs see each other (in
+ * front of both, unoccluded) and some do not. Render.c gives pixels whose corners all meet even
+ * elements fewer emitter samples. Only the number of samples depends on this test, never their
+ * weight, so the estimate stays unbiased whatever it misses (a small occluder between the test
+ * points). Deterministic: the same for any thread count. */
+#include "render/render.h"
+
+#define LAMP_GRID 3     /* lamp points per side on a one-entry table */
+#define LAMP_SPREAD 16  /* lamp points on a larger table */
+#define PENUMBRA_POINTS 5
+#define INSET 0.02      /* corners moved this share of the way to the centroid */
+
+/* The fixed points on the emitters (at most LAMP_SPREAD); their count. */
+static int lamp_points(const rad_emitter_table *table, rad_vec3 *points) {
+    int count = 0;
+    if (table->count == 1) {
+        static const double at[LAMP_GRID] = {1e-3, 0.5, 1 - 1e-3};
+        for (int i = 0; i < LAMP_GRID; ++i)
+            for (int j = 0; j < LAMP_GRID; ++j)
+                rad_emitter_table_sample_point(table, at[i], at[j], &points[count++]);
+        return count;
+    }
+    for (int i = 0; i < LAMP_SPREAD; ++i) {
+        double u1 = (double)i * 0.6180339887498949;
+        rad_emitter_table_sample_point(table, (i + 0.5) / LAMP_SPREAD, u1 - floor(u1), &points[count++]);
+    }
+    return count;
+}
+
+static int element_uneven(const rad_renderer *r, size_t e, const rad_vec3 *lamp, int lamps) {
+    const rad_mesh *mesh = r->mesh;
+    rad_vec3 centroid = mesh->element_centroid[e], normal = mesh->element_normal[e];
+    rad_vec3 points[PENUMBRA_POINTS];
+    int count = rad_mesh_corner_count(mesh, e) + 1;
+    points[0] = centroid;
+    for (int k = 1; k < count; ++k) {
+        rad_vec3 corner = mesh->vertices[mesh->element_vertices[e][k - 1]];
+        points[k] = v3_add(corner, v3_scale(v3_sub(centroid, corner), INSET));
+    }
+    int lit = 0, dark = 0;
+    for (int k = 0; k < count; ++k)
+        for (int l = 0; l < lamps; ++l) {
+            rad_vec3 to_lamp = v3_sub(lamp[l], points[k]);
+            /* In front by more than rounding: a lamp in the element's own plane (a ceiling
+             * lamp seen from the ceiling) is behind it at every scale of the scene. */
+            int seen = v3_dot(to_lamp, normal) > 1e-9 * v3_length(to_lamp) &&
+                       !rad_element_rays_occluded(r->inner_rays, points[k], lamp[l]);
+            if (seen) ++lit;
+            else ++dark;
+            if (lit && dark) return 1;
+        }
+    return 0;
+}
+
+rad_status rad_penumbra_build(rad_renderer *r) {
+    rad_free(r->ctx, r->element_uneven);
+    r->element_uneven = NULL;
+    if (r->settings.final_gather <= 0 || r->emitters.count == 0) return RAD_OK;
+    const rad_mesh *mesh = r->mesh;
+    uint8_t *uneven = rad_alloc_zero(r->ctx, mesh->element_count + 1, sizeof *uneven);
+    if (!uneven) return RAD_ERROR_NO_MEMORY;
+    rad_vec3 lamp[LAMP_SPREAD];
+    int lamps = lamp_points(&r->emitters, lamp);
+    long count = (long)mesh->element_count;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(rad_thread_count(r->ctx))
+    for (long e = 0; e < count; ++e) {
+        const double *emission = rad_renderer_material(r, (uint32_t)e)->emission;
+        if (emission[0] > 0 || emission[1] > 0 || emission[2] > 0) continue;
+        uneven[e] = (uint8_t)element_uneven(r, (size_t)e, lamp, lamps);
+    }
+    r->element_uneven = uneven;
+    return RAD_OK;
+}
