@@ -627,7 +627,9 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
                     cut->covered_pairs++;
                 }
                 line near[64];
-                size_t lines = kind == 1 ? 1 : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, near);
+                size_t lines = kind == 1                                    ? 1
+                               : kind == 0 && options && options->no_near ? 0
+                               : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, near);
                 if (kind == 1) near[0] = l;
                 if (grow(ctx, (void **)&contacts, &contact_capacity, contact_count + lines, sizeof *contacts)) {
                     status = RAD_ERROR_NO_MEMORY;
@@ -754,13 +756,13 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     cut->points = list.points;
     cut->point_count = list.used;
     list.points = NULL;
-    if (cut->covered_pairs)
+    if (cut->covered_pairs && !(options && options->quiet))
         rad_warn(ctx, "%s: surface '%s' lies on '%s' in one plane (%zu pairs of polygons): the "
                  "part of '%s' under it is left out of the mesh", scene->source,
                  scene->surfaces[scene->polygons[covering[1]].surface].name,
                  scene->surfaces[scene->polygons[covering[0]].surface].name, cut->covered_pairs,
                  scene->surfaces[scene->polygons[covering[0]].surface].name);
-    if (cut->coplanar_pairs)
+    if (cut->coplanar_pairs && !(options && options->quiet))
         rad_warn(ctx, "%s: surfaces '%s' and '%s' overlap back to back in one plane (%zu pairs of "
                  "polygons); they are meshed as they are and may flicker in renders",
                  scene->source, scene->surfaces[scene->polygons[coplanar[0]].surface].name,

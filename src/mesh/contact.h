@@ -47,6 +47,10 @@ typedef struct rad_contact_options {
     int shadows;         /* nonzero: cut at shadow boundaries of area emitters too (shadow.h) */
     double element_size; /* with shadows: segments shorter than a quarter of it are not cut
                             along, and no cut leaves a piece narrower than SLIVER times it */
+    int no_near;         /* nonzero: no step 2b (B parallel and a little in front of A): what
+                            lies behind B may still be seen past its edges (a sky quad above a
+                            roof with an opening), so only touching contacts are cut */
+    int quiet;           /* nonzero: no warnings (a second cut of the same scene) */
 } rad_contact_options;
 
 /* Finds the contacts of every polygon with the polygons of other surfaces and cuts. Polygons
