@@ -1733,6 +1733,12 @@ static rad_status split_by_light(rad_hier *h) {
 
 rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
                            const rad_hier_options *options, rad_hier **out) {
+    return rad_hier_create_from(ctx, scene, options, NULL, out);
+}
+
+rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
+                                const rad_hier_options *options, const rad_roots *given,
+                                rad_hier **out) {
     *out = NULL;
     rad_hier_options o = options ? *options : (rad_hier_options){0};
     if (o.link_error < 0 || !isfinite(o.link_error))
@@ -1761,8 +1767,9 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
         status = RAD_ERROR_NO_MEMORY;
     /* The roots: every polygon's contact-cut pieces as quads and triangles (mesh/roots.h), so
      * no root straddles a contact and the pieces hidden inside solids are left out. */
-    rad_roots *roots = NULL;
-    if (!status) status = rad_roots_create(ctx, scene, 1, &roots);
+    rad_roots *made = NULL;
+    if (!status && !given) status = rad_roots_create(ctx, scene, 1, &made);
+    const rad_roots *roots = given ? given : made;
     double total_area = 0;
     size_t next_root = 0;
     for (size_t p = 0; p < np && !status; ++p) {
@@ -1789,7 +1796,7 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
             h->polygon_root_count[p]++;
         }
     }
-    rad_roots_destroy(ctx, roots);
+    rad_roots_destroy(ctx, made);
     h->root_count = h->node_count;
     h->min_area = o.min_area * total_area;
     h->threshold = o.link_error * (h->emitted_power > 0 ? h->emitted_power : 1);
