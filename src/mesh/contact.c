@@ -560,6 +560,9 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     rad_shadow_segment *segments = NULL;
     size_t segment_count = 0;
     uint8_t *taken = NULL;
+    uint8_t *fate = NULL; /* with sparing: per piece of one polygon, 1 covered, 2 hidden */
+    size_t fate_capacity = 0;
+    int sparing = options && options->sparing;
     if (!info || !order || !cut) {
         status = RAD_ERROR_NO_MEMORY;
         goto done;
@@ -627,7 +630,9 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
                     cut->covered_pairs++;
                 }
                 line near[64];
-                size_t lines = kind == 1 ? 1 : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, near);
+                size_t lines = kind == 1                                    ? 1
+                               : kind == 0 && options && options->no_near ? 0
+                               : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, near);
                 if (kind == 1) near[0] = l;
                 if (grow(ctx, (void **)&contacts, &contact_capacity, contact_count + lines, sizeof *contacts)) {
                     status = RAD_ERROR_NO_MEMORY;
@@ -707,6 +712,32 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
                 if (!status) status = add_piece(ctx, &work, right, nr);
             }
         }
+        /* Sparing: the cut is kept only when it pays (a piece hidden or covered) and stays
+         * small; else the polygon is one piece again. */
+        if (sparing && made && !status) {
+            size_t live = 0, dropped = 0;
+            if (grow(ctx, (void **)&fate, &fate_capacity, work.pieces, 1)) {
+                status = RAD_ERROR_NO_MEMORY;
+                break;
+            }
+            for (size_t w = 0; w < work.pieces; ++w) {
+                fate[w] = 0;
+                if (work.count[w] == 0) continue;
+                live++;
+                const rad_vec3 *p = work.points + work.first[w];
+                if (covered(scene, info, contacts + first_contact, lines, p, work.count[w], eps))
+                    fate[w] = 1;
+                else if (hidden(scene, rays, info, contacts + first_contact, lines, p, work.count[w], eps))
+                    fate[w] = 2;
+                dropped += fate[w] != 0;
+            }
+            if (!dropped || live - dropped > RAD_CONTACT_SPARING_PIECES) {
+                work.pieces = work.used = 0;
+                status = add_piece(ctx, &work, corners, polygon->count);
+                made = 0;
+                cut->left_whole++;
+            }
+        }
         if (made) cut->cut_polygons++, cut->contact_lines += made;
         /* Shadow boundaries on this polygon, the largest weight first. */
         while (next_segment < segment_count && segments[next_segment].polygon < i) next_segment++;
@@ -727,11 +758,15 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
         for (size_t w = 0; w < work.pieces && !status; ++w) {
             if (work.count[w] == 0) continue;
             const rad_vec3 *p = work.points + work.first[w];
-            if (made && covered(scene, info, contacts + first_contact, lines, p, work.count[w], eps)) {
+            int fate_w = !made ? 0 : sparing ? fate[w]
+                       : covered(scene, info, contacts + first_contact, lines, p, work.count[w], eps) ? 1
+                       : hidden(scene, rays, info, contacts + first_contact, lines, p, work.count[w], eps) ? 2
+                                                                                                        : 0;
+            if (fate_w == 1) {
                 cut->covered_pieces++;
                 continue;
             }
-            if (made && hidden(scene, rays, info, contacts + first_contact, lines, p, work.count[w], eps)) {
+            if (fate_w == 2) {
                 cut->hidden_pieces++;
                 cut->hidden_area += polygon_area(p, work.count[w]);
                 continue;
@@ -754,13 +789,13 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     cut->points = list.points;
     cut->point_count = list.used;
     list.points = NULL;
-    if (cut->covered_pairs)
+    if (cut->covered_pairs && !(options && options->quiet))
         rad_warn(ctx, "%s: surface '%s' lies on '%s' in one plane (%zu pairs of polygons): the "
                  "part of '%s' under it is left out of the mesh", scene->source,
                  scene->surfaces[scene->polygons[covering[1]].surface].name,
                  scene->surfaces[scene->polygons[covering[0]].surface].name, cut->covered_pairs,
                  scene->surfaces[scene->polygons[covering[0]].surface].name);
-    if (cut->coplanar_pairs)
+    if (cut->coplanar_pairs && !(options && options->quiet))
         rad_warn(ctx, "%s: surfaces '%s' and '%s' overlap back to back in one plane (%zu pairs of "
                  "polygons); they are meshed as they are and may flicker in renders",
                  scene->source, scene->surfaces[scene->polygons[coplanar[0]].surface].name,
@@ -772,6 +807,7 @@ done:
     rad_rays_destroy(rays);
     rad_free(ctx, segments);
     rad_free(ctx, taken);
+    rad_free(ctx, fate);
     rad_free(ctx, info);
     rad_free(ctx, order);
     rad_free(ctx, contacts);
