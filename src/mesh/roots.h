@@ -2,7 +2,9 @@
  * own leaves (the hierarchical solver's quadtree roots, and its one-element-per-root system).
  *
  * Each input polygon is first cut at its contacts (contact.h: D0, the pieces hidden inside
- * solids dropped), so no root straddles a contact line; each piece then loses the corners where
+ * solids dropped), so no root straddles a contact line, but only where that pays
+ * (rad_contact_options.sparing: a piece dropped, at most RAD_CONTACT_SPARING_PIECES left;
+ * otherwise the polygon stays whole); each piece then loses the corners where
  * it runs straight on (the T-points a cut left on a neighbour's edge), and is a root as it is
  * when it has three or four corners, or fanned from its first corner into triangles. */
 #ifndef RAD_MESH_ROOTS_H
