@@ -315,7 +315,7 @@ static mesh_report check_mesh(const char *label, const rad_scene *scene, const r
     uint32_t smallest_of = UINT32_MAX; /* elements of a polygon are contiguous */
     double smallest = 0;
     rad_contact_cut *cut = NULL;
-    const rad_contact_options as_meshed = {0, 0, 1}; /* the pieces the mesher cuts */
+    const rad_contact_options as_meshed = {.t_points = 1}; /* the pieces the mesher cuts */
     if (rad_contact_cut_create_with(ctx, scene, &as_meshed, &cut)) {
         CHECK(0);
         return report;
@@ -929,7 +929,7 @@ static void test_builtin_and_imported(void) {
             {{x0, h, z0}, {x0, h, z1}, {x1, h, z1}, {x1, h, z0}}};
         for (int f = 0; f < 5; ++f) CHECK(rad_scene_add_polygon_points(floor_scene, block, sides[f], 4) == RAD_OK);
         rad_contact_cut *cut = NULL;
-        const rad_contact_options t_points = {0, 0, 1};
+        const rad_contact_options t_points = {.t_points = 1};
         CHECK(rad_contact_cut_create_with(ctx, floor_scene, &t_points, &cut) == RAD_OK);
         if (cut) CHECK(cut->t_points == 2);
         rad_contact_cut_destroy(ctx, cut);

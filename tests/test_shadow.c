@@ -214,7 +214,7 @@ static void test_cornell(rad_context *ctx) {
     rad_scene *scene = NULL;
     CHECK(rad_scene_builtin(ctx, "cornell", &scene) == RAD_OK);
     if (!scene) return;
-    rad_contact_options options = {1, 20, 0};
+    rad_contact_options options = {.shadows = 1, .element_size = 20};
     rad_contact_cut *cut = NULL;
     CHECK(rad_contact_cut_create_with(ctx, scene, &options, &cut) == RAD_OK);
     if (cut) {

@@ -6,6 +6,7 @@
 #include "formfactor/geometric.h"
 #include "core/sampler.h"
 #include "formfactor/pair.h"
+#include "mesh/roots.h"
 #include "scene/camera.h"
 #include "scene/rays.h"
 #include "scene/scene.h"
@@ -366,7 +367,13 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
     if (partial && may_skip) {
         double relative;
         out->error = (float)-form_factor; /* the least error a partly hidden link can have */
-        if (decide(h, out, &relative)) {
+        /* The source's variation counts the visible factor, between 0 and the unoccluded one:
+         * skipped only when both ends of that range give the same decision (the decision is
+         * monotone in the factor), so it is the one the estimated link would get. */
+        out->form_factor = 0;
+        int least = decide(h, out, &relative);
+        out->form_factor = (float)form_factor;
+        if (least && decide(h, out, &relative) == least) {
             out->form_factor = NOT_ESTIMATED;
             return 1;
         }
@@ -429,12 +436,33 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
     const double *rho = h->reflectance[r->polygon];
     double carried = 0;
     for (int c = 0; c < 3; ++c) carried = fmax(carried, rho[c] * s->radiosity[c]);
-    double error = carried * fabs((double)link->error) * r->area *
-                   importance_weight(h, link->receiver);
+    double weight = r->area * importance_weight(h, link->receiver);
+    double spread_error = carried * fabs((double)link->error) * weight;
+    /* The source's own variation: the link carries its mean, but the receiver may see mostly
+     * one side of it (a block's face at the foot of a floor piece that is lit far off and in
+     * the block's shadow next to it). For a source larger than its receiver, half the range
+     * of its children's radiosity (reflected by the receiver) times the factor. */
+    double variation = 0;
+    if (s->first_child != RAD_HIER_NO_NODE && s->area > r->area)
+        for (int c = 0; c < 3; ++c) {
+            double lo = INFINITY, hi = -INFINITY;
+            for (uint32_t k = 0; k < s->child_count; ++k) {
+                double b = h->nodes[s->first_child + k].radiosity[c];
+                lo = fmin(lo, b);
+                hi = fmax(hi, b);
+            }
+            variation = fmax(variation, 0.5 * rho[c] * (hi - lo));
+        }
+    /* A link made without its estimate (NOT_ESTIMATED) was skipped because its decision is
+     * the same for any factor (make_link): 0 stands for it. */
+    double variation_error = variation * fmax(0.0, (double)link->form_factor) * weight;
+    double error = spread_error + variation_error;
     *relative = error / h->threshold;
     if (!(error > h->threshold)) return 0;
     int partial = link->error < 0;
     int split_r = can_split(h, r), split_s = can_split(h, s);
+    /* A link wrong mostly for its source's variation takes the source's children. */
+    if (variation_error > spread_error && s->first_child != RAD_HIER_NO_NODE) return 2;
     /* The receiver is split first: that is what puts leaves at shadow edges and contacts.
      * A receiver already much smaller than its source passes a partly hidden link to the
      * source's children instead (the penumbra is the source's to resolve). */
@@ -1872,6 +1900,12 @@ static rad_status split_by_light(rad_hier *h) {
 
 rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
                            const rad_hier_options *options, rad_hier **out) {
+    return rad_hier_create_from(ctx, scene, options, NULL, out);
+}
+
+rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
+                                const rad_hier_options *options, const rad_roots *given,
+                                rad_hier **out) {
     *out = NULL;
     rad_hier_options o = options ? *options : (rad_hier_options){0};
     if (o.link_error < 0 || !isfinite(o.link_error))
@@ -1898,7 +1932,13 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
     if (!h->polygon_root_first || !h->polygon_root_count || !h->reflectance || !h->emission ||
         !h->normal)
         status = RAD_ERROR_NO_MEMORY;
+    /* The roots: every polygon's contact-cut pieces as quads and triangles (mesh/roots.h), so
+     * no root straddles a contact and the pieces hidden inside solids are left out. */
+    rad_roots *made = NULL;
+    if (!status && !given) status = rad_roots_create(ctx, scene, 1, &made);
+    const rad_roots *roots = given ? given : made;
     double total_area = 0;
+    size_t next_root = 0;
     for (size_t p = 0; p < np && !status; ++p) {
         const rad_polygon *polygon = &scene->polygons[p];
         const rad_material *m = &scene->materials[scene->surfaces[polygon->surface].material];
@@ -1910,22 +1950,12 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
         double emitted = fmax(h->emission[p][0], fmax(h->emission[p][1], h->emission[p][2]));
         h->normal[p] = rad_polygon_normal(scene, polygon);
         h->polygon_root_first[p] = (uint32_t)h->node_count; /* before renumbering: identity */
-        if (!(rad_polygon_area(scene, polygon) > 0)) continue;
-        /* Quads and triangles are roots; larger polygons are fanned into triangles. */
-        uint32_t roots = polygon->count <= 4 ? 1 : polygon->count - 2;
-        if ((status = reserve_nodes(h, roots))) break;
-        for (uint32_t k = 0; k < roots; ++k) {
-            rad_vec3 c[4];
-            int count = polygon->count == 4 ? 4 : 3;
-            if (polygon->count <= 4)
-                for (int i = 0; i < count; ++i) c[i] = rad_polygon_vertex(scene, polygon, (uint32_t)i);
-            else {
-                c[0] = rad_polygon_vertex(scene, polygon, 0);
-                c[1] = rad_polygon_vertex(scene, polygon, k + 1);
-                c[2] = rad_polygon_vertex(scene, polygon, k + 2);
-            }
+        for (; next_root < roots->count && roots->roots[next_root].polygon == p; ++next_root) {
+            const rad_root *root = &roots->roots[next_root];
+            if ((status = reserve_nodes(h, 1))) break;
             rad_hier_node *n = &h->nodes[h->node_count];
-            init_node(h, n, c, count, (uint32_t)p, (uint32_t)h->node_count, 0);
+            init_node(h, n, root->corner, (int)root->count, (uint32_t)p,
+                      (uint32_t)h->node_count, 0);
             if (!(n->area > 0)) continue;
             total_area += n->area;
             h->emitted_power += emitted * n->area;
@@ -1933,6 +1963,7 @@ rad_status rad_hier_create(rad_context *ctx, const rad_scene *scene,
             h->polygon_root_count[p]++;
         }
     }
+    rad_roots_destroy(ctx, made);
     h->root_count = h->node_count;
     h->min_area = o.min_area * total_area;
     h->threshold = o.link_error * (h->emitted_power > 0 ? h->emitted_power : 1);

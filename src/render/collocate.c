@@ -13,9 +13,11 @@
  *      rad_ff_point_polygon; times the share of a fixed stratified set of points on the emitter
  *      that x sees, each weighted by its kernel cos cos / r^2) and from the point, spot and
  *      directional lights (one shadow ray each).
- *   2. Each element's value minus rho D at its centroid is what the element holds besides the
- *      direct light (its emission and the light reflected more than once): that part is
- *      averaged at the vertices as before (and fitted on boundaries).
+ *   2. Each element's value minus the mean of its corners' light (the mean of the picture
+ *      drawn over it; the light at its centroid before, which misplaced a large hierarchy
+ *      leaf's light at a shadow's edge) is what the element holds besides that light (its
+ *      emission, and what the evaluations miss): that part is averaged at the vertices as
+ *      before (and fitted on boundaries).
  *   3. Each corner of each element: that average plus rho D at a point just inside the element
  *      from the corner. Corners of neighbouring elements are evaluated apart, so a value jump
  *      (a contact, a point light's hard shadow) stays sharp where an element edge lies on it,
@@ -239,6 +241,7 @@ rad_status rad_collocate_light(rad_renderer *r, float (*centroid)[3], float (*co
     const rad_mesh *mesh = r->mesh;
     size_t n = mesh->element_count;
     size_t points = n;
+    if (!centroid) points = 0;
     for (size_t e = 0; e < n; ++e) points += (size_t)rad_mesh_corner_count(mesh, e);
     collocation c;
     rad_status status = collocation_make(r, points, &c);
@@ -253,7 +256,7 @@ rad_status rad_collocate_light(rad_renderer *r, float (*centroid)[3], float (*co
         rad_vec3 normal = mesh->element_normal[e], centre = mesh->element_centroid[e];
         const float *rho = r->element_reflectance[e];
         int corners = rad_mesh_corner_count(mesh, e);
-        for (int k = -1; k < corners; ++k) {
+        for (int k = centroid ? -1 : 0; k < corners; ++k) {
             rad_vec3 at = k < 0 ? centre
                                 : v3_lerp(mesh->vertices[mesh->element_vertices[e][k]], centre, COLLOCATE_INSET);
             double direct[3], reflected[3];

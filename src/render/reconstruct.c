@@ -282,7 +282,7 @@ static rad_status deposit_prepare(rad_renderer *r) {
 }
 
 /* The smooth bare picture (collocate.c): what each element holds besides the light evaluated at
- * its centroid (its emission, and whatever the one evaluation misses) is averaged at the vertices
+ * its corners (its emission, and whatever the evaluations miss) is averaged at the vertices
  * (and fitted on boundaries) as the radiosity is; each corner adds the light evaluated just
  * inside it. The evaluations use the same rays at every point, so their errors mostly cancel in
  * the difference between a corner and the centroids around it. */
@@ -296,10 +296,21 @@ static rad_status collocated_prepare(rad_renderer *r) {
     double(*sum)[3] = rad_alloc_zero(ctx, mesh->vertex_count + 1, sizeof *sum);
     r->corner_collocated = rad_alloc(ctx, n + 1, sizeof *r->corner_collocated);
     rad_status status = rest && vertex && weight && sum && r->corner_collocated ? RAD_OK : RAD_ERROR_NO_MEMORY;
-    if (!status) status = rad_collocate_light(r, rest, r->corner_collocated);
+    if (!status) status = rad_collocate_light(r, NULL, r->corner_collocated);
     if (!status) {
         for (size_t e = 0; e < n; ++e) {
-            for (int c = 0; c < 3; ++c) rest[e][c] = r->element_radiance[e][c] - rest[e][c];
+            /* What the corners' light leaves of the element's value: the mean of its corners (the
+             * mean of the picture drawn over it, as it interpolates them) and not the light at its
+             * centroid, so the element shows its own value whatever the light does inside it (a
+             * hierarchy's large leaf at a shadow's edge). Cornell, 256 x 256, 8x8 blocks: the
+             * default bare render 2.47% -> 1.86%, the hierarchy's at link error 1e-4 12.5% ->
+             * 11.0% (docs/hierarchical.md). */
+            int corners = rad_mesh_corner_count(mesh, e);
+            for (int c = 0; c < 3; ++c) {
+                double mean = 0;
+                for (int k = 0; k < corners; ++k) mean += r->corner_collocated[e][k][c];
+                rest[e][c] = r->element_radiance[e][c] - (float)(mean / corners);
+            }
             for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) {
                 uint32_t v = mesh->element_vertices[e][k];
                 weight[v] += mesh->element_area[e];

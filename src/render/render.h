@@ -187,7 +187,8 @@ void rad_reconstruct_gather_radiance(const rad_renderer *r, uint32_t element, do
 int rad_collocate_wanted(const rad_renderer *r);
 /* collocate.c: the light reflected at each element's centroid and just inside each of its
  * corners, B / pi units: rho times the direct light from the emitting leaves and the lights plus
- * the light gathered from the solution (after rad_reconstruct_prepare's other arrays). */
+ * the light gathered from the solution (after rad_reconstruct_prepare's other arrays).
+ * centroid may be NULL (not evaluated). */
 rad_status rad_collocate_light(rad_renderer *r, float (*centroid)[3], float (*corner)[4][3]);
 /* Finds the boundary vertices and their fitting weights (geometry only, once). */
 rad_status rad_reconstruct_build(rad_renderer *r);
