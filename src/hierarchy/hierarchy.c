@@ -65,6 +65,7 @@ typedef struct walk_root {
 
 struct rad_hier {
     rad_context *ctx;
+    uint32_t salt; /* from the context's seed, added to every link's stream (link_hash); 0 for seed 0 */
     const rad_scene *scene;
     rad_rays *rays;
     rad_hier_node *nodes;
@@ -249,6 +250,13 @@ static uint32_t pair_hash(uint32_t receiver, uint32_t source, uint32_t k) {
     return (uint32_t)(rad_mix64(((uint64_t)receiver << 32 | source) ^ rad_mix64(k + 1)) >> 32);
 }
 
+/* The stream of a link's pseudo-random choices (visibility points, member walks): seeded by the
+ * pair and by the context's seed, as every random choice (radiosity.h), so a run's result can be
+ * judged over seeds. Seed 0 gives the bits it gave before the seed counted. */
+static uint32_t link_hash(const rad_hier *h, uint32_t receiver, uint32_t source, uint32_t k) {
+    return pair_hash(receiver, source, k + h->salt);
+}
+
 static double unit(uint32_t bits) { return (bits >> 8) * (1.0 / 16777216.0); }
 
 /* Four points spread over a source node for visibility rays, one in each quarter (a quad's 2 x 2
@@ -359,7 +367,7 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
      * see past the occluder): such a link carries nothing but keeps its whole factor as its
      * error, so the oracle refines it where it matters. */
     int partial;
-    sn = visibility_points(s, pair_hash(receiver, source, 2), y);
+    sn = visibility_points(s, link_hash(h, receiver, source, 2), y);
     uint8_t seen[16];
     double fraction = visible_pairs(h, x, rn, y, sn, &partial, seen);
     out->receiver = receiver;
@@ -392,7 +400,7 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
         for (int batch = 0; batch < PARTIAL_BATCHES; ++batch) {
             if (batch) {
                 int ignored;
-                sn = visibility_points(s, pair_hash(receiver, source, 2 + 0x100u * (uint32_t)batch), y);
+                sn = visibility_points(s, link_hash(h, receiver, source, 2 + 0x100u * (uint32_t)batch), y);
                 visible_pairs(h, x, rn, y, sn, &ignored, seen);
             }
             for (int i = 0; i < rn; ++i)
@@ -801,8 +809,8 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     double receiver_chance[4 * SETS], source_chance[4 * SETS];
     uint32_t receiver_seed[SETS], source_seed[SETS];
     for (int set = 0; set < SETS; ++set) {
-        receiver_seed[set] = pair_hash(receiver, source, 1 + 0x100u * (uint32_t)set);
-        source_seed[set] = pair_hash(receiver, source, 2 + 0x100u * (uint32_t)set);
+        receiver_seed[set] = link_hash(h, receiver, source, 1 + 0x100u * (uint32_t)set);
+        source_seed[set] = link_hash(h, receiver, source, 2 + 0x100u * (uint32_t)set);
     }
     if (is_cluster(nr)) {
         sample_points(h, receiver, w, receiver_seed, SETS, xs, receiver_member, receiver_chance);
@@ -1918,6 +1926,7 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     rad_hier *h = rad_alloc_zero(ctx, 1, sizeof *h);
     if (!h) return RAD_ERROR_NO_MEMORY;
     h->ctx = ctx;
+    h->salt = ctx->seed ? (uint32_t)(rad_mix64(ctx->seed) >> 32) : 0;
     h->scene = scene;
     h->no_clusters = o.no_clusters;
     h->light_fn = o.light;
