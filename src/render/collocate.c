@@ -38,7 +38,7 @@
 
 /* Visibility points over all the emitters used, at most (a grid of g x g per emitting leaf). */
 #define COLLOCATE_SAMPLES 64
-/* Shadow rays for one picture's corners and centroids, at most. */
+/* Shadow rays for one picture's corners, at most. */
 #define COLLOCATE_RAYS 16000000.0
 /* Gather rays per point: a COLLOCATE_GATHER x COLLOCATE_GATHER stratified set, at most. */
 #define COLLOCATE_GATHER 16
@@ -236,12 +236,11 @@ int rad_collocate_wanted(const rad_renderer *r) {
     return r->settings.final_gather == 0 && r->settings.shading != RAD_SHADING_FLAT;
 }
 
-rad_status rad_collocate_light(rad_renderer *r, float (*centroid)[3], float (*corner)[4][3]) {
+rad_status rad_collocate_light(rad_renderer *r, float (*corner)[4][3]) {
     rad_context *ctx = r->ctx;
     const rad_mesh *mesh = r->mesh;
     size_t n = mesh->element_count;
-    size_t points = n;
-    if (!centroid) points = 0;
+    size_t points = 0;
     for (size_t e = 0; e < n; ++e) points += (size_t)rad_mesh_corner_count(mesh, e);
     collocation c;
     rad_status status = collocation_make(r, points, &c);
@@ -256,13 +255,12 @@ rad_status rad_collocate_light(rad_renderer *r, float (*centroid)[3], float (*co
         rad_vec3 normal = mesh->element_normal[e], centre = mesh->element_centroid[e];
         const float *rho = r->element_reflectance[e];
         int corners = rad_mesh_corner_count(mesh, e);
-        for (int k = centroid ? -1 : 0; k < corners; ++k) {
-            rad_vec3 at = k < 0 ? centre
-                                : v3_lerp(mesh->vertices[mesh->element_vertices[e][k]], centre, COLLOCATE_INSET);
+        for (int k = 0; k < corners; ++k) {
+            rad_vec3 at = v3_lerp(mesh->vertices[mesh->element_vertices[e][k]], centre, COLLOCATE_INSET);
             double direct[3], reflected[3];
             direct_at(&c, at, normal, direct);
             gather_at(&c, at, normal, reflected);
-            float *out = k < 0 ? centroid[e] : corner[e][k];
+            float *out = corner[e][k];
             for (int ch = 0; ch < 3; ++ch) out[ch] = (float)(rho[ch] * (direct[ch] + reflected[ch]));
         }
     }

@@ -41,6 +41,12 @@
  * hemisphere and the light evenly across the pixel. */
 #include "render/render.h"
 
+/* Short gather rays (below): nearer than SHORT_RANGE element sizes of what they hit, or
+ * DARK_SHORT_RANGE from a dark receiver, at most SHORT_LEVELS times along a path. */
+#define SHORT_RANGE 4.0
+#define DARK_SHORT_RANGE 8.0
+#define SHORT_LEVELS 2
+
 /* ------------------------------------------------------------------------------------------- */
 /* The emitters                                                                                 */
 
@@ -105,7 +111,8 @@ double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_elem
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
  * by `from->light_samples` stratified emitter samples, each weighted against the gather rays
  * that could have found the same point. Sample i is point first + i of the pixel's `total` points
- * in `dimension`. */
+ * in `dimension`. The shadow rays of one point go to Embree 16 at a time (they share the origin
+ * and head for the same lamp: a coherent packet). */
 static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
                          uint32_t total, uint32_t first, uint32_t dimension, rad_vec3 x,
                          const float rho[3], double out[3]) {
@@ -113,20 +120,31 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
     int count = from->light_samples;
     if (r->emitters.count == 0 || count <= 0) return;
     rad_vec3 n = from->normal;
-    for (int i = 0; i < count; ++i) {
-        double u[2];
-        rad_sample_2d_at(sample, total, first + (uint32_t)i, dimension, u);
-        rad_emitter_point light;
-        if (!rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light)) continue;
-        double cos_x = v3_dot(n, light.direction);
-        if (cos_x <= 0) continue;
-        sample->counts->shadow++;
-        if (rad_element_rays_occluded(r->rays, x, light.position)) continue;
-        /* Densities over solid angle at x. */
-        double pdf_gather = cos_x / RAD_PI;
-        double weight = rad_power_heuristic(count * light.pdf, from->gather_rays * pdf_gather);
-        double g = cos_x / light.pdf * weight;
-        for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * light.radiance[c] * g;
+    for (int start = 0; start < count; start += 16) {
+        int lanes = count - start < 16 ? count - start : 16;
+        rad_emitter_point light[16];
+        rad_vec3 position[16];
+        double cosine[16];
+        int occluded[16], live[16], traced = 0;
+        for (int i = 0; i < lanes; ++i) {
+            double u[2];
+            rad_sample_2d_at(sample, total, first + (uint32_t)(start + i), dimension, u);
+            live[i] = rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light[i]) &&
+                      (cosine[i] = v3_dot(n, light[i].direction)) > 0;
+            if (live[i]) position[traced++] = light[i].position;
+        }
+        sample->counts->shadow += (uint64_t)traced;
+        if (traced == 1) occluded[0] = rad_element_rays_occluded(r->inner_rays, x, position[0]);
+        else if (traced > 1) rad_element_rays_occluded16(r->inner_rays, x, position, traced, occluded);
+        for (int i = 0, k = 0; i < lanes; ++i) {
+            if (!live[i] || occluded[k++]) continue;
+            /* Densities over solid angle at x. */
+            double cos_x = cosine[i];
+            double pdf_gather = cos_x / RAD_PI;
+            double weight = rad_power_heuristic(count * light[i].pdf, from->gather_rays * pdf_gather);
+            double g = cos_x / light[i].pdf * weight;
+            for (int c = 0; c < 3; ++c) out[c] += rho[c] / RAD_PI * light[i].radiance[c] * g;
+        }
     }
     for (int c = 0; c < 3; ++c) out[c] /= count;
 }
@@ -169,6 +187,8 @@ static rad_vec3 cosine_direction(rad_vec3 t, rad_vec3 b, rad_vec3 n, const doubl
     return v3(a * t.x + c * b.x + z * n.x, a * t.y + c * b.y + z * n.y, a * t.z + c * b.z + z * n.z);
 }
 
+#define PACKET 16 /* gather rays traced together (rad_element_rays_intersect16) */
+
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
                                   rad_vec3 direction, const rad_element_hit *hit) {
     if (!from || from->light_samples <= 0) return 1;
@@ -196,7 +216,13 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     uint32_t total = sample->gather_total ? sample->gather_total : sample->count * (uint32_t)rays;
     uint32_t first = sample->gather_total ? sample->gather_first : sample->index * (uint32_t)rays;
     int light_samples = sample->light_samples ? sample->light_samples : r->settings.light_samples;
-    rad_gather_origin from = {n, light_samples, rays, 0, 0, total, tally};
+    /* Dark receivers (the short block's front face, lit by the floor in the block's shadow)
+     * gather again over twice the range: the solution read 4 to 8 element sizes away there
+     * (the floor's elements across the penumbra) made the face 1.5 % dark (docs/rendering.md,
+     * "Dark pixels"). Dark: the element's radiance under render.c's threshold. */
+    const float *own = r->element_radiance[element];
+    double range = (own[0] + own[1] + own[2]) / 3 < r->dark_radiance ? DARK_SHORT_RANGE : SHORT_RANGE;
+    rad_gather_origin from = {n, light_samples, rays, 0, 0, total, tally, range};
 
     /* Direct light. */
     double direct[3];
@@ -212,16 +238,25 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     double sum[3] = {0, 0, 0}, reflected[3] = {0, 0, 0};
     rad_vec3 t, b;
     v3_basis(n, &t, &b);
-    for (int i = 0; i < rays; ++i) {
-        double u[2];
-        from.ray = first + (uint32_t)i;
-        rad_sample_2d_at(sample, total, from.ray, RAD_RENDER_DIM_GATHER, u);
-        double radiance[3];
-        if (tally) tally->ray_emitted[0] = tally->ray_emitted[1] = tally->ray_emitted[2] = 0;
-        rad_trace_radiance(r, sample, x, cosine_direction(t, b, n, u), &from, radiance);
-        for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
-        if (tally)
-            for (int c = 0; c < 3; ++c) reflected[c] += radiance[c] - tally->ray_emitted[c];
+    for (int start = 0; start < rays; start += PACKET) {
+        int lanes = rays - start < PACKET ? rays - start : PACKET;
+        rad_vec3 direction[PACKET];
+        rad_element_hit hits[PACKET];
+        for (int i = 0; i < lanes; ++i) {
+            double u[2];
+            rad_sample_2d_at(sample, total, first + (uint32_t)(start + i), RAD_RENDER_DIM_GATHER, u);
+            direction[i] = cosine_direction(t, b, n, u);
+        }
+        rad_element_rays_intersect16(r->inner_rays, x, direction, lanes, r->rays->epsilon, hits);
+        for (int i = 0; i < lanes; ++i) {
+            from.ray = first + (uint32_t)(start + i);
+            double radiance[3];
+            if (tally) tally->ray_emitted[0] = tally->ray_emitted[1] = tally->ray_emitted[2] = 0;
+            rad_trace_radiance_hit(r, sample, x, direction[i], &from, &hits[i], radiance);
+            for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
+            if (tally)
+                for (int c = 0; c < 3; ++c) reflected[c] += radiance[c] - tally->ray_emitted[c];
+        }
     }
     for (int c = 0; c < 3; ++c) out[c] += rho[c] * sum[c] / rays;
     if (!tally) return;
@@ -238,8 +273,8 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
 /* ------------------------------------------------------------------------------------------- */
 /* Short gather rays                                                                            */
 
-/* A gather ray shorter than SHORT_RANGE element sizes (the square root of the hit element's
- * area) looks at the solution from closer than its elements resolve: beside a block's base the
+/* A gather ray shorter than SHORT_RANGE element sizes (DARK_SHORT_RANGE from dark receivers;
+ * the size is the square root of the hit element's area) looks at the solution from closer than its elements resolve: beside a block's base the
  * floor element it meets holds the mean over its area, brighter than the dark corner the ray
  * sees, and the bias does not shrink with more rays. There the radiance is gathered once more
  * (one emitter sample and one gather ray from the hit), as the final gathers of photon maps do
@@ -247,12 +282,10 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
  * 4 sizes rather than 2: the short block's front face, lit only by the floor in its own shadow,
  * was 2-3% too bright at 2 (the shadow's edge inside floor elements), 1.5% at 4, for 12% more
  * rays (docs/rendering.md, "Choosing the defaults"). */
-#define SHORT_RANGE 4.0
-#define SHORT_LEVELS 2
 
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit) {
     if (!from || from->level >= SHORT_LEVELS) return 0;
-    return hit->t < SHORT_RANGE * sqrt(r->mesh->element_area[hit->element]);
+    return hit->t < from->short_range * sqrt(r->mesh->element_area[hit->element]);
 }
 
 void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
@@ -263,7 +296,8 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
     /* The parent's place in the sampler: the pixel's gather points and its point among them. */
     uint32_t run = from->run, point = from->ray;
     uint32_t dimension = RAD_RENDER_DIM_SHORT + 2 * (uint32_t)from->level;
-    rad_gather_origin next = {n, r->emitters.count ? 1 : 0, 1, point, from->level + 1, run, NULL};
+    rad_gather_origin next = {n, r->emitters.count ? 1 : 0, 1, point, from->level + 1, run, NULL,
+                              from->short_range};
     double direct[3], u[2], radiance[3];
     direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
     lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */

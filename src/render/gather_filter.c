@@ -35,6 +35,7 @@
  * for any thread count. */
 #include "render/render.h"
 
+#include <float.h>
 #include <omp.h>
 
 #define RADIUS 0.1     /* A: the filter's radius in harmonic mean distances */
@@ -43,7 +44,8 @@
 
 void rad_gather_pixel_make(const rad_gather_tally *tally, int samples, uint32_t polygon, int split,
                            rad_gather_pixel *out) {
-    out->polygon = RAD_RENDER_NO_POLYGON;
+    *out = (rad_gather_pixel){.polygon = RAD_RENDER_NO_POLYGON}; /* every field defined: the
+                                                                     filter packs every record */
     if (split || polygon == RAD_RENDER_NO_POLYGON || tally->gathers != samples || samples <= 0 ||
         tally->rays == 0 || !(tally->inverse_distance > 0))
         return;
@@ -56,17 +58,22 @@ void rad_gather_pixel_make(const rad_gather_tally *tally, int samples, uint32_t 
     out->distance = (float)(tally->rays / tally->inverse_distance);
 }
 
-static double distance_squared(const float a[3], const float b[3]) {
-    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    return dx * dx + dy * dy + dz * dz;
-}
+/* What the filter reads of a neighbour, packed into 32 bytes (one record of 56 read 625 times
+ * per pixel was 5 % of the default render). inverse_reach2 is 1 / (A R)^2. */
+typedef struct filter_neighbour {
+    float position[3];
+    float inverse_reach2;
+    float reflected[3];
+    uint32_t polygon;
+} filter_neighbour;
 
-/* The filtered gathered radiance of pixel (x, y) (its record p), into out. */
-static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels, int x, int y,
-                         double out[3]) {
+/* The filtered gathered radiance of pixel (x, y) (its record p, packed in `near`), into out. */
+static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels,
+                         const filter_neighbour *near, int x, int y, double out[3]) {
     const rad_view *view = &r->view;
     const int width = view->width, height = view->height;
     const rad_gather_pixel *p = &pixels[(size_t)y * width + x];
+    const filter_neighbour *np = &near[(size_t)y * width + x];
     /* The window: as many pixels as the radius covers at p's depth, at most MAX_PIXELS. */
     double depth = (p->position[0] - view->eye.x) * view->forward.x +
                    (p->position[1] - view->eye.y) * view->forward.y +
@@ -80,20 +87,33 @@ static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels, 
     double least = MIN_PIXELS * pixel_size;
     double reach = fmax(RADIUS * p->distance, least) / pixel_size;
     int k = reach < MAX_PIXELS ? (int)reach : MAX_PIXELS;
-    /* Weighted sums: of 1, dx, dy, dx^2, dx dy, dy^2, and of I, I dx, I dy per channel. */
-    double s0 = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
-    double si[3] = {0, 0, 0}, six[3] = {0, 0, 0}, siy[3] = {0, 0, 0};
-    for (int qy = y - k; qy <= y + k; ++qy) {
-        if (qy < 0 || qy >= height) continue;
-        for (int qx = x - k; qx <= x + k; ++qx) {
-            if (qx < 0 || qx >= width) continue;
-            const rad_gather_pixel *q = &pixels[(size_t)qy * width + qx];
-            if (q->polygon != p->polygon) continue;
-            double h = fmax(RADIUS * fmin(p->distance, q->distance), least);
-            double d2 = distance_squared(p->position, q->position);
-            if (!(d2 < h * h) && q != p) continue;
-            double t2 = d2 / (h * h), w = q == p ? 1 : (1 - t2) * (1 - t2);
-            double dx = qx - x, dy = qy - y;
+    /* h = max(A min(R_p, R_q), least), so 1 / h^2 = min(max(1 / (A R_p)^2, 1 / (A R_q)^2),
+     * 1 / least^2): no division per neighbour. */
+    float inverse_least2 = (float)(1 / (least * least));
+    const float px = np->position[0], py = np->position[1], pz = np->position[2];
+    const float p_inverse = np->inverse_reach2;
+    const uint32_t polygon = np->polygon;
+    /* Weighted sums: of 1, dx, dy, dx^2, dx dy, dy^2, and of I, I dx, I dy per channel. The
+     * pixel itself weighs 1. */
+    double s0 = 1, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+    double si[3], six[3] = {0, 0, 0}, siy[3] = {0, 0, 0};
+    for (int c = 0; c < 3; ++c) si[c] = np->reflected[c];
+    int y0 = y - k < 0 ? 0 : y - k, y1 = y + k >= height ? height - 1 : y + k;
+    int x0 = x - k < 0 ? 0 : x - k, x1 = x + k >= width ? width - 1 : x + k;
+    for (int qy = y0; qy <= y1; ++qy) {
+        const filter_neighbour *row = near + (size_t)qy * width;
+        double dy = qy - y;
+        for (int qx = x0; qx <= x1; ++qx) {
+            const filter_neighbour *q = &row[qx];
+            if (q->polygon != polygon || q == np) continue;
+            float ex = q->position[0] - px, ey = q->position[1] - py, ez = q->position[2] - pz;
+            float d2 = ex * ex + ey * ey + ez * ez;
+            /* Ternaries, not fminf / fmaxf: those are calls under C11's strict floating point. */
+            float inverse_h2 = p_inverse > q->inverse_reach2 ? p_inverse : q->inverse_reach2;
+            inverse_h2 = inverse_h2 < inverse_least2 ? inverse_h2 : inverse_least2;
+            float t2 = d2 * inverse_h2;
+            if (!(t2 < 1)) continue;
+            double w = (1 - t2) * (1 - t2), dx = qx - x;
             s0 += w;
             sx += w * dx;
             sy += w * dy;
@@ -101,9 +121,10 @@ static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels, 
             sxy += w * dx * dy;
             syy += w * dy * dy;
             for (int c = 0; c < 3; ++c) {
-                si[c] += w * q->reflected[c];
-                six[c] += w * q->reflected[c] * dx;
-                siy[c] += w * q->reflected[c] * dy;
+                double wi = w * q->reflected[c];
+                si[c] += wi;
+                six[c] += wi * dx;
+                siy[c] += wi * dy;
             }
         }
     }
@@ -124,8 +145,25 @@ static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels, 
 
 rad_status rad_gather_filter(const rad_renderer *r, const rad_gather_pixel *pixels, float *image) {
     const int width = r->view.width, height = r->view.height;
-    float *change = rad_alloc(r->ctx, (size_t)width * height * 3, sizeof *change);
-    if (!change) return RAD_ERROR_NO_MEMORY;
+    size_t count = (size_t)width * height;
+    float *change = rad_alloc(r->ctx, count * 3, sizeof *change);
+    filter_neighbour *near = rad_alloc(r->ctx, count, sizeof *near);
+    if (!change || !near) {
+        rad_free(r->ctx, change);
+        rad_free(r->ctx, near);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    for (size_t i = 0; i < count; ++i) {
+        const rad_gather_pixel *p = &pixels[i];
+        filter_neighbour *n = &near[i];
+        n->polygon = p->polygon;
+        double reach = RADIUS * p->distance;
+        n->inverse_reach2 = reach > 0 ? (float)fmin(1 / (reach * reach), FLT_MAX) : FLT_MAX;
+        for (int c = 0; c < 3; ++c) {
+            n->position[c] = p->position[c];
+            n->reflected[c] = p->reflected[c];
+        }
+    }
 #pragma omp parallel for schedule(dynamic, 4) num_threads(rad_thread_count(r->ctx))
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
@@ -134,11 +172,12 @@ rad_status rad_gather_filter(const rad_renderer *r, const rad_gather_pixel *pixe
             change[3 * i] = change[3 * i + 1] = change[3 * i + 2] = 0;
             if (p->polygon == RAD_RENDER_NO_POLYGON) continue;
             double filtered[3];
-            filter_pixel(r, pixels, x, y, filtered);
+            filter_pixel(r, pixels, near, x, y, filtered);
             for (int c = 0; c < 3; ++c)
                 change[3 * i + c] = (float)(p->rho[c] * (filtered[c] - p->reflected[c]));
         }
-    for (size_t i = 0; i < (size_t)width * height * 3; ++i) image[i] = fmaxf(0.0f, image[i] + change[i]);
+    for (size_t i = 0; i < count * 3; ++i) image[i] = fmaxf(0.0f, image[i] + change[i]);
     rad_free(r->ctx, change);
+    rad_free(r->ctx, near);
     return RAD_OK;
 }

@@ -296,7 +296,7 @@ static rad_status collocated_prepare(rad_renderer *r) {
     double(*sum)[3] = rad_alloc_zero(ctx, mesh->vertex_count + 1, sizeof *sum);
     r->corner_collocated = rad_alloc(ctx, n + 1, sizeof *r->corner_collocated);
     rad_status status = rest && vertex && weight && sum && r->corner_collocated ? RAD_OK : RAD_ERROR_NO_MEMORY;
-    if (!status) status = rad_collocate_light(r, NULL, r->corner_collocated);
+    if (!status) status = rad_collocate_light(r, r->corner_collocated);
     if (!status) {
         for (size_t e = 0; e < n; ++e) {
             /* What the corners' light leaves of the element's value: the mean of its corners (the

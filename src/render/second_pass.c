@@ -99,6 +99,12 @@ static void glossy_lights(const rad_renderer *r, const rad_material *material, r
 
 void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
                         rad_vec3 direction, const rad_gather_origin *gather, double out[3]) {
+    rad_trace_radiance_hit(r, sample, origin, direction, gather, NULL, out);
+}
+
+void rad_trace_radiance_hit(const rad_renderer *r, rad_sample *sample, rad_vec3 origin,
+                            rad_vec3 direction, const rad_gather_origin *gather,
+                            const rad_element_hit *first, double out[3]) {
     rad_ray_counts *counts = sample->counts;
     out[0] = out[1] = out[2] = 0;
     double throughput[3] = {1, 1, 1};
@@ -111,7 +117,13 @@ void rad_trace_radiance(const rad_renderer *r, rad_sample *sample, rad_vec3 orig
         else if (gather) counts->gather++;
         else counts->camera++;
         rad_element_hit hit;
-        int found = rad_element_rays_intersect(r->rays, origin, direction, tnear, INFINITY, &hit);
+        int found;
+        if (depth == 0 && first) { /* traced already (a packet of gather rays) */
+            hit = *first;
+            found = hit.element != RAD_NO_ELEMENT;
+        } else
+            found = rad_element_rays_intersect(gather ? r->inner_rays : r->rays, origin, direction,
+                                               tnear, INFINITY, &hit);
         if (depth == 0 && !gather)
             sample->first_polygon = found ? r->mesh->element_polygon[hit.element] : RAD_RENDER_NO_POLYGON;
         if (depth == 0 && gather && gather->tally) {

@@ -23,28 +23,63 @@ rad_ray_frame rad_ray_frame_of_box(rad_vec3 lo, rad_vec3 hi) {
     return frame;
 }
 
-double rad_ray_frame_ray(const rad_ray_frame *frame, struct RTCRay *ray, rad_vec3 origin,
-                         rad_vec3 direction, double tnear, double tfar) {
-    float org[3];
-    rad_ray_frame_point(frame, origin, org);
+/* The floats of a ray in the frame (rad_ray_frame_ray), for a single ray or a packet's lane. */
+typedef struct frame_floats {
+    float org[3], dir[3], tnear, tfar;
+} frame_floats;
+
+static double frame_floats_make(const rad_ray_frame *frame, rad_vec3 origin, rad_vec3 direction,
+                                double tnear, double tfar, frame_floats *f) {
+    rad_ray_frame_point(frame, origin, f->org);
     double length = v3_length(direction);
     if (!(length > 0)) length = 1;
     double to_frame = length * frame->scale; /* caller's t -> Embree's t along a unit direction */
-    ray->org_x = org[0];
-    ray->org_y = org[1];
-    ray->org_z = org[2];
     double inverse = 1 / length; /* one division, not three: the rays' hottest line */
-    ray->dir_x = (float)(direction.x * inverse);
-    ray->dir_y = (float)(direction.y * inverse);
-    ray->dir_z = (float)(direction.z * inverse);
-    ray->tnear = (float)(tnear * to_frame);
+    f->dir[0] = (float)(direction.x * inverse);
+    f->dir[1] = (float)(direction.y * inverse);
+    f->dir[2] = (float)(direction.z * inverse);
+    f->tnear = (float)(tnear * to_frame);
     double far = tfar * to_frame;
-    ray->tfar = far < FLT_MAX ? (float)far : FLT_MAX;
+    f->tfar = far < FLT_MAX ? (float)far : FLT_MAX;
+    return 1 / to_frame;
+}
+
+double rad_ray_frame_ray(const rad_ray_frame *frame, struct RTCRay *ray, rad_vec3 origin,
+                         rad_vec3 direction, double tnear, double tfar) {
+    frame_floats f;
+    double to_caller = frame_floats_make(frame, origin, direction, tnear, tfar, &f);
+    ray->org_x = f.org[0];
+    ray->org_y = f.org[1];
+    ray->org_z = f.org[2];
+    ray->dir_x = f.dir[0];
+    ray->dir_y = f.dir[1];
+    ray->dir_z = f.dir[2];
+    ray->tnear = f.tnear;
+    ray->tfar = f.tfar;
     ray->time = 0;
     ray->mask = UINT32_MAX;
     ray->id = 0;
     ray->flags = 0;
-    return 1 / to_frame;
+    return to_caller;
+}
+
+double rad_ray_frame_lane(const rad_ray_frame *frame, struct RTCRay16 *ray, int i, rad_vec3 origin,
+                          rad_vec3 direction, double tnear, double tfar) {
+    frame_floats f;
+    double to_caller = frame_floats_make(frame, origin, direction, tnear, tfar, &f);
+    ray->org_x[i] = f.org[0];
+    ray->org_y[i] = f.org[1];
+    ray->org_z[i] = f.org[2];
+    ray->dir_x[i] = f.dir[0];
+    ray->dir_y[i] = f.dir[1];
+    ray->dir_z[i] = f.dir[2];
+    ray->tnear[i] = f.tnear;
+    ray->tfar[i] = f.tfar;
+    ray->time[i] = 0;
+    ray->mask[i] = UINT32_MAX;
+    ray->id[i] = (unsigned)i;
+    ray->flags[i] = 0;
+    return to_caller;
 }
 
 static void release_device(void *device) { rtcReleaseDevice((RTCDevice)device); }
@@ -286,25 +321,20 @@ void rad_rays_occluded_batch(const rad_rays *rays, const rad_vec3 *a, const rad_
     }
 }
 
-/* An empty lane: a finite ray at the origin whose segment is empty (tnear > tfar, both >= 0).
- * Embree reads every lane of a packet on some processors whatever valid[] says (Debian's
- * Embree asserts ray.valid() and tnear >= 0 across all 16), so no lane may hold garbage. */
-static void empty_lane(struct RTCRay16 *ray, int i) {
+void rad_ray16_empty_lane(struct RTCRay16 *ray, int i) {
     ray->org_x[i] = ray->org_y[i] = ray->org_z[i] = 0;
     ray->dir_x[i] = ray->dir_y[i] = 0;
     ray->dir_z[i] = 1;
     ray->tnear[i] = 1;
     ray->tfar[i] = 0;
+    ray->time[i] = 0;
+    ray->mask[i] = UINT32_MAX;
+    ray->id[i] = (unsigned)i;
+    ray->flags[i] = 0;
 }
 
 void rad_ray_packet_init(rad_ray_packet *packet) {
-    for (int i = 0; i < 16; ++i) {
-        empty_lane(&packet->ray, i);
-        packet->ray.time[i] = 0;
-        packet->ray.mask[i] = UINT32_MAX;
-        packet->ray.id[i] = (unsigned)i;
-        packet->ray.flags[i] = 0;
-    }
+    for (int i = 0; i < 16; ++i) rad_ray16_empty_lane(&packet->ray, i);
     packet->count = 0;
 }
 
@@ -314,7 +344,7 @@ void rad_rays_trace_packet(const rad_rays *rays, rad_ray_packet *packet) {
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     double scale = rays->frame.scale;
     for (int i = 0; i < 16; ++i) {
-        if (i >= packet->count) empty_lane(&packet->ray, i); /* unused lanes: filled, inactive */
+        if (i >= packet->count) rad_ray16_empty_lane(&packet->ray, i); /* unused lanes: filled, inactive */
         else { /* into the frame: t stays in units of the (scaled) direction */
             float org[3];
             rad_ray_frame_point(&rays->frame, packet->origin[i], org);

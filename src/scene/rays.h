@@ -36,6 +36,13 @@ static inline void rad_ray_frame_point(const rad_ray_frame *frame, rad_vec3 p, f
  * match. Returns the factor that turns Embree's t back into the caller's. */
 double rad_ray_frame_ray(const rad_ray_frame *frame, struct RTCRay *ray, rad_vec3 origin,
                          rad_vec3 direction, double tnear, double tfar);
+/* The same for lane i of a packet of 16 (the same floats as rad_ray_frame_ray's). */
+double rad_ray_frame_lane(const rad_ray_frame *frame, struct RTCRay16 *ray, int i, rad_vec3 origin,
+                          rad_vec3 direction, double tnear, double tfar);
+/* An empty lane i: a finite ray at the origin whose segment is empty (tnear > tfar, both >= 0).
+ * Embree reads every lane of a packet on some processors whatever valid[] says (Debian's
+ * Embree asserts ray.valid() and tnear >= 0 across all 16), so no lane may hold garbage. */
+void rad_ray16_empty_lane(struct RTCRay16 *ray, int i);
 
 typedef struct rad_rays {
     rad_context *ctx;

@@ -50,6 +50,11 @@ static rad_status add_geometry(rad_element_rays *rays, int corners, size_t count
 }
 
 rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_element_rays **out) {
+    return rad_element_rays_create_with(ctx, mesh, 1, out);
+}
+
+rad_status rad_element_rays_create_with(rad_context *ctx, const rad_mesh *mesh, int robust,
+                                          rad_element_rays **out) {
     *out = NULL;
     rad_element_rays *rays = rad_alloc_zero(ctx, 1, sizeof *rays);
     if (!rays) return RAD_ERROR_NO_MEMORY;
@@ -71,6 +76,7 @@ rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_e
         rad_element_rays_destroy(rays);
         return status;
     }
+    if (!robust) rtcSetSceneFlags(rays->scene, RTC_SCENE_FLAG_NONE);
     rad_vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
     for (size_t i = 0; i < mesh->vertex_count; ++i) {
         rad_vec3 p = mesh->vertices[i];
@@ -128,6 +134,58 @@ int rad_element_rays_occluded(const rad_element_rays *rays, rad_vec3 a, rad_vec3
     rad_ray_frame_ray(&rays->frame, &ray, a, d, rays->epsilon / length, 1 - rays->epsilon / length);
     rtcOccluded1(rays->scene, &context, &ray);
     return ray.tfar < 0;
+}
+
+void rad_element_rays_intersect16(const rad_element_rays *rays, rad_vec3 origin, const rad_vec3 *direction,
+                                  int n, double tnear, rad_element_hit *hit) {
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTC_ALIGN(64) struct RTCRayHit16 rh;
+    RTC_ALIGN(64) int valid[16];
+    double to_caller[16];
+    for (int i = 0; i < 16; ++i) {
+        valid[i] = i < n ? -1 : 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+        if (i < n)
+            to_caller[i] = rad_ray_frame_lane(&rays->frame, &rh.ray, i, origin, direction[i], tnear, INFINITY);
+        else
+            rad_ray16_empty_lane(&rh.ray, i);
+    }
+    rtcIntersect16(valid, rays->scene, &context, &rh);
+    for (int i = 0; i < n; ++i) {
+        rad_element_hit *h = &hit[i];
+        if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+            h->element = RAD_NO_ELEMENT;
+            continue;
+        }
+        h->t = rh.ray.tfar[i] * to_caller[i];
+        h->element = rh.hit.geomID[i] == rays->quad_geometry ? rays->quad_element[rh.hit.primID[i]]
+                                                             : rays->triangle_element[rh.hit.primID[i]];
+        h->u = rh.hit.u[i];
+        h->v = rh.hit.v[i];
+        h->front = (double)rh.hit.Ng_x[i] * direction[i].x + (double)rh.hit.Ng_y[i] * direction[i].y +
+                       (double)rh.hit.Ng_z[i] * direction[i].z < 0;
+    }
+}
+
+void rad_element_rays_occluded16(const rad_element_rays *rays, rad_vec3 a, const rad_vec3 *b, int n,
+                                 int *occluded) {
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTC_ALIGN(64) struct RTCRay16 ray;
+    RTC_ALIGN(64) int valid[16];
+    for (int i = 0; i < 16; ++i) {
+        rad_vec3 d = i < n ? v3_sub(b[i], a) : v3(0, 0, 0);
+        double length = v3_length(d);
+        valid[i] = i < n && length > 2 * rays->epsilon ? -1 : 0;
+        if (valid[i])
+            rad_ray_frame_lane(&rays->frame, &ray, i, a, d, rays->epsilon / length, 1 - rays->epsilon / length);
+        else
+            rad_ray16_empty_lane(&ray, i);
+    }
+    rtcOccluded16(valid, rays->scene, &context, &ray);
+    for (int i = 0; i < n; ++i) occluded[i] = valid[i] && ray.tfar[i] < 0;
 }
 
 rad_vec3 rad_element_point(const rad_mesh *mesh, uint32_t element, double u, double v) {

@@ -29,6 +29,11 @@ typedef struct rad_element_rays {
 
 /* Builds the Embree scene of the mesh's elements. The mesh must outlive the result. */
 rad_status rad_element_rays_create(rad_context *ctx, const rad_mesh *mesh, rad_element_rays **out);
+/* The same; robust 0 leaves Embree's robust traversal (RTC_SCENE_FLAG_ROBUST) off: a few %
+ * less processor time per ray, at the risk of a ray slipping through an edge shared by two
+ * elements (the renderer's, docs/rendering.md, "Where the time goes"). */
+rad_status rad_element_rays_create_with(rad_context *ctx, const rad_mesh *mesh, int robust,
+                                          rad_element_rays **out);
 void rad_element_rays_destroy(rad_element_rays *rays);
 
 typedef struct rad_element_hit {
@@ -50,6 +55,21 @@ int rad_element_rays_intersect(const rad_element_rays *rays, rad_vec3 origin, ra
 /* Nonzero when something blocks the segment from a to b, its ends excluded by epsilon.
  * Thread safe. */
 int rad_element_rays_occluded(const rad_element_rays *rays, rad_vec3 a, rad_vec3 b);
+
+/* rad_element_hit.element where a ray of rad_element_rays_intersect16 met nothing. */
+#define RAD_NO_ELEMENT UINT32_MAX
+
+/* The first hits of n <= 16 rays from origin along direction[i] (any length), t in (tnear,
+ * inf), as one Embree packet: rad_element_rays_intersect's hits (the same floats go in), element
+ * RAD_NO_ELEMENT where a ray meets nothing. For coherent rays (a point's gather rays). Thread
+ * safe. */
+void rad_element_rays_intersect16(const rad_element_rays *rays, rad_vec3 origin, const rad_vec3 *direction,
+                                  int n, double tnear, rad_element_hit *hit);
+
+/* Whether the segments from a to b[i], i < n <= 16, are blocked, as one Embree packet:
+ * rad_element_rays_occluded's answers (the same floats go in). Thread safe. */
+void rad_element_rays_occluded16(const rad_element_rays *rays, rad_vec3 a, const rad_vec3 *b, int n,
+                                 int *occluded);
 
 /* The interpolation weights of the element's corners at (u, v) (3 or 4 of them). */
 static inline int rad_element_weights(const rad_mesh *mesh, uint32_t element, double u, double v,
