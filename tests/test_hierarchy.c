@@ -911,6 +911,91 @@ static void test_opening(void) {
 }
 
 
+/* Desks under lamps (the generated office's cells): 3 x 3 cells of 3 x 3 m floor tiles
+ * (rho 0.5), each with a 0.6 m lamp facing down at 2.72 m and a black desk top (1.6 x 0.8 m,
+ * 0.72-0.75 m) between them, every root linked to every other (no clusters) and not refined:
+ * the links' factor from the floor to the lamps against the exact one (the contour integral at
+ * 16 x 16 points of each tile times the kernel-weighted visible share of 5 x 5 points on each
+ * lamp). The tiles' quadrature points lie in their own desk's shadow, though most of the tile
+ * is lit: with the visibility rays cast from them the linked factor was 13.1% low; from
+ * jittered points, but with a link whose first 16 rays all arrived taking its whole
+ * unoccluded factor, 2.2% high; estimated on fresh sets, -0.6%. */
+static void add_box(rad_scene *scene, uint32_t surface, rad_vec3 lo, rad_vec3 hi) {
+    const rad_vec3 X = v3(hi.x - lo.x, 0, 0), Y = v3(0, hi.y - lo.y, 0), Z = v3(0, 0, hi.z - lo.z);
+    add_rect(scene, surface, lo, Y, X);                                   /* bottom, -z */
+    add_rect(scene, surface, v3_add(lo, Z), X, Y);                        /* top, +z */
+    add_rect(scene, surface, lo, X, Z);                                   /* -y */
+    add_rect(scene, surface, v3_add(lo, Y), Z, X);                        /* +y */
+    add_rect(scene, surface, lo, Z, Y);                                   /* -x */
+    add_rect(scene, surface, v3_add(lo, X), Y, Z);                        /* +x */
+}
+
+static void test_desk_shadows(void) {
+    rad_context *ctx = context(2);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_new(ctx, 1, "desks", &scene) == RAD_OK);
+    uint32_t floor_surface = add_surface(scene, "floor", 0.5, 0);
+    uint32_t lamp = add_surface(scene, "lamp", 0, 100), desk = add_surface(scene, "desk", 0, 0);
+    const rad_vec3 X = v3(1, 0, 0), Y = v3(0, 1, 0);
+    enum { CELLS = 3 };
+    for (int i = 0; i < CELLS; ++i)
+        for (int k = 0; k < CELLS; ++k) {
+            double x = 3.0 * i, y = 3.0 * k;
+            add_rect(scene, floor_surface, v3(x, y, 0), v3_scale(X, 3), v3_scale(Y, 3));
+            add_rect(scene, lamp, v3(x + 1.2, y + 1.2, 2.72), v3_scale(Y, 0.6), v3_scale(X, 0.6));
+            add_box(scene, desk, v3(x + 0.7, y + 0.7, 0.72), v3(x + 2.3, y + 1.5, 0.75));
+        }
+    rad_hier_options options = {10, 0, 1, NULL, NULL, 0};
+    rad_hier *h = NULL;
+    CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
+    CHECK(rad_hier_link_roots(h) == RAD_OK);
+    size_t node_count, link_count;
+    const rad_hier_node *nodes = rad_hier_nodes(h, &node_count);
+    const rad_hier_link *links = rad_hier_links(h, &link_count);
+    double linked = 0;
+    for (size_t l = 0; l < link_count; ++l) {
+        const rad_hier_node *r = &nodes[links[l].receiver], *s = &nodes[links[l].source];
+        if (scene->polygons[r->polygon].surface == floor_surface &&
+            scene->polygons[s->polygon].surface == lamp)
+            linked += r->area * links[l].form_factor;
+    }
+    linked /= 9.0 * CELLS * CELLS;
+    rad_rays *rays = NULL;
+    CHECK(rad_rays_create(ctx, scene, &rays) == RAD_OK);
+    const int n = 16, m = 5;
+    double exact = 0;
+    for (int i = 0; i < CELLS; ++i)
+        for (int k = 0; k < CELLS; ++k)
+            for (int a = 0; a < n; ++a)
+                for (int b = 0; b < n; ++b) {
+                    rad_vec3 p = v3(3.0 * i + 3.0 * (a + 0.5) / n, 3.0 * k + 3.0 * (b + 0.5) / n, 0);
+                    for (int li = 0; li < CELLS; ++li)
+                        for (int lk = 0; lk < CELLS; ++lk) {
+                            double x = 3.0 * li + 1.2, y = 3.0 * lk + 1.2;
+                            const rad_vec3 quad[4] = {v3(x, y, 2.72), v3(x, y + 0.6, 2.72),
+                                                      v3(x + 0.6, y + 0.6, 2.72), v3(x + 0.6, y, 2.72)};
+                            double all = 0, seen = 0;
+                            for (int u = 0; u < m; ++u)
+                                for (int v = 0; v < m; ++v) {
+                                    rad_vec3 q = v3(x + 0.6 * (u + 0.5) / m, y + 0.6 * (v + 0.5) / m, 2.72);
+                                    rad_vec3 d = v3_sub(q, p);
+                                    double r2 = v3_dot(d, d), kernel = d.z * d.z / (r2 * r2);
+                                    all += kernel;
+                                    if (!rad_rays_occluded(rays, p, q)) seen += kernel;
+                                }
+                            exact += rad_ff_point_polygon(p, v3(0, 0, 1), quad, 4) * seen / all;
+                        }
+                }
+    exact /= (double)CELLS * CELLS * n * n;
+    printf("desk shadows: the floor's factor to the lamps %.5f linked against %.5f exact (%+.2f%%)\n",
+           linked, exact, 100 * (linked / exact - 1));
+    CHECK(fabs(linked / exact - 1) < 0.02);
+    rad_rays_destroy(rays);
+    rad_hier_destroy(h);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
 /* Ctrl-C while refining: a progress callback that asks to stop at the `stop_at`-th call of
  * `phase` and at every call after it (as the CLI's does once interrupted). */
 typedef struct stopper {
@@ -1213,6 +1298,7 @@ static void test_bright_member(void) {
 }
 
 int main(void) {
+    test_desk_shadows();
     test_opening();
     test_cluster_form_factors();
     test_bright_member();
