@@ -60,6 +60,22 @@ static void test_cuts(rad_context *ctx, const rad_scene *scene) {
         }
     }
     rad_contact_cut_destroy(ctx, cut);
+    /* Sparing (the hierarchy's roots) with touching contacts only: the floor keeps its cut (22
+     * pieces, the 4 under the blocks dropped, the footprints' area exactly); polygons whose
+     * contact lines hide nothing stay one piece each. */
+    rad_contact_options sparing = {.no_near = 1, .quiet = 1, .sparing = 1};
+    cut = NULL;
+    CHECK(rad_contact_cut_create_with(ctx, scene, &sparing, &cut) == RAD_OK);
+    if (!cut) return;
+    size_t floor_pieces = 0;
+    for (size_t i = 0; i < cut->piece_count; ++i) floor_pieces += cut->pieces[i].polygon == 0;
+    printf("cornell, sparing: %zu pieces (%zu of the floor), %zu cut polygons left whole, %zu "
+           "hidden, area %.1f\n", cut->piece_count, floor_pieces, cut->left_whole,
+           cut->hidden_pieces, cut->hidden_area);
+    CHECK(cut->cut_polygons == 1 && floor_pieces == 22 && cut->left_whole >= 1);
+    CHECK(cut->piece_count == scene->polygon_count - 1 + 22);
+    CHECK(fabs(cut->hidden_area / blocks - 1) < 1e-6);
+    rad_contact_cut_destroy(ctx, cut);
 }
 
 /* Every element the camera sees (at 256 x 256, one ray per pixel) has light. Before the ceiling

@@ -1,7 +1,8 @@
 /* hierarchy.h - hierarchical radiosity (Hanrahan, Salzman & Aupperle 1991).
  *
- * Every input polygon (fanned into triangles when it has more than four corners) is the root of
- * a quadtree: a quad splits into four quads at its edge midpoints and centre, a triangle into
+ * Every input polygon, cut at its contacts (mesh/roots.h: the pieces hidden inside solids
+ * dropped, pieces of more than four corners fanned into quads), gives the roots of quadtrees:
+ * a quad splits into four quads at its edge midpoints and centre, a triangle into
  * four at its edge midpoints. Nodes are made lazily, when a link asks for them. A link carries
  * light from a source node to a receiver node at any level of either tree; its form factor is
  * the point-to-polygon factor (Lambert's contour integral) averaged over the receiver's quadrature
@@ -9,7 +10,8 @@
  *
  * The oracle: a link's error is rho_r B_s (dF + partial F), the radiosity it carries times its
  * form-factor error bound, where dF is the spread of the point factor over the receiver's
- * quadrature points and partial visibility counts its whole factor. A link whose error exceeds
+ * quadrature points and partial visibility counts its whole factor, plus, for a split source
+ * larger than its receiver, rho_r dB_s F (dB_s half the range of its children's radiosity). A link whose error exceeds
  * the threshold is replaced by links to the four children of its receiver (or, when the
  * visibility is partial and the source is larger, of its source).
  *
@@ -97,10 +99,16 @@ typedef struct rad_hier_stats {
 
 typedef struct rad_hier rad_hier;
 
-/* Builds the roots (one per input polygon, fanned when larger than a quad) and Embree's rays for
+/* Builds the roots (rad_roots_create's: the polygons cut at contacts) and Embree's rays for
  * `scene`, which must outlive the hierarchy. Degenerate polygons get no root. */
 rad_status rad_hier_create(rad_context *ctx, const struct rad_scene *scene,
                            const rad_hier_options *options, rad_hier **out);
+/* The same from roots already cut (rad_roots_create's for this scene, e.g. rebuilt from a
+ * one-element-per-root system's elements, so the scene is not cut twice); NULL: cut here. */
+struct rad_roots;
+rad_status rad_hier_create_from(rad_context *ctx, const struct rad_scene *scene,
+                                const rad_hier_options *options, const struct rad_roots *roots,
+                                rad_hier **out);
 void rad_hier_destroy(rad_hier *hier);
 
 /* The initial links: one self-link on the top cluster (or, with options.no_clusters, between

@@ -383,6 +383,17 @@ static int enclosed(const rad_scene *scene, const rad_rays *rays, const contact 
     return 0;
 }
 
+/* Step 4's verdict on one piece of polygon `receiver`: 0 kept, 1 under a coplanar polygon
+ * (covered), 2 hidden behind a contact or enclosed in a wall or slab. */
+static int piece_fate(const rad_scene *scene, const rad_rays *rays, const plane_info *info,
+                      const contact *list, size_t count, const rad_vec3 *p, size_t n, double eps) {
+    if (covered(scene, info, list, count, p, n, eps)) return 1;
+    if (hidden(scene, rays, info, list, count, p, n, eps) ||
+        enclosed(scene, rays, list, count, info[list[0].receiver].normal, p, n))
+        return 2;
+    return 0;
+}
+
 /* The part [t0, t1] of the line point + t direction (unit) inside the convex piece p, eps
  * inside its edges; 0 when the line misses it. */
 static int chord(const rad_vec3 *p, size_t n, rad_vec3 normal, rad_vec3 point, rad_vec3 direction,
@@ -645,6 +656,9 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     rad_shadow_segment *segments = NULL;
     size_t segment_count = 0;
     uint8_t *taken = NULL;
+    uint8_t *fate = NULL; /* with sparing: per piece of one polygon, 1 covered, 2 hidden */
+    size_t fate_capacity = 0;
+    int sparing = options && options->sparing;
     if (!info || !order || !cut) {
         status = RAD_ERROR_NO_MEMORY;
         goto done;
@@ -719,7 +733,9 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
                     cut->covered_pairs++;
                 }
                 line near[64];
-                size_t lines = kind == 1 ? 1 : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, near);
+                size_t lines = kind == 1                                    ? 1
+                               : kind == 0 && options && options->no_near ? 0
+                               : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, near);
                 if (kind == 1) near[0] = l;
                 if (grow(ctx, (void **)&contacts, &contact_capacity, contact_count + lines, sizeof *contacts)) {
                     status = RAD_ERROR_NO_MEMORY;
@@ -772,7 +788,6 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
         for (uint32_t k = 0; k < polygon->count; ++k)
             (big ? big : corners)[k] = rad_polygon_vertex(scene, polygon, k);
         status = add_piece(ctx, &work, whole, polygon->count);
-        rad_free(ctx, big);
         size_t made = 0;
         for (size_t c = first_contact; c < next_contact && made < MAX_LINES && !status; ++c) {
             line l = contacts[c].cut;
@@ -799,6 +814,32 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
                 if (!status) status = add_piece(ctx, &work, right, nr);
             }
         }
+        /* Sparing: the cut is kept only when it pays (a piece hidden or covered) and stays
+         * small; else the polygon is one piece again. */
+        if (sparing && made && !status) {
+            size_t live = 0, dropped = 0;
+            if (grow(ctx, (void **)&fate, &fate_capacity, work.pieces, 1)) {
+                status = RAD_ERROR_NO_MEMORY;
+                rad_free(ctx, big);
+                break;
+            }
+            for (size_t w = 0; w < work.pieces; ++w) {
+                fate[w] = 0;
+                if (work.count[w] == 0) continue;
+                live++;
+                const rad_vec3 *p = work.points + work.first[w];
+                fate[w] = (uint8_t)piece_fate(scene, rays, info, contacts + first_contact, lines, p,
+                                              work.count[w], eps);
+                dropped += fate[w] != 0;
+            }
+            if (!dropped || live - dropped > RAD_CONTACT_SPARING_PIECES) {
+                work.pieces = work.used = 0;
+                status = add_piece(ctx, &work, whole, polygon->count);
+                made = 0;
+                cut->left_whole++;
+            }
+        }
+        rad_free(ctx, big);
         if (made) cut->cut_polygons++, cut->contact_lines += made;
         /* Shadow boundaries on this polygon, the largest weight first. */
         while (next_segment < segment_count && segments[next_segment].polygon < i) next_segment++;
@@ -819,12 +860,14 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
         for (size_t w = 0; w < work.pieces && !status; ++w) {
             if (work.count[w] == 0) continue;
             const rad_vec3 *p = work.points + work.first[w];
-            if (made && covered(scene, info, contacts + first_contact, lines, p, work.count[w], eps)) {
+            int fate_w = !made    ? 0
+                         : sparing ? fate[w]
+                                   : piece_fate(scene, rays, info, contacts + first_contact, lines, p, work.count[w], eps);
+            if (fate_w == 1) {
                 cut->covered_pieces++;
                 continue;
             }
-            if (made && (hidden(scene, rays, info, contacts + first_contact, lines, p, work.count[w], eps) ||
-                         enclosed(scene, rays, contacts + first_contact, lines, info[i].normal, p, work.count[w]))) {
+            if (fate_w == 2) {
                 cut->hidden_pieces++;
                 cut->hidden_area += polygon_area(p, work.count[w]);
                 continue;
@@ -848,13 +891,13 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     cut->points = list.points;
     cut->point_count = list.used;
     list.points = NULL;
-    if (cut->covered_pairs)
+    if (cut->covered_pairs && !(options && options->quiet))
         rad_warn(ctx, "%s: surface '%s' lies on '%s' in one plane (%zu pairs of polygons): the "
                  "part of '%s' under it is left out of the mesh", scene->source,
                  scene->surfaces[scene->polygons[covering[1]].surface].name,
                  scene->surfaces[scene->polygons[covering[0]].surface].name, cut->covered_pairs,
                  scene->surfaces[scene->polygons[covering[0]].surface].name);
-    if (cut->coplanar_pairs)
+    if (cut->coplanar_pairs && !(options && options->quiet))
         rad_warn(ctx, "%s: surfaces '%s' and '%s' overlap back to back in one plane (%zu pairs of "
                  "polygons); they are meshed as they are and may flicker in renders",
                  scene->source, scene->surfaces[scene->polygons[coplanar[0]].surface].name,
@@ -866,6 +909,7 @@ done:
     rad_rays_destroy(rays);
     rad_free(ctx, segments);
     rad_free(ctx, taken);
+    rad_free(ctx, fate);
     rad_free(ctx, info);
     rad_free(ctx, order);
     rad_free(ctx, contacts);

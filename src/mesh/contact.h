@@ -41,6 +41,8 @@ typedef struct rad_contact_cut {
     size_t shadow_segments; /* shadow boundaries found (shadow.h) ... */
     size_t shadow_cuts;     /* ... and those cut along (after dedupe and the cap per polygon) */
     size_t t_points;        /* corners added where a cut ended on another piece's edge */
+    size_t left_whole;      /* with sparing: polygons cut and then left whole (nothing hidden,
+                               or too many pieces) */
 } rad_contact_cut;
 
 typedef struct rad_contact_options {
@@ -51,7 +53,20 @@ typedef struct rad_contact_options {
                             polygon of the surface (bending less than 30 degrees), that polygon
                             gets the end as a corner (the mesher asks for it; with shadows they
                             are always added) */
+    int no_near;         /* nonzero: no step 2b (B parallel and a little in front of A): what
+                            lies behind B may still be seen past its edges (a sky quad above a
+                            roof with an opening), so only touching contacts are cut */
+    int quiet;           /* nonzero: no warnings (a second cut of the same scene) */
+    int sparing;         /* nonzero (the hierarchy's roots, mesh/roots.h): a polygon cut by its
+                            contacts is left whole when none of its pieces is hidden or covered,
+                            or when it would be cut into more than RAD_CONTACT_SPARING_PIECES
+                            pieces (a wall crossed by many others): cuts only where they pay */
 } rad_contact_options;
+
+/* With sparing, a polygon cut into more pieces than this is left whole (the Cornell box's
+ * floor, cut along both blocks' bases, has 22; Sponza's 41,274 polygons give 42,595 pieces at
+ * 24, 43,672 at 64; docs/hierarchical.md, "Contacts and the source's variation"). */
+#define RAD_CONTACT_SPARING_PIECES 24
 
 /* Finds the contacts of every polygon with the polygons of other surfaces and cuts. Polygons
  * the mesher would skip (zero area, not finite) are passed on uncut. Where two polygons overlap

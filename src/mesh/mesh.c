@@ -895,7 +895,8 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
     m.ctx = ctx;
     m.scene = scene;
     mesh_count count = {0};
-    rad_contact_options cuts = {.shadows = o.shadow_boundaries, .element_size = o.element_size, .t_points = 1};
+    rad_contact_options cuts = {.shadows = o.shadow_boundaries, .element_size = o.element_size,
+                                .t_points = 1};
     rad_status status = rad_contact_cut_create_with(ctx, scene, &cuts, &m.contacts);
     if (!status) status = build_cells(&m);
     if (!status && m.cell_count == 0)

@@ -8,6 +8,7 @@
 #include "solve/solver.h"
 
 #include "hierarchy/hierarchy.h"
+#include "mesh/roots.h"
 #include "mesh/mesh.h"
 #include "scene/camera.h"
 #include "scene/rays.h"
@@ -147,6 +148,29 @@ static rad_status solve_links(rad_system *s, rad_hier *hier, rad_hier_setup *set
     return status;
 }
 
+/* The roots a one-element-per-root system was built from (rad_system_polygon_mesh: its
+ * elements are rad_roots_create's roots, in order, with their corners and areas). */
+static rad_status roots_of_mesh(const rad_system *s, rad_roots **out) {
+    const rad_mesh *mesh = s->mesh;
+    rad_roots *r = rad_alloc_zero(s->ctx, 1, sizeof *r);
+    if (r) r->roots = rad_alloc_zero(s->ctx, mesh->element_count ? mesh->element_count : 1, sizeof *r->roots);
+    if (!r || !r->roots) {
+        rad_roots_destroy(s->ctx, r);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        rad_root *root = &r->roots[e];
+        root->count = (uint32_t)rad_mesh_corner_count(mesh, e);
+        for (uint32_t k = 0; k < root->count; ++k)
+            root->corner[k] = mesh->vertices[mesh->element_vertices[e][k]];
+        root->area = mesh->element_area[e];
+        root->polygon = mesh->element_polygon[e];
+    }
+    r->count = mesh->element_count;
+    *out = r;
+    return RAD_OK;
+}
+
 rad_status rad_hier_setup_create(rad_system *s, double link_error, int importance,
                                  rad_rgb *reflection, rad_hier_setup **out, rad_hier **hier) {
     *out = NULL;
@@ -170,7 +194,11 @@ rad_status rad_hier_setup_create(rad_system *s, double link_error, int importanc
         /* A caustic has edges of its own, which no link asks for: the nodes resolve it first. */
         options.light_split = s->specular_emission != NULL;
     }
-    if (!status) status = rad_hier_create(s->ctx, s->geometry, &options, hier);
+    /* A one-element-per-root system (no form-factor provider) holds the roots already cut. */
+    rad_roots *roots = NULL;
+    if (!status && !s->ff && s->mesh) status = roots_of_mesh(s, &roots);
+    if (!status) status = rad_hier_create_from(s->ctx, s->geometry, &options, roots, hier);
+    rad_roots_destroy(s->ctx, roots);
     if (status) {
         rad_hier_setup_destroy(s, setup);
         return status;
