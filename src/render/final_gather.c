@@ -179,6 +179,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
      * "Dark pixels"). Dark: the element's radiance under render.c's threshold. */
     const float *own = r->element_radiance[element];
     double range = (own[0] + own[1] + own[2]) / 3 < r->dark_radiance ? DARK_SHORT_RANGE : SHORT_RANGE;
+    if (r->regather_all) range = INFINITY;
     rad_gather_origin from = {n, light_samples, rays, 0, 0, total, tally, range};
 
     /* Direct light. */

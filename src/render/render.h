@@ -102,6 +102,10 @@ struct rad_renderer {
     /* Under this radiance (B / pi, mean of the channels) a surface counts as dark: DARK times
      * the mean the pixel corners see (render.c); set by each render, 0: none. */
     double dark_radiance;
+    /* Gather rays read the solution one bounce later at any distance (hierarchy leaves: their
+     * shaded sides hold the mean of a leaf straddling a shadow; docs/hierarchical.md, "The
+     * arcades' back walls"). Set with the leaves. */
+    int regather_all;
 
     /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
     rad_photon_map caustics;
