@@ -331,6 +331,21 @@ static double visible_pairs(const rad_hier *h, const rad_vec3 *x, int rn, const 
 
 static int decide(const rad_hier *h, const rad_hier_link *link, double *relative);
 
+/* The point-to-point kernel cos cos / r^2 (without pi and the areas) of every pair x[i] -> y[j]
+ * (receiver normal nr, source normal ns), added to *all, and of the pairs seen[i * sn + j] to
+ * *visible: one set of a partly hidden link's rays, weighed. */
+static void kernel_weighed(const rad_vec3 *x, int rn, const rad_vec3 *y, int sn, rad_vec3 nr,
+                           rad_vec3 ns, const uint8_t *seen, double *all, double *visible) {
+    for (int i = 0; i < rn; ++i)
+        for (int j = 0; j < sn; ++j) {
+            rad_vec3 ray = v3_sub(y[j], x[i]);
+            double r2 = v3_dot(ray, ray);
+            double k = fmax(0, v3_dot(nr, ray)) * fmax(0, -v3_dot(ns, ray)) / (r2 * r2);
+            *all += k;
+            *visible += seen[i * sn + j] ? k : 0;
+        }
+}
+
 /* The kernel-weighted visible fraction `ratio` = visible / all over `m` independent sets of
  * rays (set j's sums set_all[j], set_visible[j]), with the ratio's bias taken out by the
  * jackknife (Quenouille 1956): m R - (m - 1) times the mean of the ratios leaving one set out,
@@ -438,14 +453,7 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
          * small-visible-share bias; on main, without the jackknife, two sets instead of four
          * saved 5% of the office's solve, docs/hierarchical.md "seventh session"). */
         double first_all = 0, first_seen = 0;
-        for (int i = 0; i < rn && partial; ++i)
-            for (int j = 0; j < sn; ++j) {
-                rad_vec3 ray = v3_sub(y[j], xv[i]);
-                double r2 = v3_dot(ray, ray);
-                double k = fmax(0, v3_dot(nr, ray)) * fmax(0, -v3_dot(ns, ray)) / (r2 * r2);
-                first_all += k;
-                first_seen += seen[i * sn + j] ? k : 0;
-            }
+        if (partial) kernel_weighed(xv, rn, y, sn, nr, ns, seen, &first_all, &first_seen);
         int sets = !partial ? 2 : first_seen >= MOSTLY_SEEN * first_all ? SEEN_BATCHES : PARTIAL_BATCHES;
         double all = 0, visible = 0, set_all[PARTIAL_BATCHES] = {0}, set_visible[PARTIAL_BATCHES] = {0};
         for (int batch = 1; batch < sets; ++batch) {
@@ -454,14 +462,7 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
             sn = visibility_points(s, link_hash(h, receiver, source, 2 + 0x100u * (uint32_t)batch), y);
             visible_pairs(h, xv, rn, y, sn, &blocked, seen);
             partial |= blocked;
-            for (int i = 0; i < rn; ++i)
-                for (int j = 0; j < sn; ++j) {
-                    rad_vec3 ray = v3_sub(y[j], xv[i]);
-                    double r2 = v3_dot(ray, ray);
-                    double k = fmax(0, v3_dot(nr, ray)) * fmax(0, -v3_dot(ns, ray)) / (r2 * r2);
-                    set_all[batch] += k;
-                    set_visible[batch] += seen[i * sn + j] ? k : 0;
-                }
+            kernel_weighed(xv, rn, y, sn, nr, ns, seen, &set_all[batch], &set_visible[batch]);
             all += set_all[batch];
             visible += set_visible[batch];
         }
