@@ -600,7 +600,7 @@ static void borrowed_ambient(const rad_solution_view *view, double out[3]) {
 }
 static const rad_solution_view_ops borrowed_ops = {
     "borrowed", borrowed_leaves, borrowed_generation, borrowed_radiosity, borrowed_unshot,
-    borrowed_emission, borrowed_reflectance, borrowed_ambient, NULL, NULL, NULL,
+    borrowed_emission, borrowed_reflectance, borrowed_ambient, NULL, NULL, NULL, 0,
 };
 
 static void test_solution_view(rad_context *ctx, const rad_scene *scene) {

@@ -416,7 +416,7 @@ static size_t leaf_count(const rad_solution_view *view) {
 static const rad_solution_view_ops leaf_view_ops = {
     "hierarchy leaves", leaf_leaves,      leaf_generation, leaf_radiosity, leaf_unshot,
     leaf_emission,      leaf_reflectance, leaf_ambient,    NULL,           leaf_destroy,
-    leaf_count,
+    leaf_count,         1,
 };
 
 rad_status rad_hier_view_install(rad_system *system, rad_hier *hier, rad_hier_setup *setup,

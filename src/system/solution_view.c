@@ -57,7 +57,7 @@ static void uniform_store(rad_solution_view *view, size_t leaf, const double rad
 const rad_solution_view_ops rad_uniform_view_ops = {
     "uniform mesh",      uniform_leaves,   uniform_generation, uniform_radiosity,
     uniform_unshot,      uniform_emission, uniform_reflectance, uniform_ambient,
-    uniform_store,       NULL,               NULL,
+    uniform_store,       NULL,               NULL,                0,
 };
 
 /* ------------------------------------------------------------------------------------------- */

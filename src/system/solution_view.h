@@ -52,6 +52,10 @@ typedef struct rad_solution_view_ops {
     /* How many leaves the method holds, when a leaf may be drawn as several polygons; NULL:
      * one polygon each (rad_system_leaf_count). */
     size_t (*leaf_count)(const rad_solution_view *view);
+    /* Nonzero when a leaf may straddle a shadow line and hold its mean (the hierarchy's large
+     * leaves): the final gather then reads the solution one bounce later at any distance
+     * (docs/hierarchical.md, "The arcades' back walls"). */
+    int coarse_leaves;
 } rad_solution_view_ops;
 
 /* The system's current view (the uniform mesh unless a solver installed another); lives as long
