@@ -72,6 +72,9 @@ const char *cli_ff_method_names(char *out, size_t size, const char *separator);
 /* Nonzero when the solver shoots (RAD_SOLVER_SHOOTS) / takes its own option `option`. */
 int cli_solver_shoots(rad_solver_kind kind);
 int cli_solver_takes(rad_solver_kind kind, const char *option);
+/* What a solver counts, for `n` of them: "shots" (shooting), "steps" (the hierarchy: refine
+ * and solve), "rounds" (gathering); singular when n is 1. */
+const char *cli_step_word(rad_solver_kind kind, long n);
 /* Per-method option bags (rad_options): sets `name` to `value` when the value is nonzero (the
  * flag or number was given) and the chosen solver / form-factor method registered `name`; the
  * others never read it. */

@@ -130,13 +130,11 @@ int cmd_bake(int argc, char **argv) {
         printf("baked %s of %zu surfaces into %s (solution from %s)\n", baked,
                rad_system_surface_count(system), output, solution);
     } else if (!p.quiet) {
-        int gathering = solve.solver == RAD_SOLVER_JACOBI ||
-                        solve.solver == RAD_SOLVER_GAUSS_SEIDEL ||
-                        solve.solver == RAD_SOLVER_HIERARCHICAL;
         printf("baked %s of %zu surfaces into %s (%s", baked, rad_system_surface_count(system),
                output, rad_solver_kind_name(solve.solver));
         if (solve.solver != RAD_SOLVER_DIRECT)
-            printf(": %d %s, %s", report.iterations, gathering ? "rounds" : "shots",
+            printf(": %d %s, %s", report.iterations,
+                   cli_step_word(solve.solver, report.iterations),
                    cli_solve_outcome(&report));
         printf(")\n");
     }

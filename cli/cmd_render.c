@@ -50,8 +50,7 @@ static void print_stats(const cli_timings *t, double renderer_seconds, double wr
     else
         printf("solve          %8.3f s   %s, %d %s, %s\n", t->solve,
                rad_solver_kind_name(solve->solver), report->iterations,
-               solve->solver == RAD_SOLVER_SHOOTING || solve->solver == RAD_SOLVER_IMPORTANCE
-                   ? "shots" : "rounds",
+               cli_step_word(solve->solver, report->iterations),
                cli_solve_outcome(report));
     printf("ray structures %8.3f s\n", renderer_seconds);
     printf("render         %8.3f s   %.3g Mrays/s (camera %llu, gather %llu, shadow %llu, "

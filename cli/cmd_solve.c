@@ -110,7 +110,7 @@ static const char *stop_name(rad_solve_stop stop) {
 static void print_table(const rad_system *system, const rad_solve_options *options,
                         const rad_solve_report *report, long steps) {
     printf("%s: %ld %s, %s", rad_solver_kind_name(options->solver), steps,
-           cli_solver_shoots(options->solver) ? "shots" : "rounds",
+           cli_step_word(options->solver, steps),
            cli_solve_outcome(report));
     if (report->stop == RAD_STOP_TAIL)
         printf(": the last step refined %.0f of %zu links (at most 0.2%%) and solved them; the "
@@ -356,7 +356,7 @@ int cmd_solve(int argc, char **argv) {
             }
             if (!a.pipe.quiet)
                 fprintf(stderr, "radiosity: going on from %s (%ld %s by %s)\n", a.resume,
-                        resumed.steps, cli_solver_shoots(resumed.solver) ? "shots" : "rounds",
+                        resumed.steps, cli_step_word(resumed.solver, resumed.steps),
                         rad_solver_kind_name(resumed.solver));
         }
     }

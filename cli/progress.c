@@ -166,7 +166,6 @@ const char *cli_solve_outcome(const rad_solve_report *report) {
 }
 
 void cli_stage_solve(const rad_solve_options *solve, const rad_solve_report *report) {
-    int shooting = solve->solver == RAD_SOLVER_SHOOTING || solve->solver == RAD_SOLVER_IMPORTANCE;
     char hierarchy[96] = "";
     if (report->links) /* the hierarchical solver's links and leaves */
         snprintf(hierarchy, sizeof hierarchy, ", %zu links, %zu leaves", report->links,
@@ -175,6 +174,6 @@ void cli_stage_solve(const rad_solve_options *solve, const rad_solve_report *rep
     cli_stage("solve", report->links ? "%s, %d %s, residual %.0f, %s%s, %.2f s"
                                      : "%s, %d %s, residual %.3g, %s%s, %.2f s",
               rad_solver_kind_name(solve->solver),
-              report->iterations, shooting ? "shots" : "rounds", report->residual,
+              report->iterations, cli_step_word(solve->solver, report->iterations), report->residual,
               cli_solve_outcome(report), hierarchy, report->seconds);
 }

@@ -103,6 +103,13 @@ int cli_solver_shoots(rad_solver_kind kind) {
     return info && (info->capabilities & RAD_SOLVER_SHOOTS);
 }
 
+const char *cli_step_word(rad_solver_kind kind, long n) {
+    int one = n == 1;
+    if (cli_solver_shoots(kind)) return one ? "shot" : "shots";
+    if (kind == RAD_SOLVER_HIERARCHICAL) return one ? "step" : "steps";
+    return one ? "round" : "rounds";
+}
+
 int cli_solver_takes(rad_solver_kind kind, const char *option) {
     const rad_solver_info *info = rad_solver_get(kind);
     return info && solver_has_option(info, option);

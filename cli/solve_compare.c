@@ -36,11 +36,11 @@ typedef struct compare_run {
     int overshoot;
 } compare_run;
 
-static void print_reached(double seconds, long steps, int shooting) {
+static void print_reached(double seconds, long steps, rad_solver_kind kind) {
     if (seconds < 0) printf("  %-22s", "not reached");
     else {
         char text[48];
-        snprintf(text, sizeof text, "%ld %s, %.3g s", steps, shooting ? "shots" : "rounds", seconds);
+        snprintf(text, sizeof text, "%ld %s, %.3g s", steps, cli_step_word(kind, steps), seconds);
         printf("  %-22s", text);
     }
 }
@@ -218,8 +218,8 @@ int solve_compare(rad_context *ctx, const rad_scene *scene, const rad_mesh_optio
         }
         solve_watch_measure(&watch);
         printf("%-18s", run->label);
-        print_reached(watch.error_seconds, watch.error_steps, shooting);
-        if (have_view) print_reached(watch.view_error_seconds, watch.view_error_steps, shooting);
+        print_reached(watch.error_seconds, watch.error_steps, run->kind);
+        if (have_view) print_reached(watch.view_error_seconds, watch.view_error_steps, run->kind);
         else printf("  %-22s", "-");
         printf("  %10.3g  %10.3g\n", watch.last_error, report.seconds);
         if (own_leaves)

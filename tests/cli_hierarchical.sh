@@ -7,7 +7,7 @@
 source "$(dirname "$0")/lib_cli.sh" "$@"
 
 "$radiosity" solve cornell --solver hierarchical --quiet >"$work/table"
-check "finishes (converged, or the tail rule)" grep -Eq '^hierarchical: [0-9]+ rounds, (converged|tail rule)' "$work/table"
+check "finishes (converged, or the tail rule)" grep -Eq '^hierarchical: [0-9]+ steps?, (converged|tail rule)' "$work/table"
 check "the floor is lit" grep -Eq '^floor +[0-9]+ +0\.[34][0-9]+ ' "$work/table"
 "$radiosity" solve two-squares --solver hierarchical --link-error 1e-4 --json >"$work/json"
 check "json solver" grep -q '"solver": "hierarchical", "iterations": [0-9]*, "converged": true' "$work/json"
@@ -19,9 +19,9 @@ check "json links, leaves, largest error" grep -Eq '"links": [1-9][0-9]*, "leave
 hier=(cornell --solver hierarchical --link-error 3e-4 --sky 1 --quiet)
 "$radiosity" solve "${hier[@]}" --threads 2 --save "$work/full.sol" >"$work/full"
 "$radiosity" solve "${hier[@]}" --threads 1 --iterations 2 --save "$work/part.sol" >"$work/part"
-check "stopped before converging" grep -Eq '^hierarchical: 2 rounds, not converged' "$work/part"
+check "stopped before converging" grep -Eq '^hierarchical: 2 steps, not converged' "$work/part"
 "$radiosity" solve "${hier[@]}" --threads 2 --resume "$work/part.sol" --save "$work/resumed.sol" >"$work/resumed"
-check "resumed: the same table, rounds counted over both runs" cmp "$work/full" "$work/resumed"
+check "resumed: the same table, steps counted over both runs" cmp "$work/full" "$work/resumed"
 check "resume equals never stopping, byte for byte" cmp "$work/full.sol" "$work/resumed.sol"
 "$radiosity" solve "${hier[@]}" --threads 1 --resume "$work/part.sol" --save "$work/resumed1.sol" >/dev/null
 check "resume on one thread: the same bytes" cmp "$work/full.sol" "$work/resumed1.sol"
@@ -68,9 +68,9 @@ check "bakes the leaves" test "$faces" -gt 300 -a "$faces" -lt 2500
 "$radiosity" solve cornell --solver hierarchical --link-error 1e-5 --max-memory 2 >"$work/small" 2>"$work/warn"
 check "budget: still solved" grep -Eq '^floor +[0-9]+ +0\.[0-9]' "$work/small"
 check "budget: says so" grep -q 'links and [0-9]* nodes needs .* refinement stops at [0-9]* links' "$work/warn"
-check "budget: not converged" grep -Eq '^hierarchical: [0-9]+ rounds, not converged: memory budget reached' "$work/small"
+check "budget: not converged" grep -Eq '^hierarchical: [0-9]+ steps?, not converged: memory budget reached' "$work/small"
 "$radiosity" solve cornell --solver hierarchical >/dev/null 2>"$work/steps"
-check "solve stage: links and leaves" grep -Eq '^radiosity: \[solve\] hierarchical, [0-9]+ rounds, residual [0-9]+, (converged|tail rule), [0-9]+ links, [0-9]+ leaves' "$work/steps"
+check "solve stage: links and leaves" grep -Eq '^radiosity: \[solve\] hierarchical, [0-9]+ steps?, residual [0-9]+, (converged|tail rule), [0-9]+ links, [0-9]+ leaves' "$work/steps"
 check "step line" grep -Eq '^radiosity: hierarchical step 1: [0-9]+ links \([0-9]+ to clusters\), [0-9]+ leaves, [0-9]+ clusters, [0-9]+ refined, largest remaining error' "$work/steps"
 
 # The default solver by scene size (rad_scene_default_solver): shooting for Cornell, the hierarchy
@@ -111,7 +111,7 @@ check "nothing written" test ! -e "$work/x.png"
 
 # Importance (Smits, Arvo & Salesin 1992): the oracle weighs links by what the camera sees.
 "$radiosity" solve cornell --solver hierarchical --importance --width 32 --height 32 >"$work/imp" 2>"$work/imp.err"
-check "importance: finishes" grep -Eq '^hierarchical: [0-9]+ rounds, (converged|tail rule)' "$work/imp"
+check "importance: finishes" grep -Eq '^hierarchical: [0-9]+ steps?, (converged|tail rule)' "$work/imp"
 check "importance: what the camera sees" grep -q 'hierarchical importance: the camera sees surfaces in [0-9.]*% of a 32x32 view' "$work/imp.err"
 "$radiosity" render cornell --solver hierarchical --importance -o "$work/imp.pfm" --width 24 --height 24 --spp 2 --final-gather 0 --quiet
 check "importance: renders" test -s "$work/imp.pfm"

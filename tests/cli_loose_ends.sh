@@ -39,7 +39,7 @@ check "budget: the same report on 1 and 2 threads" \
     cmp <(sed 's/"seconds": [0-9.e+-]*//' budget.json) <(sed 's/"seconds": [0-9.e+-]*//' budget1.json)
 check "budget: the step says what is left" grep -Eq 'the memory budget leaves [0-9]+ links over the threshold' budget.err
 "$radiosity" solve office.obj --solver hierarchical --max-memory 2 >budget.table 2>/dev/null
-check "budget: the table names the link count" grep -Eq '^hierarchical: [0-9]+ rounds, not converged: memory budget reached \(--max-memory\) at [0-9]+ links' budget.table
+check "budget: the table names the link count" grep -Eq '^hierarchical: [0-9]+ steps?, not converged: memory budget reached \(--max-memory\) at [0-9]+ links' budget.table
 
 "$radiosity" scenes --generate office 8000 big.obj >/dev/null 2>&1
 expect_exit 1 'with 5 links and [0-9]* nodes needs .* not even the first links fit' -- \
@@ -72,9 +72,9 @@ sys.exit(0 if ok else 1)
 PY
 }
 check "tail rule: stop tail, not converged, the links it refined" tail_numbers
-check "tail rule: the stage line says so" grep -Eq '^radiosity: \[solve\] hierarchical, [0-9]+ rounds, residual [1-9][0-9]*, tail rule' tail.err
+check "tail rule: the stage line says so" grep -Eq '^radiosity: \[solve\] hierarchical, [0-9]+ steps?, residual [1-9][0-9]*, tail rule' tail.err
 "$radiosity" solve cornell --solver hierarchical >tail.table 2>/dev/null
-check "tail rule: the table says what it did" grep -Eq '^hierarchical: [0-9]+ rounds, tail rule: the last step refined [1-9][0-9]* of [0-9]+ links' tail.table
+check "tail rule: the table says what it did" grep -Eq '^hierarchical: [0-9]+ steps?, tail rule: the last step refined [1-9][0-9]* of [0-9]+ links' tail.table
 # A solve that refines nothing in its last step is converged (two squares at 1e-4).
 "$radiosity" solve two-squares --solver hierarchical --link-error 1e-4 --json >conv.json 2>/dev/null
 check "a step that refines nothing: converged, residual 0" \
