@@ -36,8 +36,6 @@ static void leaves_free(rad_renderer *r) {
     rad_element_rays_destroy(r->rays);
     rad_emitter_table_free(ctx, &r->emitters);
     rad_free(ctx, r->element_emitter);
-    rad_free(ctx, r->element_uneven);
-    r->element_uneven = NULL;
     rad_free(ctx, r->fit_vertex);
     rad_free(ctx, r->fit_first);
     rad_free(ctx, r->fit_size);
@@ -95,7 +93,6 @@ static rad_status leaves_build(rad_renderer *r) {
     if (!status && r->settings.final_gather > 0)
         status = rad_element_rays_create_with(ctx, mesh, 0, &r->inner_rays);
     if (!status) status = rad_emitters_build(r);
-    if (!status) status = rad_penumbra_build(r);
     if (!status) status = rad_reconstruct_build(r);
     r->leaves_ready = status == RAD_OK;
     return status;
@@ -437,6 +434,8 @@ static rad_status corner_polygons_make(const rad_renderer *r, pixel_corner **out
     pixel_corner *corner = rad_alloc(r->ctx, stride * rows, sizeof *corner);
     *out = corner;
     if (!corner) return RAD_ERROR_NO_MEMORY;
+    rad_vec3 lamp[RAD_PENUMBRA_LAMPS];
+    int lamps = rad_penumbra_lamps(r, lamp);
 #pragma omp parallel for schedule(dynamic, 4) num_threads(rad_thread_count(r->ctx))
     for (size_t y = 0; y < rows; ++y)
         for (size_t x = 0; x < stride; ++x) {
@@ -453,7 +452,7 @@ static rad_status corner_polygons_make(const rad_renderer *r, pixel_corner **out
                 c.normal[2] = (float)n.z;
                 const float *radiance = r->element_radiance[hit.element];
                 c.light = (radiance[0] + radiance[1] + radiance[2]) / 3;
-                c.uneven = r->element_uneven && r->element_uneven[hit.element];
+                c.uneven = rad_penumbra_uneven(r, hit.element, lamp, lamps);
             }
             corner[y * stride + x] = c;
         }
