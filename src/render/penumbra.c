@@ -13,9 +13,10 @@
  * this test, never their weight, so the estimate stays unbiased whatever it misses (a small
  * occluder between the test points). Deterministic: the same for any thread count.
  *
- * Only the corners' elements are tested, when the corners are traced (render.c): until arcade2
- * every element was, before the picture, though no other element's answer was read (Sponza's
- * 209,507 hierarchy leaves, up to 45 shadow rays each, against its 19,481 pixel corners). */
+ * Only the corners' elements are tested, each once, after the corners are traced (render.c,
+ * mark_uneven): until arcade2 every element was, before the picture, though no other element's
+ * answer was read (Sponza's 209,507 hierarchy leaves, up to 45 shadow rays each, against its
+ * 19,481 pixel corners). */
 #include "render/render.h"
 
 #define LAMP_GRID 3     /* lamp points per side on a one-entry table */
