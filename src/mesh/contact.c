@@ -40,6 +40,7 @@
 typedef struct plane_info {
     rad_vec3 normal, lo, hi;
     double offset; /* normal . x on the plane */
+    double reach;  /* NEAR_GAP times the bounds' diagonal (step 2b) */
 } plane_info;
 
 typedef struct line {
@@ -678,6 +679,7 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
             p->hi = v3(fmax(p->hi.x, q.x), fmax(p->hi.y, q.y), fmax(p->hi.z, q.z));
         }
         p->offset = v3_dot(p->normal, v3_scale(sum, 1.0 / polygon->count));
+        p->reach = NEAR_GAP * v3_length(v3_sub(p->hi, p->lo));
         if (polygon->count > largest) largest = polygon->count;
         order[i] = (uint32_t)i;
     }
@@ -686,25 +688,31 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     double largest_reach = 0;
     for (size_t i = 0; i < np; ++i)
         if (isfinite(info[i].offset))
-            largest_reach = fmax(largest_reach, NEAR_GAP * v3_length(v3_sub(info[i].hi, info[i].lo)));
+            largest_reach = fmax(largest_reach, info[i].reach);
     /* Step 2: pairs whose bounds meet (sweep along x). */
     for (size_t s = 0; s < np && !status; ++s) {
         uint32_t a = order[s];
         if (!isfinite(info[a].offset) || scene->polygons[a].count > 64) continue;
         /* Bounds nearer than eps, or than NEAR_GAP times the larger polygon's extent (step 2b). */
-        double reach_a = NEAR_GAP * v3_length(v3_sub(info[a].hi, info[a].lo));
-        for (size_t t = s + 1; t < np && info[order[t]].lo.x <= info[a].hi.x + eps + fmax(reach_a, largest_reach); ++t) {
+        /* The sweep's window reaches as far as the largest polygon's NEAR_GAP (Sponza's sky:
+         * 1.9 m, a tenth of the polygons), so each pair in it is judged on the bounds first,
+         * with the reaches computed once in step 1 (the loop was 0.9 processor-s of Sponza's
+         * 36, on one thread). */
+        double reach_a = info[a].reach;
+        double window = info[a].hi.x + eps + fmax(reach_a, largest_reach);
+        for (size_t t = s + 1; t < np && info[order[t]].lo.x <= window; ++t) {
             uint32_t b = order[t];
+            const plane_info *pb = &info[b];
+            double m = eps + (pb->reach > reach_a ? pb->reach : reach_a);
+            if (pb->lo.x > info[a].hi.x + m || pb->lo.y > info[a].hi.y + m ||
+                info[a].lo.y > pb->hi.y + m || pb->lo.z > info[a].hi.z + m ||
+                info[a].lo.z > pb->hi.z + m)
+                continue;
             /* Polygons of one surface are cut only where one passes through the other or
              * stands on it (kind 1): a building exported as one material, walls of one surface
              * running into each other at the corners. */
             const int same = scene->polygons[a].surface == scene->polygons[b].surface;
-            if (!isfinite(info[b].offset) || scene->polygons[b].count > 64) continue;
-            double m = eps + fmax(reach_a, NEAR_GAP * v3_length(v3_sub(info[b].hi, info[b].lo)));
-            if (info[b].lo.x > info[a].hi.x + m || info[b].lo.y > info[a].hi.y + m ||
-                info[a].lo.y > info[b].hi.y + m || info[b].lo.z > info[a].hi.z + m ||
-                info[a].lo.z > info[b].hi.z + m)
-                continue;
+            if (!isfinite(pb->offset) || scene->polygons[b].count > 64) continue;
             for (int way = 0; way < 2 && !status; ++way) {
                 uint32_t receiver = way ? b : a, other = way ? a : b;
                 line l;

@@ -62,9 +62,6 @@ struct rad_renderer {
      * parallelogram, picked by power (light/emitters.h, emitters_build.c). */
     rad_emitter_table emitters;
     int32_t (*element_emitter)[2]; /* per element, its emitter entries (-1: none) */
-    /* Per element, nonzero where the emitters light it unevenly (penumbra.c); NULL without the
-     * final gather or emitters. */
-    uint8_t *element_uneven;
     /* The scene's point, spot and directional lights and its sky (light/lights.h), copied:
      * sampled at every final-gather point, the sky seen by rays that leave the scene. */
     size_t light_count;
@@ -217,8 +214,13 @@ rad_status rad_reconstruct_prepare(rad_renderer *r);
 /* emitters_build.c: the emitter table of the emitting elements (a parallelogram lamp one entry)
  * and each element's entries (element_emitter). */
 rad_status rad_emitters_build(rad_renderer *r);
-/* penumbra.c: element_uneven, from the rays and the emitter table. */
-rad_status rad_penumbra_build(rad_renderer *r);
+/* penumbra.c: the fixed points on the emitters the test below aims at (at most
+ * RAD_PENUMBRA_LAMPS); their count, 0 without the final gather or emitters. */
+#define RAD_PENUMBRA_LAMPS 16
+int rad_penumbra_lamps(const rad_renderer *r, rad_vec3 *points);
+/* Whether the emitters light `element` unevenly, tested on those points (0 when lamps is 0 and
+ * on emitters); thread-safe, deterministic. */
+int rad_penumbra_uneven(const rad_renderer *r, uint32_t element, const rad_vec3 *lamp, int lamps);
 /* final_gather.c: the radiance leaving the diffuse point x (on element, front normal n) by
  * direct light plus gathered indirect light; first_hit: x is the camera ray's first hit, whose
  * gather the pixel's tally records. */
