@@ -42,6 +42,10 @@ typedef struct plane_info {
     double offset; /* normal . x on the plane */
 } plane_info;
 
+typedef struct box {
+    rad_vec3 lo, hi;
+} box;
+
 typedef struct line {
     rad_vec3 point, direction; /* in the receiver's plane; direction unit */
 } line;
@@ -645,6 +649,7 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     double eps = diagonal > 0 ? 1e-6 * diagonal : 1e-9;
     plane_info *info = rad_alloc(ctx, np + 1, sizeof *info);
     uint32_t *order = rad_alloc(ctx, np + 1, sizeof *order);
+    box *boxes = NULL; /* the bounds in sweep order */
     contact *contacts = NULL;
     size_t contact_count = 0, contact_capacity = 0, largest = 3;
     rad_contact_cut *cut = rad_alloc_zero(ctx, 1, sizeof *cut);
@@ -683,28 +688,43 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     }
     sort_info = info;
     if (np) qsort(order, np, sizeof *order, by_low_x);
+    /* Without near-parallel lines (step 2b) only pairs whose bounds meet can touch: a window
+     * of a few eps, not NEAR_GAP times the largest polygon (with a floor slab spanning an
+     * office of 10^6 triangles, that window held thousands of polygons for each). */
+    const int no_near = options && options->no_near;
+    const double near_gap = no_near ? 0 : NEAR_GAP, slack = no_near ? 4 * eps : eps;
     double largest_reach = 0;
     for (size_t i = 0; i < np; ++i)
         if (isfinite(info[i].offset))
-            largest_reach = fmax(largest_reach, NEAR_GAP * v3_length(v3_sub(info[i].hi, info[i].lo)));
+            largest_reach = fmax(largest_reach, near_gap * v3_length(v3_sub(info[i].hi, info[i].lo)));
     /* Step 2: pairs whose bounds meet (sweep along x). */
+    boxes = rad_alloc(ctx, np + 1, sizeof *boxes);
+    if (!boxes) {
+        status = RAD_ERROR_NO_MEMORY;
+        goto done;
+    }
+    for (size_t i = 0; i < np; ++i) boxes[i] = (box){info[order[i]].lo, info[order[i]].hi};
     for (size_t s = 0; s < np && !status; ++s) {
         uint32_t a = order[s];
         if (!isfinite(info[a].offset) || scene->polygons[a].count > 64) continue;
         /* Bounds nearer than eps, or than NEAR_GAP times the larger polygon's extent (step 2b). */
-        double reach_a = NEAR_GAP * v3_length(v3_sub(info[a].hi, info[a].lo));
-        for (size_t t = s + 1; t < np && info[order[t]].lo.x <= info[a].hi.x + eps + fmax(reach_a, largest_reach); ++t) {
+        double reach_a = near_gap * v3_length(v3_sub(info[a].hi, info[a].lo));
+        const double window = info[a].hi.x + slack + fmax(reach_a, largest_reach);
+        const rad_vec3 a_lo = info[a].lo, a_hi = info[a].hi;
+        for (size_t t = s + 1; t < np && boxes[t].lo.x <= window; ++t) {
+            /* The bounds first, read in sweep order (boxes), the polygons only for pairs that meet. */
+            const rad_vec3 b_lo = boxes[t].lo, b_hi = boxes[t].hi;
+            double m = slack;
+            if (near_gap > 0) m += fmax(reach_a, near_gap * v3_length(v3_sub(b_hi, b_lo)));
+            if (b_lo.x > a_hi.x + m || b_lo.y > a_hi.y + m || a_lo.y > b_hi.y + m ||
+                b_lo.z > a_hi.z + m || a_lo.z > b_hi.z + m)
+                continue;
             uint32_t b = order[t];
+            if (!isfinite(info[b].offset) || scene->polygons[b].count > 64) continue;
             /* Polygons of one surface are cut only where one passes through the other or
              * stands on it (kind 1): a building exported as one material, walls of one surface
              * running into each other at the corners. */
             const int same = scene->polygons[a].surface == scene->polygons[b].surface;
-            if (!isfinite(info[b].offset) || scene->polygons[b].count > 64) continue;
-            double m = eps + fmax(reach_a, NEAR_GAP * v3_length(v3_sub(info[b].hi, info[b].lo)));
-            if (info[b].lo.x > info[a].hi.x + m || info[b].lo.y > info[a].hi.y + m ||
-                info[a].lo.y > info[b].hi.y + m || info[b].lo.z > info[a].hi.z + m ||
-                info[a].lo.z > info[b].hi.z + m)
-                continue;
             for (int way = 0; way < 2 && !status; ++way) {
                 uint32_t receiver = way ? b : a, other = way ? a : b;
                 line l;
@@ -912,6 +932,7 @@ done:
     rad_free(ctx, fate);
     rad_free(ctx, info);
     rad_free(ctx, order);
+    rad_free(ctx, boxes);
     rad_free(ctx, contacts);
     piece_list_free(ctx, &list);
     piece_list_free(ctx, &work);
