@@ -43,6 +43,11 @@ typedef struct plane_info {
     double reach;  /* NEAR_GAP times the bounds' diagonal (step 2b) */
 } plane_info;
 
+typedef struct box {
+    rad_vec3 lo, hi;
+    double reach;
+} box;
+
 typedef struct line {
     rad_vec3 point, direction; /* in the receiver's plane; direction unit */
 } line;
@@ -646,6 +651,7 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     double eps = diagonal > 0 ? 1e-6 * diagonal : 1e-9;
     plane_info *info = rad_alloc(ctx, np + 1, sizeof *info);
     uint32_t *order = rad_alloc(ctx, np + 1, sizeof *order);
+    box *boxes = NULL; /* the bounds in sweep order */
     contact *contacts = NULL;
     size_t contact_count = 0, contact_capacity = 0, largest = 3;
     rad_contact_cut *cut = rad_alloc_zero(ctx, 1, sizeof *cut);
@@ -660,6 +666,12 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     uint8_t *fate = NULL; /* with sparing: per piece of one polygon, 1 covered, 2 hidden */
     size_t fate_capacity = 0;
     int sparing = options && options->sparing;
+    /* Without near-parallel lines (step 2b; the hierarchy's roots) only pairs whose bounds meet
+     * can touch: no reach, a window of a few eps, not NEAR_GAP times the largest polygon (with
+     * a floor slab spanning an office of 10^6 triangles, that window held thousands of polygons
+     * for each). */
+    const int no_near = options && options->no_near;
+    const double slack = no_near ? 4 * eps : eps;
     if (!info || !order || !cut) {
         status = RAD_ERROR_NO_MEMORY;
         goto done;
@@ -679,7 +691,7 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
             p->hi = v3(fmax(p->hi.x, q.x), fmax(p->hi.y, q.y), fmax(p->hi.z, q.z));
         }
         p->offset = v3_dot(p->normal, v3_scale(sum, 1.0 / polygon->count));
-        p->reach = NEAR_GAP * v3_length(v3_sub(p->hi, p->lo));
+        p->reach = no_near ? 0 : NEAR_GAP * v3_length(v3_sub(p->hi, p->lo));
         if (polygon->count > largest) largest = polygon->count;
         order[i] = (uint32_t)i;
     }
@@ -690,29 +702,36 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
         if (isfinite(info[i].offset))
             largest_reach = fmax(largest_reach, info[i].reach);
     /* Step 2: pairs whose bounds meet (sweep along x). */
+    boxes = rad_alloc(ctx, np + 1, sizeof *boxes);
+    if (!boxes) {
+        status = RAD_ERROR_NO_MEMORY;
+        goto done;
+    }
+    for (size_t i = 0; i < np; ++i)
+        boxes[i] = (box){info[order[i]].lo, info[order[i]].hi, info[order[i]].reach};
     for (size_t s = 0; s < np && !status; ++s) {
         uint32_t a = order[s];
         if (!isfinite(info[a].offset) || scene->polygons[a].count > 64) continue;
-        /* Bounds nearer than eps, or than NEAR_GAP times the larger polygon's extent (step 2b). */
-        /* The sweep's window reaches as far as the largest polygon's NEAR_GAP (Sponza's sky:
-         * 1.9 m, a tenth of the polygons), so each pair in it is judged on the bounds first,
-         * with the reaches computed once in step 1 (the loop was 0.9 processor-s of Sponza's
-         * 36, on one thread). */
-        double reach_a = info[a].reach;
-        double window = info[a].hi.x + eps + fmax(reach_a, largest_reach);
-        for (size_t t = s + 1; t < np && info[order[t]].lo.x <= window; ++t) {
-            uint32_t b = order[t];
-            const plane_info *pb = &info[b];
-            double m = eps + (pb->reach > reach_a ? pb->reach : reach_a);
-            if (pb->lo.x > info[a].hi.x + m || pb->lo.y > info[a].hi.y + m ||
-                info[a].lo.y > pb->hi.y + m || pb->lo.z > info[a].hi.z + m ||
-                info[a].lo.z > pb->hi.z + m)
+        /* Bounds nearer than slack, or than NEAR_GAP times the larger polygon's extent (step
+         * 2b). The sweep's window reaches as far as the largest polygon's NEAR_GAP (Sponza's sky:
+         * 1.9 m, a tenth of the polygons; none for the roots, no_near), so each pair in it is
+         * judged on the bounds first, read in sweep order (boxes) with the reaches computed
+         * once in step 1, the polygons only for pairs that meet. */
+        const double reach_a = info[a].reach;
+        const double window = info[a].hi.x + slack + fmax(reach_a, largest_reach);
+        const rad_vec3 a_lo = info[a].lo, a_hi = info[a].hi;
+        for (size_t t = s + 1; t < np && boxes[t].lo.x <= window; ++t) {
+            const rad_vec3 b_lo = boxes[t].lo, b_hi = boxes[t].hi;
+            const double m = slack + fmax(reach_a, boxes[t].reach);
+            if (b_lo.x > a_hi.x + m || b_lo.y > a_hi.y + m || a_lo.y > b_hi.y + m ||
+                b_lo.z > a_hi.z + m || a_lo.z > b_hi.z + m)
                 continue;
+            uint32_t b = order[t];
+            if (!isfinite(info[b].offset) || scene->polygons[b].count > 64) continue;
             /* Polygons of one surface are cut only where one passes through the other or
              * stands on it (kind 1): a building exported as one material, walls of one surface
              * running into each other at the corners. */
             const int same = scene->polygons[a].surface == scene->polygons[b].surface;
-            if (!isfinite(pb->offset) || scene->polygons[b].count > 64) continue;
             for (int way = 0; way < 2 && !status; ++way) {
                 uint32_t receiver = way ? b : a, other = way ? a : b;
                 line l;
@@ -742,7 +761,7 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
                 }
                 line near[64];
                 size_t lines = kind == 1                                    ? 1
-                               : kind == 0 && options && options->no_near ? 0
+                               : kind == 0 && no_near ? 0
                                : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, near);
                 if (kind == 1) near[0] = l;
                 if (grow(ctx, (void **)&contacts, &contact_capacity, contact_count + lines, sizeof *contacts)) {
@@ -920,6 +939,7 @@ done:
     rad_free(ctx, fate);
     rad_free(ctx, info);
     rad_free(ctx, order);
+    rad_free(ctx, boxes);
     rad_free(ctx, contacts);
     piece_list_free(ctx, &list);
     piece_list_free(ctx, &work);
