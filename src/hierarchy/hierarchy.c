@@ -1350,30 +1350,41 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
 
 /* Puts the samples in link order, which the gather reads them in (in the order they were made
  * its reads missed the cache: the 10^5 office's gather took 1.7 times as long), and drops the
- * free slots. */
+ * free slots. In place: each slot's new place is written into the free list's array (a
+ * permutation, the free slots after the used ones), then the cycles are followed. */
 static rad_status order_samples(rad_hier *h) {
-    size_t used = 0;
-    for (size_t l = 0; l < h->link_count; ++l) used += h->links[l].sample != RAD_HIER_NO_NODE;
-    link_sample *samples = rad_alloc(h->ctx, used ? used : 1, sizeof *samples);
-    uint32_t *slots = rad_alloc(h->ctx, used ? used : 1, sizeof *slots); /* free_samples's */
-    if (!samples || !slots) {
-        rad_free(h->ctx, samples);
-        rad_free(h->ctx, slots);
-        return RAD_ERROR_NO_MEMORY;
-    }
-    size_t at = 0;
+    const size_t slots = h->sample_count;
+    if (!slots) return RAD_OK;
+    uint32_t *target = h->free_samples; /* sample_capacity of them */
+    for (size_t i = 0; i < slots; ++i) target[i] = RAD_HIER_NO_NODE;
+    uint32_t at = 0;
     for (size_t l = 0; l < h->link_count; ++l) {
         rad_hier_link *link = &h->links[l];
         if (link->sample == RAD_HIER_NO_NODE) continue;
-        samples[at] = h->samples[link->sample];
-        link->sample = (uint32_t)at++;
+        target[link->sample] = at;
+        link->sample = at++;
     }
-    rad_free(h->ctx, h->samples);
-    rad_free(h->ctx, h->free_samples);
-    h->samples = samples;
-    h->free_samples = slots;
-    h->sample_count = h->sample_capacity = used;
+    const size_t used = at;
+    for (size_t i = 0; i < slots; ++i)
+        if (target[i] == RAD_HIER_NO_NODE) target[i] = at++;
+    for (size_t i = 0; i < slots; ++i)
+        while (target[i] != i) {
+            uint32_t j = target[i];
+            link_sample moved = h->samples[j];
+            h->samples[j] = h->samples[i];
+            h->samples[i] = moved;
+            target[i] = target[j];
+            target[j] = j;
+        }
+    h->sample_count = used;
     h->free_count = 0;
+    if (used && used < h->sample_capacity) {
+        link_sample *fit = rad_realloc(h->ctx, h->samples, used, sizeof *fit);
+        uint32_t *free_fit = rad_realloc(h->ctx, h->free_samples, used, sizeof *free_fit);
+        if (fit) h->samples = fit;
+        if (free_fit) h->free_samples = free_fit;
+        if (fit || free_fit) h->sample_capacity = used; /* both hold at least `used` */
+    }
     return RAD_OK;
 }
 
