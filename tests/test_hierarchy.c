@@ -1260,7 +1260,12 @@ static void test_cluster_form_factors(void) {
  * average, wrong under the bright tile and far from it unless the oracle opens the cluster,
  * which it does when it charges a cluster's error at its brightest member's radiosity
  * (cluster_oracle). Charged at the members' mean the tiles' RMS error was 13.7% at link error
- * 1e-2 and 3.25% at 1e-3; at the brightest member's, 8.9% and 2.4%. */
+ * 1e-2 and 3.25% at 1e-3; at the brightest member's, 8.9% and 2.4%. Since a cluster link sends
+ * the members its own four source points ended on (link_sample), which may or may not include
+ * the bright tile, 12.2% and 2.8%, the mean still exact (-0.05%): here nothing is hidden, so the
+ * directional mean the links sent before was exact and the sample adds only noise (in the
+ * closed offices that mean made 4.6-5.8% of their light: docs/hierarchical.md, "The closed
+ * office's energy"). 13% and 3% allowed. */
 static void test_bright_member(void) {
     const double errors[2] = {1e-2, 1e-3}, dark = 0.25, bright = 20;
     const int n = 16, m = 8;
@@ -1289,7 +1294,7 @@ static void test_bright_member(void) {
         double rms, worst, off = tiles_against_exact(h, n, tile, 4, emission, m * m, &rms, &worst);
         printf("one bright tile among dark ones, link error %g: floor mean %+.2f%% of exact, tiles "
                "RMS %.2f%%, worst %.1f%%\n", errors[k], 100 * off, 100 * rms, 100 * worst);
-        CHECK(rms < (k == 0 ? 0.11 : 0.03));
+        CHECK(rms < (k == 0 ? 0.13 : 0.03));
         CHECK(fabs(off) < 0.02);
         rad_hier_destroy(h);
         rad_scene_destroy(scene);

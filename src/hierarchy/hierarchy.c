@@ -27,10 +27,24 @@
                             * 4 before: Sponza's mean swung by 2 points between seeds, see jackknife()) */
 #define SEEN_BATCHES 3      /* ... whose deciding set saw most of the source (MOSTLY_SEEN): two fresh */
 #define MOSTLY_SEEN 0.9     /* the kernel-weighed share of the deciding set's rays that were seen */
-#define CLUSTER_PARTIAL_SETS 1 /* fresh sets of 16 sampled pairs for a partly hidden cluster link */
+#define CLUSTER_PARTIAL_SETS 1 /* fresh sets of 16 sampled pairs that estimate a cluster link */
 #define EXPOSURE_PRIOR 4.0 /* rays' worth of a member's exposure over all directions in each axis's */
 
 typedef double rgb[3];
+
+/* What one cluster link's own rays saw of its source (issue #16): the members its counted set of
+ * sampled pairs ended on, each weighed by what its visible pairs added to the link's form
+ * factor (V P_r P_s / r^2), normalised to sum 1. The link sends sum weight B_member, re-read
+ * every gathering round, so what it carries is what its factor was estimated over; the
+ * exposure-weighted mean (source_radiosity) gave exposed members more weight than a given
+ * link's rays saw them with, and the closed office 20000 absorbed 5.5% more than it emitted
+ * (docs/hierarchical.md, "The closed office's energy"). */
+typedef struct link_sample {
+    uint32_t member[4];
+    uint16_t weight[4]; /* in SAMPLE_UNIT; 0 for an unused slot; weight[0] NO_SAMPLE when none */
+} link_sample;
+#define SAMPLE_UNIT (1.0 / 65534)
+#define NO_SAMPLE UINT16_MAX
 
 /* What the oracle and the form factors need of a cluster (node cluster_first + i). */
 typedef struct cluster_info {
@@ -87,6 +101,13 @@ struct rad_hier {
     rad_vec3 *normal;            /* per polygon */
     rad_hier_link *links;
     size_t link_count;
+    link_sample *samples; /* rad_hier_link.sample indexes it */
+    size_t sample_count, sample_capacity;
+    uint32_t *free_samples; /* slots of samples whose links were refined, to be used again
+                               (sample_capacity of them) */
+    size_t free_count;
+    int resampling;       /* making restored links' samples again: their rays count no exposure */
+    rgb *root_radiosity;  /* per root, as pull_clusters last read it: what link samples send */
     /* Links are sorted by receiver: group g's links are receivers' group_first[g] .. [g+1]. */
     size_t group_count;
     size_t *group_first;
@@ -419,6 +440,7 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
     double fraction = visible_pairs(h, xv, rn, y, sn, &partial, seen);
     out->receiver = receiver;
     out->source = source;
+    out->sample = RAD_HIER_NO_NODE;
     if (partial && may_skip) {
         double relative;
         out->error = (float)-form_factor; /* the least error a partly hidden link can have */
@@ -690,6 +712,7 @@ static int nearest_axis(rad_vec3 d) {
 /* `toward`: the direction from the member toward the link's other end. */
 static void count_exposure(const rad_hier *h, uint32_t member, uint32_t rays, uint32_t seen,
                            rad_vec3 toward) {
+    if (h->resampling) return;
     int a = nearest_axis(toward);
 #pragma omp atomic
     h->member_rays[member][a] += rays;
@@ -829,6 +852,19 @@ static int cheap_link(const rad_hier *h, uint32_t receiver, double bound) {
            h->threshold;
 }
 
+/* A link's sample (link_sample) from the source members its counted pairs ended on and what
+ * each pair added to its factor; none (NO_SAMPLE) when nothing was seen. */
+static void keep_seen_members(link_sample *out, const uint32_t *member, const double *added, int count) {
+    if (!out) return;
+    double total = 0;
+    for (int k = 0; k < count; ++k) total += added[k];
+    for (int k = 0; k < 4; ++k) {
+        out->member[k] = k < count ? member[k] : 0;
+        out->weight[k] = k < count && total > 0 ? (uint16_t)lrint(added[k] / total / SAMPLE_UNIT) : 0;
+    }
+    if (!(total > 0)) out->weight[0] = NO_SAMPLE;
+}
+
 /* A cheap link (cheap_link): one ray per receiver point (a cluster receiver's four sampled
  * points), each to its own sampled source point, instead of the 16 pairs that decide partial
  * visibility and the 16 fresh ones that estimate a partly hidden link. The mean over the pairs
@@ -839,7 +875,7 @@ static int cheap_link(const rad_hier *h, uint32_t receiver, double bound) {
  * -1.78% against -1.17%, not at all -2.03%; docs/hierarchical.md, "sixth session"). 3-4 rays
  * and 4 walks where a partly hidden link cast 32 and walked 8. */
 static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double spread,
-                           double estimate, rad_hier_link *out) {
+                           double estimate, rad_hier_link *out, link_sample *seen_members) {
     const uint32_t receiver = out->receiver, source = out->source;
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
     rad_vec3 x[4], y[4];
@@ -857,7 +893,7 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
     uint8_t occluded[4];
     rad_rays_occluded_batch(h->rays, x, y, (size_t)pairs, occluded);
     const uint32_t weight = 2 * (is_cluster(nr) ? 4 : (uint32_t)pairs);
-    double sum = 0;
+    double sum = 0, added[4] = {0, 0, 0, 0};
     int blocked = 0;
     for (int k = 0; k < pairs; ++k) {
         const int seen = !occluded[k];
@@ -873,8 +909,10 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
         double ws = is_cluster(ns)
                         ? member_weight(h, source_member[k], source_chance[k], ray, length)
                         : ns->area * fmax(0, -v3_dot(h->normal[ns->polygon], ray) / length);
-        sum += wr * ws / r2;
+        added[k] = wr * ws / r2;
+        sum += added[k];
     }
+    if (is_cluster(ns)) keep_seen_members(seen_members, source_member, added, pairs);
     out->form_factor = (float)fmin(upper, sum / pairs / (RAD_PI * nr->area));
     double error = spread + (blocked ? estimate : 0);
     out->error = (float)fmin(error, UNKNOWN_ERROR);
@@ -893,9 +931,10 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
  * set (of 4.5 M cluster links with rays): 3-4% of the render's processor time. Their rays no
  * longer count toward the members' exposure. Returns 0 when no light can pass. */
 static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t source,
-                             rad_hier_link *out, int may_skip) {
+                             rad_hier_link *out, int may_skip, link_sample *seen_members) {
     out->receiver = receiver;
     out->source = source;
+    out->sample = RAD_HIER_NO_NODE;
     out->form_factor = 0;
     out->error = UNKNOWN_ERROR;
     if (receiver == source) return 1;
@@ -918,23 +957,27 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         return 1;
     }
     if (cheap_link(h, receiver, upper - lower + estimate))
-        return make_cheap_link(h, w, upper, upper - lower, estimate, out);
+        return make_cheap_link(h, w, upper, upper - lower, estimate, out, seen_members);
     /* The factor itself from the rays between sampled member points (chosen in proportion to
      * projected area): the mean over the pairs of V P_r P_s / (pi r^2 A_r), with a polygon
      * end's A cos taken along each ray. The centres' distance alone underestimates it (the
      * mean of 1 / r^2 over an extended pair exceeds 1 / d^2, and near pairs are the visible
      * ones): Sponza's arcades, lit through large clusters, came out half as bright. Clamped to
      * the upper bound. */
-    /* The sets of sampled pairs: the first says whether the pair is partly hidden; a partly
-     * hidden pair's factor is then the mean of CLUSTER_PARTIAL_SETS fresh sets, not of the
-     * first. Given that some of its rays were blocked, the first set's estimate is low (the
-     * oracle keeps the partly hidden links whose estimate came out small): on Sponza cluster
-     * links carried 0.89-0.96 of a Monte Carlo gather of the same leaves, and the image was
-     * -4.8% against the path tracer; with one fresh set -1.5%, with three -1.3% at 1.35 times
-     * the processor time of one (docs/hierarchical.md). */
+    /* The sets of sampled pairs: the first says whether the pair is partly hidden; the factor
+     * is then the mean of CLUSTER_PARTIAL_SETS fresh sets, not of the first. Given that some of
+     * its rays were blocked, the first set's estimate is low, and given that none were, high
+     * (the oracle keeps the links it found unblocked and refines many partly hidden ones): on
+     * Sponza cluster links carried 0.89-0.96 of a Monte Carlo gather of the same leaves, and
+     * the image was -4.8% against the path tracer, with one fresh set for the partly hidden
+     * links -1.5%. With the unblocked links' factors from their first set the closed office
+     * 20000 absorbed 2.0% more than it emitted, from a fresh set 1.5% less (their points are
+     * walked beside the first set's; 16 more rays). */
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
     int partial = 0, rn = 0, sn = 0, sets = 0;
-    double sum = 0;
+    double sum = 0, added[4] = {0, 0, 0, 0}; /* per source point of the counted set */
+    const uint32_t *counted_members = NULL;
+    _Static_assert(CLUSTER_PARTIAL_SETS == 1, "a link's sample holds one set's source members");
     /* Every set's points at once (the walks of the fresh sets are wasted when the first is
      * not partly hidden, but walked beside the first set's they cost little). */
     enum { SETS = 1 + CLUSTER_PARTIAL_SETS };
@@ -953,7 +996,7 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         rn = quadrature_points(nr, xs);
     sample_points(h, source, v3_scale(w, -1), source_seed, SETS, ys, source_member, source_chance);
     sn = 4;
-    for (int set = 0; set == 0 || (partial && set <= CLUSTER_PARTIAL_SETS); ++set) {
+    for (int set = 0; set <= CLUSTER_PARTIAL_SETS; ++set) {
         uint8_t seen[16];
         const rad_vec3 *x = is_cluster(nr) ? xs + 4 * set : xs, *y = ys + 4 * set;
         const uint32_t *receiver_members = receiver_member + 4 * set;
@@ -977,7 +1020,7 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
             out->error = -out->error;
             return 1;
         }
-        if (partial && set == 0) continue; /* the first set only decided */
+        if (set == 0) continue; /* the first set only decides */
         ++sets;
         for (int i = 0; i < rn; ++i)
             for (int j = 0; j < sn; ++j) {
@@ -992,8 +1035,11 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
                                 ? member_weight(h, source_members[j], source_chance[4 * set + j], ray, length)
                                 : ns->area * fmax(0, -v3_dot(h->normal[ns->polygon], ray) / length);
                 sum += wr * ws / r2;
+                added[j] += wr * ws / r2;
             }
+        counted_members = source_members;
     }
+    if (is_cluster(ns)) keep_seen_members(seen_members, counted_members, added, sn);
     sum /= sets;
     double sampled = fmin(upper, sum / (rn * sn) / (RAD_PI * area));
     double error = (upper - lower) + (partial ? estimate : 0);
@@ -1005,9 +1051,10 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
 
 /* Any link: the contour integral between two polygon nodes, the point estimate otherwise. */
 static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_hier_link *out,
-                         int may_skip) {
+                         int may_skip, link_sample *seen_members) {
+    if (seen_members) seen_members->weight[0] = NO_SAMPLE;
     if (cluster_index(h, receiver) || cluster_index(h, source))
-        return make_cluster_link(h, receiver, source, out, may_skip);
+        return make_cluster_link(h, receiver, source, out, may_skip, seen_members);
     return make_link(h, receiver, source, out, may_skip);
 }
 
@@ -1026,6 +1073,16 @@ static void source_radiosity(const rad_hier *h, const rad_hier_link *link, rad_v
     const rad_hier_node *s = &h->nodes[link->source];
     memcpy(out, s->radiosity, sizeof(double[3]));
     if (!is_cluster(s)) return;
+    if (link->sample != RAD_HIER_NO_NODE) {
+        /* What the link's own rays saw (link_sample). */
+        const link_sample *seen = &h->samples[link->sample];
+        for (int i = 0; i < 3; ++i) out[i] = 0;
+        for (int k = 0; k < 4; ++k) {
+            const double *b = h->root_radiosity[seen->member[k]];
+            for (int i = 0; i < 3; ++i) out[i] += SAMPLE_UNIT * seen->weight[k] * b[i];
+        }
+        return;
+    }
     const cluster_info *ci = info(h, link->source);
     rad_vec3 w = v3_sub(centre, ci->centre);
     const double d[3] = {fabs(w.x), fabs(w.y), fabs(w.z)};
@@ -1167,7 +1224,7 @@ rad_status rad_hier_link_roots(rad_hier *h) {
         /* One self-link on the top cluster: the oracle opens it where the light asks. */
         rad_hier_link *top = rad_alloc(h->ctx, 1, sizeof *top);
         if (!top) return RAD_ERROR_NO_MEMORY;
-        make_cluster_link(h, rad_hier_top(h), rad_hier_top(h), top, 0);
+        make_cluster_link(h, rad_hier_top(h), rad_hier_top(h), top, 0, NULL);
         return adopt_links(h, top, 1);
     }
     size_t n = h->root_count;
@@ -1260,6 +1317,75 @@ static void brightest_members(rad_hier *h) {
             brightest = fmax(brightest, info(h, n->first_child + k)->brightest);
         h->clusters[c].brightest = brightest;
     }
+}
+
+/* Gives each of links[0 .. count) that was made (made[i], or every one when made is NULL) and
+ * saw some of its source its sample seen[i], in h->samples: in the slots of refined links'
+ * samples first (in the order they were freed, so the same for any thread count), then
+ * appended. */
+static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sample *seen,
+                               const uint8_t *made, size_t count) {
+    size_t wanted = 0;
+    for (size_t i = 0; i < count; ++i) wanted += (!made || made[i]) && seen[i].weight[0] != NO_SAMPLE;
+    size_t needed = h->sample_count + (wanted > h->free_count ? wanted - h->free_count : 0);
+    if (needed > UINT32_MAX - 1)
+        return rad_fail(h->ctx, RAD_ERROR_MEMORY_BUDGET, "more than 2^32 cluster links");
+    if (needed > h->sample_capacity) {
+        size_t capacity = needed + needed / 4;
+        link_sample *grown = rad_realloc(h->ctx, h->samples, capacity, sizeof *grown);
+        uint32_t *slots = rad_realloc(h->ctx, h->free_samples, capacity, sizeof *slots);
+        if (grown) h->samples = grown;
+        if (slots) h->free_samples = slots;
+        if (!grown || !slots) return RAD_ERROR_NO_MEMORY;
+        h->sample_capacity = capacity;
+    }
+    for (size_t i = 0; i < count; ++i) {
+        if ((made && !made[i]) || seen[i].weight[0] == NO_SAMPLE) continue;
+        uint32_t slot = h->free_count ? h->free_samples[--h->free_count] : (uint32_t)h->sample_count++;
+        links[i].sample = slot;
+        h->samples[slot] = seen[i];
+    }
+    return RAD_OK;
+}
+
+/* Puts the samples in link order, which the gather reads them in (in the order they were made
+ * its reads missed the cache: the 10^5 office's gather took 1.7 times as long), and drops the
+ * free slots. In place: each slot's new place is written into the free list's array (a
+ * permutation, the free slots after the used ones), then the cycles are followed. */
+static rad_status order_samples(rad_hier *h) {
+    const size_t slots = h->sample_count;
+    if (!slots) return RAD_OK;
+    uint32_t *target = h->free_samples; /* sample_capacity of them */
+    for (size_t i = 0; i < slots; ++i) target[i] = RAD_HIER_NO_NODE;
+    uint32_t at = 0;
+    for (size_t l = 0; l < h->link_count; ++l) {
+        rad_hier_link *link = &h->links[l];
+        if (link->sample == RAD_HIER_NO_NODE) continue;
+        target[link->sample] = at;
+        link->sample = at++;
+    }
+    const size_t used = at;
+    for (size_t i = 0; i < slots; ++i)
+        if (target[i] == RAD_HIER_NO_NODE) target[i] = at++;
+    for (size_t i = 0; i < slots; ++i)
+        while (target[i] != i) {
+            uint32_t j = target[i];
+            link_sample moved = h->samples[j];
+            h->samples[j] = h->samples[i];
+            h->samples[i] = moved;
+            target[i] = target[j];
+            target[j] = j;
+        }
+    h->sample_count = used;
+    h->free_count = 0;
+    if (used && used < h->sample_capacity) {
+        link_sample *fit = rad_realloc(h->ctx, h->samples, used, sizeof *fit);
+        uint32_t *free_fit = rad_realloc(h->ctx, h->free_samples, used, sizeof *free_fit);
+        if (fit) h->samples = fit;
+        if (free_fit) h->free_samples = free_fit;
+        if (fit || free_fit) h->sample_capacity = used; /* both hold at least `used` */
+    }
+    return RAD_OK;
 }
 
 rad_status rad_hier_refine(rad_hier *h) {
@@ -1364,10 +1490,21 @@ rad_status rad_hier_refine(rad_hier *h) {
         }
         /* Links made without their estimate that the oracle keeps after all (the budget
          * stopped refinement): estimated now. */
+        link_sample *estimated = budget ? rad_alloc(ctx, pending_count, sizeof *estimated) : NULL;
+        if (budget && !estimated) {
+            status = RAD_ERROR_NO_MEMORY;
+            break;
+        }
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads(h)) if (pending_count >= 4096)
-        for (long i = 0; i < (long)pending_count; ++i)
+        for (long i = 0; i < (long)pending_count; ++i) {
+            if (estimated) estimated[i].weight[0] = NO_SAMPLE;
             if (!decision[i] && pending[i].form_factor == NOT_ESTIMATED)
-                make_any_link(h, pending[i].receiver, pending[i].source, &pending[i], 0);
+                make_any_link(h, pending[i].receiver, pending[i].source, &pending[i], 0,
+                              estimated ? &estimated[i] : NULL);
+        }
+        if (estimated) status = keep_samples(h, pending, estimated, NULL, pending_count);
+        rad_free(ctx, estimated);
+        if (status) break;
         /* What the budget leaves over the threshold; the largest error is the largest known
          * (a link between overlapping ends carries UNKNOWN_ERROR until it is refined). */
         for (size_t i = 0; budget && i < pending_count; ++i) {
@@ -1379,6 +1516,10 @@ rad_status rad_hier_refine(rad_hier *h) {
             if (!unknown) largest = fmax(largest, relative);
         }
         refined += splits;
+        /* The samples of the links refined away make room for their children's. */
+        for (size_t i = 0; i < pending_count && splits; ++i)
+            if (decision[i] && pending[i].sample != RAD_HIER_NO_NODE)
+                h->free_samples[h->free_count++] = pending[i].sample;
         /* Split the leaves the decisions ask for, in link order (receiver end first), so the
          * nodes are numbered the same for any thread count. */
         size_t nodes_before = h->node_count;
@@ -1454,9 +1595,18 @@ rad_status rad_hier_refine(rad_hier *h) {
         pending_count = 0;
         if (status || !splits) break;
         /* The new links' form factors, in parallel (each writes its own slot). */
+        link_sample *seen = rad_alloc(ctx, count ? count : 1, sizeof *seen);
+        if (!seen) {
+            status = RAD_ERROR_NO_MEMORY;
+            break;
+        }
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (count >= 64)
         for (long i = 0; i < (long)count; ++i)
-            made[i] = (uint8_t)make_any_link(h, fresh[i].receiver, fresh[i].source, &fresh[i], 1);
+            made[i] = (uint8_t)make_any_link(h, fresh[i].receiver, fresh[i].source, &fresh[i], 1,
+                                             &seen[i]);
+        status = keep_samples(h, fresh, seen, made, count);
+        rad_free(ctx, seen);
+        if (status) break;
         for (size_t i = 0; i < count; ++i)
             if (made[i]) fresh[pending_count++] = fresh[i];
         rad_free(ctx, made);
@@ -1502,7 +1652,8 @@ rad_status rad_hier_refine(rad_hier *h) {
         kept = rad_alloc(ctx, 1, sizeof *kept);
         if (!kept) return RAD_ERROR_NO_MEMORY;
     }
-    return adopt_links(h, kept, kept_count);
+    status = adopt_links(h, kept, kept_count);
+    return status ? status : order_samples(h);
 }
 
 /* ---- Solving ----------------------------------------------------------------------------- */
@@ -1559,6 +1710,7 @@ static void pull_cluster(rad_hier *h, size_t c) {
             }
             continue;
         }
+        memcpy(h->root_radiosity[child], m->radiosity, sizeof(rgb));
         rad_vec3 normal = h->normal[m->polygon];
         const double d[3] = {normal.x, normal.y, normal.z};
         for (int a = 0; a < 6; ++a) {
@@ -2144,7 +2296,8 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     if (!status) {
         h->member_rays = rad_alloc_zero(ctx, h->root_count, sizeof *h->member_rays);
         h->member_seen = rad_alloc_zero(ctx, h->root_count, sizeof *h->member_seen);
-        if (!h->member_rays || !h->member_seen) status = RAD_ERROR_NO_MEMORY;
+        h->root_radiosity = rad_alloc_zero(ctx, h->root_count, sizeof *h->root_radiosity);
+        if (!h->member_rays || !h->member_seen || !h->root_radiosity) status = RAD_ERROR_NO_MEMORY;
     }
     if (!status && h->light_fn) {
         /* The roots' light (after build_clusters renumbered them), counted as emitted. */
@@ -2194,6 +2347,7 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->light_spread);
     rad_free(ctx, h->member_rays);
     rad_free(ctx, h->member_seen);
+    rad_free(ctx, h->root_radiosity);
     rad_free(ctx, h->hit_polygon);
     rad_free(ctx, h->hit_point);
     rad_free(ctx, h->importance);
@@ -2203,6 +2357,8 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->cluster_down_importance);
     rad_free(ctx, h->cluster_z);
     rad_free(ctx, h->links);
+    rad_free(ctx, h->samples);
+    rad_free(ctx, h->free_samples);
     rad_free(ctx, h->group_first);
     rad_free(ctx, h);
 }
@@ -2395,8 +2551,33 @@ void rad_hier_restore_exposure(rad_hier *h, uint32_t root, const uint32_t rays[6
     memcpy(h->member_seen[root], seen, sizeof h->member_seen[root]);
 }
 
+/* Restored links' samples (link_sample; a solution file does not keep them), made again from
+ * the same rays: each link's pairs are drawn from its own stream (link_hash). The rays count no
+ * exposure this time (the file kept the counts). */
+static rad_status resample_links(rad_hier *h) {
+    const size_t count = h->link_count;
+    for (size_t l = 0; l < count; ++l) h->links[l].sample = RAD_HIER_NO_NODE;
+    link_sample *seen = rad_alloc(h->ctx, count ? count : 1, sizeof *seen);
+    if (!seen) return RAD_ERROR_NO_MEMORY;
+    h->resampling = 1;
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (count >= 64)
+    for (long l = 0; l < (long)count; ++l) {
+        const rad_hier_link *link = &h->links[l];
+        rad_hier_link again;
+        seen[l].weight[0] = NO_SAMPLE;
+        if (cluster_index(h, link->source) && link->form_factor != NOT_ESTIMATED)
+            make_cluster_link(h, link->receiver, link->source, &again, 0, &seen[l]);
+    }
+    h->resampling = 0;
+    h->sample_count = h->free_count = 0;
+    rad_status status = keep_samples(h, h->links, seen, NULL, count);
+    rad_free(h->ctx, seen);
+    return status;
+}
+
 rad_status rad_hier_restore_links(rad_hier *h, rad_hier_link *links, size_t count) {
-    return adopt_links(h, links, count);
+    rad_status status = adopt_links(h, links, count);
+    return status ? status : resample_links(h);
 }
 
 int rad_hier_refining(const rad_hier *h, size_t *kept) {
@@ -2422,7 +2603,7 @@ rad_status rad_hier_restore_refining(rad_hier *h, rad_hier_link *links, size_t c
     h->stats.cluster_links = cluster_links;
     h->refine_kept = kept;
     h->refining = 1;
-    return RAD_OK;
+    return resample_links(h);
 }
 
 int rad_hier_importance_unfinished(const rad_hier *h) { return h->importance_unfinished; }

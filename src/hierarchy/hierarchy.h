@@ -61,6 +61,8 @@ typedef struct rad_hier_link {
     uint32_t receiver, source;
     float form_factor; /* F(receiver -> source), visibility included */
     float error;       /* the form-factor error bound: spread plus partial visibility */
+    uint32_t sample;   /* a cluster source: which of its members the link's own rays saw (an
+                          index the hierarchy keeps); RAD_HIER_NO_NODE without */
 } rad_hier_link;
 
 typedef struct rad_hier_options {
