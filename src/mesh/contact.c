@@ -40,9 +40,10 @@
 typedef struct plane_info {
     rad_vec3 normal, lo, hi;
     double offset; /* normal . x on the plane */
-    double reach;  /* NEAR_GAP times the bounds' diagonal (step 2b) */
 } plane_info;
 
+/* A polygon's bounds in sweep order (step 2), with its reach: NEAR_GAP times the bounds'
+ * diagonal (step 2b), 0 without near-parallel lines. */
 typedef struct box {
     rad_vec3 lo, hi;
     double reach;
@@ -691,24 +692,23 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
             p->hi = v3(fmax(p->hi.x, q.x), fmax(p->hi.y, q.y), fmax(p->hi.z, q.z));
         }
         p->offset = v3_dot(p->normal, v3_scale(sum, 1.0 / polygon->count));
-        p->reach = no_near ? 0 : NEAR_GAP * v3_length(v3_sub(p->hi, p->lo));
         if (polygon->count > largest) largest = polygon->count;
         order[i] = (uint32_t)i;
     }
     sort_info = info;
     if (np) qsort(order, np, sizeof *order, by_low_x);
-    double largest_reach = 0;
-    for (size_t i = 0; i < np; ++i)
-        if (isfinite(info[i].offset))
-            largest_reach = fmax(largest_reach, info[i].reach);
     /* Step 2: pairs whose bounds meet (sweep along x). */
     boxes = rad_alloc(ctx, np + 1, sizeof *boxes);
     if (!boxes) {
         status = RAD_ERROR_NO_MEMORY;
         goto done;
     }
-    for (size_t i = 0; i < np; ++i)
-        boxes[i] = (box){info[order[i]].lo, info[order[i]].hi, info[order[i]].reach};
+    double largest_reach = 0;
+    for (size_t i = 0; i < np; ++i) {
+        const plane_info *p = &info[order[i]];
+        boxes[i] = (box){p->lo, p->hi, no_near ? 0 : NEAR_GAP * v3_length(v3_sub(p->hi, p->lo))};
+        if (isfinite(p->offset)) largest_reach = fmax(largest_reach, boxes[i].reach);
+    }
     for (size_t s = 0; s < np && !status; ++s) {
         uint32_t a = order[s];
         if (!isfinite(info[a].offset) || scene->polygons[a].count > 64) continue;
@@ -716,10 +716,10 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
          * 2b). The sweep's window reaches as far as the largest polygon's NEAR_GAP (Sponza's sky:
          * 1.9 m, a tenth of the polygons; none for the roots, no_near), so each pair in it is
          * judged on the bounds first, read in sweep order (boxes) with the reaches computed
-         * once in step 1, the polygons only for pairs that meet. */
-        const double reach_a = info[a].reach;
-        const double window = info[a].hi.x + slack + fmax(reach_a, largest_reach);
-        const rad_vec3 a_lo = info[a].lo, a_hi = info[a].hi;
+         * once, the polygons only for pairs that meet. */
+        const double reach_a = boxes[s].reach;
+        const double window = boxes[s].hi.x + slack + fmax(reach_a, largest_reach);
+        const rad_vec3 a_lo = boxes[s].lo, a_hi = boxes[s].hi;
         for (size_t t = s + 1; t < np && boxes[t].lo.x <= window; ++t) {
             const rad_vec3 b_lo = boxes[t].lo, b_hi = boxes[t].hi;
             const double m = slack + fmax(reach_a, boxes[t].reach);
