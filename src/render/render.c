@@ -420,17 +420,17 @@ static int render_edge_pixel(const rad_renderer *r, rad_sample *sample, pixel_gr
 
 typedef struct pixel_corner {
     uint32_t key;
+    uint32_t element; /* the element its camera ray meets; UINT32_MAX: none */
     float normal[3];
     float light; /* the solution's radiance there (the element's, mean of the channels) */
     int uneven;  /* the emitters light its element unevenly (penumbra.c) */
 } pixel_corner;
 
-/* Marks the corners whose element (`element`, UINT32_MAX: none) the emitters light unevenly
+/* Marks the corners whose element the emitters light unevenly
  * (penumbra.c), testing each element once: only the elements the corners meet are tested, not
  * every element (a hierarchy's leaves, Sponza's 209,507, against its 19,481 corners), nor each
  * corner (the Cornell box's 66,049 corners meet a few hundred of its 2,500 elements). */
-static rad_status mark_uneven(const rad_renderer *r, pixel_corner *corner, const uint32_t *element,
-                              size_t count) {
+static rad_status mark_uneven(const rad_renderer *r, pixel_corner *corner, size_t count) {
     rad_vec3 lamp[RAD_PENUMBRA_LAMPS];
     int lamps = rad_penumbra_lamps(r, lamp);
     if (lamps == 0) return RAD_OK;
@@ -443,14 +443,15 @@ static rad_status mark_uneven(const rad_renderer *r, pixel_corner *corner, const
     }
     long listed = 0;
     for (size_t i = 0; i < count; ++i)
-        if (element[i] != UINT32_MAX && !state[element[i]]) {
-            state[element[i]] = 1;
-            tested[listed++] = element[i];
+        if (corner[i].element != UINT32_MAX && !state[corner[i].element]) {
+            state[corner[i].element] = 1;
+            tested[listed++] = corner[i].element;
         }
 #pragma omp parallel for schedule(dynamic, 16) num_threads(rad_thread_count(r->ctx))
     for (long k = 0; k < listed; ++k)
         state[tested[k]] = (uint8_t)(1 + rad_penumbra_uneven(r, tested[k], lamp, lamps));
-    for (size_t i = 0; i < count; ++i) corner[i].uneven = element[i] != UINT32_MAX && state[element[i]] == 2;
+    for (size_t i = 0; i < count; ++i)
+        corner[i].uneven = corner[i].element != UINT32_MAX && state[corner[i].element] == 2;
     rad_free(r->ctx, state);
     rad_free(r->ctx, tested);
     return RAD_OK;
@@ -463,18 +464,13 @@ static rad_status corner_polygons_make(const rad_renderer *r, pixel_corner **out
     if (r->settings.samples_per_pixel < 2) return RAD_OK;
     size_t stride = (size_t)view->width + 1, rows = (size_t)view->height + 1;
     pixel_corner *corner = rad_alloc(r->ctx, stride * rows, sizeof *corner);
-    uint32_t *element = rad_alloc(r->ctx, stride * rows, sizeof *element);
     *out = corner;
-    if (!corner || !element) {
-        rad_free(r->ctx, element);
-        return RAD_ERROR_NO_MEMORY;
-    }
+    if (!corner) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(dynamic, 4) num_threads(rad_thread_count(r->ctx))
     for (size_t y = 0; y < rows; ++y)
         for (size_t x = 0; x < stride; ++x) {
             rad_element_hit hit;
-            pixel_corner c = {RAD_RENDER_NO_POLYGON, {0, 0, 0}, 0, 0};
-            element[y * stride + x] = UINT32_MAX;
+            pixel_corner c = {RAD_RENDER_NO_POLYGON, UINT32_MAX, {0, 0, 0}, 0, 0};
             if (rad_element_rays_intersect(r->rays, view->eye, rad_view_direction(view, (double)x, (double)y),
                                            0, INFINITY, &hit)) {
                 const double *emission = rad_renderer_material(r, hit.element)->emission;
@@ -486,13 +482,11 @@ static rad_status corner_polygons_make(const rad_renderer *r, pixel_corner **out
                 c.normal[2] = (float)n.z;
                 const float *radiance = r->element_radiance[hit.element];
                 c.light = (radiance[0] + radiance[1] + radiance[2]) / 3;
-                element[y * stride + x] = hit.element;
+                c.element = hit.element;
             }
             corner[y * stride + x] = c;
         }
-    rad_status status = mark_uneven(r, corner, element, stride * rows);
-    rad_free(r->ctx, element);
-    return status;
+    return mark_uneven(r, corner, stride * rows);
 }
 
 static int same_face(const pixel_corner *a, const pixel_corner *b) {
@@ -630,25 +624,16 @@ static double dark_light(const rad_renderer *r, const pixel_corner *corners) {
     return seen ? factor * sum / (double)seen : 0;
 }
 
-/* Whether the four corners of pixel (x, y) meet surfaces whose solution is under `dark`. */
+/* How many of pixel (x, y)'s four corners the solution shows darker than `dark`. */
 static int dark_corners(const rad_view *view, const pixel_corner *corners, int x, int y, double dark) {
     size_t stride = (size_t)view->width + 1;
     const pixel_corner *c = corners + (size_t)y * stride + (size_t)x;
-    return c[0].light < dark && c[1].light < dark && c[stride].light < dark && c[stride + 1].light < dark;
+    return (c[0].light < dark) + (c[1].light < dark) + (c[stride].light < dark) + (c[stride + 1].light < dark);
 }
-
-/* Whether one of the four corners of pixel (x, y) meets an element the emitters light unevenly. */
 static int uneven_corner(const rad_view *view, const pixel_corner *corners, int x, int y) {
     size_t stride = (size_t)view->width + 1;
     const pixel_corner *c = corners + (size_t)y * stride + (size_t)x;
     return c[0].uneven || c[1].uneven || c[stride].uneven || c[stride + 1].uneven;
-}
-
-/* Whether one of the four corners of pixel (x, y) meets a surface whose solution is under `dark`. */
-static int any_dark_corner(const rad_view *view, const pixel_corner *corners, int x, int y, double dark) {
-    size_t stride = (size_t)view->width + 1;
-    const pixel_corner *c = corners + (size_t)y * stride + (size_t)x;
-    return c[0].light < dark || c[1].light < dark || c[stride].light < dark || c[stride + 1].light < dark;
 }
 
 static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polygons, double dark,
@@ -679,7 +664,7 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
      * outside at one scale and not at another, changes only how the coverage is measured), and
      * those with a dark corner. */
     int outside = split && sees_outside(view, corner_polygons, x, y);
-    int more = split && (beside_outside || any_dark_corner(view, corner_polygons, x, y, dark));
+    int more = split && (beside_outside || dark_corners(view, corner_polygons, x, y, dark) > 0);
     sample.gather_rays = more && record ? EDGE_GATHER * r->settings.final_gather : 0;
     sample.light_samples = more && record ? EDGE_GATHER * r->settings.light_samples : 0;
     if (!split && interior(r, corner_polygons, x, y) && samples % INTERIOR_SHARE == 0) {
@@ -687,7 +672,7 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
         samples /= INTERIOR_SHARE;
         sample.count = (uint32_t)samples;
         sample.gather_rays = INTERIOR_SHARE * r->settings.final_gather;
-        if (dark_corners(view, corner_polygons, x, y, dark)) sample.gather_rays *= DARK_INTERIOR;
+        if (dark_corners(view, corner_polygons, x, y, dark) == 4) sample.gather_rays *= DARK_INTERIOR;
         sample.light_samples = INTERIOR_SHARE * r->settings.light_samples;
         /* Evenly lit: a quarter of the emitter samples (penumbra.c). */
         if (!uneven_corner(view, corner_polygons, x, y) && sample.light_samples >= EVEN_SHARE)
