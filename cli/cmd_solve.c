@@ -122,7 +122,8 @@ static void print_table(const rad_system *system, const rad_solve_options *optio
     else if (report->stop == RAD_STOP_MEMORY_BUDGET)
         printf(": memory budget reached (--max-memory) at %zu links, the solution so far",
                report->links);
-    printf(report->links ? " (residual %.0f)\n" : " (residual %.3g)\n", report->residual);
+    char residual[32];
+    printf(" (residual %s)\n", cli_residual_text(residual, sizeof residual, report));
     printf("%-16s %12s  %-38s %s\n", "surface", "area", "radiosity (R G B)", "power (R G B)");
     for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
         rad_surface_info info;
@@ -432,7 +433,7 @@ int cmd_solve(int argc, char **argv) {
             rs = rad_system_save_solution(system, a.save, &info);
             if (!rs && !a.pipe.quiet)
                 fprintf(stderr, "radiosity: saved the solution to %s (%ld %s)\n", a.save, steps,
-                        watch.shooting ? "shots" : "rounds");
+                        cli_step_word(solve.solver, steps));
         }
         if (!rs && !exit_status && a.log && cli_write_whole(a.log, watch.log_buffer, watch.log_size))
             exit_status = 1;

@@ -165,15 +165,18 @@ const char *cli_solve_outcome(const rad_solve_report *report) {
     return report->stop == RAD_STOP_TAIL ? "tail rule" : "not converged";
 }
 
+const char *cli_residual_text(char *out, size_t size, const rad_solve_report *report) {
+    snprintf(out, size, report->links ? "%.0f" : "%.3g", report->residual);
+    return out;
+}
+
 void cli_stage_solve(const rad_solve_options *solve, const rad_solve_report *report) {
-    char hierarchy[96] = "";
+    char hierarchy[96] = "", residual[32];
     if (report->links) /* the hierarchical solver's links and leaves */
         snprintf(hierarchy, sizeof hierarchy, ", %zu links, %zu leaves", report->links,
                  report->leaves);
-    /* The hierarchy's residual counts links: whole, not 6.67e+03. */
-    cli_stage("solve", report->links ? "%s, %d %s, residual %.0f, %s%s, %.2f s"
-                                     : "%s, %d %s, residual %.3g, %s%s, %.2f s",
-              rad_solver_kind_name(solve->solver),
-              report->iterations, cli_step_word(solve->solver, report->iterations), report->residual,
-              cli_solve_outcome(report), hierarchy, report->seconds);
+    cli_stage("solve", "%s, %d %s, residual %s, %s%s, %.2f s", rad_solver_kind_name(solve->solver),
+              report->iterations, cli_step_word(solve->solver, report->iterations),
+              cli_residual_text(residual, sizeof residual, report), cli_solve_outcome(report),
+              hierarchy, report->seconds);
 }

@@ -33,5 +33,7 @@ void cli_stage_solve(const rad_solve_options *solve, const rad_solve_report *rep
  * hierarchical solver's tail of steps ended it: final, but the oracle was not met everywhere,
  * RAD_STOP_TAIL) or "not converged". */
 const char *cli_solve_outcome(const rad_solve_report *report);
+/* The report's residual as text in `out`: the hierarchy's counts links, whole (not 6.67e+03). */
+const char *cli_residual_text(char *out, size_t size, const rad_solve_report *report);
 
 #endif
