@@ -217,6 +217,39 @@ MGF
 surfaces two.mgf >two.surfaces 2>/dev/null # (nothing emits: a warning)
 check "includes: one surface of area 1 + 4 + 1" grep -q '^pair 6.0000' two.surfaces
 
+# Names: an object with a second material is "object/material"; a material redefined (here in
+# an array of 3 copies, each a new grey) numbers on; a redefined vertex is the newest one
+# (polygons apart: no coplanar overlaps).
+cat >names.mgf <<'MGF'
+v a =
+	p 0 0 0
+v b =
+	p 1 0 0
+v c =
+	p 0 1 0
+m lamp =
+	ed 100
+o box
+m lamp
+f a b c
+xf -t 0 0 1 -a 3 -t 0 0 1
+m grey =
+	rd 0.5
+f a b c
+xf
+o
+v c =
+	p 0 2 0
+m grey
+xf -t 0 0 -1
+f a b c
+xf
+MGF
+surfaces names.mgf >names.surfaces
+check "MGF names: box, box/grey, box/grey.3, box/grey.4, grey" \
+    test "$(cut -d' ' -f1 names.surfaces | tr '\n' ' ')" = "box box/grey box/grey.3 box/grey.4 grey "
+check "MGF names: the redefined vertex c makes a triangle of area 1" grep -q '^grey 1.0000' names.surfaces
+
 # Bad input: one line FILE:LINE, exit 1.
 bad() { # bad FILE TEXT PATTERN: solve refuses FILE (holding TEXT) with one line PATTERN, exit 1
     printf "$2" >"$1"

@@ -4,6 +4,7 @@
  *   patch NAME area A reflectance R [G B] emission E [G B]
  *   ff FROM TO VALUE     # fraction of the energy leaving FROM that arrives at TO
  */
+#include "core/hash_index.h"
 #include "scene/scene.h"
 
 #include <ctype.h>
@@ -18,72 +19,6 @@
 #define FFM_ROW_SUM_SLACK 1e-3
 
 /* ------------------------------------------------------------------------------------------- */
-/* An open-addressing hash index: slots hold a 64-bit hash and an item number (patch or form-factor
- * entry), so the parser finds a name or a (from, to) pair in O(1) instead of scanning what it has
- * read. The caller confirms a hash match against the item itself. */
-
-typedef struct ffm_index {
-    struct ffm_slot { uint64_t hash; size_t item; } *slots; /* item + 1; 0 marks an empty slot */
-    unsigned bits; /* 2^bits slots, or none before the first insert */
-    size_t count;
-} ffm_index;
-
-/* FNV-1a over the bytes of the name. */
-static uint64_t hash_name(const char *name) {
-    uint64_t hash = 0xcbf29ce484222325ull;
-    for (const unsigned char *c = (const unsigned char *)name; *c; ++c)
-        hash = (hash ^ *c) * 0x100000001b3ull;
-    return hash;
-}
-
-static uint64_t hash_pair(size_t from, size_t to) {
-    return ((uint64_t)from << 32 | (uint64_t)from >> 32) ^ (uint64_t)to;
-}
-
-/* Fibonacci hashing: the top bits of hash * 2^64/phi, which depend on every bit of the hash. */
-static size_t home_slot(uint64_t hash, unsigned bits) {
-    return (size_t)((hash * 0x9e3779b97f4a7c15ull) >> (64 - bits));
-}
-
-/* Walks the probe sequence of `hash`: call with *slot = SIZE_MAX to start; returns the next item
- * stored under the same hash, or SIZE_MAX when the sequence reaches an empty slot. */
-static size_t index_next(const ffm_index *index, uint64_t hash, size_t *slot) {
-    if (!index->slots) return SIZE_MAX;
-    size_t mask = ((size_t)1 << index->bits) - 1;
-    size_t s = *slot == SIZE_MAX ? home_slot(hash, index->bits) : (*slot + 1) & mask;
-    for (; index->slots[s].item; s = (s + 1) & mask)
-        if (index->slots[s].hash == hash) {
-            *slot = s;
-            return index->slots[s].item - 1;
-        }
-    return SIZE_MAX;
-}
-
-/* Adds `item` under `hash`, doubling the table to keep it at most half full. */
-static rad_status index_insert(rad_context *ctx, ffm_index *index, uint64_t hash, size_t item) {
-    size_t capacity = index->slots ? (size_t)1 << index->bits : 0;
-    if (2 * (index->count + 1) > capacity) {
-        unsigned bits = index->slots ? index->bits + 1 : 6;
-        struct ffm_slot *slots = rad_alloc_zero(ctx, (size_t)1 << bits, sizeof *slots);
-        if (!slots) return RAD_ERROR_NO_MEMORY;
-        for (size_t i = 0; i < capacity; ++i) {
-            if (!index->slots[i].item) continue;
-            size_t s = home_slot(index->slots[i].hash, bits);
-            while (slots[s].item) s = (s + 1) & (((size_t)1 << bits) - 1);
-            slots[s] = index->slots[i];
-        }
-        rad_free(ctx, index->slots);
-        index->slots = slots;
-        index->bits = bits;
-    }
-    size_t mask = ((size_t)1 << index->bits) - 1, s = home_slot(hash, index->bits);
-    while (index->slots[s].item) s = (s + 1) & mask;
-    index->slots[s] = (struct ffm_slot){hash, item + 1};
-    index->count++;
-    return RAD_OK;
-}
-
-/* ------------------------------------------------------------------------------------------- */
 
 typedef struct ffm_parser {
     rad_context *ctx;
@@ -91,11 +26,11 @@ typedef struct ffm_parser {
     int line;
     rad_scene *scene;
     size_t patch_capacity;
-    ffm_index patch_names; /* name -> patch number */
+    rad_hash_index patch_names; /* name -> patch number */
     /* Form factors as read, before the matrix exists: (from, to, value, line). */
     struct ffm_entry { size_t from, to; double value; int line; } *entries;
     size_t entry_count, entry_capacity;
-    ffm_index entry_pairs; /* (from, to) -> entry number */
+    rad_hash_index entry_pairs; /* (from, to) -> entry number */
 } ffm_parser;
 
 #define FFM_FAIL(p, ...) ffm_fail(p, __VA_ARGS__)
@@ -144,9 +79,9 @@ static rad_status parse_color(ffm_parser *p, char **tokens, int count, int *at, 
 }
 
 static long find_patch(const ffm_parser *p, const char *name) {
-    uint64_t hash = hash_name(name);
+    uint64_t hash = rad_hash_string(RAD_HASH_START, name);
     size_t slot = SIZE_MAX;
-    for (size_t i; (i = index_next(&p->patch_names, hash, &slot)) != SIZE_MAX;)
+    for (size_t i; (i = rad_hash_index_next(&p->patch_names, hash, &slot)) != SIZE_MAX;)
         if (strcmp(p->scene->patches[i].name, name) == 0) return (long)i;
     return -1;
 }
@@ -154,7 +89,8 @@ static long find_patch(const ffm_parser *p, const char *name) {
 /* The entry already read for (from, to), or SIZE_MAX. */
 static size_t find_entry(const ffm_parser *p, size_t from, size_t to) {
     size_t slot = SIZE_MAX;
-    for (size_t i; (i = index_next(&p->entry_pairs, hash_pair(from, to), &slot)) != SIZE_MAX;)
+    uint64_t hash = rad_hash_pair(from, to);
+    for (size_t i; (i = rad_hash_index_next(&p->entry_pairs, hash, &slot)) != SIZE_MAX;)
         if (p->entries[i].from == from && p->entries[i].to == to) return i;
     return SIZE_MAX;
 }
@@ -204,7 +140,8 @@ static rad_status parse_patch(ffm_parser *p, char **tokens, int count) {
     patch.name = rad_strdup(p->ctx, name);
     if (!patch.name) return RAD_ERROR_NO_MEMORY;
     scene->patches[scene->patch_count++] = patch;
-    return index_insert(p->ctx, &p->patch_names, hash_name(name), scene->patch_count - 1);
+    return rad_hash_index_insert(p->ctx, &p->patch_names, rad_hash_string(RAD_HASH_START, name),
+                                 scene->patch_count - 1);
 }
 
 static rad_status parse_ff(ffm_parser *p, char **tokens, int count) {
@@ -231,8 +168,8 @@ static rad_status parse_ff(ffm_parser *p, char **tokens, int count) {
         p->entry_capacity = wanted;
     }
     p->entries[p->entry_count++] = (struct ffm_entry){(size_t)from, (size_t)to, value, p->line};
-    return index_insert(p->ctx, &p->entry_pairs, hash_pair((size_t)from, (size_t)to),
-                        p->entry_count - 1);
+    return rad_hash_index_insert(p->ctx, &p->entry_pairs, rad_hash_pair((uint64_t)from, (uint64_t)to),
+                                 p->entry_count - 1);
 }
 
 /* Splits a line in place at white space; '#' starts a comment. */
@@ -330,8 +267,8 @@ rad_status rad_scene_parse_ffm(rad_context *ctx, const char *text, size_t length
     if (!status) status = finish(&p);
     rad_free(ctx, copy);
     rad_free(ctx, p.entries);
-    rad_free(ctx, p.patch_names.slots);
-    rad_free(ctx, p.entry_pairs.slots);
+    rad_hash_index_free(ctx, &p.patch_names);
+    rad_hash_index_free(ctx, &p.entry_pairs);
     if (status) {
         rad_scene_destroy(p.scene);
         return status;

@@ -20,6 +20,8 @@
  * made. */
 #include "scene/mgf.h"
 
+#include "core/hash_index.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -75,10 +77,14 @@ typedef struct mgf_array {
     int body_line; /* its line number, less one */
 } mgf_array;
 
+/* A scene surface: one per object and scene material. Its name is the object's, then
+ * "object/material", then "object/material.N" (suffix 1, 2, N) for the first that is free. */
 typedef struct mgf_surface_key {
     char object[MGF_MAX_NAME];
-    uint32_t material;
+    char material_name[MGF_MAX_NAME];
+    uint32_t material; /* in the scene */
     uint32_t surface;
+    unsigned suffix;
 } mgf_surface_key;
 
 typedef struct mgf_reader {
@@ -97,6 +103,11 @@ typedef struct mgf_reader {
     size_t current_material; /* index into materials */
     mgf_surface_key *keys;
     size_t key_count, key_capacity;
+    /* Names to items in O(1) (a file of 10^5 names, or an array making 10^5 copies, would scan
+     * quadratically): the newest vertex, colour and material (from 1) of each name; the key of
+     * each (object, scene material) and the newest key of each (object, material name); the
+     * scene surfaces' names. */
+    rad_hash_index vertex_names, color_names, material_names, key_index, stem_index, surface_names;
     char objects[MGF_MAX_DEPTH][MGF_MAX_NAME];
     int object_depth;
     mgf_transform transforms[MGF_MAX_DEPTH + 1];
@@ -300,18 +311,47 @@ static void xy_to_rgb(double x, double y, double luminance, double *rgb) {
     }
 }
 
+/* The newest of `items` (`stride` bytes apart, each starting with its name) named `name` in
+ * `index`, or SIZE_MAX; *slot_out (if given) is its slot. */
+static size_t find_named(const rad_hash_index *index, const void *items, size_t stride,
+                         const char *name, size_t *slot_out) {
+    size_t slot = SIZE_MAX;
+    uint64_t hash = rad_hash_string(RAD_HASH_START, name);
+    for (size_t i; (i = rad_hash_index_next(index, hash, &slot)) != SIZE_MAX;)
+        if (strcmp((const char *)items + i * stride, name) == 0) {
+            if (slot_out) *slot_out = slot;
+            return i;
+        }
+    return SIZE_MAX;
+}
+
+/* Records items[item] as the newest of its name (a redefinition hides the older one). */
+static rad_status name_item(mgf_reader *r, rad_hash_index *index, const void *items, size_t stride,
+                            size_t item) {
+    const char *name = (const char *)items + item * stride;
+    size_t slot;
+    if (find_named(index, items, stride, name, &slot) != SIZE_MAX) {
+        rad_hash_index_replace(index, slot, item);
+        return RAD_OK;
+    }
+    return rad_hash_index_insert(r->ctx, index, rad_hash_string(RAD_HASH_START, name), item);
+}
+
 static mgf_color *find_color(mgf_reader *r, const char *name) {
-    for (size_t i = r->color_count; i-- > 0;)
-        if (strcmp(r->colors[i].name, name) == 0) return &r->colors[i];
-    return NULL;
+    size_t i = find_named(&r->color_names, r->colors, sizeof *r->colors, name, NULL);
+    return i == SIZE_MAX ? NULL : &r->colors[i];
+}
+
+/* The newest material named `name` (from 1: the default material has no name), or SIZE_MAX. */
+static size_t find_material(mgf_reader *r, const char *name) {
+    return find_named(&r->material_names, r->materials, sizeof *r->materials, name, NULL);
 }
 
 /* ---- geometry ----------------------------------------------------------------------------- */
 
 static mgf_vertex *find_vertex(mgf_reader *r, const char *name) {
-    for (size_t i = r->vertex_count; i-- > 0;)
-        if (strcmp(r->vertices[i].name, name) == 0) return &r->vertices[i];
-    return NULL;
+    size_t i = find_named(&r->vertex_names, r->vertices, sizeof *r->vertices, name, NULL);
+    return i == SIZE_MAX ? NULL : &r->vertices[i];
 }
 
 static const mgf_transform *current_transform(const mgf_reader *r) {
@@ -347,32 +387,53 @@ static rad_status current_surface(mgf_reader *r, uint32_t *out) {
         status = rad_scene_add_material(r->scene, &material, &m->index);
         if (status) return status;
     }
-    for (size_t i = 0; i < r->key_count; ++i)
+    uint64_t key_hash = rad_hash_string(rad_hash_pair(RAD_HASH_START, m->index), object);
+    size_t slot = SIZE_MAX;
+    for (size_t i; (i = rad_hash_index_next(&r->key_index, key_hash, &slot)) != SIZE_MAX;)
         if (r->keys[i].material == m->index && strcmp(r->keys[i].object, object) == 0) {
             *out = r->keys[i].surface;
             return RAD_OK;
         }
-    /* Unique names: the object, or "object/material" when the object has several. */
+    /* Unique names: the object, or "object/material" when the object has several, then
+     * numbered; a redefined material goes on from the newest suffix of its object and name. */
+    uint64_t stem_hash = rad_hash_string(rad_hash_string(RAD_HASH_START, object), m->name);
+    size_t stem_slot = SIZE_MAX, stem = SIZE_MAX;
+    for (size_t i; (i = rad_hash_index_next(&r->stem_index, stem_hash, &stem_slot)) != SIZE_MAX;)
+        if (strcmp(r->keys[i].object, object) == 0 && strcmp(r->keys[i].material_name, m->name) == 0) {
+            stem = i;
+            break;
+        }
+    unsigned suffix = stem == SIZE_MAX ? 1 : r->keys[stem].suffix + 1;
     char name[2 * MGF_MAX_NAME + 16];
-    snprintf(name, sizeof name, "%s", object);
-    for (unsigned suffix = 2;; ++suffix) {
-        int taken = 0;
-        for (size_t i = 0; i < r->scene->surface_count && !taken; ++i)
-            taken = strcmp(r->scene->surfaces[i].name, name) == 0;
-        if (!taken) break;
-        if (suffix == 2) snprintf(name, sizeof name, "%s/%s", object, m->name);
+    for (;; ++suffix) {
+        if (suffix == 1) snprintf(name, sizeof name, "%s", object);
+        else if (suffix == 2) snprintf(name, sizeof name, "%s/%s", object, m->name);
         else snprintf(name, sizeof name, "%s/%s.%u", object, m->name, suffix);
+        size_t name_slot = SIZE_MAX, i;
+        uint64_t name_hash = rad_hash_string(RAD_HASH_START, name);
+        while ((i = rad_hash_index_next(&r->surface_names, name_hash, &name_slot)) != SIZE_MAX &&
+               strcmp(r->scene->surfaces[i].name, name) != 0) {
+        }
+        if (i == SIZE_MAX) break; /* free */
     }
     if ((status = grow(r, (void **)&r->keys, &r->key_capacity, r->key_count, sizeof *r->keys)))
         return status;
     mgf_surface_key *key = &r->keys[r->key_count];
     snprintf(key->object, sizeof key->object, "%s", object);
+    snprintf(key->material_name, sizeof key->material_name, "%s", m->name);
     key->material = m->index;
+    key->suffix = suffix;
     status = rad_scene_add_surface(r->scene, name, m->index, &key->surface);
     if (status) return status;
-    ++r->key_count;
+    size_t k = r->key_count++;
+    if (stem != SIZE_MAX) rad_hash_index_replace(&r->stem_index, stem_slot, k);
+    else status = rad_hash_index_insert(r->ctx, &r->stem_index, stem_hash, k);
+    if (!status) status = rad_hash_index_insert(r->ctx, &r->key_index, key_hash, k);
+    if (!status)
+        status = rad_hash_index_insert(r->ctx, &r->surface_names, rad_hash_string(RAD_HASH_START, name),
+                                       key->surface);
     *out = key->surface;
-    return RAD_OK;
+    return status;
 }
 
 /* Is corner i of the polygon (in the plane with normal n) convex, and no other vertex inside
@@ -662,6 +723,9 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
             if (template_index != SIZE_MAX) *v = r->vertices[template_index];
             else memset(v, 0, sizeof *v);
             snprintf(v->name, sizeof v->name, "%s", w[1]);
+            if ((status = name_item(r, &r->vertex_names, r->vertices, sizeof *r->vertices,
+                                    r->vertex_count - 1)))
+                return status;
         }
         r->current_vertex = (size_t)(v - r->vertices);
         return RAD_OK;
@@ -697,9 +761,7 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
         if (!arg_count_is(count, 2, 4) || (count >= 3 && strcmp(w[2], "=") != 0))
             return fail_at(r, "usage: m NAME [= [TEMPLATE]]", NULL);
         if (strlen(w[1]) >= MGF_MAX_NAME) return fail_at(r, "material name too long", NULL);
-        size_t found = SIZE_MAX;
-        for (size_t i = r->material_count; i-- > 1 && found == SIZE_MAX;)
-            if (strcmp(r->materials[i].name, w[1]) == 0) found = i;
+        size_t found = find_material(r, w[1]);
         if (count == 2) {
             if (found == SIZE_MAX) return fail_at(r, "undefined material", w[1]);
             r->current_material = found;
@@ -707,9 +769,7 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
         }
         size_t template_index = 0;
         if (count == 4) {
-            template_index = SIZE_MAX;
-            for (size_t i = r->material_count; i-- > 1 && template_index == SIZE_MAX;)
-                if (strcmp(r->materials[i].name, w[3]) == 0) template_index = i;
+            template_index = find_material(r, w[3]);
             if (template_index == SIZE_MAX) return fail_at(r, "undefined material", w[3]);
         }
         if ((status = grow(r, (void **)&r->materials, &r->material_capacity, r->material_count,
@@ -724,7 +784,8 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
         snprintf(m->name, sizeof m->name, "%s", w[1]);
         m->index = UINT32_MAX;
         r->current_material = r->material_count++;
-        return RAD_OK;
+        return name_item(r, &r->material_names, r->materials, sizeof *r->materials,
+                         r->current_material);
     }
     if (strcmp(e, "rd") == 0 || strcmp(e, "ed") == 0 || strcmp(e, "rs") == 0) {
         int specular = e[0] == 'r' && e[1] == 's';
@@ -783,6 +844,9 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
             c = &r->colors[r->color_count++];
             *c = base;
             snprintf(c->name, sizeof c->name, "%s", w[1]);
+            if ((status = name_item(r, &r->color_names, r->colors, sizeof *r->colors,
+                                    r->color_count - 1)))
+                return status;
         }
         r->color = *c;
         return RAD_OK;
@@ -821,11 +885,11 @@ static rad_status entity(mgf_reader *r, char **w, int count) {
         if (!(y > 0)) x = y = NAN; /* no luminance: black where a material uses it */
         r->color.x = x;
         r->color.y = y;
-        for (size_t i = 0; i < r->color_count; ++i) /* the named current colour too */
-            if (r->color.name[0] && strcmp(r->colors[i].name, r->color.name) == 0) {
-                r->colors[i].x = x;
-                r->colors[i].y = y;
-            }
+        mgf_color *named = r->color.name[0] ? find_color(r, r->color.name) : NULL;
+        if (named) { /* the named current colour too */
+            named->x = x;
+            named->y = y;
+        }
         return RAD_OK;
     }
     if (strcmp(e, "o") == 0) {
@@ -1119,6 +1183,9 @@ rad_status rad_scene_load_mgf(rad_context *ctx, const char *path, rad_scene **ou
     rad_free(ctx, r.colors);
     rad_free(ctx, r.materials);
     rad_free(ctx, r.keys);
+    rad_hash_index *indexes[] = {&r.vertex_names, &r.color_names, &r.material_names,
+                                 &r.key_index, &r.stem_index, &r.surface_names};
+    for (size_t i = 0; i < sizeof indexes / sizeof indexes[0]; ++i) rad_hash_index_free(ctx, indexes[i]);
     if (status) {
         rad_scene_destroy(r.scene);
         return status;
