@@ -106,7 +106,6 @@ struct rad_hier {
     uint32_t *free_samples; /* slots of samples whose links were refined, to be used again
                                (sample_capacity of them) */
     size_t free_count;
-    int resampling;       /* making restored links' samples again: their rays count no exposure */
     rgb *root_radiosity;  /* per root, as pull_clusters last read it: what link samples send */
     /* Links are sorted by receiver: group g's links are receivers' group_first[g] .. [g+1]. */
     size_t group_count;
@@ -125,8 +124,8 @@ struct rad_hier {
     float *light_spread; /* per node: rad_hier_options.light's spread */
     /* Per root and per signed axis (+x, -x, +y, -y, +z, -z: the one nearest the direction
      * toward the link's other end): how many sampled rays ended on it from a cluster link's
-     * other end, and how many of those were unblocked (exposure() below). Integer sums: the
-     * same for any thread count. */
+     * other end, and how many of those were unblocked (exposure() below). No longer counted
+     * (no link reads them, see exposure()); kept for solution files, which carry them. */
     uint32_t (*member_rays)[6], (*member_seen)[6];
     /* Importance (Smits, Arvo & Salesin 1992), NULL without a view (rad_hier_set_view): where
      * the camera's pixels meet the surfaces, and per node A Y (Y the importance of unit
@@ -697,29 +696,14 @@ static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const u
     }
 }
 
-/* A cluster's members are weighted by their exposure when it sends (pull_cluster): the
+/* A cluster's members were weighted by their exposure when it sends (pull_cluster): the
  * fraction of the rays of cluster links that ended on the member unblocked, counted per signed
- * axis (exposure()). A cluster's mean over every member facing the receiver counts members hidden
- * inside it (the backs of pillars' bases against walls, the insides of mouldings), darker than
- * the ones seen: on Sponza the member points that cluster links' visible rays reach carry 13%
- * more light than that mean (docs/hierarchical.md, "Accuracy"). The rays are those of the
- * links' own form factors, so the exposure costs no ray. */
-static int nearest_axis(rad_vec3 d) {
-    double ax = fabs(d.x), ay = fabs(d.y), az = fabs(d.z);
-    return ax >= ay && ax >= az ? (d.x < 0) : ay >= az ? 2 + (d.y < 0) : 4 + (d.z < 0);
-}
-
-/* `toward`: the direction from the member toward the link's other end. */
-static void count_exposure(const rad_hier *h, uint32_t member, uint32_t rays, uint32_t seen,
-                           rad_vec3 toward) {
-    if (h->resampling) return;
-    int a = nearest_axis(toward);
-#pragma omp atomic
-    h->member_rays[member][a] += rays;
-#pragma omp atomic
-    h->member_seen[member][a] += seen;
-}
-
+ * axis (exposure()), two atomic counts per member a ray ended on. Since every cluster link that
+ * carries light sends what its own rays saw (link_sample) and the gather skips the links of
+ * factor 0 (the only ones without a sample), the exposure-weighted sums are read by no link,
+ * so the rays are no longer counted (hspeed9: 3-4% of the 10^5 office's processor time, the
+ * same --json). The counts stay zero unless a solution file brings them; the weighting and
+ * the sums are kept for such links should they come back. */
 /* A member's exposure over every direction, (seen + 1) / (rays + 1), and toward signed axis a:
  * that axis's counts with EXPOSURE_PRIOR rays of the overall exposure added, so an axis few
  * rays came from takes the overall value. Per direction because what hides a member depends
@@ -869,11 +853,10 @@ static void keep_seen_members(link_sample *out, const uint32_t *member, const do
  * points), each to its own sampled source point, instead of the 16 pairs that decide partial
  * visibility and the 16 fresh ones that estimate a partly hidden link. The mean over the pairs
  * of V P_r P_s / (pi r^2 A_r) is unbiased (the full scheme's is high for links whose first set
- * happened to be unblocked); clamped to the upper bound as there. Each ray counts toward its
- * members' exposure as the rays a full link casts to one member would (two sets, one ray from
- * each receiver point: 2 rn rays, all seen or all blocked; counted once, Sponza came out
- * -1.78% against -1.17%, not at all -2.03%; docs/hierarchical.md, "sixth session"). 3-4 rays
- * and 4 walks where a partly hidden link cast 32 and walked 8. */
+ * happened to be unblocked); clamped to the upper bound as there. (Its rays used to count
+ * toward the members' exposure, which mattered to Sponza before links sent their own samples;
+ * docs/hierarchical.md, "sixth session".) 3-4 rays and 4 walks where a partly hidden link cast
+ * 32 and walked 8. */
 static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double spread,
                            double estimate, rad_hier_link *out, link_sample *seen_members) {
     const uint32_t receiver = out->receiver, source = out->source;
@@ -892,14 +875,11 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
     sample_points(h, source, back, &source_seed, 1, y, source_member, source_chance);
     uint8_t occluded[4];
     rad_rays_occluded_batch(h->rays, x, y, (size_t)pairs, occluded);
-    const uint32_t weight = 2 * (is_cluster(nr) ? 4 : (uint32_t)pairs);
     double sum = 0, added[4] = {0, 0, 0, 0};
     int blocked = 0;
     for (int k = 0; k < pairs; ++k) {
         const int seen = !occluded[k];
         blocked |= !seen;
-        if (is_cluster(nr)) count_exposure(h, receiver_member[k], 8, seen ? 8 : 0, w);
-        if (is_cluster(ns)) count_exposure(h, source_member[k], weight, seen ? weight : 0, back);
         if (!seen) continue;
         rad_vec3 ray = v3_sub(y[k], x[k]);
         double r2 = v3_dot(ray, ray), length = sqrt(r2);
@@ -1004,17 +984,6 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         int blocked;
         visible_pairs(h, x, rn, y, sn, &blocked, seen);
         if (set == 0) partial = blocked;
-        /* Count, for each member a ray ended on, whether it was seen (exposure()). */
-        for (int i = 0; i < rn && is_cluster(nr); ++i) {
-            uint32_t visible = 0;
-            for (int j = 0; j < sn; ++j) visible += seen[i * sn + j];
-            count_exposure(h, receiver_members[i], (uint32_t)sn, visible, w);
-        }
-        for (int j = 0; j < sn && is_cluster(ns); ++j) {
-            uint32_t visible = 0;
-            for (int i = 0; i < rn; ++i) visible += seen[i * sn + j];
-            count_exposure(h, source_members[j], (uint32_t)rn, visible, v3_scale(w, -1));
-        }
         if (partial && set == 0 && may_skip && refined_anyway(h, out, upper - lower + estimate)) {
             out->form_factor = NOT_ESTIMATED;
             out->error = -out->error;
@@ -2612,14 +2581,12 @@ void rad_hier_restore_exposure(rad_hier *h, uint32_t root, const uint32_t rays[6
 }
 
 /* Restored links' samples (link_sample; a solution file does not keep them), made again from
- * the same rays: each link's pairs are drawn from its own stream (link_hash). The rays count no
- * exposure this time (the file kept the counts). */
+ * the same rays: each link's pairs are drawn from its own stream (link_hash). */
 static rad_status resample_links(rad_hier *h) {
     const size_t count = h->link_count;
     for (size_t l = 0; l < count; ++l) h->links[l].sample = RAD_HIER_NO_NODE;
     link_sample *seen = rad_alloc(h->ctx, count ? count : 1, sizeof *seen);
     if (!seen) return RAD_ERROR_NO_MEMORY;
-    h->resampling = 1;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (count >= 64)
     for (long l = 0; l < (long)count; ++l) {
         const rad_hier_link *link = &h->links[l];
@@ -2628,7 +2595,6 @@ static rad_status resample_links(rad_hier *h) {
         if (cluster_index(h, link->source) && link->form_factor != NOT_ESTIMATED)
             make_cluster_link(h, link->receiver, link->source, &again, 0, &seen[l]);
     }
-    h->resampling = 0;
     h->sample_count = h->free_count = 0;
     rad_status status = keep_samples(h, h->links, seen, NULL, count);
     rad_free(h->ctx, seen);
