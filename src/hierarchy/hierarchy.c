@@ -28,7 +28,6 @@
 #define SEEN_BATCHES 3      /* ... whose deciding set saw most of the source (MOSTLY_SEEN): two fresh */
 #define MOSTLY_SEEN 0.9     /* the kernel-weighed share of the deciding set's rays that were seen */
 #define CLUSTER_PARTIAL_SETS 1 /* fresh sets of 16 sampled pairs that estimate a cluster link */
-#define EXPOSURE_PRIOR 4.0 /* rays' worth of a member's exposure over all directions in each axis's */
 
 typedef double rgb[3];
 
@@ -55,11 +54,6 @@ typedef struct cluster_info {
     rad_vec3 normal_sum;   /* sum over members of A n */
     double reflectance;    /* the largest member reflectance (any channel) */
     rad_vec3 lo, hi;       /* the box */
-    double axis_power[6][3]; /* sum over members of e B A max(0, +n_x), ... as axis_area: the
-                                light leaving toward each signed axis, per channel, each member
-                                weighted by its exposure e toward that axis (exposure() below) */
-    double axis_exposed[6];  /* sum over members of e A max(0, +n_x), ...: what axis_power is
-                                the power of */
     uint32_t parent;       /* the parent cluster's node, or RAD_HIER_NO_NODE for the top */
     double brightest;      /* the largest radiosity (any channel) of a member root, as of the
                               last refinement (brightest_members) */
@@ -124,8 +118,8 @@ struct rad_hier {
     float *light_spread; /* per node: rad_hier_options.light's spread */
     /* Per root and per signed axis (+x, -x, +y, -y, +z, -z: the one nearest the direction
      * toward the link's other end): how many sampled rays ended on it from a cluster link's
-     * other end, and how many of those were unblocked (exposure() below). No longer counted
-     * (no link reads them, see exposure()); kept for solution files, which carry them. */
+     * other end, and how many of those were unblocked. No longer counted nor read (see
+     * source_radiosity); kept for solution files, which carry them. */
     uint32_t (*member_rays)[6], (*member_seen)[6];
     /* Importance (Smits, Arvo & Salesin 1992), NULL without a view (rad_hier_set_view): where
      * the camera's pixels meet the surfaces, and per node A Y (Y the importance of unit
@@ -696,31 +690,6 @@ static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const u
     }
 }
 
-/* A cluster's members were weighted by their exposure when it sends (pull_cluster): the
- * fraction of the rays of cluster links that ended on the member unblocked, counted per signed
- * axis (exposure()), two atomic counts per member a ray ended on. Since every cluster link that
- * carries light sends what its own rays saw (link_sample) and the gather skips the links of
- * factor 0 (the only ones without a sample), the exposure-weighted sums are read by no link,
- * so the rays are no longer counted (hspeed9: 3-4% of the 10^5 office's processor time, the
- * same --json). The counts stay zero unless a solution file brings them; the weighting and
- * the sums are kept for such links should they come back. */
-/* A member's exposure over every direction, (seen + 1) / (rays + 1), and toward signed axis a:
- * that axis's counts with EXPOSURE_PRIOR rays of the overall exposure added, so an axis few
- * rays came from takes the overall value. Per direction because what hides a member depends
- * on where it is seen from (a pillar's base against a wall is seen along the wall, not through
- * it): with one number for all directions Sponza's arcades were 3% darker once the sampled
- * pairs were weighed exactly (member_weight). */
-static double exposure(const rad_hier *h, uint32_t root, int axis) {
-    double rays = 0, seen = 0;
-    for (int a = 0; a < 6; ++a) {
-        rays += h->member_rays[root][a];
-        seen += h->member_seen[root][a];
-    }
-    double overall = (seen + 1) / (rays + 1);
-    return (h->member_seen[root][axis] + EXPOSURE_PRIOR * overall) /
-           (h->member_rays[root][axis] + EXPOSURE_PRIOR);
-}
-
 /* A sampled member's projected area along `ray` (from the other end toward the member, length
  * `length`) over the probability the walk drew it with: its mean over the draws is the
  * cluster's projected area along that ray, so the mean over the pairs of V P_r P_s / (pi r^2
@@ -1027,44 +996,30 @@ static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, 
     return make_link(h, receiver, source, out, may_skip);
 }
 
-/* The radiosity a link's source sends toward its receiver. A cluster's is directional (Sillion
- * 1995): the light its members send toward the receiver over their projected area, from the
- * per-axis sums; its plain mean mixed the sky quad over Sponza with the roof beside it, which
- * faces away (and halved the light sent down). */
-static rad_vec3 receiver_centre(const rad_hier *h, uint32_t receiver) {
-    const rad_hier_node *r = &h->nodes[receiver];
-    return is_cluster(r) ? info(h, receiver)->centre : surface_centre(r);
-}
-
-/* `centre` is the receiver's (receiver_centre), which every link of a receiver shares. */
-static void source_radiosity(const rad_hier *h, const rad_hier_link *link, rad_vec3 centre,
-                             double out[3]) {
+/* The radiosity a link's source sends toward its receiver: a polygon node's own; a cluster's,
+ * what the link's own rays saw of its members (link_sample, weighed by what each visible pair
+ * added to the factor). The cluster's plain mean would mix the sky quad over Sponza with the
+ * roof beside it, which faces away (and halved the light sent down). */
+static void source_radiosity(const rad_hier *h, const rad_hier_link *link, double out[3]) {
     if (!cluster_index(h, link->source)) {
         memcpy(out, h->nodes[link->source].radiosity, sizeof(double[3]));
         return;
     }
-    if (link->sample != RAD_HIER_NO_NODE) {
-        /* What the link's own rays saw (link_sample). */
-        const link_sample *seen = &h->samples[link->sample];
-        for (int i = 0; i < 3; ++i) out[i] = 0;
-        for (int k = 0; k < 4; ++k) {
-            const double *b = h->root_radiosity[seen->member[k]];
-            for (int i = 0; i < 3; ++i) out[i] += SAMPLE_UNIT * seen->weight[k] * b[i];
-        }
+    if (link->sample == RAD_HIER_NO_NODE) {
+        /* No sample: the link's rays saw nothing of the source, so its factor is 0 and the
+         * gather does not ask. The members' mean, should it. (This was the directional,
+         * exposure-weighted mean of Sillion 1995, per signed axis; every link that carries
+         * light has sent its own sample since energy2, so hspeed9 removed it: the same bits.) */
+        memcpy(out, h->nodes[link->source].radiosity, sizeof(double[3]));
         return;
     }
-    memcpy(out, h->nodes[link->source].radiosity, sizeof(double[3]));
-    const cluster_info *ci = info(h, link->source);
-    rad_vec3 w = v3_sub(centre, ci->centre);
-    const double d[3] = {fabs(w.x), fabs(w.y), fabs(w.z)};
-    const int side[3] = {w.x < 0, w.y < 0, w.z < 0};
-    double area = 0, power[3] = {0, 0, 0};
-    for (int a = 0; a < 3; ++a) {
-        area += d[a] * ci->axis_exposed[2 * a + side[a]];
-        for (int i = 0; i < 3; ++i) power[i] += d[a] * ci->axis_power[2 * a + side[a]][i];
+    /* What the link's own rays saw (link_sample). */
+    const link_sample *seen = &h->samples[link->sample];
+    for (int i = 0; i < 3; ++i) out[i] = 0;
+    for (int k = 0; k < 4; ++k) {
+        const double *b = h->root_radiosity[seen->member[k]];
+        for (int i = 0; i < 3; ++i) out[i] += SAMPLE_UNIT * seen->weight[k] * b[i];
     }
-    if (area > 0)
-        for (int i = 0; i < 3; ++i) out[i] = power[i] / area;
 }
 
 /* The oracle for a link with a cluster at one end or both: 0 keeps it, 1 opens (or splits) the
@@ -1705,34 +1660,16 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
 }
 
 /* Pulls up cluster c from its children: its radiosity is the area-weighted mean of its
- * members', its axis_power the light its members send toward each signed axis and
- * axis_exposed the area it leaves from, each member weighted by its exposure. */
+ * members'; a leaf cluster copies its member roots' radiosity where link samples read it
+ * (root_radiosity). */
 static void pull_cluster(rad_hier *h, size_t c) {
     rad_hier_node *n = &h->nodes[h->cluster_first + c];
-    cluster_info *ci = &h->clusters[c];
     double sum[3] = {0, 0, 0};
-    memset(ci->axis_power, 0, sizeof ci->axis_power);
-    memset(ci->axis_exposed, 0, sizeof ci->axis_exposed);
     for (uint32_t k = 0; k < n->child_count; ++k) {
         uint32_t child = n->first_child + k;
         const rad_hier_node *m = &h->nodes[child];
         for (int i = 0; i < 3; ++i) sum[i] += m->radiosity[i] * m->area;
-        if (is_cluster(m)) {
-            const cluster_info *mi = info(h, child);
-            for (int a = 0; a < 6; ++a) {
-                ci->axis_exposed[a] += mi->axis_exposed[a];
-                for (int i = 0; i < 3; ++i) ci->axis_power[a][i] += mi->axis_power[a][i];
-            }
-            continue;
-        }
-        memcpy(h->root_radiosity[child], m->radiosity, sizeof(rgb));
-        rad_vec3 normal = h->normal[m->polygon];
-        const double d[3] = {normal.x, normal.y, normal.z};
-        for (int a = 0; a < 6; ++a) {
-            double exposed = exposure(h, child, a) * m->area * fmax(0, a & 1 ? -d[a / 2] : d[a / 2]);
-            ci->axis_exposed[a] += exposed;
-            for (int i = 0; i < 3; ++i) ci->axis_power[a][i] += m->radiosity[i] * exposed;
-        }
+        if (!is_cluster(m)) memcpy(h->root_radiosity[child], m->radiosity, sizeof(rgb));
     }
     for (int i = 0; i < 3; ++i) n->radiosity[i] = n->area > 0 ? sum[i] / n->area : 0;
 }
@@ -1761,18 +1698,9 @@ static void prefetch_source(const rad_hier *h, const rad_hier_link *link) {
         __builtin_prefetch(h->nodes[source].radiosity);
         return;
     }
-    if (link->sample != RAD_HIER_NO_NODE) {
-        const link_sample *seen = &h->samples[link->sample];
-        for (int k = 0; k < 4; ++k) __builtin_prefetch(h->root_radiosity[seen->member[k]]);
-        return;
-    }
-    __builtin_prefetch(h->nodes[source].radiosity);
-    const cluster_info *ci = info(h, source);
-    __builtin_prefetch(&ci->centre);
-    __builtin_prefetch(&ci->axis_power[0][0]);
-    __builtin_prefetch(&ci->axis_power[3][0]);
-    __builtin_prefetch(&ci->axis_power[5][2]);
-    __builtin_prefetch(&ci->axis_exposed[5]);
+    if (link->sample == RAD_HIER_NO_NODE) return;
+    const link_sample *seen = &h->samples[link->sample];
+    for (int k = 0; k < 4; ++k) __builtin_prefetch(h->root_radiosity[seen->member[k]]);
 }
 
 rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
@@ -1800,7 +1728,6 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
             for (long g = 0; g < groups; ++g) {
                 double sum[3] = {0, 0, 0};
                 size_t first = h->group_first[g], last = h->group_first[g + 1];
-                rad_vec3 centre = receiver_centre(h, h->links[first].receiver);
                 for (size_t l = first; l < last; ++l) {
                     const rad_hier_link *link = &h->links[l];
                     double b[3];
@@ -1809,7 +1736,7 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
                     /* A link of factor 0 (its rays saw nothing of the source: 46% of
                      * them in the 10^5 office) adds exactly 0 to the sum: its source is not read. */
                     if (link->form_factor == 0) continue;
-                    source_radiosity(h, link, centre, b);
+                    source_radiosity(h, link, b);
                     for (int c = 0; c < 3; ++c) sum[c] += (double)link->form_factor * b[c];
                 }
                 memcpy(h->nodes[h->links[first].receiver].irradiance, sum, sizeof sum);
