@@ -17,8 +17,8 @@
  *     stay as they are, and are nobody's neighbours. Neighbours must lie on the same polygon:
  *     a wall and the floor, or a block's faces, never mix.
  *   - The weight of neighbour q for pixel p: (1 - (d / h)^2)^2, d = |x_q - x_p|, h = A min(R_p,
- *     R_q) but at least MIN_PIXELS pixels at p's depth, zero beyond h; the window is cut at
- *     MAX_PIXELS pixels each way. Near a concave corner R shrinks to the distance from it and
+ *     R_q) but at least FLOOR_REACH R_p kept within FEWEST_PIXELS..MIN_PIXELS pixels at p's
+ *     depth, zero beyond h; the window is cut at MAX_PIXELS pixels each way. Near a concave corner R shrinks to the distance from it and
  *     Ward's bound keeps every pixel alone, though the light there varies mostly with the
  *     radiosity of the other wall, which is smooth: the few pixels' floor halves the noise
  *     along the room's corner lines. Edge pixels, which are not filtered, gather EDGE_GATHER
@@ -26,11 +26,13 @@
  *   - Only the gathered part moves: the pixel's value changes by rho (I' - I), I its own mean
  *     gathered radiance, I' the weighted mean; direct light (emitter samples and the emitted
  *     light the gather rays met, weighted) keeps its own sharp shadows.
- *   - Local linear regression (the mean of a plane fitted by weighted least squares in screen
- *     offsets, not the plain weighted mean): where the window is cut by the polygon's edge or
- *     the image's, a plain mean would be pulled towards the inside; the fitted plane's value at
- *     the pixel is not, to first order. Where the fit is ill-conditioned (a line of pixels), the
- *     plain mean.
+ *   - Local quadratic regression (the value at the pixel of a quadric in screen offsets fitted
+ *     by weighted least squares, not the plain weighted mean): where the window is cut by the
+ *     polygon's edge or the image's, a plain mean would be pulled towards the inside, and where
+ *     the light is curved (rising towards a near lit face) a plane's value is off by the
+ *     curvature times the window's spread; the quadric's is neither, to second order, so its
+ *     window may be wider. Where the quadric is ill-conditioned, the plane (until cornell50 the
+ *     only fit); where that is too (a line of pixels), the plain mean.
  * The result depends on the pixels' records only, not on the order of the work: the same bits
  * for any thread count. */
 #include "render/render.h"
@@ -39,8 +41,17 @@
 #include <omp.h>
 
 #define RADIUS 0.1     /* A: the filter's radius in harmonic mean distances */
-#define MIN_PIXELS 4.0 /* ... but at least this many pixels (at the pixel's depth) */
-#define MAX_PIXELS 12  /* the window's half-size */
+/* ... but at least FLOOR_REACH R, kept between FEWEST_PIXELS and MIN_PIXELS pixels (at the
+ * pixel's depth); the window's half-size MAX_PIXELS. With the plane fit (until cornell50) the
+ * floor was a plain 4 pixels and the window 12: a wider one bent the plane over curved light
+ * (the Cornell box's short block's top +1 % in 16x16 blocks), a larger floor too. With the
+ * quadric a floor of 12 pixels halves the noise it adds, but at 64 x 64 pixels that is a fifth of
+ * the box and blurred the contact shadow in front of the short block (tests/test_render.c: +11 %
+ * against the path tracer, +1 % with the floor held to half of R). */
+#define FLOOR_REACH 0.5
+#define FEWEST_PIXELS 4.0
+#define MIN_PIXELS 12.0
+#define MAX_PIXELS 24
 
 void rad_gather_pixel_make(const rad_gather_tally *tally, int samples, uint32_t polygon, int split,
                            rad_gather_pixel *out) {
@@ -67,6 +78,58 @@ typedef struct filter_neighbour {
     uint32_t polygon;
 } filter_neighbour;
 
+/* The quadric a + b dx + c dy + d dx^2 + e dx dy + f dy^2 fitted by weighted least squares from
+ * the moments of filter_pixel; its value a at the pixel into out. 0 when the normal equations,
+ * scaled to a unit diagonal, have a pivot under QUADRIC_PIVOT (the window a line, or too narrow
+ * along one axis for a curvature). Gaussian elimination with partial pivoting. */
+#define QUADRIC_PIVOT 1e-4
+static int fit_quadric(double m[5][5], double rhs[3][3][3], double out[3]) {
+    static const int power[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+    double n[6][6], v[6][3], scale[6];
+    for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < 6; ++j) n[i][j] = m[power[i][0] + power[j][0]][power[i][1] + power[j][1]];
+        for (int c = 0; c < 3; ++c) v[i][c] = rhs[power[i][0]][power[i][1]][c];
+        if (!(n[i][i] > 0)) return 0;
+        scale[i] = 1 / sqrt(n[i][i]);
+    }
+    for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < 6; ++j) n[i][j] *= scale[i] * scale[j];
+        for (int c = 0; c < 3; ++c) v[i][c] *= scale[i];
+    }
+    for (int i = 0; i < 6; ++i) {
+        int pivot = i;
+        for (int r = i + 1; r < 6; ++r)
+            if (fabs(n[r][i]) > fabs(n[pivot][i])) pivot = r;
+        if (!(fabs(n[pivot][i]) >= QUADRIC_PIVOT)) return 0;
+        if (pivot != i) {
+            for (int j = 0; j < 6; ++j) {
+                double t = n[i][j];
+                n[i][j] = n[pivot][j];
+                n[pivot][j] = t;
+            }
+            for (int c = 0; c < 3; ++c) {
+                double t = v[i][c];
+                v[i][c] = v[pivot][c];
+                v[pivot][c] = t;
+            }
+        }
+        for (int r = i + 1; r < 6; ++r) {
+            double f = n[r][i] / n[i][i];
+            for (int j = i; j < 6; ++j) n[r][j] -= f * n[i][j];
+            for (int c = 0; c < 3; ++c) v[r][c] -= f * v[i][c];
+        }
+    }
+    double solution[6][3];
+    for (int i = 5; i >= 0; --i)
+        for (int c = 0; c < 3; ++c) {
+            double value = v[i][c];
+            for (int j = i + 1; j < 6; ++j) value -= n[i][j] * solution[j][c];
+            solution[i][c] = value / n[i][i];
+        }
+    for (int c = 0; c < 3; ++c) out[c] = solution[0][c] * scale[0];
+    return 1;
+}
+
 /* The filtered gathered radiance of pixel (x, y) (its record p, packed in `near`), into out. */
 static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels,
                          const filter_neighbour *near, int x, int y, double out[3]) {
@@ -84,7 +147,8 @@ static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels,
     }
     /* No absolute lengths below: a scene in any unit filters alike (tests/cli_units.sh). */
     double pixel_size = 2 * view->tan_half_fov * depth / height;
-    double least = MIN_PIXELS * pixel_size;
+    double least = fmin(fmax(FLOOR_REACH * p->distance, FEWEST_PIXELS * pixel_size),
+                        MIN_PIXELS * pixel_size);
     double reach = fmax(RADIUS * p->distance, least) / pixel_size;
     int k = reach < MAX_PIXELS ? (int)reach : MAX_PIXELS;
     /* h = max(A min(R_p, R_q), least), so 1 / h^2 = min(max(1 / (A R_p)^2, 1 / (A R_q)^2),
@@ -93,16 +157,17 @@ static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels,
     const float px = np->position[0], py = np->position[1], pz = np->position[2];
     const float p_inverse = np->inverse_reach2;
     const uint32_t polygon = np->polygon;
-    /* Weighted sums: of 1, dx, dy, dx^2, dx dy, dy^2, and of I, I dx, I dy per channel. The
-     * pixel itself weighs 1. */
-    double s0 = 1, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
-    double si[3], six[3] = {0, 0, 0}, siy[3] = {0, 0, 0};
-    for (int c = 0; c < 3; ++c) si[c] = np->reflected[c];
+    /* Weighted moments m[a][b] = sum w dx^a dy^b (a + b <= 4) and r[a][b][c] = sum w I_c dx^a
+     * dy^b (a + b <= 2), summed along each row in powers of dx and then folded in with the row's
+     * dy: per neighbour as many products as the plane's sums took. The pixel itself weighs 1. */
+    double m[5][5] = {{0}}, rhs[3][3][3] = {{{0}}};
+    m[0][0] = 1;
+    for (int c = 0; c < 3; ++c) rhs[0][0][c] = np->reflected[c];
     int y0 = y - k < 0 ? 0 : y - k, y1 = y + k >= height ? height - 1 : y + k;
     int x0 = x - k < 0 ? 0 : x - k, x1 = x + k >= width ? width - 1 : x + k;
     for (int qy = y0; qy <= y1; ++qy) {
         const filter_neighbour *row = near + (size_t)qy * width;
-        double dy = qy - y;
+        double a[5] = {0, 0, 0, 0, 0}, b[3][3] = {{0}};
         for (int qx = x0; qx <= x1; ++qx) {
             const filter_neighbour *q = &row[qx];
             if (q->polygon != polygon || q == np) continue;
@@ -114,32 +179,42 @@ static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels,
             float t2 = d2 * inverse_h2;
             if (!(t2 < 1)) continue;
             double w = (1 - t2) * (1 - t2), dx = qx - x;
-            s0 += w;
-            sx += w * dx;
-            sy += w * dy;
-            sxx += w * dx * dx;
-            sxy += w * dx * dy;
-            syy += w * dy * dy;
+            double wx = w * dx, wxx = wx * dx, wxxx = wxx * dx;
+            a[0] += w;
+            a[1] += wx;
+            a[2] += wxx;
+            a[3] += wxxx;
+            a[4] += wxxx * dx;
             for (int c = 0; c < 3; ++c) {
-                double wi = w * q->reflected[c];
-                si[c] += wi;
-                six[c] += wi * dx;
-                siy[c] += wi * dy;
+                double i = q->reflected[c];
+                b[0][c] += w * i;
+                b[1][c] += wx * i;
+                b[2][c] += wxx * i;
             }
         }
+        if (!(a[0] > 0)) continue;
+        double dy = qy - y, dy_power[5] = {1, dy, dy * dy, dy * dy * dy, dy * dy * dy * dy};
+        for (int i = 0; i <= 4; ++i)
+            for (int j = 0; i + j <= 4; ++j) m[i][j] += a[i] * dy_power[j];
+        for (int i = 0; i <= 2; ++i)
+            for (int j = 0; i + j <= 2; ++j)
+                for (int c = 0; c < 3; ++c) rhs[i][j][c] += b[i][c] * dy_power[j];
     }
-    for (int c = 0; c < 3; ++c) out[c] = si[c] / s0;
-    /* The plane a + b dx + c dy by weighted least squares; its value at the pixel is a. The
+    for (int c = 0; c < 3; ++c) out[c] = rhs[0][0][c] / m[0][0];
+    if (fit_quadric(m, rhs, out)) return;
+    /* The plane a + b dx + c dy (a line or a point of pixels, or too few for the quadric): the
      * normal equations [s0 sx sy; sx sxx sxy; sy sxy syy] (a b c) = (si six siy), solved by
      * Cramer's rule; a determinant small against its scale means the window is a line or a
      * point, and the plain mean stays. */
+    double s0 = m[0][0], sx = m[1][0], sy = m[0][1], sxx = m[2][0], sxy = m[1][1], syy = m[0][2];
     double det = s0 * (sxx * syy - sxy * sxy) - sx * (sx * syy - sxy * sy) + sy * (sx * sxy - sxx * sy);
     double scale = s0 * sxx * syy;
     if (!(scale > 0) || !(det > 1e-3 * scale)) return;
     for (int c = 0; c < 3; ++c) {
-        double a = si[c] * (sxx * syy - sxy * sxy) - sx * (six[c] * syy - sxy * siy[c]) +
-                   sy * (six[c] * sxy - sxx * siy[c]);
-        out[c] = a / det;
+        double si = rhs[0][0][c], six = rhs[1][0][c], siy = rhs[0][1][c];
+        double value = si * (sxx * syy - sxy * sxy) - sx * (six * syy - sxy * siy) +
+                       sy * (six * sxy - sxx * siy);
+        out[c] = value / det;
     }
 }
 

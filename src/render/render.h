@@ -265,7 +265,8 @@ double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin
  * just beside a block's base), so the radiance there is gathered once more instead. */
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit);
 /* final_gather.c: the reflected radiance leaving diffuse point y (element hit->element, front
- * normal n) towards a short gather ray from `from`: one emitter sample and one gather ray. */
+ * normal n) towards a short gather ray from `from`: one emitter sample and two gather rays
+ * (one on a hierarchy's leaves). */
 void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
                       const rad_element_hit *hit, rad_vec3 y, rad_vec3 n, double out[3]);
 
