@@ -282,11 +282,12 @@ static int covered(const rad_scene *scene, const plane_info *info, const contact
 }
 
 /* Step 2's pair search: a bounding-volume tree over the polygons' bounds, each grown by its
- * margin (slack plus its reach), split at the median of the centres along the longest side
- * (Goldsmith and Salmon 1987; Ericson, "Real-Time Collision Detection", 6.2). A polygon's
- * candidates are the grown bounds its own grown bounds meet: O(log n + candidates) each, where
- * a sweep along one axis tested every pair that overlaps along it (10^5 triangles stacked
- * along z, all overlapping in x and y, took 10^10 tests). */
+ * margin (slack plus its reach), built top down, split at the median of the centres along
+ * their longest spread (Ericson, "Real-Time Collision Detection", 2005, 6.2.1). A polygon's
+ * candidates are the grown bounds its own grown bounds meet: about O(log n + candidates) each,
+ * where a sweep along x tested every pair overlapping along x (10^5 triangles stacked along z,
+ * all overlapping in x and y: 5 * 10^9 tests, 16 s). The grown bounds meet whenever the bounds
+ * are within slack plus the larger reach (the test step 2 makes): the tree misses no pair. */
 #define TREE_LEAF 4
 typedef struct tree_node {
     rad_vec3 lo, hi;
