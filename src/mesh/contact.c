@@ -379,7 +379,9 @@ static rad_status tree_create(rad_context *ctx, const box *boxes, const uint8_t 
     uint32_t n = 0;
     for (size_t t = 0; t < np; ++t) n += usable[t];
     tree->items = rad_alloc(ctx, (size_t)n + 1, sizeof *tree->items);
-    tree->nodes = rad_alloc(ctx, 2 * (size_t)n + 1, sizeof *tree->nodes);
+    /* A node of more than TREE_LEAF items splits into halves of at least 2, so there are at
+     * most n / 2 leaves and n - 1 nodes. */
+    tree->nodes = rad_alloc(ctx, (size_t)n + 1, sizeof *tree->nodes);
     if (!tree->items || !tree->nodes) return RAD_ERROR_NO_MEMORY;
     n = 0;
     for (size_t t = 0; t < np; ++t)
