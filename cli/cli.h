@@ -16,6 +16,8 @@ typedef enum cli_option_kind {
     CLI_INT,     /* int, >= 0 */
     CLI_SIZE,    /* size_t */
     CLI_DOUBLE,  /* double, finite */
+    CLI_MEMORY,  /* double, MiB: a number of MiB or a size with its unit (512M, 2G), from 1 MiB
+                    to 1 PiB (--max-memory) */
     CLI_STRING,  /* const char * */
     CLI_VEC3     /* double[3], "X,Y,Z" */
 } cli_option_kind;

@@ -87,7 +87,7 @@ int cmd_formfactors(int argc, char **argv) {
         {"--element-size", CLI_DOUBLE, &a.element_size, "S  longest element edge (scene units)"},
         {"--elements", CLI_SIZE, &a.elements, "N  approximate element count"},
         {"--json", CLI_FLAG, &a.json, "print one JSON object"},
-        {"--max-memory", CLI_DOUBLE, &a.max_memory, "MIB  memory budget, in MiB or as 512M, 2G (2048)"},
+        {"--max-memory", CLI_MEMORY, &a.max_memory, "MIB  memory budget, in MiB or as 512M, 2G (2048)"},
         {"--threads", CLI_INT, &a.threads, "N  worker threads (all cores)"},
         {"--seed", CLI_SIZE, &a.seed, "S  random seed (0)"},
         {"--quiet", CLI_FLAG, &a.quiet, "no notes on stderr"},

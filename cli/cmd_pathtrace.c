@@ -45,7 +45,7 @@ int cmd_pathtrace(int argc, char **argv) {
         CLI_TWO_SIDED_OPTION(&a.lights),
         CLI_IMAGE_FILE_OPTIONS(&a.image),
         {"--threads", CLI_INT, &a.threads, "N  worker threads (all cores)"},
-        {"--max-memory", CLI_DOUBLE, &a.max_memory, "MIB  memory budget for the image, in MiB or as 512M, 2G (2048)"},
+        {"--max-memory", CLI_MEMORY, &a.max_memory, "MIB  memory budget for the image, in MiB or as 512M, 2G (2048)"},
         {"--stats", CLI_FLAG, &a.stats, "print time, paths and rays per second"},
         {"--quiet", CLI_FLAG, &a.quiet, "no progress bar or notes on stderr"},
         {NULL, 0, NULL, NULL},

@@ -55,7 +55,7 @@ int cmd_photonmap(int argc, char **argv) {
         CLI_TWO_SIDED_OPTION(&a.lights),
         CLI_IMAGE_FILE_OPTIONS(&a.image),
         {"--threads", CLI_INT, &a.threads, "N  worker threads (all cores)"},
-        {"--max-memory", CLI_DOUBLE, &a.max_memory, "MIB  memory budget for photons and image, in MiB or as 512M, 2G (2048)"},
+        {"--max-memory", CLI_MEMORY, &a.max_memory, "MIB  memory budget for photons and image, in MiB or as 512M, 2G (2048)"},
         {"--stats", CLI_FLAG, &a.stats, "print the stages' times, photons per second and radii"},
         {"--quiet", CLI_FLAG, &a.quiet, "no progress bar or notes on stderr"},
         {NULL, 0, NULL, NULL},

@@ -349,7 +349,7 @@ int cmd_scenes(int argc, char **argv) {
         {"--json", CLI_FLAG, &json, "with --info: one JSON object on stdout"},
         CLI_LIGHT_OPTIONS(&lights),
         CLI_TWO_SIDED_OPTION(&lights),
-        {"--max-memory", CLI_DOUBLE, &max_memory, "MIB  memory budget, in MiB or as 512M, 2G (2048)"},
+        {"--max-memory", CLI_MEMORY, &max_memory, "MIB  memory budget, in MiB or as 512M, 2G (2048)"},
         {0},
     };
     const char *positional[2];

@@ -30,7 +30,7 @@ void cli_print_help(FILE *out, const char *command, const char *synopsis,
     fprintf(out, "  %-18s %s\n", "--help", "show this help");
 }
 
-/* --max-memory's unit after its number: none or M (MiB, MB) is MiB; K, G and T (each with
+/* A memory size's unit after its number (CLI_MEMORY): none or M (MiB, MB) is MiB; K, G and T (each with
  * an optional iB or B) scale it by 1024 steps. *end moves past a unit it knows; 1 otherwise. */
 static double memory_unit(const char *unit, char **end) {
     static const char letters[] = "KMGT";
@@ -68,9 +68,10 @@ static int parse_value(const char *command, const cli_option *o, const char *tex
         *(size_t *)o->target = (size_t)value;
         break;
     }
-    case CLI_DOUBLE: {
+    case CLI_DOUBLE:
+    case CLI_MEMORY: {
         double value = strtod(text, &end);
-        int memory = strcmp(o->name, "--max-memory") == 0;
+        int memory = o->kind == CLI_MEMORY;
         if (memory && end != text) value *= memory_unit(end, &end);
         if (end != text && !*end && errno == ERANGE)
             return cli_error(EXIT_USAGE, "%s: %s: '%s' is out of range (a double is %g to %g)",
@@ -78,6 +79,9 @@ static int parse_value(const char *command, const cli_option *o, const char *tex
         if (end == text || *end || errno || !isfinite(value))
             return cli_error(EXIT_USAGE, "%s: %s wants a number%s, not '%s'", command, o->name,
                              memory ? " of MiB, or a size such as 512M or 2G" : "", text);
+        if (memory && !(value >= 1 && value <= 1073741824.0))
+            return cli_error(EXIT_USAGE, "%s: %s wants MiB from 1 to 1073741824 (1 PiB), not %g",
+                             command, o->name, value);
         *(double *)o->target = value;
         break;
     }
@@ -98,16 +102,13 @@ static int parse_value(const char *command, const cli_option *o, const char *tex
 }
 
 /* Bounds of the options every command shares (docs/errors.md, "Limits"): given explicitly,
- * --threads is 1 to 4096 and --max-memory at least 1 MiB (left out, both take their defaults). */
+ * --threads is 1 to 4096 (left out, it takes its default; --max-memory's bounds are its kind's,
+ * CLI_MEMORY). */
 static int check_shared_option(const char *command, const cli_option *o) {
     if (strcmp(o->name, "--threads") == 0 && o->kind == CLI_INT &&
         (*(int *)o->target < 1 || *(int *)o->target > CLI_MAX_THREADS))
         return cli_error(EXIT_USAGE, "%s: --threads wants a whole number from 1 to %d, not %d",
                          command, CLI_MAX_THREADS, *(int *)o->target);
-    if (strcmp(o->name, "--max-memory") == 0 && o->kind == CLI_DOUBLE &&
-        !(*(double *)o->target >= 1 && *(double *)o->target <= 1073741824.0))
-        return cli_error(EXIT_USAGE, "%s: --max-memory wants MiB from 1 to 1073741824 (1 PiB), "
-                         "not %g", command, *(double *)o->target);
     return 0;
 }
 

@@ -75,7 +75,8 @@ check "no warning for the lamp's 0.5" bash -c "! grep -q \"'light' reflects\" br
 
 # Every number, in one run of Python: "PASS name" or "FAIL name" lines.
 python3 - >results <<'PY'
-import json, struct
+import json
+from pfm import read_pfm
 def wall(name):  # red / green of the left wall's radiosity
     try:
         w = [p for p in json.load(open(name))["patches"] if p["name"] == "left"][0]["radiosity"]
@@ -84,9 +85,7 @@ def wall(name):  # red / green of the left wall's radiosity
         return float("nan")
 def pixel(name, x, y):  # red / green at pixel (x, y) of a PFM (rows bottom to top)
     try:
-        f = open(name, "rb"); f.readline(); w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        d = struct.unpack(("<" if scale < 0 else ">") + "%df" % (3 * w * h), f.read())
+        w, h, d = read_pfm(name)
         r, g = d[3 * ((h - 1 - y) * w + x)], d[3 * ((h - 1 - y) * w + x) + 1]
         return r / max(g, 1e-9)
     except Exception:

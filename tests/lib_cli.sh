@@ -5,6 +5,9 @@
 #     radiosity    the binary, as an absolute path (tests may cd)
 #     source_dir   the source tree, absolute
 #     work         a fresh temporary directory, removed on exit (read-only parts too)
+#     PYTHONPATH   with $work/.python first, where pfm.py is: `from pfm import read_pfm` in a
+#                  test's Python reads an image the CLI wrote (see below; a hidden folder, so
+#                  that tests listing what a command left in $work do not see it)
 # and gives the checks below, which count into `passed` and `failed`. A test ends with `finish`,
 # which prints the closing line `N passed, N failed` and fails when any check failed, or when no
 # check ran at all.
@@ -18,6 +21,20 @@ source_dir=$(realpath "$2")
 passed=0 failed=0
 work=$(mktemp -d)
 trap 'chmod -R u+w "$work"; rm -rf "$work"' EXIT
+
+# read_pfm(name), for the tests' Python: (width, height, values) of a PFM file, the values one
+# flat tuple of floats, three per pixel, rows bottom to top as PFM stores them.
+mkdir "$work/.python"
+cat >"$work/.python/pfm.py" <<'PY'
+import struct
+def read_pfm(name):
+    data = open(name, "rb").read()
+    lines = data.split(b"\n", 3)
+    width, height = map(int, lines[1].split())
+    order = "<" if float(lines[2]) < 0 else ">"
+    return width, height, struct.unpack(f"{order}{width * height * 3}f", lines[3][:width * height * 12])
+PY
+export PYTHONPATH="$work/.python${PYTHONPATH:+:$PYTHONPATH}"
 
 # check NAME COMMAND...: one check, passed when COMMAND succeeds.
 check() {

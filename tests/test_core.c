@@ -141,6 +141,37 @@ static void test_solvers_agree(const char *scene) {
     rad_system_destroy(system);
 }
 
+/* Each surface's numbers are the area-weighted means over exactly its elements, wherever they
+ * lie in the mesh (the generated office's surfaces, one per material, have elements spread over
+ * every room): the surfaces' powers add up to the elements' power, their areas to the mesh's. */
+static void test_surface_sums(void) {
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    CHECK(rad_scene_generate_office(ctx, 2000, &scene) == RAD_OK);
+    rad_mesh_options mesh = {.elements = 3000};
+    CHECK(rad_system_create(ctx, scene, &mesh, NULL, &system) == RAD_OK);
+    rad_solve_options o = {.solver = RAD_SOLVER_SHOOTING, .max_iterations = 50};
+    CHECK(rad_solve(system, &o, NULL) == RAD_OK);
+    double element_area = 0, element_power = 0, surface_area = 0, surface_power = 0;
+    for (size_t e = 0; e < rad_system_element_count(system); ++e) {
+        double radiosity[3];
+        rad_system_element_radiosity(system, e, radiosity);
+        element_area += rad_system_element_area(system, e);
+        element_power += rad_system_element_area(system, e) * radiosity[1];
+    }
+    for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
+        rad_surface_info info;
+        CHECK(rad_system_surface(system, i, &info) == RAD_OK);
+        surface_area += info.area;
+        surface_power += info.power[1];
+    }
+    CHECK(rad_system_surface_count(system) > 2 && element_power > 0);
+    CHECK_NEAR(surface_area / element_area, 1, 1e-12);
+    CHECK_NEAR(surface_power / element_power, 1, 1e-12);
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+}
+
 /* Two opposed unit squares one apart: F = 0.199824895698, rho = 0.5, E = 1 on one. */
 static void test_two_squares_exact(void) {
     const char text[] = "patch a area 1 reflectance 0.5 emission 1\n"
@@ -412,6 +443,7 @@ int main(void) {
     test_solvers_agree("four-walls");
     test_two_squares_exact();
     test_enclosure();
+    test_surface_sums();
     test_colour();
     test_memory_budget();
     test_registries();

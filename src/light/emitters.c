@@ -16,7 +16,7 @@ rad_status rad_emitter_table_reserve(rad_context *ctx, rad_emitter_table *table,
 }
 
 int32_t rad_emitter_table_add(rad_emitter_table *table, rad_vec3 a, rad_vec3 b, rad_vec3 c,
-                              rad_vec3 normal, const double radiance[3], uint32_t source) {
+                              rad_vec3 normal, const double radiance[3]) {
     if (table->count >= table->capacity) return -1;
     rad_emitter t;
     t.p0 = a;
@@ -26,17 +26,14 @@ int32_t rad_emitter_table_add(rad_emitter_table *table, rad_vec3 a, rad_vec3 b, 
     if (!(t.area > 0)) return -1;
     t.normal = normal;
     for (int k = 0; k < 3; ++k) t.radiance[k] = radiance[k];
-    t.source = source;
     t.parallelogram = 0;
     table->emitters[table->count] = t;
     return (int32_t)table->count++;
 }
 
 int32_t rad_emitter_table_add_parallelogram(rad_emitter_table *table, rad_vec3 p0, rad_vec3 e1,
-                                            rad_vec3 e2, rad_vec3 normal, const double radiance[3],
-                                            uint32_t source) {
-    int32_t k = rad_emitter_table_add(table, p0, v3_add(p0, e1), v3_add(p0, e2), normal, radiance,
-                                      source);
+                                            rad_vec3 e2, rad_vec3 normal, const double radiance[3]) {
+    int32_t k = rad_emitter_table_add(table, p0, v3_add(p0, e1), v3_add(p0, e2), normal, radiance);
     if (k < 0) return k;
     table->emitters[k].area *= 2;
     table->emitters[k].parallelogram = 1;

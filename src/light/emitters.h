@@ -25,7 +25,6 @@ typedef struct rad_emitter {
     rad_vec3 normal;    /* front, unit: only the front emits */
     double area;
     double radiance[3]; /* emitted radiance L_e */
-    uint32_t source;    /* the caller's polygon or element this triangle is part of */
     int parallelogram;  /* a parallelogram (rad_emitter_table_add_parallelogram), not a triangle */
 } rad_emitter;
 
@@ -58,14 +57,13 @@ rad_status rad_emitter_table_reserve(rad_context *ctx, rad_emitter_table *table,
 /* Appends the triangle (a, b, c) with front `normal` (unit) and emitted radiance; a triangle
  * without area is skipped. Returns its index, or -1 when skipped. Needs room (reserve). */
 int32_t rad_emitter_table_add(rad_emitter_table *table, rad_vec3 a, rad_vec3 b, rad_vec3 c,
-                              rad_vec3 normal, const double radiance[3], uint32_t source);
+                              rad_vec3 normal, const double radiance[3]);
 /* Appends the parallelogram p0 + s e1 + t e2, s, t in [0, 1), as one entry: a point on it is
  * p0 + u0 e1 + u1 e2, so the two numbers' stratification in the unit square (an Owen-scrambled
  * Sobol' net) is kept over the whole light, where triangles picked one by one by u0 keep it
  * only along one direction. Returns its index, or -1 when skipped (no area, no room). */
 int32_t rad_emitter_table_add_parallelogram(rad_emitter_table *table, rad_vec3 p0, rad_vec3 e1,
-                                            rad_vec3 e2, rad_vec3 normal, const double radiance[3],
-                                            uint32_t source);
+                                            rad_vec3 e2, rad_vec3 normal, const double radiance[3]);
 /* The selection distribution over what was added; a table whose triangles carry no power is
  * emptied (count 0: nothing to sample). */
 void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection selection);

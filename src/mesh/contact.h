@@ -43,6 +43,8 @@ typedef struct rad_contact_cut {
     size_t t_points;        /* corners added where a cut ended on another piece's edge */
     size_t left_whole;      /* with sparing: polygons cut and then left whole (nothing hidden,
                                or too many pieces) */
+    size_t bound_tests;     /* step 2's cost: bounds compared (the tree's nodes and the
+                               polygons' bounds), near n log n plus the pairs that meet */
 } rad_contact_cut;
 
 typedef struct rad_contact_options {

@@ -14,15 +14,15 @@
 #include "render/render.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 /* Adds triangle (a, b, c) of an emitting element to the emitter table; its index, or -1. */
-static int32_t add_emitter(rad_emitter_table *table, const rad_mesh *mesh, uint32_t element,
-                           uint32_t a, uint32_t b, uint32_t c, const double radiance[3]) {
+static int32_t add_emitter(rad_emitter_table *table, const rad_mesh *mesh, uint32_t a, uint32_t b,
+                           uint32_t c, const double radiance[3]) {
     rad_vec3 p0 = mesh->vertices[a];
     rad_vec3 normal = v3_normalize(v3_cross(v3_sub(mesh->vertices[b], p0),
                                             v3_sub(mesh->vertices[c], p0)));
-    return rad_emitter_table_add(table, p0, mesh->vertices[b], mesh->vertices[c], normal,
-                                 radiance, element);
+    return rad_emitter_table_add(table, p0, mesh->vertices[b], mesh->vertices[c], normal, radiance);
 }
 
 /* Emitted radiance L = E / pi of element e, rounded to float as the renderer keeps it; zero when
@@ -34,15 +34,13 @@ static int element_emits(const rad_solution_view *solution, size_t e, double rad
     return emission[0] > 0 || emission[1] > 0 || emission[2] > 0;
 }
 
-/* The area of element e as Embree's triangles have it (a quad: (v0, v1, v3) and (v2, v3, v1)). */
-static double element_triangle_area(const rad_mesh *mesh, size_t e) {
-    const uint32_t *v = mesh->element_vertices[e];
-    const rad_vec3 *p = mesh->vertices;
-    double area = 0.5 * v3_length(v3_cross(v3_sub(p[v[1]], p[v[0]]), v3_sub(p[v[2]], p[v[0]])));
-    if (rad_mesh_corner_count(mesh, e) == 3) return area;
-    area = 0.5 * v3_length(v3_cross(v3_sub(p[v[1]], p[v[0]]), v3_sub(p[v[3]], p[v[0]])));
-    return area + 0.5 * v3_length(v3_cross(v3_sub(p[v[3]], p[v[2]]), v3_sub(p[v[1]], p[v[2]])));
-}
+/* An emitting element: its key (input polygon << 32 | element) and its emitted radiance. */
+typedef struct emitting_element {
+    uint64_t key;
+    double radiance[3];
+} emitting_element;
+
+static uint32_t element_of(const emitting_element *x) { return (uint32_t)x->key; }
 
 /* Whether elements members[0 .. count) (one input polygon's) tile a planar parallelogram with
  * one emitted radiance: its corner p0 and sides e1, e2 (e1 x e2 along the front). The sides are
@@ -51,11 +49,10 @@ static double element_triangle_area(const rad_mesh *mesh, size_t e) {
  * and have the elements' summed area (they do not overlap and lie inside it, so they cover it).
  * Meshes whose elements' sides run otherwise (triangles across the diagonal) fail the area test
  * and keep their triangles. */
-static int parallelogram_of(const rad_mesh *mesh, const rad_solution_view *solution,
-                            const uint32_t *members, size_t count, rad_vec3 *p0, rad_vec3 *e1,
-                            rad_vec3 *e2) {
-    const uint32_t *first = mesh->element_vertices[members[0]];
-    int last = rad_mesh_corner_count(mesh, members[0]) - 1;
+static int parallelogram_of(const rad_mesh *mesh, const emitting_element *members, size_t count,
+                            rad_vec3 *p0, rad_vec3 *e1, rad_vec3 *e2) {
+    const uint32_t *first = mesh->element_vertices[element_of(&members[0])];
+    int last = rad_mesh_corner_count(mesh, element_of(&members[0])) - 1;
     rad_vec3 origin = mesh->vertices[first[0]];
     rad_vec3 a = v3_sub(mesh->vertices[first[1]], origin);
     rad_vec3 b = v3_sub(mesh->vertices[first[last]], origin);
@@ -66,13 +63,12 @@ static int parallelogram_of(const rad_mesh *mesh, const rad_solution_view *solut
     rad_vec3 unit = v3_scale(normal, 1 / sqrt(cross2));
     /* Dual basis: s = (d x b) . n / |n|^2, t = (a x d) . n / |n|^2. */
     double s_min = INFINITY, s_max = -INFINITY, t_min = INFINITY, t_max = -INFINITY, area = 0;
-    double radiance[3], own[3];
-    element_emits(solution, members[0], radiance);
+    const double *radiance = members[0].radiance;
     for (size_t i = 0; i < count; ++i) {
-        size_t e = members[i];
-        element_emits(solution, e, own);
+        size_t e = element_of(&members[i]);
+        const double *own = members[i].radiance;
         if (own[0] != radiance[0] || own[1] != radiance[1] || own[2] != radiance[2]) return 0;
-        area += element_triangle_area(mesh, e);
+        area += mesh->element_area[e];
         for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) {
             rad_vec3 d = v3_sub(mesh->vertices[mesh->element_vertices[e][k]], origin);
             if (fabs(v3_dot(d, unit)) > 1e-6 * size) return 0;
@@ -92,64 +88,65 @@ static int parallelogram_of(const rad_mesh *mesh, const rad_solution_view *solut
 
 /* Keys (input polygon << 32 | element) in increasing order. */
 static int compare_keys(const void *pa, const void *pb) {
-    uint64_t a = *(const uint64_t *)pa, b = *(const uint64_t *)pb;
+    uint64_t a = ((const emitting_element *)pa)->key, b = ((const emitting_element *)pb)->key;
     return a < b ? -1 : a > b;
 }
 
 rad_status rad_emitters_build(rad_renderer *r) {
     const rad_mesh *mesh = r->mesh;
     const rad_solution_view *solution = r->solution;
-    size_t count = 0, emitting = 0;
-    double radiance[3];
-    for (size_t e = 0; e < mesh->element_count; ++e)
-        if (element_emits(solution, e, radiance)) {
-            count += (size_t)rad_mesh_corner_count(mesh, e) - 2;
-            ++emitting;
-        }
     r->element_emitter = rad_alloc(r->ctx, mesh->element_count + 1, sizeof *r->element_emitter);
     if (!r->element_emitter) return RAD_ERROR_NO_MEMORY;
     for (size_t e = 0; e < mesh->element_count; ++e) r->element_emitter[e][0] = r->element_emitter[e][1] = -1;
-    rad_status status = rad_emitter_table_reserve(r->ctx, &r->emitters, count);
-    if (status || count == 0) return status;
-    uint32_t *members = rad_alloc(r->ctx, emitting, sizeof *members);
-    if (!members) return RAD_ERROR_NO_MEMORY;
-    for (size_t e = 0, i = 0; e < mesh->element_count; ++e)
-        if (element_emits(solution, e, radiance)) members[i++] = (uint32_t)e;
-    /* The emitting elements in order of their input polygon, then of their index. */
-    uint64_t *keys = rad_alloc(r->ctx, emitting, sizeof *keys);
-    if (!keys) {
-        rad_free(r->ctx, members);
-        return RAD_ERROR_NO_MEMORY;
+    /* The emitting elements with their radiance (each asked once), in order of their input
+     * polygon, then of their index. */
+    emitting_element *members = NULL;
+    size_t count = 0, emitting = 0, capacity = 0;
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        double radiance[3];
+        if (!element_emits(solution, e, radiance)) continue;
+        if (emitting == capacity) {
+            size_t next = capacity ? 2 * capacity : 64;
+            emitting_element *grown = rad_realloc(r->ctx, members, next, sizeof *grown);
+            if (!grown) {
+                rad_free(r->ctx, members);
+                return RAD_ERROR_NO_MEMORY;
+            }
+            members = grown, capacity = next;
+        }
+        members[emitting].key = (uint64_t)mesh->element_polygon[e] << 32 | e;
+        memcpy(members[emitting++].radiance, radiance, sizeof radiance);
+        count += (size_t)rad_mesh_corner_count(mesh, e) - 2;
     }
-    for (size_t i = 0; i < emitting; ++i)
-        keys[i] = (uint64_t)mesh->element_polygon[members[i]] << 32 | members[i];
-    qsort(keys, emitting, sizeof *keys, compare_keys);
-    for (size_t i = 0; i < emitting; ++i) members[i] = (uint32_t)keys[i];
-    rad_free(r->ctx, keys);
+    rad_status status = rad_emitter_table_reserve(r->ctx, &r->emitters, count);
+    if (status || count == 0) {
+        rad_free(r->ctx, members);
+        return status;
+    }
+    qsort(members, emitting, sizeof *members, compare_keys);
     for (size_t i = 0; i < emitting;) {
         size_t end = i + 1;
-        while (end < emitting && mesh->element_polygon[members[end]] == mesh->element_polygon[members[i]])
-            ++end;
+        while (end < emitting && members[end].key >> 32 == members[i].key >> 32) ++end;
         rad_vec3 p0, e1, e2;
-        if (parallelogram_of(mesh, solution, members + i, end - i, &p0, &e1, &e2)) {
-            element_emits(solution, members[i], radiance);
+        if (parallelogram_of(mesh, members + i, end - i, &p0, &e1, &e2)) {
             int32_t k = rad_emitter_table_add_parallelogram(&r->emitters, p0, e1, e2,
-                                                            v3_normalize(v3_cross(e1, e2)), radiance,
-                                                            mesh->element_polygon[members[i]]);
-            for (size_t j = i; j < end; ++j) r->element_emitter[members[j]][0] = r->element_emitter[members[j]][1] = k;
+                                                            v3_normalize(v3_cross(e1, e2)),
+                                                            members[i].radiance);
+            for (size_t j = i; j < end; ++j)
+                r->element_emitter[element_of(&members[j])][0] = r->element_emitter[element_of(&members[j])][1] = k;
             i = end;
             continue;
         }
         for (; i < end; ++i) {
-            uint32_t e = members[i];
+            uint32_t e = element_of(&members[i]);
             const uint32_t *v = mesh->element_vertices[e];
-            element_emits(solution, e, radiance);
+            const double *radiance = members[i].radiance;
             if (rad_mesh_corner_count(mesh, e) == 3) {
-                r->element_emitter[e][0] = add_emitter(&r->emitters, mesh, e, v[0], v[1], v[2], radiance);
+                r->element_emitter[e][0] = add_emitter(&r->emitters, mesh, v[0], v[1], v[2], radiance);
             } else {
                 /* Embree's split of a quad: (v0, v1, v3) and (v2, v3, v1). */
-                r->element_emitter[e][0] = add_emitter(&r->emitters, mesh, e, v[0], v[1], v[3], radiance);
-                r->element_emitter[e][1] = add_emitter(&r->emitters, mesh, e, v[2], v[3], v[1], radiance);
+                r->element_emitter[e][0] = add_emitter(&r->emitters, mesh, v[0], v[1], v[3], radiance);
+                r->element_emitter[e][1] = add_emitter(&r->emitters, mesh, v[2], v[3], v[1], radiance);
             }
         }
     }

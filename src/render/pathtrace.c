@@ -80,7 +80,7 @@ rad_status rad_tracer_create(rad_context *ctx, const rad_scene *scene, int max_b
         for (uint32_t k = 1; k + 1 < p->count; ++k) {
             int32_t index = rad_emitter_table_add(&t->emitters, p0, rad_polygon_vertex(scene, p, k),
                                                   rad_polygon_vertex(scene, p, k + 1), normal,
-                                                  emission, (uint32_t)i);
+                                                  emission);
             if (t->polygon_emitter[i] < 0) t->polygon_emitter[i] = index;
         }
     }

@@ -410,12 +410,15 @@ static int render_edge_pixel(const rad_renderer *r, rad_sample *sample, pixel_gr
     return 1;
 }
 
-/* What the camera ray through a pixel corner meets first: the surface (RAD_RENDER_NO_POLYGON:
- * none), with EMITTER_BIT set when its material emits, and the element's normal. Corners are
- * compared by surface and normal, not by polygon: the triangles of one tessellated surface (a
- * column, an arch of Sponza) are not edges worth splitting a pixel for, a block's two faces
- * or the light against the ceiling are. */
+/* What the camera ray through a pixel corner meets first: the surface (its key: the surface's
+ * index, with EMITTER_BIT set when its material emits; CORNER_OUTSIDE when the ray meets
+ * nothing, a value of its own with the emitter bit clear, as the outside emits nothing), and the
+ * element's normal. Corners are compared by surface and normal, not by polygon: the triangles
+ * of one tessellated surface (a column, an arch of Sponza) are not edges worth splitting a pixel
+ * for, a block's two faces or the light against the ceiling are. (2^31 - 1 surfaces would not
+ * fit in memory: no surface's index reaches CORNER_OUTSIDE.) */
 #define EMITTER_BIT 0x80000000u
+#define CORNER_OUTSIDE (EMITTER_BIT - 1)
 #define SAME_NORMAL 0.9 /* cosine above which two corners' normals count as one face */
 
 typedef struct pixel_corner {
@@ -470,7 +473,7 @@ static rad_status corner_polygons_make(const rad_renderer *r, pixel_corner **out
     for (size_t y = 0; y < rows; ++y)
         for (size_t x = 0; x < stride; ++x) {
             rad_element_hit hit;
-            pixel_corner c = {RAD_RENDER_NO_POLYGON, UINT32_MAX, {0, 0, 0}, 0, 0};
+            pixel_corner c = {CORNER_OUTSIDE, UINT32_MAX, {0, 0, 0}, 0, 0};
             if (rad_element_rays_intersect(r->rays, view->eye, rad_view_direction(view, (double)x, (double)y),
                                            0, INFINITY, &hit)) {
                 const double *emission = rad_renderer_material(r, hit.element)->emission;
@@ -491,16 +494,18 @@ static rad_status corner_polygons_make(const rad_renderer *r, pixel_corner **out
 
 static int same_face(const pixel_corner *a, const pixel_corner *b) {
     if (a->key != b->key) return 0;
-    if (a->key == RAD_RENDER_NO_POLYGON) return 1;
+    if (a->key == CORNER_OUTSIDE) return 1;
     return a->normal[0] * b->normal[0] + a->normal[1] * b->normal[1] + a->normal[2] * b->normal[2] >
            SAME_NORMAL;
 }
 
-/* Whether a corner's ray met an emitter (RAD_RENDER_NO_POLYGON, the outside, has every bit set:
- * until corn4 it counted as one, and every pixel beside the box's front edges was split with 256
- * coverage rays). */
-static int emits(const pixel_corner *c) {
-    return c->key != RAD_RENDER_NO_POLYGON && (c->key & EMITTER_BIT);
+/* Whether a corner's ray met an emitter. */
+static int emits(const pixel_corner *c) { return (c->key & EMITTER_BIT) != 0; }
+
+/* Whether a corner of the pixel whose first corner is c sees the outside. */
+static int any_outside(const pixel_corner *c, size_t stride) {
+    return c[0].key == CORNER_OUTSIDE || c[1].key == CORNER_OUTSIDE ||
+           c[stride].key == CORNER_OUTSIDE || c[stride + 1].key == CORNER_OUTSIDE;
 }
 
 /* Whether the rays through the corners of pixel (x, y) meet more than one face: 0 no, 1 yes,
@@ -511,10 +516,7 @@ static int on_edge(const rad_view *view, const pixel_corner *corners, int x, int
     const pixel_corner *c = corners + (size_t)y * stride + (size_t)x;
     if (same_face(c, c + 1) && same_face(c, c + stride) && same_face(c, c + stride + 1)) return 0;
     if (emits(&c[0]) || emits(&c[1]) || emits(&c[stride]) || emits(&c[stride + 1])) return 2;
-    return c[0].key == RAD_RENDER_NO_POLYGON || c[1].key == RAD_RENDER_NO_POLYGON ||
-                   c[stride].key == RAD_RENDER_NO_POLYGON || c[stride + 1].key == RAD_RENDER_NO_POLYGON
-               ? 3
-               : 1;
+    return any_outside(c, stride) ? 3 : 1;
 }
 
 /* Whether a corner of pixel (x, y) sees the outside (no surface): 0 no; 2 yes and the edge
@@ -523,9 +525,7 @@ static int on_edge(const rad_view *view, const pixel_corner *corners, int x, int
 static int sees_outside(const rad_view *view, const pixel_corner *corners, int x, int y) {
     size_t stride = (size_t)view->width + 1;
     const pixel_corner *c = corners + (size_t)y * stride + (size_t)x;
-    if (!(c[0].key == RAD_RENDER_NO_POLYGON || c[1].key == RAD_RENDER_NO_POLYGON ||
-          c[stride].key == RAD_RENDER_NO_POLYGON || c[stride + 1].key == RAD_RENDER_NO_POLYGON))
-        return 0;
+    if (!any_outside(c, stride)) return 0;
     int along_rows = same_face(c, c + 1) && same_face(c + stride, c + stride + 1) &&
                      !same_face(c, c + stride);
     return along_rows ? 2 : 1;
@@ -589,7 +589,7 @@ static int near_edge(const rad_view *view, const pixel_corner *corner_polygons, 
 static int interior(const rad_renderer *r, const pixel_corner *corners, int x, int y) {
     if (!corners || r->settings.final_gather <= 0) return 0;
     uint32_t key = corners[(size_t)y * ((size_t)r->view.width + 1) + (size_t)x].key;
-    if (key == RAD_RENDER_NO_POLYGON) return 0;
+    if (key == CORNER_OUTSIDE) return 0;
     const rad_material *m = &r->surface_material[key & ~EMITTER_BIT];
     return m->kind == RAD_MATERIAL_DIFFUSE && !m->texture;
 }
@@ -624,7 +624,7 @@ static double dark_light(const rad_renderer *r, const pixel_corner *corners) {
     size_t count = ((size_t)r->view.width + 1) * ((size_t)r->view.height + 1), seen = 0;
     double sum = 0;
     for (size_t i = 0; i < count; ++i)
-        if (corners[i].key != RAD_RENDER_NO_POLYGON && !(corners[i].key & EMITTER_BIT)) {
+        if (corners[i].key != CORNER_OUTSIDE && !emits(&corners[i])) {
             sum += corners[i].light;
             ++seen;
         }

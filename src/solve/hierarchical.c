@@ -369,7 +369,7 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
     hierarchical_state *state = run->state;
     rad_hier *hier = state->hier;
     rad_hier_setup *setup = state->setup;
-    run->tail_stop = 0;
+    run->own_stop = RAD_STOP_CONVERGED; /* no tail rule yet */
     rad_status status = rad_hier_refine(hier);
     *stopped = status == RAD_ERROR_CANCELLED && rad_hier_refining(hier, NULL);
     if (*stopped) {
@@ -395,7 +395,7 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
          * when the solve was cancelled (Ctrl-C, the time budget): that stop is reported. */
         if (stats.refined > 0 && !setup->loose && !setup->unfinished &&
             (double)stats.refined <= TAIL_SHARE * (double)stats.links)
-            run->tail_stop = 1;
+            run->own_stop = RAD_STOP_TAIL;
         if (!status) evaluate(run->system, hier, setup->light);
         *stopped = setup->unfinished;
     }
@@ -416,8 +416,7 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
         /* The oracle is not met: the best solution within the budget, not converged. The
          * residual is the count of links still over the threshold (the measure every step
          * reports: the links the oracle found over it), the largest error the largest known. */
-        run->memory_budget_reached = 1;
-        run->tail_stop = 0;
+        run->own_stop = RAD_STOP_MEMORY_BUDGET;
         *residual = (double)stats.unrefined;
     }
     return status;
@@ -439,7 +438,7 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
         stopped = setup->unfinished;
     } else if (rad_hier_refining(hier, NULL)) {
         status = refine_and_solve(run, iteration - 1, residual, &stopped); /* the last step's */
-        if (!status && run->memory_budget_reached) return RAD_OK;
+        if (!status && run->own_stop == RAD_STOP_MEMORY_BUDGET) return RAD_OK;
     }
     if (!status && stopped) {
         *residual = INFINITY;

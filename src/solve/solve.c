@@ -173,12 +173,9 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                 break;
             int asked_to_stop = options->on_iteration &&
                 emit_iteration(&run, impl, iteration, residual, start, &callback_seconds);
-            if (run.memory_budget_reached) {
-                local.stop = RAD_STOP_MEMORY_BUDGET;
-                break;
-            }
-            if (run.tail_stop && residual > tolerance) {
-                local.stop = RAD_STOP_TAIL;
+            if (run.own_stop == RAD_STOP_MEMORY_BUDGET ||
+                (run.own_stop == RAD_STOP_TAIL && residual > tolerance)) {
+                local.stop = run.own_stop;
                 break;
             }
             if (residual <= tolerance || !iterative) {

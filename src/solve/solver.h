@@ -21,9 +21,11 @@ typedef struct rad_solver_run {
     double unshot_fraction; /* set by shooting steps: unshot power / emitted power */
     int importance_shots;   /* set by the importance solver's begin */
     void *state;          /* the solver's own */
-    int memory_budget_reached; /* set by a step that cannot go on within the memory budget */
-    int tail_stop; /* set by a step after which the solver's own rule ends the solve short of
-                      its measure (the hierarchical tail rule): RAD_STOP_TAIL, not converged */
+    /* Set by a step after which the solver itself ends the solve: RAD_STOP_MEMORY_BUDGET (it
+     * cannot go on within the memory budget) or RAD_STOP_TAIL (its own rule ends the solve
+     * short of its measure, the hierarchical tail rule: not converged, and reported only while
+     * the measure is over the tolerance); zero (RAD_STOP_CONVERGED) leaves it to the measure. */
+    rad_solve_stop own_stop;
     size_t links, leaves;      /* set by hierarchical steps (rad_iteration_event) */
     double largest_error;      /* set by hierarchical steps; NaN otherwise */
 } rad_solver_run;

@@ -110,8 +110,7 @@ static rad_status build_emitters(rad_context *ctx, const rad_scene *scene,
         rad_vec3 p0 = rad_polygon_vertex(scene, p, 0);
         for (uint32_t k = 1; k + 1 < p->count; ++k)
             rad_emitter_table_add(table, p0, rad_polygon_vertex(scene, p, k),
-                                  rad_polygon_vertex(scene, p, k + 1), normal, emission,
-                                  (uint32_t)i);
+                                  rad_polygon_vertex(scene, p, k + 1), normal, emission);
     }
     rad_emitter_table_finish(table, RAD_EMITTERS_BY_POWER);
     return RAD_OK;
@@ -263,10 +262,10 @@ static rad_status build_reflectors(rad_context *ctx, const rad_system *s,
         const uint32_t *v = mesh->element_vertices[e];
         rad_vec3 normal = mesh->element_normal[e];
         rad_emitter_table_add(table, mesh->vertices[v[0]], mesh->vertices[v[1]], mesh->vertices[v[2]],
-                              normal, radiance, (uint32_t)e);
+                              normal, radiance);
         if (rad_mesh_corner_count(mesh, e) == 4)
             rad_emitter_table_add(table, mesh->vertices[v[0]], mesh->vertices[v[2]],
-                                  mesh->vertices[v[3]], normal, radiance, (uint32_t)e);
+                                  mesh->vertices[v[3]], normal, radiance);
     }
     rad_emitter_table_finish(table, RAD_EMITTERS_BY_POWER);
     return RAD_OK;

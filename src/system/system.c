@@ -29,11 +29,13 @@ rad_status rad_system_alloc(rad_context *ctx, size_t elements, size_t patches, s
     s->patch_area = rad_alloc_zero(ctx, patches, sizeof *s->patch_area);
     s->surface_name = rad_alloc_zero(ctx, surfaces, sizeof *s->surface_name);
     s->surface_area = rad_alloc_zero(ctx, surfaces, sizeof *s->surface_area);
+    s->surface_first = rad_alloc_zero(ctx, surfaces + 1, sizeof *s->surface_first);
+    s->surface_elements = rad_alloc_zero(ctx, elements, sizeof *s->surface_elements);
     s->radiosity = rad_alloc_zero(ctx, elements, sizeof *s->radiosity);
     s->unshot = rad_alloc_zero(ctx, elements, sizeof *s->unshot);
     if (!s->area || !s->reflectance || !s->emission || !s->element_patch || !s->element_surface ||
         !s->patch_first || !s->patch_area || !s->surface_name || !s->surface_area ||
-        !s->radiosity || !s->unshot) {
+        !s->surface_first || !s->surface_elements || !s->radiosity || !s->unshot) {
         rad_system_destroy(s);
         return rad_fail(ctx, RAD_ERROR_NO_MEMORY, "out of memory for a system of %zu elements",
                         elements);
@@ -66,6 +68,8 @@ void rad_system_destroy(rad_system *s) {
     rad_free(ctx, s->patch_area);
     rad_free(ctx, s->surface_name);
     rad_free(ctx, s->surface_area);
+    rad_free(ctx, s->surface_first);
+    rad_free(ctx, s->surface_elements);
     rad_free(ctx, s->radiosity);
     rad_free(ctx, s->unshot);
     rad_free(ctx, s);
@@ -79,6 +83,16 @@ void rad_system_finish_areas(rad_system *s) {
     }
     memset(s->surface_area, 0, s->surface_count * sizeof *s->surface_area);
     for (size_t e = 0; e < s->element_count; ++e) s->surface_area[s->element_surface[e]] += s->area[e];
+    /* Each surface's elements (a counting sort, increasing within each surface). */
+    memset(s->surface_first, 0, (s->surface_count + 1) * sizeof *s->surface_first);
+    for (size_t e = 0; e < s->element_count; ++e) s->surface_first[s->element_surface[e] + 1]++;
+    for (size_t i = 0; i < s->surface_count; ++i) s->surface_first[i + 1] += s->surface_first[i];
+    for (size_t e = 0; e < s->element_count; ++e) {
+        uint32_t i = s->element_surface[e];
+        s->surface_elements[s->surface_first[i]++] = (uint32_t)e;
+    }
+    for (size_t i = s->surface_count; i > 0; --i) s->surface_first[i] = s->surface_first[i - 1];
+    s->surface_first[0] = 0;
 }
 
 rad_status rad_system_check_finite(rad_system *s, const char *source) {
@@ -210,8 +224,8 @@ rad_status rad_system_surface(const rad_system *s, size_t index, rad_surface_inf
     memset(out, 0, sizeof *out);
     out->name = s->surface_name[index];
     out->area = s->surface_area[index];
-    for (size_t e = 0; e < s->element_count; ++e) {
-        if (s->element_surface[e] != index) continue;
+    for (size_t k = s->surface_first[index]; k < s->surface_first[index + 1]; ++k) {
+        size_t e = s->surface_elements[k];
         double w = s->area[e] / out->area;
         for (int c = 0; c < 3; ++c) {
             out->reflectance[c] += w * s->reflectance[e][c];

@@ -57,6 +57,11 @@ struct rad_system {
     /* Named input surfaces. */
     char **surface_name;
     double *surface_area;
+    /* The elements of surface i, in increasing order: surface_elements[surface_first[i] ..
+     * surface_first[i + 1] - 1] (rad_system_finish_areas), so that a per-surface query costs the
+     * surface's elements, not the whole mesh (a table of 10^5 surfaces was quadratic). */
+    size_t *surface_first; /* surface_count + 1 entries */
+    uint32_t *surface_elements;
 
     /* The solution. */
     rad_rgb *radiosity;
@@ -85,7 +90,8 @@ typedef struct rad_caustic_landing {
 rad_status rad_system_alloc(rad_context *ctx, size_t elements, size_t patches, size_t surfaces,
                             rad_system **out);
 
-/* Derives patch_area and surface_area from element areas; call after filling elements. */
+/* Derives patch_area and surface_area from element areas, and the elements of each surface
+ * (surface_first, surface_elements); call after filling elements. */
 void rad_system_finish_areas(rad_system *system);
 
 /* RAD_OK when every surface's area and emitted power, and their sums, are finite numbers
