@@ -1265,7 +1265,12 @@ static void test_cluster_form_factors(void) {
  * the bright tile, 12.2% and 2.8%, the mean still exact (-0.05%): here nothing is hidden, so the
  * directional mean the links sent before was exact and the sample adds only noise (in the
  * closed offices that mean made 4.6-5.8% of their light: docs/hierarchical.md, "The closed
- * office's energy"). 13% and 3% allowed. */
+ * office's energy"). Since the source members are drawn toward the spread of ray directions
+ * (sample_points' slack; without it members edge-on to the centres' direction were never drawn,
+ * and Sponza's and the offices' cluster links carried 1-2.5% too little), 13.2% and 2.7%: the
+ * floor tiles in clusters with the ceiling's are drawn too, and they send nothing to a floor.
+ * 14% and 3% allowed (at 1e-3 the members' mean gives 3.25%, so the brightest member's
+ * charge is still what is tested there). */
 static void test_bright_member(void) {
     const double errors[2] = {1e-2, 1e-3}, dark = 0.25, bright = 20;
     const int n = 16, m = 8;
@@ -1294,7 +1299,7 @@ static void test_bright_member(void) {
         double rms, worst, off = tiles_against_exact(h, n, tile, 4, emission, m * m, &rms, &worst);
         printf("one bright tile among dark ones, link error %g: floor mean %+.2f%% of exact, tiles "
                "RMS %.2f%%, worst %.1f%%\n", errors[k], 100 * off, 100 * rms, 100 * worst);
-        CHECK(rms < (k == 0 ? 0.13 : 0.03));
+        CHECK(rms < (k == 0 ? 0.14 : 0.03));
         CHECK(fabs(off) < 0.02);
         rad_hier_destroy(h);
         rad_scene_destroy(scene);

@@ -618,15 +618,38 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
  * points on members reached by a fixed pseudo-random walk (seeded by the pair) down it that
  * picks each child in proportion to its projected area toward w (members facing away, whose own
  * bodies would block the rays, are not sampled), with the member (members[k]) and the
- * probability the walk drew it with (probability[k]). The walk reads the compact tables
+ * probability the walk drew it with (probability[k]).
+ *
+ * The sets from `slack_from` on widen "toward w" by `slack` (s): a member with f = n.w is drawn
+ * in proportion to A f when f >= s, A (f + s)^2 / (4 s) when -s < f < s (the mean of max(0,
+ * n.u) over directions u spread about w, roughly; it meets A f at f = s with the same slope),
+ * 0 below; a cluster in proportion to the same weight of each signed axis's component of w
+ * times its area along that axis (axis_area), which is not 0 when a member's is (a unit normal
+ * with n.w > -s has some axis a with sign(n_a) w_a > -s), and is the projected area when s is
+ * 0. The rays between the link's
+ * two bounding spheres leave w by up to the angle the spheres subtend, so a member with f <= 0
+ * faces some of them. Drawn toward w alone, such a member had probability 0 while the link's
+ * factor counts what each drawn member adds (member_weight, unbiased only over members that
+ * can be drawn): on Sponza the links from clusters carried 0.99 of a Monte Carlo gather of the
+ * same leaves and the image was 0.45-1.07% dark at seeds 0-2, the closed office 20000's 0.975
+ * (docs/hierarchical.md, "sponza3"). The deciding set keeps the plain draw, so the oracle sees
+ * the links it saw before. The walk reads the compact tables
  * (walk_cluster, walk_root): one cache line a level, where the nodes and cluster_info cost three
  * (the walk was two fifths of the solve at 10^6). The walks go down together, a level each in
  * turn: each level's read waits for the level above, so walks taken one after the other wait
  * for every miss in a row, while walks taken in turn wait for theirs side by side (the walks
  * were a quarter of the 10^6 office's samples). */
 #define MAX_WALKS 8
+/* A member's weight per unit area at facing f = n.w, widened by s (above): f from s up, the
+ * quadratic (f + s)^2 / (4 s) between -s and s, 0 below; max(0, f) when s is 0. */
+static inline float facing_weight(float f, float s) {
+    if (f >= s) return f > 0 ? f : 0;
+    return f > -s ? (f + s) * (f + s) / (4 * s) : 0;
+}
+
 static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const uint32_t *seeds,
-                          int sets, rad_vec3 *out, uint32_t *members, double *probability) {
+                          int sets, rad_vec3 *out, uint32_t *members, double *probability,
+                          float slack, int slack_from) {
     if (!is_cluster(&h->nodes[index])) {
         for (int s = 0; s < sets; ++s) visibility_points(&h->nodes[index], seeds[s], out + 4 * s);
         return;
@@ -650,15 +673,21 @@ static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const u
             state[k] = state[k] * 1664525u + 1013904223u;
             float weight[LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total = 0;
             uint32_t count = c->count <= LEAF_CLUSTER ? c->count : LEAF_CLUSTER;
+            const float wide = k / 4 >= slack_from ? slack : 0;
             for (uint32_t i = 0; i < count; ++i) {
                 if (c->leaf) {
                     const walk_root *r = &h->root_walk[c->first + i];
                     float facing = r->normal[0] * (float)w.x + r->normal[1] * (float)w.y +
                                    r->normal[2] * (float)w.z;
-                    weight[i] = facing > 0 ? r->area * facing : 0;
+                    weight[i] = r->area * facing_weight(facing, wide);
                 } else {
                     const float *a = h->walk[c->first + i].axis_area;
-                    weight[i] = wx * a[sx] + wy * a[sy] + wz * a[sz];
+                    if (wide > 0)
+                        weight[i] = a[0] * facing_weight((float)w.x, wide) + a[1] * facing_weight(-(float)w.x, wide) +
+                                    a[2] * facing_weight((float)w.y, wide) + a[3] * facing_weight(-(float)w.y, wide) +
+                                    a[4] * facing_weight((float)w.z, wide) + a[5] * facing_weight(-(float)w.z, wide);
+                    else
+                        weight[i] = wx * a[sx] + wy * a[sy] + wz * a[sz];
                 }
                 total += weight[i];
             }
@@ -827,7 +856,8 @@ static void keep_seen_members(link_sample *out, const uint32_t *member, const do
  * docs/hierarchical.md, "sixth session".) 3-4 rays and 4 walks where a partly hidden link cast
  * 32 and walked 8. */
 static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double spread,
-                           double estimate, rad_hier_link *out, link_sample *seen_members) {
+                           double estimate, double slack, rad_hier_link *out,
+                           link_sample *seen_members) {
     const uint32_t receiver = out->receiver, source = out->source;
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
     rad_vec3 x[4], y[4];
@@ -838,10 +868,10 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
     const rad_vec3 back = v3_scale(w, -1);
     int pairs = 4;
     if (is_cluster(nr))
-        sample_points(h, receiver, w, &receiver_seed, 1, x, receiver_member, receiver_chance);
+        sample_points(h, receiver, w, &receiver_seed, 1, x, receiver_member, receiver_chance, 0, 1);
     else
         pairs = quadrature_points(nr, x);
-    sample_points(h, source, back, &source_seed, 1, y, source_member, source_chance);
+    sample_points(h, source, back, &source_seed, 1, y, source_member, source_chance, (float)slack, 0);
     uint8_t occluded[4];
     rad_rays_occluded_batch(h->rays, x, y, (size_t)pairs, occluded);
     double sum = 0, added[4] = {0, 0, 0, 0};
@@ -895,6 +925,12 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     if (!(d > reach)) return 1;
     rad_vec3 w = v3_scale(between, 1 / d);
     double spread = asin(fmin(1, reach / d));
+    /* How far behind w a source member may face and still be drawn (sample_points): the sine of
+     * the angle the two spheres subtend. The tangent is the exact bound (members with n.w
+     * between minus the tangent and minus the sine still face a few rays and are not drawn);
+     * the sine is what was measured on Sponza, and the tangent drew no better tiles in
+     * test_bright_member or test_cluster_form_factors. */
+    double slack = fmin(1, reach / d);
     projection pr = project(h, receiver, w, spread), ps = project(h, source, v3_scale(w, -1), spread);
     if (!(pr.upper > 0) || !(ps.upper > 0)) return 0;
     double area = h->nodes[receiver].area;
@@ -906,7 +942,7 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         return 1;
     }
     if (cheap_link(h, receiver, upper - lower + estimate))
-        return make_cheap_link(h, w, upper, upper - lower, estimate, out, seen_members);
+        return make_cheap_link(h, w, upper, upper - lower, estimate, slack, out, seen_members);
     /* The factor itself from the rays between sampled member points (chosen in proportion to
      * projected area): the mean over the pairs of V P_r P_s / (pi r^2 A_r), with a polygon
      * end's A cos taken along each ray. The centres' distance alone underestimates it (the
@@ -939,11 +975,12 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         source_seed[set] = link_hash(h, receiver, source, 2 + 0x100u * (uint32_t)set);
     }
     if (is_cluster(nr)) {
-        sample_points(h, receiver, w, receiver_seed, SETS, xs, receiver_member, receiver_chance);
+        sample_points(h, receiver, w, receiver_seed, SETS, xs, receiver_member, receiver_chance, 0, SETS);
         rn = 4;
     } else
         rn = quadrature_points(nr, xs);
-    sample_points(h, source, v3_scale(w, -1), source_seed, SETS, ys, source_member, source_chance);
+    sample_points(h, source, v3_scale(w, -1), source_seed, SETS, ys, source_member, source_chance,
+                  (float)slack, 1);
     sn = 4;
     for (int set = 0; set <= CLUSTER_PARTIAL_SETS; ++set) {
         uint8_t seen[16];
