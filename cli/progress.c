@@ -14,6 +14,7 @@
 #include "cli.h"
 #include "interrupt.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -166,7 +167,10 @@ const char *cli_solve_outcome(const rad_solve_report *report) {
 }
 
 const char *cli_residual_text(char *out, size_t size, const rad_solve_report *report) {
-    snprintf(out, size, report->links ? "%.0f" : "%.3g", report->residual);
+    /* Infinite when a step was cut short (Ctrl-C, the time budget) before its measure was
+     * taken: the hierarchy's count of links over the threshold is then not known. */
+    if (!isfinite(report->residual)) snprintf(out, size, "not measured");
+    else snprintf(out, size, report->links ? "%.0f" : "%.3g", report->residual);
     return out;
 }
 
