@@ -1033,24 +1033,18 @@ static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, 
     return make_link(h, receiver, source, out, may_skip);
 }
 
-/* The radiosity a link's source sends toward its receiver: a polygon node's own; a cluster's,
- * what the link's own rays saw of its members (link_sample, weighed by what each visible pair
- * added to the factor). The cluster's plain mean would mix the sky quad over Sponza with the
- * roof beside it, which faces away (and halved the light sent down). */
+/* The radiosity a link's source sends toward its receiver: what the link's own rays saw of a
+ * cluster's members (link_sample, weighed by what each visible pair added to the factor), or,
+ * without a sample, the node's own radiosity. Only links from clusters keep samples
+ * (keep_seen_members), so a polygon source sends its own; a cluster link without one saw
+ * nothing of its source, has factor 0 and is not asked by the gather. (The members' plain mean
+ * would mix the sky quad over Sponza with the roof beside it, which faces away; before energy2
+ * a cluster sent a directional, exposure-weighted mean, Sillion 1995.) */
 static void source_radiosity(const rad_hier *h, const rad_hier_link *link, double out[3]) {
-    if (!cluster_index(h, link->source)) {
-        memcpy(out, h->nodes[link->source].radiosity, sizeof(double[3]));
-        return;
-    }
     if (link->sample == RAD_HIER_NO_NODE) {
-        /* No sample: the link's rays saw nothing of the source, so its factor is 0 and the
-         * gather does not ask. The members' mean, should it. (This was the directional,
-         * exposure-weighted mean of Sillion 1995, per signed axis; every link that carries
-         * light has sent its own sample since energy2, so hspeed9 removed it: the same bits.) */
         memcpy(out, h->nodes[link->source].radiosity, sizeof(double[3]));
         return;
     }
-    /* What the link's own rays saw (link_sample). */
     const link_sample *seen = &h->samples[link->sample];
     for (int i = 0; i < 3; ++i) out[i] = 0;
     for (int k = 0; k < 4; ++k) {
@@ -1723,19 +1717,16 @@ static void pull_clusters(rad_hier *h) {
         if (!h->walk[c].leaf) pull_cluster(h, c);
 }
 
-/* The gather reads each link's source at a random place: a polygon node's radiosity, a
- * sampled cluster link's four members' radiosities (link_sample, root_radiosity), or a
- * cluster's centre and per-axis sums over several cache lines (source_radiosity). Asked for
+/* The gather reads each link's source at a random place: a node's radiosity, or a sampled
+ * cluster link's four members' radiosities (link_sample, root_radiosity; source_radiosity). Asked for
  * GATHER_AHEAD links before they are read, the misses of several links wait side by side
  * instead of one after another. No value changes. */
 #define GATHER_AHEAD 8
 static void prefetch_source(const rad_hier *h, const rad_hier_link *link) {
-    const uint32_t source = link->source;
-    if (!cluster_index(h, source)) {
-        __builtin_prefetch(h->nodes[source].radiosity);
+    if (link->sample == RAD_HIER_NO_NODE) {
+        __builtin_prefetch(h->nodes[link->source].radiosity);
         return;
     }
-    if (link->sample == RAD_HIER_NO_NODE) return;
     const link_sample *seen = &h->samples[link->sample];
     for (int k = 0; k < 4; ++k) __builtin_prefetch(h->root_radiosity[seen->member[k]]);
 }
