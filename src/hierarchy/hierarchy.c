@@ -116,11 +116,6 @@ struct rad_hier {
     void *light_user;
     rgb *light;
     float *light_spread; /* per node: rad_hier_options.light's spread */
-    /* Per root and per signed axis (+x, -x, +y, -y, +z, -z: the one nearest the direction
-     * toward the link's other end): how many sampled rays ended on it from a cluster link's
-     * other end, and how many of those were unblocked. No longer counted nor read (see
-     * source_radiosity); kept for solution files, which carry them. */
-    uint32_t (*member_rays)[6], (*member_seen)[6];
     /* Importance (Smits, Arvo & Salesin 1992), NULL without a view (rad_hier_set_view): where
      * the camera's pixels meet the surfaces, and per node A Y (Y the importance of unit
      * radiosity there, summed over the node's leaves), the emitted part A R of a leaf, and Y
@@ -2278,10 +2273,8 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
                           "%s: no polygon with a nonzero area", scene->source);
     if (!status) status = build_clusters(h);
     if (!status) {
-        h->member_rays = rad_alloc_zero(ctx, h->root_count, sizeof *h->member_rays);
-        h->member_seen = rad_alloc_zero(ctx, h->root_count, sizeof *h->member_seen);
         h->root_radiosity = rad_alloc_zero(ctx, h->root_count, sizeof *h->root_radiosity);
-        if (!h->member_rays || !h->member_seen || !h->root_radiosity) status = RAD_ERROR_NO_MEMORY;
+        if (!h->root_radiosity) status = RAD_ERROR_NO_MEMORY;
     }
     if (!status && h->light_fn) {
         /* The roots' light (after build_clusters renumbered them), counted as emitted. */
@@ -2329,8 +2322,6 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->normal);
     rad_free(ctx, h->light);
     rad_free(ctx, h->light_spread);
-    rad_free(ctx, h->member_rays);
-    rad_free(ctx, h->member_seen);
     rad_free(ctx, h->root_radiosity);
     rad_free(ctx, h->hit_polygon);
     rad_free(ctx, h->hit_point);
@@ -2464,11 +2455,6 @@ void rad_hier_node_state_get(const rad_hier *h, uint32_t node, rad_hier_node_sta
     if (h->importance) out->importance = h->importance[node];
 }
 
-void rad_hier_exposure_get(const rad_hier *h, uint32_t root, uint32_t rays[6], uint32_t seen[6]) {
-    memcpy(rays, h->member_rays[root], sizeof h->member_rays[root]);
-    memcpy(seen, h->member_seen[root], sizeof h->member_seen[root]);
-}
-
 size_t rad_hier_view_hits(const rad_hier *h, const uint32_t **polygon, const rad_vec3 **point,
                           double *share) {
     *polygon = h->hit_polygon;
@@ -2527,12 +2513,6 @@ void rad_hier_restore_node(rad_hier *h, uint32_t node, const double radiosity[3]
         h->light_spread[node] = state->spread;
     }
     if (h->importance) h->importance[node] = state->importance;
-}
-
-void rad_hier_restore_exposure(rad_hier *h, uint32_t root, const uint32_t rays[6],
-                               const uint32_t seen[6]) {
-    memcpy(h->member_rays[root], rays, sizeof h->member_rays[root]);
-    memcpy(h->member_seen[root], seen, sizeof h->member_seen[root]);
 }
 
 /* Restored links' samples (link_sample; a solution file does not keep them), made again from

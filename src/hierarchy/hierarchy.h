@@ -196,10 +196,6 @@ typedef struct rad_hier_node_state {
 
 int rad_hier_has_light(const rad_hier *hier);
 void rad_hier_node_state_get(const rad_hier *hier, uint32_t node, rad_hier_node_state *out);
-/* A root's exposure counts per signed axis (+x, -x, +y, -y, +z, -z, the one nearest the
- * direction toward the link's other end): the rays of cluster links that ended on it, and the
- * unblocked ones. */
-void rad_hier_exposure_get(const rad_hier *hier, uint32_t root, uint32_t rays[6], uint32_t seen[6]);
 /* The importance view's hits (rad_hier_set_view) and each one's share of the image; 0 without. */
 size_t rad_hier_view_hits(const rad_hier *hier, const uint32_t **polygon, const rad_vec3 **point,
                           double *share);
@@ -220,8 +216,6 @@ rad_status rad_hier_restore_view(rad_hier *hier, uint32_t *polygon, rad_vec3 *po
                                  double share);
 void rad_hier_restore_node(rad_hier *hier, uint32_t node, const double radiosity[3],
                            const rad_hier_node_state *state);
-void rad_hier_restore_exposure(rad_hier *hier, uint32_t root, const uint32_t rays[6],
-                               const uint32_t seen[6]);
 /* The links (taken over, also on failure), every end below the node count. */
 rad_status rad_hier_restore_links(rad_hier *hier, rad_hier_link *links, size_t count);
 /* A stopped refinement's links as rad_hier_refining described them (taken over, also on

@@ -28,7 +28,8 @@
  *          nodes: radiosity[3] float64; with flag 2 light[3] float64 and spread float32; with
  *          flag 1 importance float64
  *          roots: per signed axis (+x, -x, +y, -y, +z, -z) exposure rays, rays seen (uint32
- *          each)
+ *          each; written as zeros and skipped on reading since the hierarchy stopped counting
+ *          them)
  *          links, grouped by receiver in their order: receiver, count (uint32), then per link
  *          source (uint32), form factor and error bound (float32)
  *          with flag 1, hits: polygon (uint32), point[3] float64
@@ -254,14 +255,10 @@ rad_status rad_solution_hier_save(rad_system *s, const char *path, const rad_sol
         }
         if (flags & FLAG_IMPORTANCE) put_f64(w, state.importance);
     }
-    for (size_t r = 0; r < stats.roots; ++r) {
-        uint32_t rays[6], seen[6];
-        rad_hier_exposure_get(hier, (uint32_t)r, rays, seen);
-        for (int a = 0; a < 6; ++a) {
-            put_u32(w, rays[a]);
-            put_u32(w, seen[a]);
-        }
-    }
+    /* The roots' exposure counts: no longer kept (hspeed9), written as zeros so that the format
+     * stays version 3. */
+    for (size_t r = 0; r < stats.roots; ++r)
+        for (int a = 0; a < 12; ++a) put_u32(w, 0);
     for (size_t l = 0; l < link_count;) {
         size_t last = l + 1;
         while (last < link_count && links[last].receiver == links[l].receiver) ++last;
@@ -617,19 +614,9 @@ static rad_status rebuild(rad_system *s, const char *path, reader *r, const layo
         if (l->flags & FLAG_IMPORTANCE) state.importance = rad_le_get_f64(p + l->node_bytes - 8);
         rad_hier_restore_node(hier, (uint32_t)i, radiosity, &state);
     }
-    for (uint64_t root = 0; root < l->roots && !status; ++root) {
-        const unsigned char *p = take(r, ROOT_BYTES);
-        if (!p) {
-            status = truncated(ctx, path, r->offset + r->have, l->end + 8);
-            break;
-        }
-        uint32_t rays[6], seen[6];
-        for (int a = 0; a < 6; ++a) {
-            rays[a] = rad_le_get_u32(p + 8 * a);
-            seen[a] = rad_le_get_u32(p + 8 * a + 4);
-        }
-        rad_hier_restore_exposure(hier, (uint32_t)root, rays, seen);
-    }
+    /* The roots' exposure counts: checked above, no longer used (hspeed9). */
+    for (uint64_t root = 0; root < l->roots && !status; ++root)
+        if (!take(r, ROOT_BYTES)) status = truncated(ctx, path, r->offset + r->have, l->end + 8);
     rad_hier_link *links = NULL;
     size_t at = 0;
     if (!status) {
