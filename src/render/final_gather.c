@@ -52,7 +52,7 @@
  * with one, in the mean over the seeds; tests/test_contact.c's close-up of its front-left base
  * -0.29 % with two, -0.03 % with one). */
 #define SHORT_LEVELS 1
-/* On a hierarchical solution's leaves (regather_all) every first gather ray is re-gathered, and
+/* On a hierarchical solution's leaves (regather.every_first) every first gather ray is re-gathered, and
  * the re-gathers' own rays are re-gathered again when short (SHORT_RANGE), up to this many
  * levels. The leaves at a concave contact are large and hold their mean, brighter than the
  * contact: a re-gather's ray from the floor beside the short block's base read the face's
@@ -193,7 +193,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
      * "Dark pixels"). Dark: the element's radiance under render.c's threshold. */
     const float *own = r->element_radiance[element];
     double range = (own[0] + own[1] + own[2]) / 3 < r->dark_radiance ? DARK_SHORT_RANGE : SHORT_RANGE;
-    if (r->regather_all) range = INFINITY;
+    if (r->regather.every_first) range = INFINITY;
     rad_gather_origin from = {n, light_samples, rays, 0, 0, total, tally, range};
 
     /* Direct light. */
@@ -255,8 +255,14 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
  * was 2-3% too bright at 2 (the shadow's edge inside floor elements), 1.5% at 4, for 12% more
  * rays (docs/rendering.md, "Choosing the defaults"). */
 
+void rad_regather_choose(rad_renderer *r, int coarse_leaves) {
+    /* A hierarchy's re-gathers keep one ray: two would multiply at each of its levels. */
+    r->regather = coarse_leaves ? (struct rad_regather){1, COARSE_SHORT_LEVELS, 1}
+                                : (struct rad_regather){0, SHORT_LEVELS, SHORT_RAYS};
+}
+
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit) {
-    if (!from || from->level >= (r->regather_all ? COARSE_SHORT_LEVELS : SHORT_LEVELS)) return 0;
+    if (!from || from->level >= r->regather.levels) return 0;
     return hit->t < from->short_range * sqrt(r->mesh->element_area[hit->element]);
 }
 
@@ -268,11 +274,11 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
     /* The parent's place in the sampler: the pixel's gather points and its point among them. */
     uint32_t run = from->run, point = from->ray;
     uint32_t dimension = RAD_RENDER_DIM_SHORT + 2 * (uint32_t)from->level;
-    /* Past the first re-gather, short by SHORT_RANGE (the first one's range is infinite on a
-     * hierarchy's leaves). */
-    int rays = r->regather_all ? 1 : SHORT_RAYS;
+    /* The re-gather's own rays are short by the range its parent's were, SHORT_RANGE after an
+     * infinite one (every first gather ray re-gathered). */
+    const int rays = r->regather.rays;
     rad_gather_origin next = {n, r->emitters.count ? 1 : 0, rays, point, from->level + 1, run, NULL,
-                              r->regather_all ? SHORT_RANGE : from->short_range};
+                              isinf(from->short_range) ? SHORT_RANGE : from->short_range};
     double direct[3], gathered[3] = {0, 0, 0};
     direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
     lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */

@@ -99,10 +99,14 @@ struct rad_renderer {
     /* Under this radiance (B / pi, mean of the channels) a surface counts as dark: DARK times
      * the mean the pixel corners see (render.c); set by each render, 0: none. */
     double dark_radiance;
-    /* Gather rays read the solution one bounce later at any distance (hierarchy leaves: their
-     * shaded sides hold the mean of a leaf straddling a shadow; docs/hierarchical.md, "The
-     * arcades' back walls"). Set with the leaves. */
-    int regather_all;
+    /* How gather rays are gathered again at their hits (final_gather.c, rad_regather_choose):
+     * on a hierarchy's coarse leaves every first gather ray, deeper, one ray each; on a uniform
+     * mesh only short ones, once. Set with the leaves. */
+    struct rad_regather {
+        int every_first; /* every first gather ray is re-gathered (its short range infinite) */
+        int levels;      /* at most this many re-gathers along a path */
+        int rays;        /* gather rays of one re-gather */
+    } regather;
 
     /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
     rad_photon_map caustics;
@@ -264,9 +268,12 @@ double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin
  * element sizes, where the solution's piecewise values are too coarse to be seen (the floor
  * just beside a block's base), so the radiance there is gathered once more instead. */
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit);
+/* final_gather.c: sets r->regather for a solution whose leaves are coarse (a hierarchy's) or
+ * not (a uniform mesh). */
+void rad_regather_choose(rad_renderer *r, int coarse_leaves);
 /* final_gather.c: the reflected radiance leaving diffuse point y (element hit->element, front
- * normal n) towards a short gather ray from `from`: one emitter sample and two gather rays
- * (one on a hierarchy's leaves). */
+ * normal n) towards a short gather ray from `from`: one emitter sample and r->regather.rays
+ * gather rays. */
 void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gather_origin *from,
                       const rad_element_hit *hit, rad_vec3 y, rad_vec3 n, double out[3]);
 
