@@ -162,15 +162,15 @@ void cli_stage_mesh(const rad_system *system, double seconds) {
 }
 
 const char *cli_solve_outcome(const rad_solve_report *report) {
-    if (report->converged) return "converged";
-    return report->stop == RAD_STOP_TAIL ? "tail rule" : "not converged";
+    if (!report->converged) return "not converged";
+    return report->stop == RAD_STOP_TAIL ? "converged (tail rule)" : "converged";
 }
 
 const char *cli_residual_text(char *out, size_t size, const rad_solve_report *report) {
     /* Infinite when a step was cut short (Ctrl-C, the time budget) before its measure was
-     * taken: the hierarchy's count of links over the threshold is then not known. */
+     * taken: the hierarchy's oracle has then not been asked at the radiosities solved. */
     if (!isfinite(report->residual)) snprintf(out, size, "not measured");
-    else snprintf(out, size, report->links ? "%.0f" : "%.3g", report->residual);
+    else snprintf(out, size, "%.3g", report->residual);
     return out;
 }
 

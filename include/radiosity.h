@@ -442,17 +442,18 @@ typedef enum rad_solve_stop {
     RAD_STOP_ERROR,         /* an error or a cancel; the status says which */
     RAD_STOP_MEMORY_BUDGET, /* the solver could not go on within max_memory: the best solution
                                so far, not converged (the hierarchical solver's refinement) */
-    RAD_STOP_TAIL           /* the solver's tail rule ended it short of its measure: the
-                               hierarchical solver after a step that refined at most 0.2% of
-                               its links, solved (docs/hierarchical.md, "The tail rule"); final
-                               as far as the solver goes (the specular pass follows), but not
-                               converged: the oracle was not asked again */
+    RAD_STOP_TAIL           /* converged by the solver's tail rule: the hierarchical solver
+                               after a step that refined at most 0.2% of its links, solved;
+                               every link passed the oracle at the radiosities it was refined
+                               with (docs/hierarchical.md, "The tail rule"); converged is 1 */
 } rad_solve_stop;
 
 typedef struct rad_solve_report {
     int iterations;
     int converged;
-    double residual;       /* the stopping measure at the end */
+    double residual;       /* the stopping measure at the end (hierarchical: the oracle's
+                              largest error, a fraction of the emitted power like the link
+                              error); infinite when the last step was cut short */
     double seconds;        /* solver time, not counting time spent in on_iteration */
     rad_solve_stop stop;   /* why it stopped */
     double unshot_fraction; /* shooting, importance: unshot power / emitted power; else NaN */
