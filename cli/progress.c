@@ -57,7 +57,8 @@ static void format_rate(char *out, size_t size, double rate) {
 static void format_duration(char *out, size_t size, double seconds) {
     if (seconds < 60) snprintf(out, size, "%.1f s", seconds);
     else if (seconds < 3600) snprintf(out, size, "%d min %02d s", (int)(seconds / 60), (int)seconds % 60);
-    else snprintf(out, size, "%d h %02d min", (int)(seconds / 3600), (int)(seconds / 60) % 60);
+    else if (seconds < 86400) snprintf(out, size, "%d h %02d min", (int)(seconds / 3600), (int)(seconds / 60) % 60);
+    else snprintf(out, size, "%.0f days", seconds / 86400);
 }
 
 int cli_progress_report(void *user, const char *phase, double done, double total) {
