@@ -919,18 +919,20 @@ static void test_opening(void) {
             rad_vec3 x = v3(-2 + 4 * (i + 0.5) / 200, -2 + 4 * (j + 0.5) / 200, 0);
             exact += 0.5 * 10 * rad_ff_point_polygon(x, v3(0, 0, 1), hole, 4) / (200.0 * 200.0);
         }
-    enum { SEEDS = 8 };
+    /* RAD_TEST_QUICK (the sanitizer run): two seeds, each within 5%. */
+    const char *quick = getenv("RAD_TEST_QUICK");
+    const int seeds = quick && *quick && strcmp(quick, "0") != 0 ? 2 : 8;
     double mean = 0, worst = 0;
     size_t links = 0;
-    for (uint64_t seed = 0; seed < SEEDS; ++seed) {
-        double off = opening_floor(seed, 3e-5, &links) / exact - 1;
+    for (int seed = 0; seed < seeds; ++seed) {
+        double off = opening_floor((uint64_t)seed, 3e-5, &links) / exact - 1;
         CHECK(fabs(off) < 0.05);
-        mean += off / SEEDS;
+        mean += off / seeds;
         if (fabs(off) > fabs(worst)) worst = off;
     }
     printf("opening: floor against %.5f exact over %d seeds at link error 3e-5: mean %+.2f%%, "
-           "worst %+.2f%%, %zu links\n", exact, SEEDS, 100 * mean, 100 * worst, links);
-    CHECK(fabs(mean) < 0.025);
+           "worst %+.2f%%, %zu links\n", exact, seeds, 100 * mean, 100 * worst, links);
+    if (seeds == 8) CHECK(fabs(mean) < 0.025);
 }
 
 
