@@ -8,15 +8,17 @@
 #include "cli.h"
 #include "output_path.h"
 #include "pipeline.h"
+#include "interrupt.h"
 #include "progress.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 typedef struct pathtrace_args {
     int spp, max_bounces, threads, quiet, stats;
     size_t seed;
-    double max_memory, clamp;
+    double max_memory, clamp, time_budget;
     cli_image_args image;
     cli_camera_args camera;
     cli_light_args lights;
@@ -39,6 +41,8 @@ int cmd_pathtrace(int argc, char **argv) {
          "V  biased: light that scattered twice or more counts at most V (R+G+B) per sample, "
          "as Cycles' Clamp Indirect (0: off)"},
         {"--seed", CLI_SIZE, &a.seed, "S  random seed; the same seed gives the same image (0)"},
+        {"--time-budget", CLI_DOUBLE, &a.time_budget,
+         "S  stop after S seconds (and at least one path per pixel) with the image so far"},
         CLI_IMAGE_SIZE_OPTIONS(&a.image),
         CLI_CAMERA_OPTIONS(&a.camera),
         CLI_LIGHT_OPTIONS(&a.lights),
@@ -62,6 +66,8 @@ int cmd_pathtrace(int argc, char **argv) {
     if ((status = cli_camera_check("pathtrace", &a.camera))) return status;
     if ((status = cli_lights_check("pathtrace", &a.lights))) return status;
     if (a.max_memory < 0) return cli_error(EXIT_USAGE, "pathtrace: --max-memory must be positive");
+    if (a.time_budget < 0 || isnan(a.time_budget))
+        return cli_error(EXIT_USAGE, "pathtrace: --time-budget must be a positive number of seconds");
     if (!(a.clamp >= 0) || isinf(a.clamp))
         return cli_error(EXIT_USAGE, "pathtrace: --clamp must be 0 (off) or a positive number");
 
@@ -92,6 +98,7 @@ int cmd_pathtrace(int argc, char **argv) {
         trace.samples_per_pixel = a.spp;
         trace.max_bounces = a.max_bounces > 0 ? a.max_bounces : 0;
         trace.clamp_indirect = a.clamp;
+        trace.time_budget = a.time_budget;
         cli_stage("pathtrace", "%dx%d pixels, %d paths per pixel", a.image.width, a.image.height, a.spp);
         rs = rad_pathtrace(ctx, scene, &trace, &image, &stats);
     }
@@ -103,11 +110,25 @@ int cmd_pathtrace(int argc, char **argv) {
     cli_progress_clear();
     int exit_status = 0;
     if (rs) exit_status = cli_fail(ctx, rs);
-    else if (a.stats) {
+    else if (stats.stopped) {
+        /* Stopped early (Ctrl-C, --time-budget): the image written has fewer paths; say how
+         * many (the rows the last pass finished have one pass more). */
+        char counts[96];
+        if (stats.samples_max > stats.samples_min)
+            snprintf(counts, sizeof counts, "%d to %d", stats.samples_min, stats.samples_max);
+        else snprintf(counts, sizeof counts, "%d", stats.samples_min);
+        fprintf(stderr, "radiosity: path tracing stopped (%s) after %.1f s: %s of %d paths per "
+                        "pixel in %s\n",
+                stats.stopped == RAD_PATHTRACE_CANCELLED ? "Ctrl-C" : "time budget",
+                stats.seconds, counts, a.spp, a.image.output);
+        if (stats.stopped == RAD_PATHTRACE_CANCELLED) exit_status = cli_interrupt_exit_status();
+    }
+    if (!rs && a.stats) {
         double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
         printf("path tracing %8.3f s   %dx%d, %d spp, %llu paths, %.3g Mpaths/s, %.3g Mrays/s "
                "(%.2f rays per path)\n",
-               stats.seconds, a.image.width, a.image.height, a.spp, (unsigned long long)stats.paths,
+               stats.seconds, a.image.width, a.image.height, stats.samples_min,
+               (unsigned long long)stats.paths,
                stats.paths / seconds * 1e-6, stats.rays / seconds * 1e-6,
                stats.paths ? (double)stats.rays / stats.paths : 0);
         printf("write        %8.3f s\n", write_seconds);

@@ -113,8 +113,8 @@ static void print_table(const rad_system *system, const rad_solve_options *optio
            cli_step_word(options->solver, steps),
            cli_solve_outcome(report));
     if (report->stop == RAD_STOP_TAIL)
-        printf(": the last step refined %.0f of %zu links (at most 0.2%%) and solved them; the "
-               "oracle was not asked again", report->residual, report->links);
+        printf(": the last step refined at most 0.2%% of its %zu links and solved them; every "
+               "link passed the oracle at the radiosities it was refined with", report->links);
     else if (report->stop == RAD_STOP_TIME_BUDGET)
         printf(": time budget of %g s used up", options->time_budget);
     else if (report->stop == RAD_STOP_CALLBACK)
@@ -440,7 +440,7 @@ int cmd_solve(int argc, char **argv) {
         if (!rs && !exit_status && a.plot) {
             plot_chart chart = {"Convergence", "seconds",
                                 watch.shooting    ? "unshot power / emitted power"
-                                : watch.hierarchy ? "links over the threshold"
+                                : watch.hierarchy ? "oracle's largest error / emitted power"
                                                   : "largest change / largest radiosity", 0};
             exit_status = plot_write_svg(a.plot, &chart, &series, 1);
         }

@@ -57,7 +57,8 @@ static void format_rate(char *out, size_t size, double rate) {
 static void format_duration(char *out, size_t size, double seconds) {
     if (seconds < 60) snprintf(out, size, "%.1f s", seconds);
     else if (seconds < 3600) snprintf(out, size, "%d min %02d s", (int)(seconds / 60), (int)seconds % 60);
-    else snprintf(out, size, "%d h %02d min", (int)(seconds / 3600), (int)(seconds / 60) % 60);
+    else if (seconds < 86400) snprintf(out, size, "%d h %02d min", (int)(seconds / 3600), (int)(seconds / 60) % 60);
+    else snprintf(out, size, "%.0f days", seconds / 86400);
 }
 
 int cli_progress_report(void *user, const char *phase, double done, double total) {
@@ -162,15 +163,15 @@ void cli_stage_mesh(const rad_system *system, double seconds) {
 }
 
 const char *cli_solve_outcome(const rad_solve_report *report) {
-    if (report->converged) return "converged";
-    return report->stop == RAD_STOP_TAIL ? "tail rule" : "not converged";
+    if (!report->converged) return "not converged";
+    return report->stop == RAD_STOP_TAIL ? "converged (tail rule)" : "converged";
 }
 
 const char *cli_residual_text(char *out, size_t size, const rad_solve_report *report) {
     /* Infinite when a step was cut short (Ctrl-C, the time budget) before its measure was
-     * taken: the hierarchy's count of links over the threshold is then not known. */
+     * taken: the hierarchy's oracle has then not been asked at the radiosities solved. */
     if (!isfinite(report->residual)) snprintf(out, size, "not measured");
-    else snprintf(out, size, report->links ? "%.0f" : "%.3g", report->residual);
+    else snprintf(out, size, "%.3g", report->residual);
     return out;
 }
 

@@ -29,11 +29,11 @@ void cli_stage(const char *stage, const char *format, ...) __attribute__((format
 void cli_stage_mesh(const rad_system *system, double seconds);
 void cli_stage_solve(const rad_solve_options *solve, const rad_solve_report *report);
 
-/* How a solve ended, in the words every command prints: "converged", "tail rule" (the
- * hierarchical solver's tail of steps ended it: final, but the oracle was not met everywhere,
- * RAD_STOP_TAIL) or "not converged". */
+/* How a solve ended, in the words every command prints: "converged", "converged (tail rule)"
+ * (the hierarchical solver's tail rule ended it, RAD_STOP_TAIL: every link passed the oracle
+ * at the radiosities it was refined with) or "not converged". */
 const char *cli_solve_outcome(const rad_solve_report *report);
-/* The report's residual as text in `out`: the hierarchy's counts links, whole (not 6.67e+03). */
+/* The report's residual as text in `out` ("not measured" when a step was cut short). */
 const char *cli_residual_text(char *out, size_t size, const rad_solve_report *report);
 
 #endif

@@ -53,9 +53,10 @@ static void draw_progress(solve_watch *w, const rad_iteration_event *event) {
         fprintf(stderr, "\r\033[K%s: %ld shots, unshot power %.3g%% of emitted%s", w->solver_name,
                 event->shots + w->step_offset, 100 * event->unshot_fraction, eta);
     else if (event->links)
-        fprintf(stderr, "\r\033[K%s: step %ld, %zu links, %zu leaves, largest error %.3g of the "
-                        "threshold, %.0f over it%s", w->solver_name, event->rounds + w->step_offset,
-                event->links, event->leaves, event->largest_error, event->residual, eta);
+        fprintf(stderr, "\r\033[K%s: step %ld, %zu links, %zu leaves, oracle's error %.3g "
+                        "(largest left %.3g of the threshold)%s", w->solver_name,
+                event->rounds + w->step_offset, event->links, event->leaves, event->residual,
+                event->largest_error, eta);
     else
         fprintf(stderr, "\r\033[K%s: round %ld, change %.3g%s", w->solver_name,
                 event->rounds + w->step_offset, event->residual, eta);

@@ -442,17 +442,18 @@ typedef enum rad_solve_stop {
     RAD_STOP_ERROR,         /* an error or a cancel; the status says which */
     RAD_STOP_MEMORY_BUDGET, /* the solver could not go on within max_memory: the best solution
                                so far, not converged (the hierarchical solver's refinement) */
-    RAD_STOP_TAIL           /* the solver's tail rule ended it short of its measure: the
-                               hierarchical solver after a step that refined at most 0.2% of
-                               its links, solved (docs/hierarchical.md, "The tail rule"); final
-                               as far as the solver goes (the specular pass follows), but not
-                               converged: the oracle was not asked again */
+    RAD_STOP_TAIL           /* converged by the solver's tail rule: the hierarchical solver
+                               after a step that refined at most 0.2% of its links, solved;
+                               every link passed the oracle at the radiosities it was refined
+                               with (docs/hierarchical.md, "The tail rule"); converged is 1 */
 } rad_solve_stop;
 
 typedef struct rad_solve_report {
     int iterations;
     int converged;
-    double residual;       /* the stopping measure at the end */
+    double residual;       /* the stopping measure at the end (hierarchical: the oracle's
+                              largest error, a fraction of the emitted power like the link
+                              error); infinite when the last step was cut short */
     double seconds;        /* solver time, not counting time spent in on_iteration */
     rad_solve_stop stop;   /* why it stopped */
     double unshot_fraction; /* shooting, importance: unshot power / emitted power; else NaN */
@@ -702,20 +703,38 @@ typedef struct rad_pathtrace_options {
     double clamp_indirect;         /* zero: unbiased (the default). Else light that scattered
                                       twice or more counts at most this much (R + G + B) per
                                       contribution, as Cycles' "Clamp Indirect": biased */
+    double time_budget;            /* seconds; zero: none. Past it the render stops with the
+                                      image so far (after at least one path per pixel) */
 } rad_pathtrace_options;
+
+typedef enum rad_pathtrace_stop {
+    RAD_PATHTRACE_DONE = 0,     /* every path asked for was traced */
+    RAD_PATHTRACE_TIME_BUDGET,  /* options->time_budget ran out: the image so far */
+    RAD_PATHTRACE_CANCELLED     /* the progress callback stopped it after the first pass: the
+                                   image so far */
+} rad_pathtrace_stop;
 
 typedef struct rad_pathtrace_stats {
     double seconds;
     uint64_t paths; /* camera samples traced to the end */
     uint64_t rays;  /* closest-hit and shadow rays */
+    /* Paths per pixel in the image: samples_per_pixel unless stopped early; a stop inside a
+     * pass leaves the rows that pass finished with more (samples_max) than the others
+     * (samples_min). */
+    int samples_min, samples_max;
+    rad_pathtrace_stop stopped;
 } rad_pathtrace_stats;
 
 /* Path-traces a geometric scene: unbiased for diffuse, mirror, glossy and glass materials, with
  * next-event estimation and multiple importance sampling. Pixels are radiance. Random choices
  * follow the context's seed (each pixel has its own stream): the same seed gives the same image
  * whatever the thread count. Fails with RAD_ERROR_INVALID_ARGUMENT when the camera sees nothing
- * or only the backs of surfaces (it is inside an object). Reports progress as "path tracing"
- * (rows done); `stats` may be NULL. */
+ * or only the backs of surfaces (it is inside an object). Renders in passes over the whole
+ * image (one path per pixel, then longer ones; the same image however they fall) and reports
+ * progress as "path tracing" in paths per pixel; a forecast longer than a minute is logged
+ * after the first pass. Cancelled through the progress callback during the first pass it fails
+ * with RAD_ERROR_CANCELLED; after it, it returns RAD_OK with the image so far and says so in
+ * `stats` (stopped, samples_min, samples_max), as the time budget does. `stats` may be NULL. */
 rad_status rad_pathtrace(rad_context *context, const rad_scene *scene,
                          const rad_pathtrace_options *options, rad_image **out,
                          rad_pathtrace_stats *stats);

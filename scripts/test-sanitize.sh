@@ -14,7 +14,12 @@ jobs=${JOBS:-$(nproc)}
 
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRAD_SANITIZE=ON -DRAD_NATIVE=OFF \
       >/dev/null
-cmake --build "$build" -j "$jobs"
+# What ctest runs: the tool, both libraries (the install test), every tests/test_*.c and every
+# fuzz replay; not the benchmarks, which ctest never runs (the Release build compiles them).
+targets=(radiosity_cli radiosity radiosity_shared)
+for source in tests/test_*.c; do targets+=("$(basename "$source" .c)"); done
+for source in fuzz/fuzz_*.c; do targets+=("$(basename "$source" .c)_replay"); done
+cmake --build "$build" -j "$jobs" --target "${targets[@]}"
 
 logs=$(cd "$build" && pwd)/sanitizer-logs
 rm -rf "$logs"

@@ -211,9 +211,15 @@ slow=(cornell --elements 2000 --ff montecarlo --ff-samples 20000)
 interrupt 2 "$radiosity" solve "${slow[@]}" --solver jacobi --quiet
 check "solve: exit 130 (got $status)" test "$status" -eq 130
 check "solve: says interrupted" grep -q '^radiosity: interrupted' err
+# The path tracer keeps the image so far (every pixel has at least its first pass) and says how
+# many paths it has (before tidy12: no image).
 interrupt 2 "$radiosity" pathtrace cornell --spp 100000 --width 8 --height 64 --quiet -o x.png
 check "pathtrace: exit 130 (got $status)" test "$status" -eq 130
-check "pathtrace: no image, no temporary" no_outputs
+check "pathtrace: the image so far" test -s x.png
+check "pathtrace: says how many paths" \
+    grep -Eq '^radiosity: path tracing stopped \(Ctrl-C\) after [0-9.]+ s: [1-9][0-9]*( to [0-9]+)? of 100000 paths per pixel in x.png' err
+rm -f x.png
+check "pathtrace: no temporary" no_outputs
 interrupt 3 "$radiosity" solve "${slow[@]}" --solver shooting --save keep.partial.sol
 check "solve --save: exit 130 (got $status)" test "$status" -eq 130
 check "solve --save: the solution so far is kept" test -s keep.partial.sol

@@ -79,4 +79,19 @@ check "pathtrace lights-room without --eye: exit 0" test $? -eq 0
 check "photonmap lights-room without --eye: exit 0" test $? -eq 0
 rm -f "$work"/room_*.pfm
 
+
+# A render that would take months (issue 16, tidy12): the first pass forecasts it, and the time
+# budget stops it with the image so far and its real path count (before: no forecast, no budget,
+# rows of 10^8 paths each that Ctrl-C could not stop).
+"$radiosity" pathtrace cornell --spp 100000000 --width 32 --height 24 --time-budget 1 \
+    -o "$work/keep.budget.pfm" 2>"$work/budget.err"
+check "time budget: exit 0" test $? -eq 0
+check "time budget: the image so far" test "$(stat -c %s "$work/keep.budget.pfm")" -eq $((14 + 32 * 24 * 12))
+check "time budget: the forecast after the first pass" \
+    grep -Eq '^radiosity: path tracing: 100000000 paths per pixel will take about [0-9.e+]+ (days|hours|minutes)' "$work/budget.err"
+check "time budget: says how many paths" \
+    grep -Eq '^radiosity: path tracing stopped \(time budget\) after [0-9.]+ s: [1-9][0-9]*( to [0-9]+)? of 100000000 paths per pixel' "$work/budget.err"
+rm -f "$work/budget.err"
+expect_exit 2 'time-budget must be a positive number' -- "$radiosity" pathtrace cornell --time-budget -1 -o "$work/x.png"
+
 finish

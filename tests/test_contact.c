@@ -16,6 +16,7 @@
 #include "scene/scene.h"
 #include "system/system.h"
 #include "test.h"
+#include "test_scene.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -238,16 +239,11 @@ static void test_hierarchy_back_corner(rad_context *ctx, const rad_scene *scene)
  * floor pieces cover the floor's area less the rug's. A panel back to back with the floor is
  * only noted. */
 static void test_coplanar(rad_context *ctx) {
-    rad_scene *scene = NULL;
-    CHECK(rad_scene_new(ctx, 1, "coplanar", &scene) == RAD_OK);
+    static const char *const names[] = {"floor", "rug", "under"};
+    uint32_t surfaces[3];
+    rad_scene *scene = test_grey_scene(ctx, "coplanar", 0.5, names, 3, surfaces);
     if (!scene) return;
-    rad_material white = {0};
-    white.reflectance[0] = white.reflectance[1] = white.reflectance[2] = 0.5;
-    uint32_t material, floor, rug, under;
-    CHECK(rad_scene_add_material(scene, &white, &material) == RAD_OK);
-    CHECK(rad_scene_add_surface(scene, "floor", material, &floor) == RAD_OK);
-    CHECK(rad_scene_add_surface(scene, "rug", material, &rug) == RAD_OK);
-    CHECK(rad_scene_add_surface(scene, "under", material, &under) == RAD_OK);
+    const uint32_t floor = surfaces[0], rug = surfaces[1], under = surfaces[2];
     rad_vec3 f[4] = {{0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}}; /* facing +y */
     rad_vec3 r[4] = {{1, 0, 1}, {1, 0, 2}, {3, 0, 2}, {3, 0, 1}};
     CHECK(rad_scene_add_polygon_points(scene, floor, f, 4) == RAD_OK);

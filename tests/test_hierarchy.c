@@ -285,7 +285,7 @@ static void solve_cornell(int threads, uint64_t seed, rad_rgb **radiosity, size_
     options.link_error = 3e-4;
     rad_solve_report report;
     CHECK(rad_solve(system, &options, &report) == RAD_OK);
-    CHECK(report.converged || report.stop == RAD_STOP_TAIL); /* finished by its own rule */
+    CHECK(report.converged); /* by a step that refined nothing, or by the tail rule */
     *rounds = report.iterations;
     *count = system->element_count;
     *radiosity = malloc(*count * sizeof **radiosity);
@@ -870,11 +870,20 @@ static void test_importance(void) {
  * hole in its middle; a 4 x 4 floor (rho 0.5) at z = 0. Through the hole each floor point sees
  * the part of the emitter behind it, so its irradiance is B F(x -> hole) exactly (the point-to-
  * polygon factor depends only on the contour seen from x). The visible part is a small share of
- * each link's large source, at the threshold the emitted power sets: the links' visibility
- * estimate (a kernel-weighted fraction of 16 rays) made the floor 11% too dark; 64 rays for
- * partly hidden links, 3%. */
-static void test_opening(void) {
-    rad_context *ctx = context(2);
+ * each link's large source, which the links' visibility rays (64 for partly hidden links) find
+ * by chance: the floor's error is noise that depends on the seed, not a bias, and it shrinks as
+ * the links refine. Measured over seeds (tidy12): at the default link error (51 links) the
+ * floor is -0.9% off on average over 40 seeds, but 10% from seed to seed (-23% to +24%; this
+ * test passed only at seed 0, +0.1%); at 1e-4 (459 links) 2.0%; at 3e-5 (about 1,390 links)
+ * -0.75% on average over 60 seeds, 1.1% from seed to seed, at worst -3.1%. So it runs at 3e-5,
+ * over eight seeds: each within 5% of the exact mean, their mean within 2.5%. (The earlier
+ * note, 16 rays 11% too dark and 64 rays 3%, came from one seed each.) */
+static double opening_floor(uint64_t seed, double link_error, size_t *links) {
+    rad_context_options context_options = {0};
+    context_options.threads = 2;
+    context_options.seed = seed;
+    rad_context *ctx = NULL;
+    CHECK(rad_context_create(&context_options, &ctx) == RAD_OK);
     rad_scene *scene = NULL;
     CHECK(rad_scene_new(ctx, 1, "opening", &scene) == RAD_OK);
     uint32_t sky = add_surface(scene, "sky", 0, 10), ceiling = add_surface(scene, "ceiling", 0, 0);
@@ -887,7 +896,21 @@ static void test_opening(void) {
     add_rect(scene, ceiling, v3(-0.5, -10, 2), v3_scale(Y, 9.5), X);
     add_rect(scene, ceiling, v3(-0.5, 0.5, 2), v3_scale(Y, 9.5), X);
     add_rect(scene, floor_surface, v3(-2, -2, 0), v3_scale(X, 4), v3_scale(Y, 4)); /* up */
-    rad_hier *h = solve_hierarchy(ctx, scene, 0);
+    rad_hier *h = solve_hierarchy(ctx, scene, link_error);
+    size_t count;
+    const rad_hier_node *nodes = rad_hier_nodes(h, &count);
+    double solved = 0;
+    for (size_t i = 0; i < count; ++i)
+        if (nodes[i].corner_count && nodes[i].polygon == 5 && nodes[i].depth == 0)
+            solved = nodes[i].radiosity[0];
+    *links = rad_hier_get_stats(h).links;
+    rad_hier_destroy(h);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+    return solved;
+}
+
+static void test_opening(void) {
     /* The exact mean: the floor's radiosity rho B F(x -> hole), midpoint rule on 200 x 200. */
     const rad_vec3 hole[4] = {v3(-0.5, -0.5, 2), v3(-0.5, 0.5, 2), v3(0.5, 0.5, 2), v3(0.5, -0.5, 2)};
     double exact = 0;
@@ -896,18 +919,20 @@ static void test_opening(void) {
             rad_vec3 x = v3(-2 + 4 * (i + 0.5) / 200, -2 + 4 * (j + 0.5) / 200, 0);
             exact += 0.5 * 10 * rad_ff_point_polygon(x, v3(0, 0, 1), hole, 4) / (200.0 * 200.0);
         }
-    size_t count;
-    const rad_hier_node *nodes = rad_hier_nodes(h, &count);
-    double solved = 0;
-    for (size_t i = 0; i < count; ++i)
-        if (nodes[i].corner_count && nodes[i].polygon == 5 && nodes[i].depth == 0)
-            solved = nodes[i].radiosity[0];
-    printf("opening: floor %.5f against %.5f exact (%+.2f%%), %zu links\n", solved, exact,
-           100 * (solved / exact - 1), rad_hier_get_stats(h).links);
-    CHECK(fabs(solved / exact - 1) < 0.05);
-    rad_hier_destroy(h);
-    rad_scene_destroy(scene);
-    rad_context_destroy(ctx);
+    /* RAD_TEST_QUICK (the sanitizer run): two seeds, each within 5%. */
+    const char *quick = getenv("RAD_TEST_QUICK");
+    const int seeds = quick && *quick && strcmp(quick, "0") != 0 ? 2 : 8;
+    double mean = 0, worst = 0;
+    size_t links = 0;
+    for (int seed = 0; seed < seeds; ++seed) {
+        double off = opening_floor((uint64_t)seed, 3e-5, &links) / exact - 1;
+        CHECK(fabs(off) < 0.05);
+        mean += off / seeds;
+        if (fabs(off) > fabs(worst)) worst = off;
+    }
+    printf("opening: floor against %.5f exact over %d seeds at link error 3e-5: mean %+.2f%%, "
+           "worst %+.2f%%, %zu links\n", exact, seeds, 100 * mean, 100 * worst, links);
+    if (seeds == 8) CHECK(fabs(mean) < 0.025);
 }
 
 

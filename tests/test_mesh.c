@@ -20,6 +20,7 @@
 #include "mesh/ngon.h"
 #include "scene/scene.h"
 #include "test.h"
+#include "test_scene.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -909,15 +910,11 @@ static void test_builtin_and_imported(void) {
      * the right quad gets their ends as corners (contact.c, step 5). Without them its elements'
      * edge along x = 2 skipped the left quad's vertices there: T-junctions, a crack in the
      * smooth picture (before: 70 element pairs meeting at a T, 8 coinciding vertices). */
-    rad_scene *floor_scene = NULL;
-    CHECK(rad_scene_new(ctx, 1, "two-quad floor", &floor_scene) == RAD_OK);
+    static const char *const floor_names[] = {"floor", "block"};
+    uint32_t floor_surfaces[2];
+    rad_scene *floor_scene = test_grey_scene(ctx, "two-quad floor", 0.5, floor_names, 2, floor_surfaces);
     if (floor_scene) {
-        rad_material white = {0};
-        white.reflectance[0] = white.reflectance[1] = white.reflectance[2] = 0.5;
-        uint32_t material, floor, block;
-        CHECK(rad_scene_add_material(floor_scene, &white, &material) == RAD_OK);
-        CHECK(rad_scene_add_surface(floor_scene, "floor", material, &floor) == RAD_OK);
-        CHECK(rad_scene_add_surface(floor_scene, "block", material, &block) == RAD_OK);
+        const uint32_t floor = floor_surfaces[0], block = floor_surfaces[1];
         const rad_vec3 left[4] = {{0, 0, 0}, {0, 0, 4}, {2, 0, 4}, {2, 0, 0}};
         const rad_vec3 right[4] = {{2, 0, 0}, {2, 0, 4}, {4, 0, 4}, {4, 0, 0}};
         CHECK(rad_scene_add_polygon_points(floor_scene, floor, left, 4) == RAD_OK);

@@ -19,6 +19,7 @@
 #include "radiosity.h"
 #include "scene/scene.h"
 #include "test.h"
+#include "test_scene.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -127,15 +128,11 @@ static void test_analytic_lines(rad_context *ctx) {
 static void test_point_light(rad_context *ctx) {
     const double edge = 0.75;
     for (int kind = 0; kind < 2; ++kind) {
-        rad_scene *scene = NULL;
-        CHECK(rad_scene_new(ctx, 1, "point", &scene) == RAD_OK);
+        static const char *const names[] = {"floor", "blocker"};
+        uint32_t surfaces[2];
+        rad_scene *scene = test_grey_scene(ctx, "point", 0.5, names, 2, surfaces);
         if (!scene) return;
-        rad_material white = {0};
-        white.reflectance[0] = white.reflectance[1] = white.reflectance[2] = 0.5;
-        uint32_t grey, floor, block;
-        CHECK(rad_scene_add_material(scene, &white, &grey) == RAD_OK);
-        CHECK(rad_scene_add_surface(scene, "floor", grey, &floor) == RAD_OK);
-        CHECK(rad_scene_add_surface(scene, "blocker", grey, &block) == RAD_OK);
+        const uint32_t floor = surfaces[0], block = surfaces[1];
         rad_vec3 f[4] = {{-4.93, 0, -4.87}, {-4.93, 0, 5.07}, {5.11, 0, 5.07}, {5.11, 0, -4.87}};
         rad_vec3 b[4] = {{-0.5, 1, -0.5}, {-0.5, 1, 0.5}, {0.5, 1, 0.5}, {0.5, 1, -0.5}};
         CHECK(rad_scene_add_polygon_points(scene, floor, f, 4) == RAD_OK);

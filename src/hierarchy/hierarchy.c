@@ -1382,7 +1382,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     size_t sorted_count = 0; /* the links kept in place at the front of `kept`, still sorted */
     uint8_t *decision = NULL, *made = NULL;
     size_t refined = 0, unrefined = 0, unknown_error = 0;
-    double largest = 0;
+    double largest = 0, found = 0;
     int budget = 0, first_pass = 1, cancelled = 0;
     rad_status status = RAD_OK;
     brightest_members(h);
@@ -1396,6 +1396,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         kept_count = h->refine_kept;
         refined = h->stats.refined;
         largest = h->stats.largest_error;
+        found = h->stats.found_error;
         budget = h->stats.budget_reached;
         first_pass = 0;
         h->refining = 0;
@@ -1419,20 +1420,26 @@ rad_status rad_hier_refine(rad_hier *h) {
             break;
         }
         size_t splits = 0, candidates = 0;
-        double pass_largest = 0;
+        double pass_largest = 0, pass_found = 0;
         /* The oracle over the pending links, with the current radiosities. */
 #pragma omp parallel for schedule(static) num_threads(threads(h)) \
-    if (pending_count >= PARALLEL_MIN) reduction(max : pass_largest) reduction(+ : splits, candidates)
+    if (pending_count >= PARALLEL_MIN) reduction(max : pass_largest, pass_found) \
+    reduction(+ : splits, candidates)
         for (long i = 0; i < (long)pending_count; ++i) {
             double relative;
             decision[i] = (uint8_t)decide_any(h, &pending[i], &relative);
+            int known = fabsf(pending[i].error) < UNKNOWN_ERROR;
+            /* A link between overlapping ends has no known error: refined, it makes the
+             * largest error found unknown (infinite). */
+            if (known || decision[i]) pass_found = fmax(pass_found, known ? relative : INFINITY);
             if (decision[i]) {
                 splits++;
                 candidates += children_made(h, &pending[i], decision[i]);
-            } else if (fabsf(pending[i].error) < UNKNOWN_ERROR) /* a known error */
+            } else if (known)
                 pass_largest = fmax(pass_largest, relative);
         }
         largest = fmax(largest, pass_largest);
+        if (first_pass) found = fmax(found, pass_found);
         if (!splits && first_pass) {
             /* The oracle passed every link: they stay as they are, sorted, with their groups. */
             h->links = pending;
@@ -1614,6 +1621,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     rad_free(ctx, made);
     rad_free(ctx, fresh);
     h->stats.largest_error = largest;
+    h->stats.found_error = fmax(found, largest);
     h->stats.refined = refined;
     h->stats.budget_reached = budget;
     h->stats.unrefined = unrefined;

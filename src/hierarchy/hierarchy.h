@@ -91,6 +91,10 @@ typedef struct rad_hier_stats {
     size_t refined;        /* links refined by the last call of rad_hier_refine */
     double largest_error;  /* the oracle's largest error over the links, relative to threshold;
                               at the budget, over the links whose error is known */
+    double found_error;    /* the largest error over the threshold that the last refinement's
+                              first pass found, the links it refined included: over 1, it
+                              refined; at most 1, the oracle was met; infinite when it refined
+                              a link between overlapping ends (whose error is not known) */
     int solve_rounds;      /* gathering rounds of the last rad_hier_solve */
     int budget_reached;    /* refinement stopped at the memory budget (a warning said so) */
     size_t unrefined;      /* at the budget: links the oracle would still refine */

@@ -18,6 +18,7 @@
 
 #include "image/image.h"
 
+#include <math.h>
 #include <omp.h>
 #include <string.h>
 
@@ -305,60 +306,123 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
         return status;
     }
 
+    /* Passes over the whole image: 1 path per pixel first, then passes sized to last about as
+     * long as the render so far (at least a second), so a render of any length can be stopped
+     * (Ctrl-C through the progress callback, or the time budget, checked after every row) with
+     * an image of the whole frame, and the first pass's time forecasts the rest. Each pixel's
+     * paths are added in sample order into a double sum, so the image has the same bits however
+     * the passes fall: the one of a single pass. When the sums do not fit the memory budget
+     * beside the image, one pass writes the image directly, as before passes. */
+    const size_t pixels = (size_t)width * (size_t)height;
+    double *sums = NULL;
+    int *row_samples = rad_alloc_zero(ctx, (size_t)height, sizeof *row_samples);
+    if (row_samples && spp > 1 &&
+        (double)pixels * (3 * sizeof(float) + 3 * sizeof(double)) <= (double)ctx->max_memory)
+        sums = rad_alloc_zero(ctx, 3 * pixels, sizeof *sums); /* NULL: one pass */
+    if (!row_samples) {
+        rad_image_free(image);
+        rad_tracer_destroy(t);
+        return RAD_ERROR_NO_MEMORY;
+    }
     int threads = rad_thread_count(ctx);
     rad_trace_counts total = {0};
-    int rows_done = 0, cancelled = 0;
+    int cancelled = 0, timed_out = 0, done = 0;
+    const double deadline = o.time_budget > 0 ? start + o.time_budget : INFINITY;
+    double first_pass_seconds = 0, passes_start = rad_seconds();
     uint64_t seed = ctx->seed;
+    while (done < spp && !cancelled && !timed_out) {
+        int pass = sums ? 1 : spp;
+        if (done > 0) {
+            /* Samples that fit in max(1 s, the time so far) at the rate measured so far. */
+            double elapsed = rad_seconds() - start, per_sample = first_pass_seconds;
+            if (done > 1) per_sample = elapsed / done;
+            double fit = fmax(1.0, elapsed) / fmax(per_sample, 1e-9);
+            pass = fit >= spp - done ? spp - done : (int)fmax(1.0, fit);
+        }
+        const int s0 = done, s1 = done + pass;
+        int rows_done = 0;
 #pragma omp parallel num_threads(threads)
-    {
-        rad_trace_counts counts = {0};
+        {
+            rad_trace_counts counts = {0};
 #pragma omp for schedule(dynamic, 1)
-        for (int y = 0; y < height; ++y) {
-            int stop;
+            for (int y = 0; y < height; ++y) {
+                int stop;
 #pragma omp atomic read
-            stop = cancelled;
-            if (stop) continue;
-            for (int x = 0; x < width; ++x) {
-                uint64_t pixel = (uint64_t)y * (uint64_t)width + (uint64_t)x;
-                rad_sampler sampler = rad_sampler_make(seed, 0);
-                double sum[3] = {0, 0, 0};
-                for (int s = 0; s < spp; ++s) {
-                    sampler.index = rad_sampler_pixel_index((uint32_t)x, (uint32_t)y,
-                                                            (uint32_t)spp, (uint32_t)s);
-                    sampler.dimension = RAD_PATH_DIM_PIXEL;
-                    double jitter[4];
-                    rad_sampler_4d(&sampler, jitter);
-                    double px = x + jitter[0], py = y + jitter[1];
-                    double radiance[3];
-                    rad_tracer_radiance(t, &sampler, view.eye, rad_view_direction(&view, px, py),
-                                        &counts, radiance);
-                    for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
+                stop = cancelled;
+                if (!stop) {
+#pragma omp atomic read
+                    stop = timed_out;
                 }
-                float *p = image->pixels + 3 * pixel;
-                for (int c = 0; c < 3; ++c) p[c] = (float)(sum[c] / spp);
-            }
-            int done;
+                if (stop) continue;
+                for (int x = 0; x < width; ++x) {
+                    uint64_t pixel = (uint64_t)y * (uint64_t)width + (uint64_t)x;
+                    rad_sampler sampler = rad_sampler_make(seed, 0);
+                    double local[3] = {0, 0, 0};
+                    double *sum = sums ? sums + 3 * pixel : local;
+                    for (int s = s0; s < s1; ++s) {
+                        sampler.index = rad_sampler_pixel_index((uint32_t)x, (uint32_t)y,
+                                                                (uint32_t)spp, (uint32_t)s);
+                        sampler.dimension = RAD_PATH_DIM_PIXEL;
+                        double jitter[4];
+                        rad_sampler_4d(&sampler, jitter);
+                        double px = x + jitter[0], py = y + jitter[1];
+                        double radiance[3];
+                        rad_tracer_radiance(t, &sampler, view.eye,
+                                            rad_view_direction(&view, px, py), &counts, radiance);
+                        for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
+                    }
+                    float *p = image->pixels + 3 * pixel;
+                    for (int c = 0; c < 3; ++c) p[c] = (float)(sum[c] / s1);
+                }
+                row_samples[y] = s1;
+                int finished;
 #pragma omp atomic capture
-            done = ++rows_done;
-            if (omp_get_thread_num() == 0 && rad_progress(ctx, "path tracing", done, height)) {
+                finished = ++rows_done;
+                /* The budget is checked from the second pass on: the first gives every pixel
+                 * a path. */
+                if (s0 > 0 && rad_seconds() >= deadline) {
 #pragma omp atomic write
-                cancelled = 1;
+                    timed_out = 1;
+                }
+                double progress = s0 + (double)(s1 - s0) * finished / height;
+                if (omp_get_thread_num() == 0 && rad_progress(ctx, "path tracing", progress, spp)) {
+#pragma omp atomic write
+                    cancelled = 1;
+                }
+            }
+#pragma omp critical
+            {
+                total.paths += counts.paths;
+                total.rays += counts.rays;
+                total.camera_hits += counts.camera_hits;
+                total.back_hits += counts.back_hits;
             }
         }
-#pragma omp critical
-        {
-            total.paths += counts.paths;
-            total.rays += counts.rays;
-            total.camera_hits += counts.camera_hits;
-            total.back_hits += counts.back_hits;
+        if (rows_done == height) done = s1;
+        if (s0 == 0 && done == s1) {
+            /* The first pass forecasts the rest: said when it is long. */
+            first_pass_seconds = (rad_seconds() - passes_start) / s1;
+            double forecast = first_pass_seconds * spp;
+            if (spp > s1 && forecast > 60 && !cancelled)
+                rad_info(ctx, "path tracing: %d paths per pixel will take about %.3g %s at %.3g s "
+                              "a path per pixel; Ctrl-C or a time budget stops with the image so "
+                              "far", spp, forecast >= 86400 ? forecast / 86400
+                                          : forecast >= 3600 ? forecast / 3600 : forecast / 60,
+                         forecast >= 86400 ? "days" : forecast >= 3600 ? "hours" : "minutes",
+                         first_pass_seconds);
         }
     }
     rad_tracer_destroy(t);
-    if (cancelled) {
-        rad_image_free(image);
-        return rad_fail(ctx, RAD_ERROR_CANCELLED, "path tracing cancelled");
+    rad_free(ctx, sums);
+    int fewest = spp, most = 0;
+    for (int y = 0; y < height; ++y) {
+        fewest = row_samples[y] < fewest ? row_samples[y] : fewest;
+        most = row_samples[y] > most ? row_samples[y] : most;
     }
-    if (rad_progress(ctx, "path tracing", height, height)) {
+    rad_free(ctx, row_samples);
+    /* Stopped before every pixel had a path: nothing to show (the time budget waits for it). */
+    if (fewest == 0 || (!cancelled && !timed_out &&
+                        rad_progress(ctx, "path tracing", spp, spp))) {
         rad_image_free(image);
         return rad_fail(ctx, RAD_ERROR_CANCELLED, "path tracing cancelled");
     }
@@ -366,6 +430,10 @@ rad_status rad_pathtrace(rad_context *ctx, const rad_scene *scene,
         stats->seconds = rad_seconds() - start;
         stats->paths = total.paths;
         stats->rays = total.rays;
+        stats->samples_min = fewest;
+        stats->samples_max = most;
+        stats->stopped = cancelled ? RAD_PATHTRACE_CANCELLED
+                         : timed_out ? RAD_PATHTRACE_TIME_BUDGET : RAD_PATHTRACE_DONE;
     }
     *out = image;
     return RAD_OK;

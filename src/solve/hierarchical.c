@@ -1,7 +1,8 @@
 /* hierarchical.c - the hierarchical solver (Hanrahan, Salzman & Aupperle 1991; src/hierarchy):
  * begin builds the quadtree roots over the input polygons, links every pair of roots and
  * solves; each step is one pass of the oracle over the links followed by a new solve, until no
- * link is refined (the stopping measure is the number of links the step refined). After every
+ * link is refined or by the tail rule (the residual is the oracle's largest error, in the
+ * units of the link error). After every
  * step the hierarchy is evaluated at the system's elements (the mean of the leaves under five
  * points of each element), so rendering, baking and solution files read it like any other
  * solution. */
@@ -302,6 +303,7 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
     hierarchical_state *state = rad_alloc_zero(s->ctx, 1, sizeof *state);
     if (!state) return RAD_ERROR_NO_MEMORY;
     run->state = state;
+    run->own_measure = 1; /* converged by the oracle (refine_and_solve), not the tolerance */
     /* Going on from a saved hierarchy (rad_system_load_solution restored it as it was): the
      * next step refines and solves exactly as the run that saved it would have. */
     rad_hier_setup *saved = rad_hier_view_setup(s);
@@ -351,9 +353,10 @@ static void report_step(rad_system *s, const rad_hier *hier, int iteration) {
     rad_hier_stats stats = rad_hier_get_stats(hier);
     rad_info(s->ctx,
              "hierarchical step %d: %zu links (%zu to clusters), %zu leaves, %zu clusters, "
-             "%zu refined, largest remaining error %.3g of the threshold, %d gathering rounds",
+             "largest error found %.3g of the threshold, %zu refined, largest remaining error "
+             "%.3g, %d gathering rounds",
              iteration, stats.links, stats.cluster_links, stats.leaves, stats.clusters,
-             stats.refined, stats.largest_error, stats.solve_rounds);
+             stats.found_error, stats.refined, stats.largest_error, stats.solve_rounds);
     if (stats.budget_reached)
         rad_info(s->ctx,
                  "hierarchical step %d: the memory budget leaves %zu links over the threshold "
@@ -370,6 +373,7 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
     rad_hier *hier = state->hier;
     rad_hier_setup *setup = state->setup;
     run->own_stop = RAD_STOP_CONVERGED; /* no tail rule yet */
+    run->own_converged = 0;
     rad_status status = rad_hier_refine(hier);
     *stopped = status == RAD_ERROR_CANCELLED && rad_hier_refining(hier, NULL);
     if (*stopped) {
@@ -380,22 +384,30 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
     }
     if (status) return status;
     rad_hier_stats stats = rad_hier_get_stats(hier);
-    *residual = (double)stats.refined;
+    /* The residual is the oracle's error, in the units of the link error (a fraction of the
+     * emitted power): the largest it found at the radiosities the step began with, the links
+     * it refined included. At most the link error, the oracle is met: converged. */
+    *residual = stats.found_error * setup->link_error;
+    run->own_converged = stats.refined == 0 && !setup->loose;
     if (stats.refined > 0 || setup->loose) {
         /* Solve only as tight as the next refinement needs: loosely after a step that refined
          * much (the next will refine again), to INNER_TOLERANCE otherwise and at the end. */
-        int was_loose = setup->loose;
         setup->loose = stats.refined > 0 && (double)stats.refined > LOOSE_SHARE * (double)stats.links;
         status = solve_links(run->system, hier, setup);
         /* Nothing refined after a loose solve: the tight solve may move a link over the
-         * threshold, so one more step asks the oracle again. */
-        if (stats.refined == 0 && was_loose) *residual = 1;
-        /* The tail rule: the solve ends here, short of a step that refines nothing (the
-         * driver reports RAD_STOP_TAIL, not convergence); the residual stays the count. Not
-         * when the solve was cancelled (Ctrl-C, the time budget): that stop is reported. */
+         * threshold, so one more step asks the oracle again (own_converged stays 0). */
+        /* The tail rule: the solve ends here, converged by the tail rule's condition (every
+         * link passed the oracle at the radiosities it was refined with, and the few refined
+         * are solved), and the residual is that: the largest error left after the refinement,
+         * at most the link error. Not when the solve was cancelled (Ctrl-C, the time budget):
+         * that stop is reported. */
         if (stats.refined > 0 && !setup->loose && !setup->unfinished &&
-            (double)stats.refined <= TAIL_SHARE * (double)stats.links)
+            (double)stats.refined <= TAIL_SHARE * (double)stats.links) {
             run->own_stop = RAD_STOP_TAIL;
+            run->own_converged = 1;
+            *residual = stats.largest_error * setup->link_error;
+        }
+        if (setup->unfinished) run->own_converged = 0;
         if (!status) evaluate(run->system, hier, setup->light);
         *stopped = setup->unfinished;
     }
@@ -414,10 +426,11 @@ static rad_status refine_and_solve(rad_solver_run *run, int iteration, double *r
     }
     if (!status && stats.budget_reached) {
         /* The oracle is not met: the best solution within the budget, not converged. The
-         * residual is the count of links still over the threshold (the measure every step
-         * reports: the links the oracle found over it), the largest error the largest known. */
+         * residual is the largest error known among the links still over the threshold (the
+         * log line above counts them). */
         run->own_stop = RAD_STOP_MEMORY_BUDGET;
-        *residual = (double)stats.unrefined;
+        run->own_converged = 0;
+        *residual = stats.largest_error * setup->link_error;
     }
     return status;
 }
@@ -428,6 +441,7 @@ static rad_status hierarchical_step(rad_solver_run *run, int iteration, double *
     rad_hier_setup *setup = state->setup;
     rad_status status = RAD_OK;
     int stopped = 0;
+    run->own_converged = 0;
     /* What the last step (or the run before a saved file) left when Ctrl-C stopped it is done
      * first: a solve is finished to the tolerance it was begun with, a refinement goes on and
      * is solved. Then this step's own refinement and solve, so that the steps are the ones of a

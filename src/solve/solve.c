@@ -173,14 +173,13 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
                 break;
             int asked_to_stop = options->on_iteration &&
                 emit_iteration(&run, impl, iteration, residual, start, &callback_seconds);
-            if (run.own_stop == RAD_STOP_MEMORY_BUDGET ||
-                (run.own_stop == RAD_STOP_TAIL && residual > tolerance)) {
+            if (run.own_stop == RAD_STOP_MEMORY_BUDGET) {
                 local.stop = run.own_stop;
                 break;
             }
-            if (residual <= tolerance || !iterative) {
+            if (run.own_measure ? run.own_converged : residual <= tolerance || !iterative) {
                 local.converged = 1;
-                local.stop = RAD_STOP_CONVERGED;
+                local.stop = run.own_stop == RAD_STOP_TAIL ? RAD_STOP_TAIL : RAD_STOP_CONVERGED;
                 break;
             }
             if (asked_to_stop) {
@@ -219,8 +218,7 @@ rad_status rad_solve(rad_system *system, const rad_solve_options *options,
      * resumed solve does it too when it knows whether it was done: a hierarchy's solution file
      * keeps that light (RAD_SOLVER_OWN_LEAVES), an element file does not. */
     int pass_known = !options->resume || (impl->info.capabilities & RAD_SOLVER_OWN_LEAVES);
-    int finished = local.converged || local.stop == RAD_STOP_TAIL;
-    if (!status && finished && pass_known &&
+    if (!status && local.converged && pass_known &&
         system->specular_emission && !system->specular_reflection) {
         status = rad_system_add_specular_reflection(system);
         rad_solve_report second = {0};

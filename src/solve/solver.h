@@ -22,10 +22,15 @@ typedef struct rad_solver_run {
     int importance_shots;   /* set by the importance solver's begin */
     void *state;          /* the solver's own */
     /* Set by a step after which the solver itself ends the solve: RAD_STOP_MEMORY_BUDGET (it
-     * cannot go on within the memory budget) or RAD_STOP_TAIL (its own rule ends the solve
-     * short of its measure, the hierarchical tail rule: not converged, and reported only while
-     * the measure is over the tolerance); zero (RAD_STOP_CONVERGED) leaves it to the measure. */
+     * cannot go on within the memory budget, not converged) or RAD_STOP_TAIL (its own rule
+     * ends the solve converged, the hierarchical tail rule); zero (RAD_STOP_CONVERGED) leaves
+     * it to the measure, or to own_converged. */
     rad_solve_stop own_stop;
+    /* Set by begin when the solver judges its own convergence (the hierarchy: its residual is
+     * the oracle's error in the units of its link error, which need not be the tolerance):
+     * the driver then ends the solve as converged when a step sets own_converged, and does
+     * not compare the residual with the tolerance. */
+    int own_measure, own_converged;
     size_t links, leaves;      /* set by hierarchical steps (rad_iteration_event) */
     double largest_error;      /* set by hierarchical steps; NaN otherwise */
 } rad_solver_run;
