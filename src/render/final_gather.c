@@ -97,9 +97,10 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
         rad_vec3 position[16];
         double cosine[16];
         int occluded[16], live[16], traced = 0;
+        double u_all[16][2];
+        rad_sample_2d_run(sample, total, first + (uint32_t)start, lanes, dimension, u_all);
         for (int i = 0; i < lanes; ++i) {
-            double u[2];
-            rad_sample_2d_at(sample, total, first + (uint32_t)(start + i), dimension, u);
+            const double *u = u_all[i];
             live[i] = rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light[i]) &&
                       (cosine[i] = v3_dot(n, light[i].direction)) > 0;
             if (live[i]) position[traced++] = light[i].position;
@@ -254,8 +255,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
         rad_vec3 direction[PACKET];
         rad_element_hit hits[PACKET];
         double u[PACKET][2];
-        for (int i = 0; i < lanes; ++i)
-            rad_sample_2d_at(sample, total, first + (uint32_t)(start + i), RAD_RENDER_DIM_GATHER, u[i]);
+        rad_sample_2d_run(sample, total, first + (uint32_t)start, lanes, RAD_RENDER_DIM_GATHER, u);
         cosine_directions(t, b, n, (const double (*)[2])u, lanes, direction);
         rad_element_rays_intersect16(r->inner_rays, x, direction, lanes, r->rays->epsilon, hits);
         for (int i = 0; i < lanes; ++i) {
