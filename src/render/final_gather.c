@@ -45,13 +45,19 @@
  * DARK_SHORT_RANGE from a dark receiver, at most SHORT_LEVELS times along a path. */
 #define SHORT_RANGE 4.0
 #define DARK_SHORT_RANGE 8.0
-/* One level: the re-gather's own gather ray reads the solution even when it is short. Two
- * levels (until corn4) traced 5 % more gather and 10 % more shadow rays on the Cornell box at
- * 256 x 256 for no gain (seeds 0-5: 4x4 RMSE 0.83-0.89 % with two, 0.82-0.87 % with one; the
- * 55 8x8 blocks of the short block's face and the floor in front of it -0.23 % with two, -0.03 %
- * with one, in the mean over the seeds; tests/test_contact.c's close-up of its front-left base
- * -0.29 % with two, -0.03 % with one). */
-#define SHORT_LEVELS 1
+/* Two levels, the second only for the re-gathers' rays nearer than NEAR_RANGE element sizes (a
+ * contact) on a uniform mesh. With one level the re-gather's own gather rays read the solution
+ * even when short, and where the short block's front face stands on the floor the row of pixels
+ * at the contact was 6.8 % too bright (x 124-147, y 235, the mean of seeds 0-9; the rows above and
+ * below +2.1 / +2.8 %): rays from the face's foot read the floor element beside it, which holds
+ * its mean over an element, brighter than the contact. Gathered again within half an element:
+ * +1.0 % (-1.2 / -0.5 %), Cornell 256 seeds 0-9 4x4 0.697 -> 0.691 %, 8x8 0.453 -> 0.449 %, gather
+ * rays +3.3 %, shadow +5.8 % (cornell51, docs/rendering.md). Within 1 or 4 element sizes (the
+ * second level as the first, corn4's two levels): the same errors for +5.6 / +18 % gather rays.
+ * (corn4 measured two full levels at 5 % more gather rays for no gain over seeds 0-5, before
+ * the re-gathers traced two rays; the contact row was not looked at.) */
+#define SHORT_LEVELS 2
+#define NEAR_RANGE 0.5
 /* On a hierarchical solution's leaves (regather.every_first) every first gather ray is re-gathered, and
  * the re-gathers' own rays are re-gathered again when short (SHORT_RANGE), up to this many
  * levels. The leaves at a concave contact are large and hold their mean, brighter than the
@@ -312,11 +318,15 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
     /* The parent's place in the sampler: the pixel's gather points and its point among them. */
     uint32_t run = from->run, point = from->ray;
     uint32_t dimension = RAD_RENDER_DIM_SHORT + 2 * (uint32_t)from->level;
-    /* The re-gather's own rays are short by the range its parent's were, SHORT_RANGE after an
-     * infinite one (every first gather ray re-gathered). */
+    /* The re-gather's own rays are short within NEAR_RANGE on a uniform mesh; on a hierarchy's
+     * leaves by the range its parent's were, SHORT_RANGE after an infinite one (every first
+     * gather ray re-gathered). */
     const int rays = r->regather.rays;
+    double range = isinf(from->short_range) ? SHORT_RANGE
+                   : r->regather.every_first ? from->short_range
+                                             : NEAR_RANGE;
     rad_gather_origin next = {n, r->emitters.count ? 1 : 0, rays, point, from->level + 1, run, NULL,
-                              isinf(from->short_range) ? SHORT_RANGE : from->short_range};
+                              range};
     double direct[3], gathered[3] = {0, 0, 0};
     direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
     lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */
