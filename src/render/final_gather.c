@@ -45,13 +45,19 @@
  * DARK_SHORT_RANGE from a dark receiver, at most SHORT_LEVELS times along a path. */
 #define SHORT_RANGE 4.0
 #define DARK_SHORT_RANGE 8.0
-/* One level: the re-gather's own gather ray reads the solution even when it is short. Two
- * levels (until corn4) traced 5 % more gather and 10 % more shadow rays on the Cornell box at
- * 256 x 256 for no gain (seeds 0-5: 4x4 RMSE 0.83-0.89 % with two, 0.82-0.87 % with one; the
- * 55 8x8 blocks of the short block's face and the floor in front of it -0.23 % with two, -0.03 %
- * with one, in the mean over the seeds; tests/test_contact.c's close-up of its front-left base
- * -0.29 % with two, -0.03 % with one). */
-#define SHORT_LEVELS 1
+/* Two levels, the second only for the re-gathers' rays nearer than NEAR_RANGE element sizes (a
+ * contact) on a uniform mesh. With one level the re-gather's own gather rays read the solution
+ * even when short, and where the short block's front face stands on the floor the row of pixels
+ * at the contact was 6.8 % too bright (x 124-147, y 235, the mean of seeds 0-9; the rows above and
+ * below +2.1 / +2.8 %): rays from the face's foot read the floor element beside it, which holds
+ * its mean over an element, brighter than the contact. Gathered again within half an element:
+ * +1.0 % (-1.2 / -0.5 %), Cornell 256 seeds 0-9 4x4 0.697 -> 0.691 %, 8x8 0.453 -> 0.449 %, gather
+ * rays +3.3 %, shadow +5.8 % (cornell51, docs/rendering.md). Within 1 or 4 element sizes (the
+ * second level as the first, corn4's two levels): the same errors for +5.6 / +18 % gather rays.
+ * (corn4 measured two full levels at 5 % more gather rays for no gain over seeds 0-5, before
+ * the re-gathers traced two rays; the contact row was not looked at.) */
+#define SHORT_LEVELS 2
+#define NEAR_RANGE 0.5
 /* On a hierarchical solution's leaves (regather.every_first) every first gather ray is re-gathered, and
  * the re-gathers' own rays are re-gathered again when short (SHORT_RANGE), up to this many
  * levels. The leaves at a concave contact are large and hold their mean, brighter than the
@@ -97,9 +103,10 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
         rad_vec3 position[16];
         double cosine[16];
         int occluded[16], live[16], traced = 0;
+        double u_all[16][2];
+        rad_sample_2d_run(sample, total, first + (uint32_t)start, lanes, dimension, u_all);
         for (int i = 0; i < lanes; ++i) {
-            double u[2];
-            rad_sample_2d_at(sample, total, first + (uint32_t)(start + i), dimension, u);
+            const double *u = u_all[i];
             live[i] = rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light[i]) &&
                       (cosine[i] = v3_dot(n, light[i].direction)) > 0;
             if (live[i]) position[traced++] = light[i].position;
@@ -146,16 +153,55 @@ int rad_light_unblocked(const rad_renderer *r, size_t i, rad_vec3 x,
     return !rad_element_rays_occluded(r->rays, x, r->lights[i].position);
 }
 
-/* A cosine-weighted direction about n (basis t, b, n) from the point u of the unit square;
- * unit length up to rounding (the ray's frame normalises it). The angle in single precision:
- * a direction is good to 1e-7 either way, and the double sincos was 5 % of the render. */
+/* cos and sin of 2 pi turn, turn in [0, 1): polynomials on the quarter turn nearest the angle,
+ * the quarter chosen by selection rather than a branch, so that a loop of them runs in vector
+ * registers (cosine_directions). Error under 2e-9. glibc's sincosf, one call a gather ray, was
+ * 5 % of the default render (its double sincos 5 % before that). */
+static inline void unit_circle(double turn, double *cos_out, double *sin_out) {
+    /* turn = quarter / 4 + r, |r| <= 1/8: the angle 2 pi r lies within pi / 4 of the quarter. */
+    int q = (int)(4 * turn + 0.5); /* rounded: turn >= 0 (no floor call) */
+    double angle = (2 * RAD_PI) * (turn - 0.25 * q), a2 = angle * angle;
+    double sine = angle * (1 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 +
+                                                        a2 * (1.0 / 362880)))));
+    double cosine = 1 + a2 * (-0.5 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 +
+                                                           a2 * (-1.0 / 3628800)))));
+    /* Quarter q turns (cos, sin) by q right angles: (c, s), (-s, c), (-c, -s), (s, -c). */
+    int odd = q & 1, half = (q >> 1) & 1;
+    double c = odd ? sine : cosine, s = odd ? cosine : sine;
+    *cos_out = (odd ^ half) ? -c : c;
+    *sin_out = half ? -s : s;
+}
+
+/* A cosine-weighted direction about n (basis t, b, n) from the point u of the unit square
+ * (Malley's method: the disc's point at radius sqrt(u0) and angle 2 pi u1, lifted to the
+ * hemisphere); unit length up to rounding (the ray's frame normalises it). */
 static rad_vec3 cosine_direction(rad_vec3 t, rad_vec3 b, rad_vec3 n, const double u[2]) {
-    double radius = sqrt(u[0]);
-    float phi = (float)(2 * RAD_PI) * (float)u[1];
-    float sin_phi = sinf(phi), cos_phi = cosf(phi);
-    double z = sqrt(fmax(0.0, 1 - u[0]));
-    double a = radius * cos_phi, c = radius * sin_phi;
-    return v3(a * t.x + c * b.x + z * n.x, a * t.y + c * b.y + z * n.y, a * t.z + c * b.z + z * n.z);
+    double radius = sqrt(u[0]), z = sqrt(fmax(0.0, 1 - u[0])), c, s;
+    unit_circle(u[1], &c, &s);
+    double a = radius * c, e = radius * s;
+    return v3(a * t.x + e * b.x + z * n.x, a * t.y + e * b.y + z * n.y, a * t.z + e * b.z + z * n.z);
+}
+
+/* The same for count <= 16 points at once, the angles in vector registers (the square roots
+ * apart: with errno they are calls, which keep a loop scalar). */
+static void cosine_directions(rad_vec3 t, rad_vec3 b, rad_vec3 n, const double (*u)[2], int count,
+                              rad_vec3 *out) {
+    double radius[16], z[16], turn[16], dx[16], dy[16], dz[16];
+    for (int i = 0; i < 16; ++i) {
+        double u0 = i < count ? u[i][0] : 0;
+        radius[i] = sqrt(u0);
+        z[i] = sqrt(fmax(0.0, 1 - u0));
+        turn[i] = i < count ? u[i][1] : 0;
+    }
+    for (int i = 0; i < 16; ++i) {
+        double c, s;
+        unit_circle(turn[i], &c, &s);
+        double a = radius[i] * c, e = radius[i] * s;
+        dx[i] = a * t.x + e * b.x + z[i] * n.x;
+        dy[i] = a * t.y + e * b.y + z[i] * n.y;
+        dz[i] = a * t.z + e * b.z + z[i] * n.z;
+    }
+    for (int i = 0; i < count; ++i) out[i] = v3(dx[i], dy[i], dz[i]);
 }
 
 #define PACKET 16 /* gather rays traced together (rad_element_rays_intersect16) */
@@ -214,11 +260,9 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
         int lanes = rays - start < PACKET ? rays - start : PACKET;
         rad_vec3 direction[PACKET];
         rad_element_hit hits[PACKET];
-        for (int i = 0; i < lanes; ++i) {
-            double u[2];
-            rad_sample_2d_at(sample, total, first + (uint32_t)(start + i), RAD_RENDER_DIM_GATHER, u);
-            direction[i] = cosine_direction(t, b, n, u);
-        }
+        double u[PACKET][2];
+        rad_sample_2d_run(sample, total, first + (uint32_t)start, lanes, RAD_RENDER_DIM_GATHER, u);
+        cosine_directions(t, b, n, (const double (*)[2])u, lanes, direction);
         rad_element_rays_intersect16(r->inner_rays, x, direction, lanes, r->rays->epsilon, hits);
         for (int i = 0; i < lanes; ++i) {
             from.ray = first + (uint32_t)(start + i);
@@ -274,11 +318,15 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
     /* The parent's place in the sampler: the pixel's gather points and its point among them. */
     uint32_t run = from->run, point = from->ray;
     uint32_t dimension = RAD_RENDER_DIM_SHORT + 2 * (uint32_t)from->level;
-    /* The re-gather's own rays are short by the range its parent's were, SHORT_RANGE after an
-     * infinite one (every first gather ray re-gathered). */
+    /* The re-gather's own rays are short within NEAR_RANGE on a uniform mesh; on a hierarchy's
+     * leaves by the range its parent's were, SHORT_RANGE after an infinite one (every first
+     * gather ray re-gathered). */
     const int rays = r->regather.rays;
+    double range = isinf(from->short_range) ? SHORT_RANGE
+                   : r->regather.every_first ? from->short_range
+                                             : NEAR_RANGE;
     rad_gather_origin next = {n, r->emitters.count ? 1 : 0, rays, point, from->level + 1, run, NULL,
-                              isinf(from->short_range) ? SHORT_RANGE : from->short_range};
+                              range};
     double direct[3], gathered[3] = {0, 0, 0};
     direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
     lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */

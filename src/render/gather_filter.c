@@ -69,14 +69,15 @@ void rad_gather_pixel_make(const rad_gather_tally *tally, int samples, uint32_t 
     out->distance = (float)(tally->rays / tally->inverse_distance);
 }
 
-/* What the filter reads of a neighbour, packed into 32 bytes (one record of 56 read 625 times
- * per pixel was 5 % of the default render). inverse_reach2 is 1 / (A R)^2. */
-typedef struct filter_neighbour {
-    float position[3];
-    float inverse_reach2;
-    float reflected[3];
-    uint32_t polygon;
-} filter_neighbour;
+/* What the filter reads of the neighbours, one array per field, so that a row's neighbours are
+ * taken FILTER_LANES at a time in vector registers. inverse_reach2 is 1 / (A R)^2. Each array
+ * has FILTER_LANES entries of padding after the last pixel (a row's last lanes may read past
+ * its end; they weigh 0). */
+#define FILTER_LANES 8
+typedef struct filter_neighbours {
+    float *x, *y, *z, *inverse_reach2, *reflected[3];
+    uint32_t *polygon;
+} filter_neighbours;
 
 /* The quadric a + b dx + c dy + d dx^2 + e dx dy + f dy^2 fitted by weighted least squares from
  * the moments of filter_pixel; its value a at the pixel into out. 0 when the normal equations,
@@ -130,13 +131,13 @@ static int fit_quadric(double m[5][5], double rhs[3][3][3], double out[3]) {
     return 1;
 }
 
-/* The filtered gathered radiance of pixel (x, y) (its record p, packed in `near`), into out. */
+/* The filtered gathered radiance of pixel (x, y) (its record p; the fields in `near`), into out. */
 static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels,
-                         const filter_neighbour *near, int x, int y, double out[3]) {
+                         const filter_neighbours *near, int x, int y, double out[3]) {
     const rad_view *view = &r->view;
     const int width = view->width, height = view->height;
-    const rad_gather_pixel *p = &pixels[(size_t)y * width + x];
-    const filter_neighbour *np = &near[(size_t)y * width + x];
+    const size_t own = (size_t)y * width + x;
+    const rad_gather_pixel *p = &pixels[own];
     /* The window: as many pixels as the radius covers at p's depth, at most MAX_PIXELS. */
     double depth = (p->position[0] - view->eye.x) * view->forward.x +
                    (p->position[1] - view->eye.y) * view->forward.y +
@@ -153,52 +154,76 @@ static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels,
     int k = reach < MAX_PIXELS ? (int)reach : MAX_PIXELS;
     /* h = max(A min(R_p, R_q), least), so 1 / h^2 = min(max(1 / (A R_p)^2, 1 / (A R_q)^2),
      * 1 / least^2): no division per neighbour. */
-    float inverse_least2 = (float)(1 / (least * least));
-    const float px = np->position[0], py = np->position[1], pz = np->position[2];
-    const float p_inverse = np->inverse_reach2;
-    const uint32_t polygon = np->polygon;
+    const float inverse_least2 = (float)(1 / (least * least));
+    const float px = near->x[own], py = near->y[own], pz = near->z[own];
+    const float p_inverse = near->inverse_reach2[own];
+    const uint32_t polygon = near->polygon[own];
     /* Weighted moments m[a][b] = sum w dx^a dy^b (a + b <= 4) and r[a][b][c] = sum w I_c dx^a
-     * dy^b (a + b <= 2), summed along each row in powers of dx and then folded in with the row's
-     * dy: per neighbour as many products as the plane's sums took. The pixel itself weighs 1. */
+     * dy^b (a + b <= 2): along each row in single precision, FILTER_LANES neighbours at once,
+     * in powers of dx; the row's lanes summed in double and folded in with its dy. The pixel
+     * is one of its own neighbours (weight 1, dx = dy = 0). */
     double m[5][5] = {{0}}, rhs[3][3][3] = {{{0}}};
-    m[0][0] = 1;
-    for (int c = 0; c < 3; ++c) rhs[0][0][c] = np->reflected[c];
     int y0 = y - k < 0 ? 0 : y - k, y1 = y + k >= height ? height - 1 : y + k;
     int x0 = x - k < 0 ? 0 : x - k, x1 = x + k >= width ? width - 1 : x + k;
     for (int qy = y0; qy <= y1; ++qy) {
-        const filter_neighbour *row = near + (size_t)qy * width;
-        double a[5] = {0, 0, 0, 0, 0}, b[3][3] = {{0}};
-        for (int qx = x0; qx <= x1; ++qx) {
-            const filter_neighbour *q = &row[qx];
-            if (q->polygon != polygon || q == np) continue;
-            float ex = q->position[0] - px, ey = q->position[1] - py, ez = q->position[2] - pz;
-            float d2 = ex * ex + ey * ey + ez * ez;
-            /* Ternaries, not fminf / fmaxf: those are calls under C11's strict floating point. */
-            float inverse_h2 = p_inverse > q->inverse_reach2 ? p_inverse : q->inverse_reach2;
-            inverse_h2 = inverse_h2 < inverse_least2 ? inverse_h2 : inverse_least2;
-            float t2 = d2 * inverse_h2;
-            if (!(t2 < 1)) continue;
-            double w = (1 - t2) * (1 - t2), dx = qx - x;
-            double wx = w * dx, wxx = wx * dx, wxxx = wxx * dx;
-            a[0] += w;
-            a[1] += wx;
-            a[2] += wxx;
-            a[3] += wxxx;
-            a[4] += wxxx * dx;
-            for (int c = 0; c < 3; ++c) {
-                double i = q->reflected[c];
-                b[0][c] += w * i;
-                b[1][c] += wx * i;
-                b[2][c] += wxx * i;
+        float a[5][FILTER_LANES] = {{0}}, b[3][3][FILTER_LANES] = {{{0}}};
+        const size_t row = (size_t)qy * width;
+        const float *qx_ = near->x + row, *qy_ = near->y + row, *qz_ = near->z + row;
+        const float *qinv = near->inverse_reach2 + row;
+        const float *i0 = near->reflected[0] + row, *i1 = near->reflected[1] + row,
+                    *i2 = near->reflected[2] + row;
+        const uint32_t *qpolygon = near->polygon + row;
+        for (int base = x0; base <= x1; base += FILTER_LANES)
+            for (int l = 0; l < FILTER_LANES; ++l) {
+                const int q = base + l;
+                float ex = qx_[q] - px, ey = qy_[q] - py, ez = qz_[q] - pz;
+                float d2 = ex * ex + ey * ey + ez * ez;
+                /* Ternaries, not fminf / fmaxf: those are calls under C11's strict floating
+                 * point. */
+                float inverse_h2 = p_inverse > qinv[q] ? p_inverse : qinv[q];
+                inverse_h2 = inverse_h2 < inverse_least2 ? inverse_h2 : inverse_least2;
+                float t2 = d2 * inverse_h2;
+                /* Bitwise, and a product rather than a choice: a branch (a conditional
+                 * multiplication is one under C11's trapping floating point) keeps the lanes
+                 * from running together. */
+                int weighs = (q <= x1) & (qpolygon[q] == polygon) & (t2 < 1);
+                float far = 1 - t2;
+                float w = (float)weighs * far * far, dx = (float)(q - x);
+                float wx = w * dx, wxx = wx * dx, wxxx = wxx * dx;
+                a[0][l] += w;
+                a[1][l] += wx;
+                a[2][l] += wxx;
+                a[3][l] += wxxx;
+                a[4][l] += wxxx * dx;
+                b[0][0][l] += w * i0[q];
+                b[0][1][l] += w * i1[q];
+                b[0][2][l] += w * i2[q];
+                b[1][0][l] += wx * i0[q];
+                b[1][1][l] += wx * i1[q];
+                b[1][2][l] += wx * i2[q];
+                b[2][0][l] += wxx * i0[q];
+                b[2][1][l] += wxx * i1[q];
+                b[2][2][l] += wxx * i2[q];
             }
+        /* The lanes summed pairwise (halves, quarters, eighths), all sums at once. */
+        for (int width_ = FILTER_LANES / 2; width_ >= 1; width_ /= 2) {
+            for (int i = 0; i < 5; ++i)
+                for (int l = 0; l < width_; ++l) a[i][l] += a[i][l + width_];
+            for (int i = 0; i < 3; ++i)
+                for (int c = 0; c < 3; ++c)
+                    for (int l = 0; l < width_; ++l) b[i][c][l] += b[i][c][l + width_];
         }
-        if (!(a[0] > 0)) continue;
+        double sa[5], sb[3][3];
+        for (int i = 0; i < 5; ++i) sa[i] = a[i][0];
+        for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < 3; ++c) sb[i][c] = b[i][c][0];
+        if (!(sa[0] > 0)) continue;
         double dy = qy - y, dy_power[5] = {1, dy, dy * dy, dy * dy * dy, dy * dy * dy * dy};
         for (int i = 0; i <= 4; ++i)
-            for (int j = 0; i + j <= 4; ++j) m[i][j] += a[i] * dy_power[j];
+            for (int j = 0; i + j <= 4; ++j) m[i][j] += sa[i] * dy_power[j];
         for (int i = 0; i <= 2; ++i)
             for (int j = 0; i + j <= 2; ++j)
-                for (int c = 0; c < 3; ++c) rhs[i][j][c] += b[i][c] * dy_power[j];
+                for (int c = 0; c < 3; ++c) rhs[i][j][c] += sb[i][c] * dy_power[j];
     }
     for (int c = 0; c < 3; ++c) out[c] = rhs[0][0][c] / m[0][0];
     if (fit_quadric(m, rhs, out)) return;
@@ -220,24 +245,29 @@ static void filter_pixel(const rad_renderer *r, const rad_gather_pixel *pixels,
 
 rad_status rad_gather_filter(const rad_renderer *r, const rad_gather_pixel *pixels, float *image) {
     const int width = r->view.width, height = r->view.height;
-    size_t count = (size_t)width * height;
+    size_t count = (size_t)width * height, padded = count + FILTER_LANES;
     float *change = rad_alloc(r->ctx, count * 3, sizeof *change);
-    filter_neighbour *near = rad_alloc(r->ctx, count, sizeof *near);
-    if (!change || !near) {
+    float *fields = rad_alloc_zero(r->ctx, padded * 7, sizeof *fields);
+    uint32_t *polygon = rad_alloc(r->ctx, padded, sizeof *polygon);
+    if (!change || !fields || !polygon) {
         rad_free(r->ctx, change);
-        rad_free(r->ctx, near);
+        rad_free(r->ctx, fields);
+        rad_free(r->ctx, polygon);
         return RAD_ERROR_NO_MEMORY;
     }
+    filter_neighbours near = {fields, fields + padded, fields + 2 * padded, fields + 3 * padded,
+                              {fields + 4 * padded, fields + 5 * padded, fields + 6 * padded},
+                              polygon};
+    for (size_t i = count; i < padded; ++i) polygon[i] = RAD_RENDER_NO_POLYGON;
     for (size_t i = 0; i < count; ++i) {
         const rad_gather_pixel *p = &pixels[i];
-        filter_neighbour *n = &near[i];
-        n->polygon = p->polygon;
+        polygon[i] = p->polygon;
         double reach = RADIUS * p->distance;
-        n->inverse_reach2 = reach > 0 ? (float)fmin(1 / (reach * reach), FLT_MAX) : FLT_MAX;
-        for (int c = 0; c < 3; ++c) {
-            n->position[c] = p->position[c];
-            n->reflected[c] = p->reflected[c];
-        }
+        near.inverse_reach2[i] = reach > 0 ? (float)fmin(1 / (reach * reach), FLT_MAX) : FLT_MAX;
+        near.x[i] = p->position[0];
+        near.y[i] = p->position[1];
+        near.z[i] = p->position[2];
+        for (int c = 0; c < 3; ++c) near.reflected[c][i] = p->reflected[c];
     }
 #pragma omp parallel for schedule(dynamic, 4) num_threads(rad_thread_count(r->ctx))
     for (int y = 0; y < height; ++y)
@@ -247,12 +277,13 @@ rad_status rad_gather_filter(const rad_renderer *r, const rad_gather_pixel *pixe
             change[3 * i] = change[3 * i + 1] = change[3 * i + 2] = 0;
             if (p->polygon == RAD_RENDER_NO_POLYGON) continue;
             double filtered[3];
-            filter_pixel(r, pixels, near, x, y, filtered);
+            filter_pixel(r, pixels, &near, x, y, filtered);
             for (int c = 0; c < 3; ++c)
                 change[3 * i + c] = (float)(p->rho[c] * (filtered[c] - p->reflected[c]));
         }
     for (size_t i = 0; i < count * 3; ++i) image[i] = fmaxf(0.0f, image[i] + change[i]);
     rad_free(r->ctx, change);
-    rad_free(r->ctx, near);
+    rad_free(r->ctx, fields);
+    rad_free(r->ctx, polygon);
     return RAD_OK;
 }
