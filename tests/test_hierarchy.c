@@ -10,6 +10,7 @@
 #include "system/system.h"
 #include "mesh/mesh.h"
 #include "mesh/roots.h"
+#include "solve/hierarchical_view.h"
 #include "system/solution_view.h"
 #include "scene/camera.h"
 #include "scene/rays.h"
@@ -327,17 +328,26 @@ static void test_determinism(void) {
     free(two);
 }
 
+/* The built-in two squares, solved by the hierarchy at `link_error` (0: the default). */
+static rad_system *two_squares_solved(rad_context *ctx, rad_scene **scene, rad_solve_options *options,
+                                      double link_error) {
+    *scene = NULL;
+    CHECK(rad_builtin_geometry(ctx, "two-squares", scene) == RAD_OK);
+    rad_system *system = NULL;
+    CHECK(rad_system_create(ctx, *scene, NULL, NULL, &system) == RAD_OK);
+    memset(options, 0, sizeof *options);
+    options->solver = RAD_SOLVER_HIERARCHICAL;
+    options->link_error = link_error;
+    CHECK(rad_solve(system, options, NULL) == RAD_OK);
+    return system;
+}
+
 /* Through rad_solve on the built-in two squares: the receiver's element mean is rho E F. */
 static void test_solver(void) {
     rad_context *ctx = context(2);
     rad_scene *scene = NULL;
-    CHECK(rad_builtin_geometry(ctx, "two-squares", &scene) == RAD_OK);
-    rad_system *system = NULL;
-    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
-    rad_solve_options options = {0};
-    options.solver = RAD_SOLVER_HIERARCHICAL;
-    options.link_error = 1e-4;
-    CHECK(rad_solve(system, &options, NULL) == RAD_OK);
+    rad_solve_options options;
+    rad_system *system = two_squares_solved(ctx, &scene, &options, 1e-4);
     rad_surface_info emitter, receiver;
     CHECK(rad_system_surface(system, 0, &emitter) == RAD_OK);
     CHECK(rad_system_surface(system, 1, &receiver) == RAD_OK);
@@ -701,6 +711,20 @@ static void test_leaf_view(void) {
     CHECK(v1 == v2 && memcmp(one, two, v1 * sizeof *one) == 0);
     free(one);
     free(two);
+    /* The leaves' kind the final gather reads (final_gather.c, rad_regather_choose): coarse at
+     * the default link error and at 3e-4, fine at RAD_HIER_FINE_LINK_ERROR and below. */
+    const double link_error[4] = {0, 3e-4, RAD_HIER_FINE_LINK_ERROR, 1e-6};
+    const int kind[4] = {RAD_LEAVES_COARSE, RAD_LEAVES_COARSE, RAD_LEAVES_FINE, RAD_LEAVES_FINE};
+    for (int k = 0; k < 4; ++k) {
+        rad_context *ctx = context(1);
+        rad_scene *scene = NULL;
+        rad_solve_options options;
+        rad_system *system = two_squares_solved(ctx, &scene, &options, link_error[k]);
+        CHECK(rad_system_view(system)->ops->leaf_kind == kind[k]);
+        rad_system_destroy(system);
+        rad_scene_destroy(scene);
+        rad_context_destroy(ctx);
+    }
 }
 
 /* ---- Importance (Smits, Arvo & Salesin 1992) ---------------------------------------------- */

@@ -52,13 +52,21 @@
  * with one, in the mean over the seeds; tests/test_contact.c's close-up of its front-left base
  * -0.29 % with two, -0.03 % with one). */
 #define SHORT_LEVELS 1
-/* On a hierarchical solution's leaves (regather.every_first) every first gather ray is re-gathered, and
+/* On a coarse hierarchy's leaves (regather.every_first) every first gather ray is re-gathered, and
  * the re-gathers' own rays are re-gathered again when short (SHORT_RANGE), up to this many
  * levels. The leaves at a concave contact are large and hold their mean, brighter than the
  * contact: a re-gather's ray from the floor beside the short block's base read the face's
  * leaf (its mean over 80 mm or more) and made the base's 8x8 blocks +15% bright, the back
  * corner's +17% (Cornell 256, docs/hierarchical.md "Contacts read through the re-gather"). */
 #define COARSE_SHORT_LEVELS 3
+/* On a finely refined hierarchy's leaves (RAD_LEAVES_FINE, link error 1e-5 or less) gather rays
+ * are read where they land, as on a uniform mesh, but short ones are gathered again two levels
+ * deep: the leaves at the dark contacts (the short block's face, the back corner) are still
+ * larger there than a uniform mesh's elements, the threshold being absolute. Cornell 256 x 256
+ * at link error 1e-5, seeds 1-4: 4x4 RMSE 0.97-1.00 % with one level, 0.93-0.94 % with two, the
+ * worst 8x8 block +4.7 to +5.2 % against -2.7 to -4.3 %, for 14 % more gather rays
+ * (docs/hierarchical.md, "hcornell"). */
+#define FINE_SHORT_LEVELS 2
 /* Gather rays of a re-gather (below) on a uniform mesh. Its one emitter sample is not what is
  * noisy: its gather ray is, and it made about a sixth of the Cornell box's 4x4 noise variance
  * (cornell50: 256 x 256, seeds 0-3, gather rays 5.69 -> 6.45 M for 2, processor +8 %; 4x4 RMSE
@@ -255,10 +263,11 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
  * was 2-3% too bright at 2 (the shadow's edge inside floor elements), 1.5% at 4, for 12% more
  * rays (docs/rendering.md, "Choosing the defaults"). */
 
-void rad_regather_choose(rad_renderer *r, int coarse_leaves) {
-    /* A hierarchy's re-gathers keep one ray: two would multiply at each of its levels. */
-    r->regather = coarse_leaves ? (struct rad_regather){1, COARSE_SHORT_LEVELS, 1}
-                                : (struct rad_regather){0, SHORT_LEVELS, SHORT_RAYS};
+void rad_regather_choose(rad_renderer *r, int leaves) {
+    /* A coarse hierarchy's re-gathers keep one ray: two would multiply at each of its levels. */
+    r->regather = leaves == RAD_LEAVES_COARSE ? (struct rad_regather){1, COARSE_SHORT_LEVELS, 1}
+                  : leaves == RAD_LEAVES_FINE ? (struct rad_regather){0, FINE_SHORT_LEVELS, SHORT_RAYS}
+                                              : (struct rad_regather){0, SHORT_LEVELS, SHORT_RAYS};
 }
 
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit) {

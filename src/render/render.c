@@ -70,7 +70,7 @@ static rad_status leaves_build(rad_renderer *r) {
     r->leaves_ready = 0;
     r->generation = rad_solution_generation(r->solution);
     const rad_mesh *mesh = r->mesh = rad_solution_leaves(r->solution);
-    rad_regather_choose(r, r->solution && r->solution->ops && r->solution->ops->coarse_leaves);
+    rad_regather_choose(r, r->solution && r->solution->ops ? r->solution->ops->leaf_kind : RAD_LEAVES_UNIFORM);
     if (!mesh && r->system->geometry) {
         /* A scene's solution always has leaves: its view failed to build them and said why
          * (the hierarchy's, out of memory). */
