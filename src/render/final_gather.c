@@ -63,9 +63,9 @@
  * are read where they land, as on a uniform mesh, but short ones are gathered again two levels
  * deep: the leaves at the dark contacts (the short block's face, the back corner) are still
  * larger there than a uniform mesh's elements, the threshold being absolute. Cornell 256 x 256
- * at link error 1e-5, seeds 1-4: 4x4 RMSE 0.97-1.00 % with one level, 0.93-0.94 % with two, the
- * worst 8x8 block +4.7 to +5.2 % against -2.7 to -4.3 %, for 14 % more gather rays
- * (docs/hierarchical.md, "hcornell"). */
+ * at link error 1e-5, seeds 1-4: 4x4 RMSE 0.99-1.01 % with one level, 0.93-0.94 % with two, the
+ * worst 8x8 block 4.7-5.2 % off against 2.7-4.3 %, for 9 % more gather and 17 % more shadow
+ * rays (docs/hierarchical.md, "The Cornell render from fine leaves"). */
 #define FINE_SHORT_LEVELS 2
 /* Gather rays of a re-gather (below) on a uniform mesh. Its one emitter sample is not what is
  * noisy: its gather ray is, and it made about a sixth of the Cornell box's 4x4 noise variance

@@ -38,9 +38,10 @@ void rad_hier_view_evaluate(rad_system *system);
  * to read them where its rays land, re-gathering only short rays (RAD_LEAVES_FINE), rather than
  * as coarse leaves (every first gather ray re-gathered, RAD_LEAVES_COARSE). Cornell 256 x 256 at
  * 1e-5, seeds 0-4: 4x4 RMSE 1.06-1.11 % -> 0.92-0.94 %, 8x8 0.71-0.75 % -> 0.74-0.78 %, gather
- * rays 8.57 -> 6.31 M, shadow rays 3.25 -> 1.22 M, processor time about 35 % less; at 1e-4 and
- * 3e-5 the fine reading was ahead per processor second in 4x4 and 8x8 blocks but not in 16x16,
- * at 3e-4 even, at the default 1e-3 behind (docs/hierarchical.md, "hcornell"). */
+ * rays 8.57 -> 6.31 M, shadow rays 3.25 -> 1.22 M, processor time 38 % less; at 1e-4 and 3e-5
+ * the fine reading was ahead per processor second in 4x4 and 8x8 blocks but not in 16x16, at
+ * 3e-4 even, at the default 1e-3 behind (docs/hierarchical.md, "The Cornell render from fine
+ * leaves"). */
 #define RAD_HIER_FINE_LINK_ERROR 1e-5
 
 /* Installs a view over the leaves of `hier` as the system's solution view; the system owns the

@@ -57,8 +57,9 @@ typedef struct rad_solution_view_ops {
      * a shadow line and hold its mean (the hierarchy's large leaves at its default link
      * error): the gather reads the solution one bounce later at any distance
      * (docs/hierarchical.md, "The arcades' back walls"); RAD_LEAVES_FINE a hierarchy refined
-     * finely (docs/hierarchical.md, "hcornell"): read where gather rays land, as a uniform
-     * mesh is, but its leaves at dark contacts are larger than a uniform mesh's elements. */
+     * finely (docs/hierarchical.md, "The Cornell render from fine leaves"): read where gather
+     * rays land, as a uniform mesh is, but its leaves at dark contacts are larger than a
+     * uniform mesh's elements. */
     int leaf_kind;
 } rad_solution_view_ops;
 
