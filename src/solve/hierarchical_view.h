@@ -48,9 +48,10 @@ void rad_hier_view_evaluate(rad_system *system);
  * option, which render sets) takes when none is given (no --link-error, no --tolerance, no
  * --importance), on a one-element-per-root system of at most RAD_HIER_GATHERED_ROOTS roots:
  * fine leaves read where the gather rays land. Cornell 256 x 256, seeds 0-2: 4x4 RMSE
- * 0.74-0.75 %, 8x8 0.53-0.56 %, 16x16 0.39-0.44 % in 3.1-3.2 processor-s, against 1.15-1.20 %,
- * 0.81-0.85 %, 0.55-0.65 % in 3.7-4.0 s at the default 1e-3 (docs/hierarchical.md, "The
- * roots cut where a polygon seals another"). The threshold keeps the scenes where the hierarchy
+ * 0.74-0.75 %, 8x8 0.53-0.56 %, 16x16 0.39-0.44 % in 2.7-2.9 processor-s, against 1.15-1.19 %,
+ * 0.81-0.84 %, 0.55-0.59 % in 3.6-3.7 s at the default 1e-3, back to back: 23x the path
+ * tracer at equal 4x4 error (docs/hierarchical.md, "The roots cut where a polygon seals
+ * another"). The threshold keeps the scenes where the hierarchy
  * is the default solver (RAD_HIERARCHY_DEFAULT_POLYGONS, 8,000 polygons and more; Sponza's
  * 43,502 roots, the offices' 1,028 and more) at RAD_HIER_DEFAULT_LINK_ERROR: at 5e-6 the
  * smallest office's solve took 2.07 processor-s against 0.27 s. */
