@@ -77,9 +77,10 @@ typedef struct rad_contact_options {
 
 /* The gap, as a share of B's width (2 area / perimeter), under which a polygon B just in
  * front of A and facing the same way seals the part of A behind it (options.sealed). A point
- * of A at depth d behind B's outline sees past it only within about gap / d of grazing, so the
- * light the dropped part would get is at most about pi / 2 times this share of what it would
- * get in the open (the Cornell lamp: 0.1 mm under the ceiling, 58 mm wide, 0.0017). */
+ * of A at depth d behind B's outline sees past it only within about gap / d of grazing (a
+ * cosine-weighted share of about (gap / d)^2 / 4 beside a straight edge, gap / 2 per unit of
+ * outline summed over d), so the light the dropped part would get is about this share of what
+ * it would get in the open (the Cornell lamp: 0.1 mm under the ceiling, 58 mm wide, 0.0017). */
 #define RAD_CONTACT_SEALED_GAP 0.01
 
 /* Finds the contacts of every polygon with the polygons of other surfaces and cuts. Polygons
