@@ -120,6 +120,7 @@ int cmd_render(int argc, char **argv) {
     rad_solve_options solve;
     rad_mesh_options mesh;
     rad_ff_options ff;
+    a.pipeline.final_gather = a.final_gather; /* the hierarchy's link error on small scenes */
     status = cli_pipeline_check("render", &a.pipeline, &solve, &mesh, &ff);
     if (status) return status;
     /* A saved solution is drawn on the mesh it was saved for: no default by scene size. */

@@ -109,6 +109,7 @@ int cli_pipeline_check(const char *command, cli_pipeline_args *a, rad_solve_opti
     cli_solver_option(&a->solver_options, s.solver, "ambient", a->ambient);
     cli_solver_option(&a->solver_options, s.solver, "link-error", link_error);
     cli_solver_option(&a->solver_options, s.solver, "importance", a->importance);
+    cli_solver_option(&a->solver_options, s.solver, "final-gather", a->final_gather);
     s.method_options = &a->solver_options;
     *solve = s;
     *mesh = (rad_mesh_options){a->patch_size, a->element_size, a->elements, 0, a->discontinuity};

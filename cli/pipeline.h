@@ -14,6 +14,8 @@ typedef struct cli_pipeline_args {
     size_t seed;
     int importance; /* --importance: the hierarchical solver weighs links by the camera's view */
     int discontinuity; /* --discontinuity 1: cut at shadow boundaries too (D1/D2) */
+    int final_gather;  /* render: gather rays per sample (0: none), for the solvers that choose
+                          their defaults by it (the hierarchy's link error on small scenes) */
     /* --solver was not given (cli_pipeline_check sets it when `solver` is NULL): the solver is
      * the scene's default (rad_scene_default_solver, cli_pipeline_default_solver). */
     int solver_default;

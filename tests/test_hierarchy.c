@@ -10,6 +10,7 @@
 #include "system/system.h"
 #include "mesh/mesh.h"
 #include "mesh/roots.h"
+#include "solve/hierarchical_view.h"
 #include "system/solution_view.h"
 #include "scene/camera.h"
 #include "scene/rays.h"
@@ -327,17 +328,26 @@ static void test_determinism(void) {
     free(two);
 }
 
+/* The built-in two squares, solved by the hierarchy at `link_error` (0: the default). */
+static rad_system *two_squares_solved(rad_context *ctx, rad_scene **scene, rad_solve_options *options,
+                                      double link_error) {
+    *scene = NULL;
+    CHECK(rad_builtin_geometry(ctx, "two-squares", scene) == RAD_OK);
+    rad_system *system = NULL;
+    CHECK(rad_system_create(ctx, *scene, NULL, NULL, &system) == RAD_OK);
+    memset(options, 0, sizeof *options);
+    options->solver = RAD_SOLVER_HIERARCHICAL;
+    options->link_error = link_error;
+    CHECK(rad_solve(system, options, NULL) == RAD_OK);
+    return system;
+}
+
 /* Through rad_solve on the built-in two squares: the receiver's element mean is rho E F. */
 static void test_solver(void) {
     rad_context *ctx = context(2);
     rad_scene *scene = NULL;
-    CHECK(rad_builtin_geometry(ctx, "two-squares", &scene) == RAD_OK);
-    rad_system *system = NULL;
-    CHECK(rad_system_create(ctx, scene, NULL, NULL, &system) == RAD_OK);
-    rad_solve_options options = {0};
-    options.solver = RAD_SOLVER_HIERARCHICAL;
-    options.link_error = 1e-4;
-    CHECK(rad_solve(system, &options, NULL) == RAD_OK);
+    rad_solve_options options;
+    rad_system *system = two_squares_solved(ctx, &scene, &options, 1e-4);
     rad_surface_info emitter, receiver;
     CHECK(rad_system_surface(system, 0, &emitter) == RAD_OK);
     CHECK(rad_system_surface(system, 1, &receiver) == RAD_OK);
@@ -701,6 +711,20 @@ static void test_leaf_view(void) {
     CHECK(v1 == v2 && memcmp(one, two, v1 * sizeof *one) == 0);
     free(one);
     free(two);
+    /* The leaves' kind the final gather reads (final_gather.c, rad_regather_choose): coarse at
+     * the default link error and at 3e-4, fine at RAD_HIER_FINE_LINK_ERROR and below. */
+    const double link_error[4] = {0, 3e-4, RAD_HIER_FINE_LINK_ERROR, 1e-6};
+    const int kind[4] = {RAD_LEAVES_COARSE, RAD_LEAVES_COARSE, RAD_LEAVES_FINE, RAD_LEAVES_FINE};
+    for (int k = 0; k < 4; ++k) {
+        rad_context *ctx = context(1);
+        rad_scene *scene = NULL;
+        rad_solve_options options;
+        rad_system *system = two_squares_solved(ctx, &scene, &options, link_error[k]);
+        CHECK(rad_system_view(system)->ops->leaf_kind == kind[k]);
+        rad_system_destroy(system);
+        rad_scene_destroy(scene);
+        rad_context_destroy(ctx);
+    }
 }
 
 /* ---- Importance (Smits, Arvo & Salesin 1992) ---------------------------------------------- */
@@ -935,6 +959,74 @@ static void test_opening(void) {
     if (seeds == 8) CHECK(fabs(mean) < 0.025);
 }
 
+
+/* The roots' area of polygon `polygon`, and whether one of them has its corner mean over the
+ * square |x - 0.5|, |y - 0.5| < half (seen along z). */
+static double roots_area(const rad_roots *roots, uint32_t polygon, double half, int *over) {
+    double area = 0;
+    *over = 0;
+    for (size_t i = 0; i < roots->count; ++i) {
+        const rad_root *r = &roots->roots[i];
+        if (r->polygon != polygon) continue;
+        area += r->area;
+        rad_vec3 c = v3(0, 0, 0);
+        for (uint32_t k = 0; k < r->count; ++k) c = v3_add(c, r->corner[k]);
+        c = v3_scale(c, 1.0 / r->count);
+        *over |= fabs(c.x - 0.5) < half && fabs(c.y - 0.5) < half;
+    }
+    return area;
+}
+
+/* The roots are cut where a polygon seals another (the Cornell box's lamp panel 0.1 mm under
+ * its ceiling): a 1 x 1 ceiling at z = 1 facing down with a 0.4 x 0.4 panel under it, both
+ * facing down. At a gap of 1e-3 (0.5% of the panel's width, 0.2) the ceiling loses the 0.16
+ * behind the panel; facing up (toward the ceiling, which it then lights) or at a gap of 0.05
+ * (25% of its width: the part behind is seen past its edges), the ceiling stays whole. The
+ * opening's sky keeps its 400 (its part behind the roof is seen through the hole). */
+static void test_sealed_roots(void) {
+    rad_context *ctx = context(1);
+    const rad_vec3 X = v3(1, 0, 0), Y = v3(0, 1, 0);
+    const struct {
+        double gap;
+        int up;
+        double area;
+    } cases[3] = {{1e-3, 0, 0.84}, {1e-3, 1, 1}, {0.05, 0, 1}};
+    for (int c = 0; c < 3; ++c) {
+        rad_scene *scene = NULL;
+        CHECK(rad_scene_new(ctx, 1, "sealed", &scene) == RAD_OK);
+        uint32_t ceiling = add_surface(scene, "ceiling", 0.5, 0), panel = add_surface(scene, "panel", 0, 10);
+        add_rect(scene, ceiling, v3(0, 0, 1), Y, X); /* facing down */
+        rad_vec3 o = v3(0.3, 0.3, 1 - cases[c].gap), u = v3_scale(X, 0.4), v = v3_scale(Y, 0.4);
+        if (cases[c].up) add_rect(scene, panel, o, u, v);
+        else add_rect(scene, panel, o, v, u);
+        rad_roots *roots = NULL;
+        CHECK(rad_roots_create(ctx, scene, 1, &roots) == RAD_OK);
+        int over = 1;
+        double area = roots ? roots_area(roots, 0, 0.2, &over) : 0;
+        printf("sealed roots: gap %g, panel facing %s: ceiling %.4f in %zu roots\n", cases[c].gap,
+               cases[c].up ? "up" : "down", area, roots ? roots->count - 1 : 0);
+        CHECK(fabs(area - cases[c].area) < 1e-9);
+        CHECK(over == (cases[c].area == 1)); /* no root left behind a sealing panel */
+        rad_roots_destroy(ctx, roots);
+        rad_scene_destroy(scene);
+    }
+    /* test_opening's scene: the sky is not cut. */
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_new(ctx, 1, "opening", &scene) == RAD_OK);
+    uint32_t sky = add_surface(scene, "sky", 0, 10), roof = add_surface(scene, "ceiling", 0, 0);
+    add_rect(scene, sky, v3(-10, -10, 3), v3_scale(Y, 20), v3_scale(X, 20));
+    add_rect(scene, roof, v3(-10, -10, 2), v3_scale(Y, 20), v3_scale(X, 9.5));
+    add_rect(scene, roof, v3(0.5, -10, 2), v3_scale(Y, 20), v3_scale(X, 9.5));
+    add_rect(scene, roof, v3(-0.5, -10, 2), v3_scale(Y, 9.5), X);
+    add_rect(scene, roof, v3(-0.5, 0.5, 2), v3_scale(Y, 9.5), X);
+    rad_roots *roots = NULL;
+    CHECK(rad_roots_create(ctx, scene, 1, &roots) == RAD_OK);
+    int over = 0;
+    CHECK(roots && roots->count == 5 && fabs(roots_area(roots, 0, 1, &over) - 400) < 1e-9);
+    rad_roots_destroy(ctx, roots);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
 
 /* Desks under lamps (the generated office's cells): 3 x 3 cells of 3 x 3 m floor tiles
  * (rho 0.5), each with a 0.6 m lamp facing down at 2.72 m and a black desk top (1.6 x 0.8 m,
@@ -1335,6 +1427,7 @@ static void test_bright_member(void) {
 int main(void) {
     test_desk_shadows();
     test_opening();
+    test_sealed_roots();
     test_cluster_form_factors();
     test_bright_member();
     test_image();

@@ -220,6 +220,14 @@ static int contact_line(const rad_scene *scene, const plane_info *info, uint32_t
     return 1;
 }
 
+/* A polygon's width: twice its area over its perimeter (a w x h rectangle: w h / (w + h)). */
+static double polygon_width(const rad_scene *scene, const rad_polygon *p) {
+    double perimeter = 0;
+    for (uint32_t k = 0; k < p->count; ++k)
+        perimeter += v3_length(v3_sub(rad_polygon_vertex(scene, p, (k + 1) % p->count), rad_polygon_vertex(scene, p, k)));
+    return perimeter > 0 ? 2 * rad_polygon_area(scene, p) / perimeter : 0;
+}
+
 /* Step 2b: B parallel to A, a little in front of it (nearer than NEAR_GAP times B's extent,
  * farther than eps): a lamp panel just under a ceiling, a rug on a floor. A is cut along the
  * lines of B's edges projected onto its plane, so that no element straddles B's outline, half
@@ -227,13 +235,17 @@ static int contact_line(const rad_scene *scene, const plane_info *info, uint32_t
  * B's corner count of lines to `out`; returns how many. */
 #define NEAR_GAP 0.05
 static size_t near_parallel_lines(const rad_scene *scene, const plane_info *info, uint32_t a,
-                                  uint32_t b, double eps, int coplanar, line *out) {
+                                  uint32_t b, double eps, int coplanar, int sealed, line *out) {
     const plane_info *A = &info[a], *B = &info[b];
     const rad_polygon *pb = &scene->polygons[b];
     if (fabs(v3_dot(A->normal, B->normal)) < 1 - 1e-9 || pb->count > 64) return 0;
     double gap = v3_dot(A->normal, rad_polygon_vertex(scene, pb, 0)) - A->offset;
     double extent = v3_length(v3_sub(B->hi, B->lo));
     if (!coplanar && (!(gap > eps) || gap > NEAR_GAP * extent)) return 0;
+    /* Sealed only: B facing the same way, its gap a small share of its width. */
+    if (sealed && !coplanar &&
+        (v3_dot(A->normal, B->normal) < 0 || gap > RAD_CONTACT_SEALED_GAP * polygon_width(scene, pb)))
+        return 0;
     size_t count = 0;
     for (uint32_t k = 0; k < pb->count; ++k) {
         rad_vec3 p = rad_polygon_vertex(scene, pb, k), q = rad_polygon_vertex(scene, pb, (k + 1) % pb->count);
@@ -838,6 +850,7 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
      * a floor slab spanning an office of 10^6 triangles, that window held thousands of polygons
      * for each). */
     const int no_near = options && options->no_near;
+    const int sealed = no_near && options->sealed;
     const double slack = no_near ? 4 * eps : eps;
     if (!info || !order || !cut) {
         status = RAD_ERROR_NO_MEMORY;
@@ -873,7 +886,12 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     }
     for (size_t i = 0; i < np; ++i) {
         const plane_info *p = &info[order[i]];
-        boxes[i] = (box){p->lo, p->hi, no_near ? 0 : NEAR_GAP * v3_length(v3_sub(p->hi, p->lo))};
+        /* The reach: as far as step 2b looks in front of the polygon (sealed: only as far as
+         * it can seal, a small share of its width). */
+        const double reach = sealed    ? RAD_CONTACT_SEALED_GAP * polygon_width(scene, &scene->polygons[order[i]])
+                             : no_near ? 0
+                                       : NEAR_GAP * v3_length(v3_sub(p->hi, p->lo));
+        boxes[i] = (box){p->lo, p->hi, reach};
         usable[i] = isfinite(p->offset) && scene->polygons[order[i]].count <= 64;
     }
     status = tree_create(ctx, boxes, usable, np, slack, &tree);
@@ -935,8 +953,8 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
                 }
                 line near[64];
                 size_t lines = kind == 1                                    ? 1
-                               : kind == 0 && no_near ? 0
-                               : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, near);
+                               : kind == 0 && no_near && !sealed ? 0
+                               : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, sealed, near);
                 if (kind == 1) near[0] = l;
                 if (grow(ctx, (void **)&contacts, &contact_capacity, contact_count + lines, sizeof *contacts)) {
                     status = RAD_ERROR_NO_MEMORY;

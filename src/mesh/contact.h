@@ -58,6 +58,11 @@ typedef struct rad_contact_options {
     int no_near;         /* nonzero: no step 2b (B parallel and a little in front of A): what
                             lies behind B may still be seen past its edges (a sky quad above a
                             roof with an opening), so only touching contacts are cut */
+    int sealed;          /* nonzero, with no_near: step 2b is kept where B seals A: B faces the
+                            same way as A, and its gap is under RAD_CONTACT_SEALED_GAP of B's
+                            width (2 area / perimeter): a lamp panel 0.1 mm under its ceiling,
+                            not a ceiling 1 m under a sky (the part of the sky behind it is seen
+                            through an opening). What lies behind B is then hidden (step 4) */
     int quiet;           /* nonzero: no warnings (a second cut of the same scene) */
     int sparing;         /* nonzero (the hierarchy's roots, mesh/roots.h): a polygon cut by its
                             contacts is left whole when none of its pieces is hidden or covered,
@@ -69,6 +74,14 @@ typedef struct rad_contact_options {
  * floor, cut along both blocks' bases, has 22; Sponza's 41,274 polygons give 42,595 pieces at
  * 24, 43,672 at 64; docs/hierarchical.md, "Contacts and the source's variation"). */
 #define RAD_CONTACT_SPARING_PIECES 24
+
+/* The gap, as a share of B's width (2 area / perimeter), under which a polygon B just in
+ * front of A and facing the same way seals the part of A behind it (options.sealed). A point
+ * of A at depth d behind B's outline sees past it only within about gap / d of grazing (a
+ * cosine-weighted share of about (gap / d)^2 / 4 beside a straight edge, gap / 2 per unit of
+ * outline summed over d), so the light the dropped part would get is about this share of what
+ * it would get in the open (the Cornell lamp: 0.1 mm under the ceiling, 58 mm wide, 0.0017). */
+#define RAD_CONTACT_SEALED_GAP 0.01
 
 /* Finds the contacts of every polygon with the polygons of other surfaces and cuts. Polygons
  * the mesher would skip (zero area, not finite) are passed on uncut. Where two polygons overlap

@@ -58,7 +58,11 @@ rad_status rad_roots_create(rad_context *ctx, const rad_scene *scene, int quiet,
     *out = NULL;
     rad_contact_cut *cut = NULL;
     rad_contact_options options = {0};
+    /* Touching contacts, and what a polygon just in front seals (the ceiling behind the lamp
+     * panel); not the near-parallel cut at large: a sky's part behind a roof is seen through
+     * the roof's opening (docs/hierarchical.md, "The roots cut where a polygon seals another"). */
     options.no_near = 1;
+    options.sealed = 1;
     options.quiet = quiet;
     options.sparing = 1;
     rad_status status = rad_contact_cut_create_with(ctx, scene, &options, &cut);

@@ -32,10 +32,12 @@ typedef struct rad_roots {
     double hidden_area;
 } rad_roots;
 
-/* The roots of every polygon of nonzero area. Deterministic. Only touching contacts are cut
- * (rad_contact_options.no_near): a surface a little behind another may still be seen past its
- * edges (a sky quad above a roof's opening). quiet: no warnings about coplanar overlaps (the
- * second cut of the same scene). */
+/* The roots of every polygon of nonzero area. Deterministic. Touching contacts are cut, and a
+ * polygon is cut where another just in front of it, facing the same way, seals it (the
+ * ceiling behind a lamp panel 0.1 mm under it: that part is dropped; rad_contact_options.
+ * sealed); not at near-parallel polygons at large (no_near): a surface a little behind another
+ * may still be seen past its edges (a sky quad above a roof's opening). quiet: no warnings
+ * about coplanar overlaps (the second cut of the same scene). */
 rad_status rad_roots_create(rad_context *ctx, const struct rad_scene *scene, int quiet,
                             rad_roots **out);
 void rad_roots_destroy(rad_context *ctx, rad_roots *roots);

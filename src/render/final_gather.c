@@ -58,13 +58,21 @@
  * the re-gathers traced two rays; the contact row was not looked at.) */
 #define SHORT_LEVELS 2
 #define NEAR_RANGE 0.5
-/* On a hierarchical solution's leaves (regather.every_first) every first gather ray is re-gathered, and
+/* On a coarse hierarchy's leaves (regather.every_first) every first gather ray is re-gathered, and
  * the re-gathers' own rays are re-gathered again when short (SHORT_RANGE), up to this many
  * levels. The leaves at a concave contact are large and hold their mean, brighter than the
  * contact: a re-gather's ray from the floor beside the short block's base read the face's
  * leaf (its mean over 80 mm or more) and made the base's 8x8 blocks +15% bright, the back
  * corner's +17% (Cornell 256, docs/hierarchical.md "Contacts read through the re-gather"). */
 #define COARSE_SHORT_LEVELS 3
+/* On a finely refined hierarchy's leaves (RAD_LEAVES_FINE, link error 1e-5 or less) gather rays
+ * are read where they land, as on a uniform mesh, but short ones are gathered again two levels
+ * deep: the leaves at the dark contacts (the short block's face, the back corner) are still
+ * larger there than a uniform mesh's elements, the threshold being absolute. Cornell 256 x 256
+ * at link error 1e-5, seeds 1-4: 4x4 RMSE 0.99-1.01 % with one level, 0.93-0.94 % with two, the
+ * worst 8x8 block 4.7-5.2 % off against 2.7-4.3 %, for 9 % more gather and 17 % more shadow
+ * rays (docs/hierarchical.md, "The Cornell render from fine leaves"). */
+#define FINE_SHORT_LEVELS 2
 /* Gather rays of a re-gather (below) on a uniform mesh. Its one emitter sample is not what is
  * noisy: its gather ray is, and it made about a sixth of the Cornell box's 4x4 noise variance
  * (cornell50: 256 x 256, seeds 0-3, gather rays 5.69 -> 6.45 M for 2, processor +8 %; 4x4 RMSE
@@ -299,10 +307,11 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
  * was 2-3% too bright at 2 (the shadow's edge inside floor elements), 1.5% at 4, for 12% more
  * rays (docs/rendering.md, "Choosing the defaults"). */
 
-void rad_regather_choose(rad_renderer *r, int coarse_leaves) {
-    /* A hierarchy's re-gathers keep one ray: two would multiply at each of its levels. */
-    r->regather = coarse_leaves ? (struct rad_regather){1, COARSE_SHORT_LEVELS, 1}
-                                : (struct rad_regather){0, SHORT_LEVELS, SHORT_RAYS};
+void rad_regather_choose(rad_renderer *r, int leaves) {
+    /* A coarse hierarchy's re-gathers keep one ray: two would multiply at each of its levels. */
+    r->regather = leaves == RAD_LEAVES_COARSE ? (struct rad_regather){1, COARSE_SHORT_LEVELS, 1, 0}
+                  : leaves == RAD_LEAVES_FINE ? (struct rad_regather){0, FINE_SHORT_LEVELS, SHORT_RAYS, 0}
+                                              : (struct rad_regather){0, SHORT_LEVELS, SHORT_RAYS, 1};
 }
 
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit) {
@@ -323,8 +332,8 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
      * gather ray re-gathered). */
     const int rays = r->regather.rays;
     double range = isinf(from->short_range) ? SHORT_RANGE
-                   : r->regather.every_first ? from->short_range
-                                             : NEAR_RANGE;
+                   : r->regather.uniform    ? NEAR_RANGE
+                                            : from->short_range;
     rad_gather_origin next = {n, r->emitters.count ? 1 : 0, rays, point, from->level + 1, run, NULL,
                               range};
     double direct[3], gathered[3] = {0, 0, 0};

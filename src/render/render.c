@@ -70,7 +70,7 @@ static rad_status leaves_build(rad_renderer *r) {
     r->leaves_ready = 0;
     r->generation = rad_solution_generation(r->solution);
     const rad_mesh *mesh = r->mesh = rad_solution_leaves(r->solution);
-    rad_regather_choose(r, r->solution && r->solution->ops && r->solution->ops->coarse_leaves);
+    rad_regather_choose(r, r->solution && r->solution->ops ? r->solution->ops->leaf_kind : RAD_LEAVES_UNIFORM);
     if (!mesh && r->system->geometry) {
         /* A scene's solution always has leaves: its view failed to build them and said why
          * (the hierarchy's, out of memory). */
@@ -684,7 +684,7 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
      * those with a dark corner. */
     int outside = split && sees_outside(view, corner_polygons, x, y);
     int more = split && (beside_outside || dark_corners(view, corner_polygons, x, y, dark) > 0);
-    int plain = split && !more && !r->regather.every_first; /* SPLIT_GATHER */
+    int plain = split && !more && r->regather.uniform; /* SPLIT_GATHER */
     sample.gather_rays = !record || !(more || plain)
                              ? 0
                              : (outside ? OUTSIDE_GATHER : more ? EDGE_GATHER : SPLIT_GATHER) *

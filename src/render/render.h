@@ -101,11 +101,13 @@ struct rad_renderer {
     double dark_radiance;
     /* How gather rays are gathered again at their hits (final_gather.c, rad_regather_choose):
      * on a hierarchy's coarse leaves every first gather ray, deeper, one ray each; on a uniform
-     * mesh only short ones, once. Set with the leaves. */
+     * mesh only short ones, once; on a finely refined hierarchy short ones, twice. Set with the
+     * leaves. */
     struct rad_regather {
         int every_first; /* every first gather ray is re-gathered (its short range infinite) */
         int levels;      /* at most this many re-gathers along a path */
         int rays;        /* gather rays of one re-gather */
+        int uniform;     /* the leaves are a uniform mesh's elements (RAD_LEAVES_UNIFORM) */
     } regather;
 
     /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
@@ -289,9 +291,9 @@ double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin
  * element sizes, where the solution's piecewise values are too coarse to be seen (the floor
  * just beside a block's base), so the radiance there is gathered once more instead. */
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit);
-/* final_gather.c: sets r->regather for a solution whose leaves are coarse (a hierarchy's) or
- * not (a uniform mesh). */
-void rad_regather_choose(rad_renderer *r, int coarse_leaves);
+/* final_gather.c: sets r->regather for a solution's kind of leaves (RAD_LEAVES_UNIFORM,
+ * _COARSE or _FINE: system/solution_view.h). */
+void rad_regather_choose(rad_renderer *r, int leaves);
 /* final_gather.c: the reflected radiance leaving diffuse point y (element hit->element, front
  * normal n) towards a short gather ray from `from`: one emitter sample and r->regather.rays
  * gather rays. */

@@ -298,8 +298,13 @@ static rad_status hierarchical_begin(rad_solver_run *run) {
         return rad_fail(s->ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "the link error must be a positive number, not %g", o->link_error);
     double link_error = o->link_error > 0 ? o->link_error : o->tolerance;
-    if (!(link_error > 0)) link_error = RAD_HIER_DEFAULT_LINK_ERROR;
     int importance = rad_run_option(run, "importance", 0) != 0;
+    /* None given: a small scene drawn through a final gather is refined to fine leaves (the
+     * system is one element per root when it has no form-factor provider). */
+    if (!(link_error > 0) && !importance && rad_run_option(run, "final-gather", 0) > 0 && !s->ff &&
+        s->mesh->element_count <= RAD_HIER_GATHERED_ROOTS)
+        link_error = RAD_HIER_GATHERED_LINK_ERROR;
+    if (!(link_error > 0)) link_error = RAD_HIER_DEFAULT_LINK_ERROR;
     hierarchical_state *state = rad_alloc_zero(s->ctx, 1, sizeof *state);
     if (!state) return RAD_ERROR_NO_MEMORY;
     run->state = state;
@@ -476,9 +481,11 @@ static void hierarchical_end(rad_solver_run *run) {
 
 static const rad_method_option hierarchical_options[] = {
     {"link-error", "E  the oracle's threshold on a link's error, relative to the emitted power "
-                   "(1e-3, or --tolerance)"},
+                   "(1e-3, or --tolerance; 5e-6 in a final-gathered render of at most 256 roots)"},
     {"importance", "refine links where the camera needs them: the oracle weighs each link by "
                    "the importance of its receiver (Smits, Arvo & Salesin 1992)"},
+    {"final-gather", "N  the solution is drawn through a final gather of N rays (render sets it): "
+                     "with no link error given, a scene of at most 256 roots is refined to 5e-6"},
 };
 
 static const rad_solver_variant hierarchical_variants[] = {{"hierarchical", 0, 0}};
@@ -486,6 +493,6 @@ static const rad_solver_variant hierarchical_variants[] = {{"hierarchical", 0, 0
 const rad_solver_impl rad_solver_hierarchical = {
     {"hierarchical", "quadtrees over the input polygons and links refined by an oracle "
                      "(Hanrahan, Salzman & Aupperle 1991)",
-     RAD_SOLVER_ITERATIVE | RAD_SOLVER_OWN_LEAVES, hierarchical_options, 2, hierarchical_variants, 1, 0},
+     RAD_SOLVER_ITERATIVE | RAD_SOLVER_OWN_LEAVES, hierarchical_options, 3, hierarchical_variants, 1, 0},
     hierarchical_begin, hierarchical_step, hierarchical_end,
 };

@@ -413,11 +413,23 @@ static size_t leaf_count(const rad_solution_view *view) {
     return rad_hier_get_stats(state(view)->hier).leaves;
 }
 
+/* The leaves of a hierarchy refined at the default link error are coarse: the final gather
+ * reads them one bounce later (RAD_LEAVES_COARSE, final_gather.c). Refined to a link error of
+ * RAD_HIER_FINE_LINK_ERROR or less they are read where gather rays land (RAD_LEAVES_FINE). */
 static const rad_solution_view_ops leaf_view_ops = {
     "hierarchy leaves", leaf_leaves,      leaf_generation, leaf_radiosity, leaf_unshot,
     leaf_emission,      leaf_reflectance, leaf_ambient,    NULL,           leaf_destroy,
-    leaf_count,         1,
+    leaf_count,         RAD_LEAVES_COARSE,
 };
+static const rad_solution_view_ops fine_leaf_view_ops = {
+    "hierarchy leaves", leaf_leaves,      leaf_generation, leaf_radiosity, leaf_unshot,
+    leaf_emission,      leaf_reflectance, leaf_ambient,    NULL,           leaf_destroy,
+    leaf_count,         RAD_LEAVES_FINE,
+};
+
+static int is_leaf_view(const rad_solution_view *view) {
+    return view->ops == &leaf_view_ops || view->ops == &fine_leaf_view_ops;
+}
 
 rad_status rad_hier_view_install(rad_system *system, rad_hier *hier, rad_hier_setup *setup,
                                  int restored) {
@@ -427,23 +439,24 @@ rad_status rad_hier_view_install(rad_system *system, rad_hier *hier, rad_hier_se
     v->hier = hier;
     v->setup = setup;
     v->restored = restored;
-    rad_system_set_view(system, &leaf_view_ops, v);
+    int fine = setup && rad_hier_setup_link_error(setup) <= RAD_HIER_FINE_LINK_ERROR;
+    rad_system_set_view(system, fine ? &fine_leaf_view_ops : &leaf_view_ops, v);
     return RAD_OK;
 }
 
 rad_hier *rad_hier_view_hierarchy(const rad_system *system) {
     const rad_solution_view *view = rad_system_view(system);
-    return view->ops == &leaf_view_ops ? state(view)->hier : NULL;
+    return is_leaf_view(view) ? state(view)->hier : NULL;
 }
 
 rad_hier_setup *rad_hier_view_setup(const rad_system *system) {
     const rad_solution_view *view = rad_system_view(system);
-    return view->ops == &leaf_view_ops ? state(view)->setup : NULL;
+    return is_leaf_view(view) ? state(view)->setup : NULL;
 }
 
 int rad_hier_view_take_restored(rad_system *system) {
     const rad_solution_view *view = rad_system_view(system);
-    if (view->ops != &leaf_view_ops || !state(view)->restored) return 0;
+    if (!is_leaf_view(view) || !state(view)->restored) return 0;
     state(view)->restored = 0;
     return 1;
 }

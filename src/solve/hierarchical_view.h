@@ -34,6 +34,30 @@ void rad_hier_setup_set_loose(rad_hier_setup *setup, int loose);
  * hierarchical step does), so that what reads elements reads the hierarchy. */
 void rad_hier_view_evaluate(rad_system *system);
 
+/* The link error at or below which the hierarchy's leaves are fine enough for the final gather
+ * to read them where its rays land, re-gathering only short rays (RAD_LEAVES_FINE), rather than
+ * as coarse leaves (every first gather ray re-gathered, RAD_LEAVES_COARSE). Cornell 256 x 256 at
+ * 1e-5, seeds 0-4: 4x4 RMSE 1.06-1.11 % -> 0.92-0.94 %, 8x8 0.71-0.75 % -> 0.74-0.78 %, gather
+ * rays 8.57 -> 6.31 M, shadow rays 3.25 -> 1.22 M, processor time 38 % less; at 1e-4 and 3e-5
+ * the fine reading was ahead per processor second in 4x4 and 8x8 blocks but not in 16x16, at
+ * 3e-4 even, at the default 1e-3 behind (docs/hierarchical.md, "The Cornell render from fine
+ * leaves"). */
+#define RAD_HIER_FINE_LINK_ERROR 1e-5
+
+/* The link error a hierarchy solved for a final-gathered image (the solver's "final-gather"
+ * option, which render sets) takes when none is given (no --link-error, no --tolerance, no
+ * --importance), on a one-element-per-root system of at most RAD_HIER_GATHERED_ROOTS roots:
+ * fine leaves read where the gather rays land. Cornell 256 x 256, seeds 0-2: 4x4 RMSE
+ * 0.74-0.75 %, 8x8 0.53-0.56 %, 16x16 0.39-0.44 % in 2.7-2.9 processor-s, against 1.15-1.19 %,
+ * 0.81-0.84 %, 0.55-0.59 % in 3.6-3.7 s at the default 1e-3, back to back: 23x the path
+ * tracer at equal 4x4 error (docs/hierarchical.md, "The roots cut where a polygon seals
+ * another"). The threshold keeps the scenes where the hierarchy
+ * is the default solver (RAD_HIERARCHY_DEFAULT_POLYGONS, 8,000 polygons and more; Sponza's
+ * 43,502 roots, the offices' 1,028 and more) at RAD_HIER_DEFAULT_LINK_ERROR: at 5e-6 the
+ * smallest office's solve took 2.07 processor-s against 0.27 s. */
+#define RAD_HIER_GATHERED_LINK_ERROR 5e-6
+#define RAD_HIER_GATHERED_ROOTS 256
+
 /* Installs a view over the leaves of `hier` as the system's solution view; the system owns the
  * hierarchy and `setup` from now on (they go with the system or the next rad_system_set_view).
  * `restored`: loaded from a solution file, for the next resumed solve to go on from. */

@@ -52,11 +52,18 @@ typedef struct rad_solution_view_ops {
     /* How many leaves the method holds, when a leaf may be drawn as several polygons; NULL:
      * one polygon each (rad_system_leaf_count). */
     size_t (*leaf_count)(const rad_solution_view *view);
-    /* Nonzero when a leaf may straddle a shadow line and hold its mean (the hierarchy's large
-     * leaves): the final gather then reads the solution one bounce later at any distance
-     * (docs/hierarchical.md, "The arcades' back walls"). */
-    int coarse_leaves;
+    /* What the leaves are like, for the final gather (final_gather.c, rad_regather_choose):
+     * RAD_LEAVES_UNIFORM (0) a uniform mesh's elements; RAD_LEAVES_COARSE a leaf may straddle
+     * a shadow line and hold its mean (the hierarchy's large leaves at its default link
+     * error): the gather reads the solution one bounce later at any distance
+     * (docs/hierarchical.md, "The arcades' back walls"); RAD_LEAVES_FINE a hierarchy refined
+     * finely (docs/hierarchical.md, "The Cornell render from fine leaves"): read where gather
+     * rays land, as a uniform mesh is, but its leaves at dark contacts are larger than a
+     * uniform mesh's elements. */
+    int leaf_kind;
 } rad_solution_view_ops;
+
+enum { RAD_LEAVES_UNIFORM = 0, RAD_LEAVES_COARSE = 1, RAD_LEAVES_FINE = 2 };
 
 /* The system's current view (the uniform mesh unless a solver installed another); lives as long
  * as the system or until rad_system_set_view. */
