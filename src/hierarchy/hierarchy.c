@@ -1364,41 +1364,43 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
 
 /* Puts the samples in link order, which the gather reads them in (in the order they were made
  * its reads missed the cache: the 10^5 office's gather took 1.7 times as long), and drops the
- * free slots. In place: each slot's new place is written into the free list's array (a
- * permutation, the free slots after the used ones), then the cycles are followed. */
+ * free slots: copied into a new array in link order, the links cut into blocks whose samples
+ * are counted, then copied, in parallel. (It used to permute them in place, following the
+ * cycles one slot at a time: 13 s of one thread at 10^6, every step a cache miss.) */
 static rad_status order_samples(rad_hier *h) {
-    const size_t slots = h->sample_count;
-    if (!slots) return RAD_OK;
-    uint32_t *target = h->free_samples; /* sample_capacity of them */
-    for (size_t i = 0; i < slots; ++i) target[i] = RAD_HIER_NO_NODE;
-    uint32_t at = 0;
-    for (size_t l = 0; l < h->link_count; ++l) {
-        rad_hier_link *link = &h->links[l];
-        if (link->sample == RAD_HIER_NO_NODE) continue;
-        target[link->sample] = at;
-        link->sample = at++;
+    if (!h->sample_count) return RAD_OK;
+    enum { BLOCKS = 256 };
+    size_t at[BLOCKS + 1];
+    const size_t count = h->link_count, block = (count + BLOCKS - 1) / BLOCKS;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first = (size_t)k * block, last = first + block < count ? first + block : count, here = 0;
+        for (size_t l = first; l < last; ++l) here += h->links[l].sample != RAD_HIER_NO_NODE;
+        at[k + 1] = here;
     }
-    const size_t used = at;
-    for (size_t i = 0; i < slots; ++i)
-        if (target[i] == RAD_HIER_NO_NODE) target[i] = at++;
-    for (size_t i = 0; i < slots; ++i)
-        while (target[i] != i) {
-            uint32_t j = target[i];
-            link_sample moved = h->samples[j];
-            h->samples[j] = h->samples[i];
-            h->samples[i] = moved;
-            target[i] = target[j];
-            target[j] = j;
+    at[0] = 0;
+    for (int k = 0; k < BLOCKS; ++k) at[k + 1] += at[k];
+    const size_t used = at[BLOCKS];
+    link_sample *ordered = rad_alloc(h->ctx, used ? used : 1, sizeof *ordered);
+    if (!ordered) return RAD_ERROR_NO_MEMORY;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first = (size_t)k * block, last = first + block < count ? first + block : count;
+        size_t slot = at[k];
+        for (size_t l = first; l < last; ++l) {
+            rad_hier_link *link = &h->links[l];
+            if (link->sample == RAD_HIER_NO_NODE) continue;
+            ordered[slot] = h->samples[link->sample];
+            link->sample = (uint32_t)slot++;
         }
+    }
+    rad_free(h->ctx, h->samples);
+    h->samples = ordered;
     h->sample_count = used;
     h->free_count = 0;
-    if (used && used < h->sample_capacity) {
-        link_sample *fit = rad_realloc(h->ctx, h->samples, used, sizeof *fit);
-        uint32_t *free_fit = rad_realloc(h->ctx, h->free_samples, used, sizeof *free_fit);
-        if (fit) h->samples = fit;
-        if (free_fit) h->free_samples = free_fit;
-        if (fit || free_fit) h->sample_capacity = used; /* both hold at least `used` */
-    }
+    h->sample_capacity = used; /* the free list holds at least as many slots (keep_samples) */
+    uint32_t *free_fit = used ? rad_realloc(h->ctx, h->free_samples, used, sizeof *free_fit) : NULL;
+    if (free_fit) h->free_samples = free_fit;
     return RAD_OK;
 }
 
