@@ -191,12 +191,11 @@ static void init_node(rad_hier *h, rad_hier_node *n, const rad_vec3 *c, int coun
     memcpy(n->radiosity, h->emission[polygon], sizeof n->radiosity);
 }
 
-/* Splits a leaf into four: a quad at its edge midpoints and centre, a triangle at its edge
- * midpoints (the fourth child is the middle triangle). Children keep the winding. */
-static rad_status subdivide(rad_hier *h, uint32_t index) {
-    if (h->nodes[index].first_child != RAD_HIER_NO_NODE) return RAD_OK;
-    rad_status status = reserve_nodes(h, 4);
-    if (status) return status;
+/* Splits leaf `index` into four made at nodes first .. first + 3 (reserved): a quad at its edge
+ * midpoints and centre, a triangle at its edge midpoints (the fourth child is the middle
+ * triangle). Children keep the winding. Touches only the leaf and those four, so leaves may
+ * be split in parallel. */
+static void split_into(rad_hier *h, uint32_t index, uint32_t first) {
     rad_hier_node parent = h->nodes[index];
     const rad_vec3 *c = parent.corner;
     rad_vec3 child[4][4];
@@ -215,7 +214,6 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
                                   {m20, m12, c[2], c[2]}, {m12, m20, m01, m01}};
         memcpy(child, t, sizeof child);
     }
-    uint32_t first = (uint32_t)h->node_count;
     for (int k = 0; k < 4; ++k) {
         init_node(h, &h->nodes[first + k], child[k], count, parent.polygon, parent.root,
                   parent.depth + 1);
@@ -228,10 +226,18 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
             h->importance[first + k] =
                 parent.area > 0 ? h->importance[index] * h->nodes[first + k].area / parent.area : 0;
     }
-    h->node_count += 4;
-    h->stats.leaves += 3;
     h->nodes[index].first_child = first;
     h->nodes[index].child_count = 4;
+}
+
+/* Splits a leaf into four new nodes (split_into); a node already split is left alone. */
+static rad_status subdivide(rad_hier *h, uint32_t index) {
+    if (h->nodes[index].first_child != RAD_HIER_NO_NODE) return RAD_OK;
+    rad_status status = reserve_nodes(h, 4);
+    if (status) return status;
+    split_into(h, index, (uint32_t)h->node_count);
+    h->node_count += 4;
+    h->stats.leaves += 3;
     return RAD_OK;
 }
 
@@ -1412,6 +1418,9 @@ rad_status rad_hier_refine(rad_hier *h) {
     size_t pending_count = h->link_count, kept_count = 0;
     size_t sorted_count = 0; /* the links kept in place at the front of `kept`, still sorted */
     uint8_t *decision = NULL, *made = NULL;
+    uint8_t *leaf_end = NULL; /* per pending link: 1 + the end its decision splits when that end
+                                 is a polygon leaf (new nodes), else 0 */
+    uint32_t *to_split = NULL; /* those leaves, each once, in link order */
     size_t refined = 0, unrefined = 0, unknown_error = 0;
     double largest = 0;
     int budget = 0, first_pass = 1, cancelled = 0;
@@ -1444,8 +1453,10 @@ rad_status rad_hier_refine(rad_hier *h) {
             break;
         }
         rad_free(ctx, decision);
+        rad_free(ctx, leaf_end);
         decision = rad_alloc(ctx, pending_count, 1);
-        if (!decision) {
+        leaf_end = rad_alloc(ctx, pending_count, 1);
+        if (!decision || !leaf_end) {
             status = RAD_ERROR_NO_MEMORY;
             break;
         }
@@ -1457,9 +1468,15 @@ rad_status rad_hier_refine(rad_hier *h) {
         for (long i = 0; i < (long)pending_count; ++i) {
             double relative;
             decision[i] = (uint8_t)decide_any(h, &pending[i], &relative);
+            leaf_end[i] = 0;
             if (decision[i]) {
                 splits++;
                 candidates += children_made(h, &pending[i], decision[i]);
+                /* A self-link (3) joins clusters, which are opened, never split. */
+                uint32_t end = decision[i] == 1 ? pending[i].receiver : pending[i].source;
+                if (decision[i] != 3 && !cluster_index(h, end) &&
+                    h->nodes[end].first_child == RAD_HIER_NO_NODE)
+                    leaf_end[i] = decision[i];
             } else if (fabsf(pending[i].error) < UNKNOWN_ERROR) /* a known error */
                 pass_largest = fmax(pass_largest, relative);
         }
@@ -1472,27 +1489,29 @@ rad_status rad_hier_refine(rad_hier *h) {
             break;
         }
         /* The nodes this pass makes: four for each distinct polygon leaf it splits (opening a
-         * cluster or an already split node makes none). */
-        size_t new_nodes = 0;
+         * cluster or an already split node makes none), listed in link order so that they are
+         * numbered the same for any thread count. */
+        size_t split_count = 0;
         if (splits) {
             uint8_t *marked = rad_alloc_zero(ctx, h->node_count, 1);
-            if (!marked) {
+            rad_free(ctx, to_split);
+            to_split = rad_alloc(ctx, splits, sizeof *to_split);
+            if (!marked || !to_split) {
+                rad_free(ctx, marked);
                 status = RAD_ERROR_NO_MEMORY;
                 break;
             }
             for (size_t i = 0; i < pending_count; ++i) {
-                uint32_t ends[2] = {pending[i].receiver, pending[i].source};
-                for (int end = 0; end < 2; ++end) {
-                    const rad_hier_node *n = &h->nodes[ends[end]];
-                    if ((decision[i] == 1 + end || decision[i] == 3) && !is_cluster(n) &&
-                        n->first_child == RAD_HIER_NO_NODE && !marked[ends[end]]) {
-                        marked[ends[end]] = 1;
-                        new_nodes += 4;
-                    }
+                if (!leaf_end[i]) continue;
+                uint32_t leaf = leaf_end[i] == 1 ? pending[i].receiver : pending[i].source;
+                if (!marked[leaf]) {
+                    marked[leaf] = 1;
+                    to_split[split_count++] = leaf;
                 }
             }
             rad_free(ctx, marked);
         }
+        size_t new_nodes = 4 * split_count;
         if (splits &&
             check_memory(h, kept_count + pending_count + candidates,
                          h->node_count + new_nodes) == RAD_ERROR_MEMORY_BUDGET) {
@@ -1537,15 +1556,17 @@ rad_status rad_hier_refine(rad_hier *h) {
         for (size_t i = 0; i < pending_count && splits; ++i)
             if (decision[i] && pending[i].sample != RAD_HIER_NO_NODE)
                 h->free_samples[h->free_count++] = pending[i].sample;
-        /* Split the leaves the decisions ask for, in link order (receiver end first), so the
-         * nodes are numbered the same for any thread count. */
+        /* Split the leaves the decisions ask for, in parallel, each into the four nodes its
+         * place in the list gives it. */
         size_t nodes_before = h->node_count;
-        for (size_t i = 0; i < pending_count && splits && !status; ++i) {
-            if (!decision[i]) continue;
-            uint32_t rs[2] = {pending[i].receiver, pending[i].source};
-            for (int end = 0; end < 2 && !status; ++end)
-                if ((decision[i] == 1 + end || decision[i] == 3) && !cluster_index(h, rs[end]))
-                    status = subdivide(h, rs[end]);
+        if (splits && split_count) {
+            status = reserve_nodes(h, new_nodes);
+            if (status) break;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (split_count >= PARALLEL_MIN)
+            for (long j = 0; j < (long)split_count; ++j)
+                split_into(h, to_split[j], (uint32_t)(nodes_before + 4 * (size_t)j));
+            h->node_count += new_nodes;
+            h->stats.leaves += 3 * split_count;
         }
         light_nodes(h, nodes_before);
         /* Links the oracle passed are kept; the others are replaced by their children's. The
@@ -1642,6 +1663,8 @@ rad_status rad_hier_refine(rad_hier *h) {
         fresh = NULL;
     }
     rad_free(ctx, decision);
+    rad_free(ctx, leaf_end);
+    rad_free(ctx, to_split);
     rad_free(ctx, made);
     rad_free(ctx, fresh);
     h->stats.largest_error = largest;
