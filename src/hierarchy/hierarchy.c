@@ -658,6 +658,11 @@ static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const u
     const float wx = (float)fabs(w.x), wy = (float)fabs(w.y), wz = (float)fabs(w.z);
     const int sx = w.x < 0, sy = 2 + (w.y < 0), sz = 4 + (w.z < 0);
     const int walks = 4 * sets;
+    /* A cluster's weight with slack is linear in its signed-axis areas: each axis's factor,
+     * the same at every level, once. */
+    const float widened[6] = {facing_weight((float)w.x, slack), facing_weight(-(float)w.x, slack),
+                              facing_weight((float)w.y, slack), facing_weight(-(float)w.y, slack),
+                              facing_weight((float)w.z, slack), facing_weight(-(float)w.z, slack)};
     const walk_cluster *at[MAX_WALKS];
     uint32_t state[MAX_WALKS], root[MAX_WALKS];
     float chance[MAX_WALKS];
@@ -684,9 +689,8 @@ static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const u
                 } else {
                     const float *a = h->walk[c->first + i].axis_area;
                     if (wide > 0)
-                        weight[i] = a[0] * facing_weight((float)w.x, wide) + a[1] * facing_weight(-(float)w.x, wide) +
-                                    a[2] * facing_weight((float)w.y, wide) + a[3] * facing_weight(-(float)w.y, wide) +
-                                    a[4] * facing_weight((float)w.z, wide) + a[5] * facing_weight(-(float)w.z, wide);
+                        weight[i] = a[0] * widened[0] + a[1] * widened[1] + a[2] * widened[2] +
+                                    a[3] * widened[3] + a[4] * widened[4] + a[5] * widened[5];
                     else
                         weight[i] = wx * a[sx] + wy * a[sy] + wz * a[sz];
                 }
