@@ -27,7 +27,6 @@
                             * 4 before: Sponza's mean swung by 2 points between seeds, see jackknife()) */
 #define SEEN_BATCHES 3      /* ... whose deciding set saw most of the source (MOSTLY_SEEN): two fresh */
 #define MOSTLY_SEEN 0.9     /* the kernel-weighed share of the deciding set's rays that were seen */
-#define CLUSTER_PARTIAL_SETS 1 /* fresh sets of 16 sampled pairs that estimate a cluster link */
 
 typedef double rgb[3];
 
@@ -458,8 +457,8 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
          * sums), and zero when none does: partly hidden links take PARTIAL_BATCHES - 1 fresh
          * sets (test_opening: a floor under a sky seen through a hole, -11.3% with one set,
          * -2.9% with four; Sponza's links carried 0.88 of the light a Monte Carlo gather of the
-         * same leaves finds, docs/hierarchical.md). The first set only decides (as for cluster
-         * links): given that its 16 rays all arrived, the pair is likelier seen than it is, and
+         * same leaves finds, docs/hierarchical.md). The first set only decides (as it did for
+         * cluster links before hspeed10): given that its 16 rays all arrived, the pair is likelier seen than it is, and
          * taking the whole unoccluded factor then made the office's floor links that saw the
          * lamps unoccluded carry 1.19-1.30 of their light, the closed office 20000 absorb 4.6%
          * more than it emits at link error 2.5e-4, and test_desk_shadows +2.2%. So every link
@@ -614,14 +613,14 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     return p;
 }
 
-/* Four points on a node's surfaces for visibility rays toward unit direction w, for each of
- * `sets` seeds (out[4 s + k] for seeds[s]): a polygon node's jittered points; for a cluster,
+/* Four points on a node's surfaces for visibility rays toward unit direction w, from `seed`:
+ * a polygon node's jittered points; for a cluster,
  * points on members reached by a fixed pseudo-random walk (seeded by the pair) down it that
  * picks each child in proportion to its projected area toward w (members facing away, whose own
  * bodies would block the rays, are not sampled), with the member (members[k]) and the
  * probability the walk drew it with (probability[k]).
  *
- * The sets from `slack_from` on widen "toward w" by `slack` (s): a member with f = n.w is drawn
+ * A `slack` (s) above 0 widens "toward w": a member with f = n.w is drawn
  * in proportion to A f when f >= s, A (f + s)^2 / (4 s) when -s < f < s (the mean of max(0,
  * n.u) over directions u spread about w, roughly; it meets A f at f = s with the same slope),
  * 0 below; a cluster in proportion to the same weight of each signed axis's component of w
@@ -633,14 +632,14 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
  * factor counts what each drawn member adds (member_weight, unbiased only over members that
  * can be drawn): on Sponza the links from clusters carried 0.99 of a Monte Carlo gather of the
  * same leaves and the image was 0.45-1.07% dark at seeds 0-2, the closed office 20000's 0.975
- * (docs/hierarchical.md, "sponza3"). The deciding set keeps the plain draw, so the oracle sees
- * the links it saw before. The walk reads the compact tables
+ * (docs/hierarchical.md, "sponza3"). A cluster receiver's points keep the plain draw (its
+ * links are opened, hspeed10). The walk reads the compact tables
  * (walk_cluster, walk_root): one cache line a level, where the nodes and cluster_info cost three
  * (the walk was two fifths of the solve at 10^6). The walks go down together, a level each in
  * turn: each level's read waits for the level above, so walks taken one after the other wait
  * for every miss in a row, while walks taken in turn wait for theirs side by side (the walks
  * were a quarter of the 10^6 office's samples). */
-#define MAX_WALKS 8
+#define WALKS 4
 /* A member's weight per unit area at facing f = n.w, widened by s (above): f from s up, the
  * quadratic (f + s)^2 / (4 s) between -s and s, 0 below; max(0, f) when s is 0. */
 static inline float facing_weight(float f, float s) {
@@ -648,47 +647,44 @@ static inline float facing_weight(float f, float s) {
     return f > -s ? (f + s) * (f + s) / (4 * s) : 0;
 }
 
-static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const uint32_t *seeds,
-                          int sets, rad_vec3 *out, uint32_t *members, double *probability,
-                          float slack, int slack_from) {
+static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
+                          rad_vec3 *out, uint32_t *members, double *probability, float slack) {
     if (!is_cluster(&h->nodes[index])) {
-        for (int s = 0; s < sets; ++s) visibility_points(&h->nodes[index], seeds[s], out + 4 * s);
+        visibility_points(&h->nodes[index], seed, out);
         return;
     }
     const float wx = (float)fabs(w.x), wy = (float)fabs(w.y), wz = (float)fabs(w.z);
     const int sx = w.x < 0, sy = 2 + (w.y < 0), sz = 4 + (w.z < 0);
-    const int walks = 4 * sets;
     /* A cluster's weight with slack is linear in its signed-axis areas: each axis's factor,
      * the same at every level, once. */
     const float widened[6] = {facing_weight((float)w.x, slack), facing_weight(-(float)w.x, slack),
                               facing_weight((float)w.y, slack), facing_weight(-(float)w.y, slack),
                               facing_weight((float)w.z, slack), facing_weight(-(float)w.z, slack)};
-    const walk_cluster *at[MAX_WALKS];
-    uint32_t state[MAX_WALKS], root[MAX_WALKS];
-    float chance[MAX_WALKS];
-    for (int k = 0; k < walks; ++k) {
+    const walk_cluster *at[WALKS];
+    uint32_t state[WALKS], root[WALKS];
+    float chance[WALKS];
+    for (int k = 0; k < WALKS; ++k) {
         chance[k] = 1;
-        state[k] = pair_hash(seeds[k / 4], index, (uint32_t)(k % 4));
+        state[k] = pair_hash(seed, index, (uint32_t)k);
         at[k] = &h->walk[index - h->cluster_first];
         root[k] = RAD_HIER_NO_NODE;
     }
-    for (int left = walks; left > 0;)
-        for (int k = 0; k < walks; ++k) {
+    for (int left = WALKS; left > 0;)
+        for (int k = 0; k < WALKS; ++k) {
             if (root[k] != RAD_HIER_NO_NODE) continue;
             const walk_cluster *c = at[k];
             state[k] = state[k] * 1664525u + 1013904223u;
             float weight[LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total = 0;
             uint32_t count = c->count <= LEAF_CLUSTER ? c->count : LEAF_CLUSTER;
-            const float wide = k / 4 >= slack_from ? slack : 0;
             for (uint32_t i = 0; i < count; ++i) {
                 if (c->leaf) {
                     const walk_root *r = &h->root_walk[c->first + i];
                     float facing = r->normal[0] * (float)w.x + r->normal[1] * (float)w.y +
                                    r->normal[2] * (float)w.z;
-                    weight[i] = r->area * facing_weight(facing, wide);
+                    weight[i] = r->area * facing_weight(facing, slack);
                 } else {
                     const float *a = h->walk[c->first + i].axis_area;
-                    if (wide > 0)
+                    if (slack > 0)
                         weight[i] = a[0] * widened[0] + a[1] * widened[1] + a[2] * widened[2] +
                                     a[3] * widened[3] + a[4] * widened[4] + a[5] * widened[5];
                     else
@@ -717,8 +713,8 @@ static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const u
                 else __builtin_prefetch(&h->walk[next->first]);
             }
         }
-    for (int k = 0; k < walks; ++k) {
-        out[k] = visibility_point(&h->nodes[root[k]], state[k], k % 4);
+    for (int k = 0; k < WALKS; ++k) {
+        out[k] = visibility_point(&h->nodes[root[k]], state[k], k);
         members[k] = root[k];
         probability[k] = chance[k];
     }
@@ -876,13 +872,12 @@ static void keep_seen_members(link_sample *out, const uint32_t *member, const do
 }
 
 /* A cheap link (cheap_link): one ray per receiver point (a cluster receiver's four sampled
- * points), each to its own sampled source point, instead of the 16 pairs that decide partial
- * visibility and the 16 fresh ones that estimate a partly hidden link. The mean over the pairs
- * of V P_r P_s / (pi r^2 A_r) is unbiased (the full scheme's is high for links whose first set
- * happened to be unblocked); clamped to the upper bound as there. (Its rays used to count
- * toward the members' exposure, which mattered to Sponza before links sent their own samples;
- * docs/hierarchical.md, "sixth session".) 3-4 rays and 4 walks where a partly hidden link cast
- * 32 and walked 8. */
+ * points), each to its own sampled source point, instead of the 16 pairs between the four
+ * receiver points and the four source points of a full link. The mean over the pairs of
+ * V P_r P_s / (pi r^2 A_r) is unbiased; clamped to the upper bound as there. (Its rays used to
+ * count toward the members' exposure, which mattered to Sponza before links sent their own
+ * samples; docs/hierarchical.md, "sixth session".) 3-4 rays where a full link casts 16 (32
+ * before hspeed10). */
 static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double spread,
                            double estimate, double slack, rad_hier_link *out,
                            link_sample *seen_members) {
@@ -896,10 +891,10 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
     const rad_vec3 back = v3_scale(w, -1);
     int pairs = 4;
     if (is_cluster(nr))
-        sample_points(h, receiver, w, &receiver_seed, 1, x, receiver_member, receiver_chance, 0, 1);
+        sample_points(h, receiver, w, receiver_seed, x, receiver_member, receiver_chance, 0);
     else
         pairs = quadrature_points(nr, x);
-    sample_points(h, source, back, &source_seed, 1, y, source_member, source_chance, (float)slack, 0);
+    sample_points(h, source, back, source_seed, y, source_member, source_chance, (float)slack);
     uint8_t occluded[4];
     rad_rays_occluded_batch(h->rays, x, y, (size_t)pairs, occluded);
     double sum = 0, added[4] = {0, 0, 0, 0};
@@ -930,13 +925,12 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
 /* The link receiver <- source when either is a cluster: the point estimate between the
  * centres, its bound, and the visible fraction of the rays between sampled member points.
  * A self-link, or one whose bounding spheres overlap, carries nothing and must be refined.
- * With `may_skip`, a link the oracle will refine in this pass whatever its estimate (the
- * radiosities it reads do not change within rad_hier_refine) is not estimated: no rays when
- * its bound fails without partial visibility, no fresh set when it fails with it. Its factor
- * is then NOT_ESTIMATED, and a link kept after all (the memory budget stopped refinement) is
- * made again without `may_skip`. On Sponza 0.27 M links skip every ray and 0.24 M the fresh
- * set (of 4.5 M cluster links with rays): 3-4% of the render's processor time. Their rays no
- * longer count toward the members' exposure. Returns 0 when no light can pass. */
+ * With `may_skip`, a link the oracle will refine in this pass (the radiosities it reads do not
+ * change within rad_hier_refine) is not estimated: no rays when its bound fails, with the
+ * whole estimate counted unless the link is cheap (cheap_link) or carries nothing
+ * (receiver_behind). Its factor is then NOT_ESTIMATED, and a link kept after all (the memory
+ * budget stopped refinement) is made again without `may_skip`. Returns 0 when no light can
+ * pass. */
 static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t source,
                              rad_hier_link *out, int may_skip, link_sample *seen_members) {
     out->receiver = receiver;
@@ -978,83 +972,59 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     if (cheap_link(h, receiver, upper - lower + estimate))
         return make_cheap_link(h, w, upper, upper - lower, estimate, slack, out, seen_members);
     /* The factor itself from the rays between sampled member points (chosen in proportion to
-     * projected area): the mean over the pairs of V P_r P_s / (pi r^2 A_r), with a polygon
+     * projected area): the mean over the 16 pairs of V P_r P_s / (pi r^2 A_r), with a polygon
      * end's A cos taken along each ray. The centres' distance alone underestimates it (the
      * mean of 1 / r^2 over an extended pair exceeds 1 / d^2, and near pairs are the visible
      * ones): Sponza's arcades, lit through large clusters, came out half as bright. Clamped to
-     * the upper bound. */
-    /* The sets of sampled pairs: the first says whether the pair is partly hidden; the factor
-     * is then the mean of CLUSTER_PARTIAL_SETS fresh sets, not of the first. Given that some of
-     * its rays were blocked, the first set's estimate is low, and given that none were, high
-     * (the oracle keeps the links it found unblocked and refines many partly hidden ones): on
-     * Sponza cluster links carried 0.89-0.96 of a Monte Carlo gather of the same leaves, and
-     * the image was -4.8% against the path tracer, with one fresh set for the partly hidden
-     * links -1.5%. With the unblocked links' factors from their first set the closed office
-     * 20000 absorbed 2.0% more than it emitted, from a fresh set 1.5% less (their points are
-     * walked beside the first set's; 16 more rays). */
+     * the upper bound.
+     *
+     * The link counts as partly hidden whatever its rays find: its bound is the spread plus
+     * the whole estimate, and the oracle decides on it before any ray. Its rays then only
+     * estimate, and nothing they find decides whether the link is kept, so the estimate is
+     * unbiased. (Until hspeed10 a first set of 16 pairs decided partial visibility and a fresh
+     * set estimated, because an estimate from the rays that chose the link was biased: low
+     * given blocked rays, high given none, Sponza -4.8% against the path tracer. 83-87% of
+     * these links were partly hidden anyway and 0.1% were refined on it when made; the
+     * deciding set was 16 rays and 4 member walks of every such link, a fifth of the rays at
+     * 10^6: docs/hierarchical.md, "Speed at scale, tenth session".) The points and members are
+     * the ones the fresh set drew (its seeds). */
+    if (may_skip && refined_anyway(h, out, upper - lower + estimate)) {
+        out->form_factor = NOT_ESTIMATED;
+        out->error = -out->error;
+        return 1;
+    }
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
-    int partial = 0, rn = 0, sn = 0, sets = 0;
-    double sum = 0, added[4] = {0, 0, 0, 0}; /* per source point of the counted set */
-    const uint32_t *counted_members = NULL;
-    _Static_assert(CLUSTER_PARTIAL_SETS == 1, "a link's sample holds one set's source members");
-    /* Every set's points at once (the walks of the fresh sets are wasted when the first is
-     * not partly hidden, but walked beside the first set's they cost little). */
-    enum { SETS = 1 + CLUSTER_PARTIAL_SETS };
-    rad_vec3 xs[4 * SETS], ys[4 * SETS];
-    uint32_t receiver_member[4 * SETS], source_member[4 * SETS];
-    double receiver_chance[4 * SETS], source_chance[4 * SETS];
-    uint32_t receiver_seed[SETS], source_seed[SETS];
-    for (int set = 0; set < SETS; ++set) {
-        receiver_seed[set] = link_hash(h, receiver, source, 1 + 0x100u * (uint32_t)set);
-        source_seed[set] = link_hash(h, receiver, source, 2 + 0x100u * (uint32_t)set);
-    }
-    if (is_cluster(nr)) {
-        sample_points(h, receiver, w, receiver_seed, SETS, xs, receiver_member, receiver_chance, 0, SETS);
-        rn = 4;
-    } else
-        rn = quadrature_points(nr, xs);
-    sample_points(h, source, v3_scale(w, -1), source_seed, SETS, ys, source_member, source_chance,
-                  (float)slack, 1);
-    sn = 4;
-    for (int set = 0; set <= CLUSTER_PARTIAL_SETS; ++set) {
-        uint8_t seen[16];
-        const rad_vec3 *x = is_cluster(nr) ? xs + 4 * set : xs, *y = ys + 4 * set;
-        const uint32_t *receiver_members = receiver_member + 4 * set;
-        const uint32_t *source_members = source_member + 4 * set;
-        int blocked;
-        visible_pairs(h, x, rn, y, sn, &blocked, seen);
-        if (set == 0) partial = blocked;
-        if (partial && set == 0 && may_skip && refined_anyway(h, out, upper - lower + estimate)) {
-            out->form_factor = NOT_ESTIMATED;
-            out->error = -out->error;
-            return 1;
+    rad_vec3 x[4], y[4];
+    uint32_t receiver_member[4], source_member[4];
+    double receiver_chance[4], source_chance[4];
+    int rn = 4;
+    if (is_cluster(nr))
+        sample_points(h, receiver, w, link_hash(h, receiver, source, 1 + 0x100u), x, receiver_member,
+                      receiver_chance, 0);
+    else
+        rn = quadrature_points(nr, x);
+    sample_points(h, source, v3_scale(w, -1), link_hash(h, receiver, source, 2 + 0x100u), y,
+                  source_member, source_chance, (float)slack);
+    uint8_t seen[16];
+    int blocked;
+    visible_pairs(h, x, rn, y, 4, &blocked, seen);
+    double sum = 0, added[4] = {0, 0, 0, 0}; /* per source point */
+    for (int i = 0; i < rn; ++i)
+        for (int j = 0; j < 4; ++j) {
+            if (!seen[i * 4 + j]) continue;
+            rad_vec3 ray = v3_sub(y[j], x[i]);
+            double r2 = v3_dot(ray, ray), length = sqrt(r2);
+            double wr = is_cluster(nr)
+                            ? member_weight(h, receiver_member[i], receiver_chance[i], v3_scale(ray, -1), length)
+                            : nr->area * fmax(0, v3_dot(h->normal[nr->polygon], ray) / length);
+            double ws = is_cluster(ns) ? member_weight(h, source_member[j], source_chance[j], ray, length)
+                                       : ns->area * fmax(0, -v3_dot(h->normal[ns->polygon], ray) / length);
+            sum += wr * ws / r2;
+            added[j] += wr * ws / r2;
         }
-        if (set == 0) continue; /* the first set only decides */
-        ++sets;
-        for (int i = 0; i < rn; ++i)
-            for (int j = 0; j < sn; ++j) {
-                if (!seen[i * sn + j]) continue;
-                rad_vec3 ray = v3_sub(y[j], x[i]);
-                double r2 = v3_dot(ray, ray), length = sqrt(r2);
-                double wr = is_cluster(nr)
-                                ? member_weight(h, receiver_members[i], receiver_chance[4 * set + i],
-                                                v3_scale(ray, -1), length)
-                                : nr->area * fmax(0, v3_dot(h->normal[nr->polygon], ray) / length);
-                double ws = is_cluster(ns)
-                                ? member_weight(h, source_members[j], source_chance[4 * set + j], ray, length)
-                                : ns->area * fmax(0, -v3_dot(h->normal[ns->polygon], ray) / length);
-                sum += wr * ws / r2;
-                added[j] += wr * ws / r2;
-            }
-        counted_members = source_members;
-    }
-    if (is_cluster(ns)) keep_seen_members(seen_members, counted_members, added, sn);
-    sum /= sets;
-    double sampled = fmin(upper, sum / (rn * sn) / (RAD_PI * area));
-    double error = (upper - lower) + (partial ? estimate : 0);
-    out->form_factor = (float)sampled;
-    out->error = (float)fmin(error, UNKNOWN_ERROR);
-    if (partial) out->error = -out->error;
+    if (is_cluster(ns)) keep_seen_members(seen_members, source_member, added, 4);
+    out->form_factor = (float)fmin(upper, sum / (rn * 4) / (RAD_PI * area));
+    out->error = -(float)fmin((upper - lower) + estimate, UNKNOWN_ERROR);
     return 1;
 }
 
