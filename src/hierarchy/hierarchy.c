@@ -1103,6 +1103,49 @@ static int decide_any(const rad_hier *h, const rad_hier_link *link, double *rela
     return decide(h, link, relative);
 }
 
+/* Long loops over links are cut into BLOCKS blocks: each block's count (of what the loop keeps
+ * or makes) is taken in parallel, the counts are summed in block order into each block's first
+ * slot, then every block writes its own slots, so the output is in the one serial order for any
+ * thread count. */
+enum { BLOCKS = 256 };
+static void block_range(size_t count, long k, size_t *first, size_t *last) {
+    size_t block = (count + BLOCKS - 1) / BLOCKS;
+    *first = (size_t)k * block < count ? (size_t)k * block : count;
+    *last = *first + block < count ? *first + block : count;
+}
+
+/* Turns the block counts at[1 .. BLOCKS] into each block's first slot (at[0] the first of all);
+ * returns the total. */
+static size_t block_starts(size_t *at) {
+    for (int k = 0; k < BLOCKS; ++k) at[k + 1] += at[k];
+    return at[BLOCKS];
+}
+
+/* Keeps links[i] where (flag[i] != 0) == keep_set, in order, in place; returns how many. Each
+ * block is squeezed in parallel, then the blocks are moved down one after the other. */
+static size_t compact_links(const rad_hier *h, rad_hier_link *links, size_t count,
+                            const uint8_t *flag, int keep_set) {
+    size_t at[BLOCKS + 1];
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last;
+        block_range(count, k, &first, &last);
+        size_t here = first;
+        for (size_t i = first; i < last; ++i)
+            if ((flag[i] != 0) == keep_set) links[here++] = links[i];
+        at[k + 1] = here - first;
+    }
+    at[0] = 0;
+    size_t kept = block_starts(at);
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last;
+        block_range(count, k, &first, &last);
+        if (at[k] != first && at[k + 1] > at[k])
+            memmove(links + at[k], links + first, (at[k + 1] - at[k]) * sizeof *links);
+    }
+    return kept;
+}
+
 /* Sorts links[0 .. count) by receiver (stable) into out. A counting sort in `parts` contiguous
  * parts, one per thread: each part counts its receivers, part p's links of receiver n go after
  * those of every part before p, so the result is the one stable order whatever the number of
@@ -1141,19 +1184,32 @@ static rad_status sort_by_receiver(rad_hier *h, const rad_hier_link *links, size
 /* Makes `links` (sorted by receiver, count of them) the hierarchy's links: frees the old ones,
  * rebuilds the receiver groups and counts the links with a cluster end. Takes ownership. */
 static rad_status take_sorted_links(rad_hier *h, rad_hier_link *links, size_t count) {
-    size_t group_count = 0, cluster_links = 0;
-    for (size_t i = 0; i < count; ++i) {
-        group_count += i == 0 || links[i].receiver != links[i - 1].receiver;
-        cluster_links += cluster_index(h, links[i].receiver) || cluster_index(h, links[i].source);
+    size_t at[BLOCKS + 1], cluster_links = 0;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096) \
+    reduction(+ : cluster_links)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last, starts = 0;
+        block_range(count, k, &first, &last);
+        for (size_t i = first; i < last; ++i) {
+            starts += i == 0 || links[i].receiver != links[i - 1].receiver;
+            cluster_links += cluster_index(h, links[i].receiver) || cluster_index(h, links[i].source);
+        }
+        at[k + 1] = starts;
     }
+    at[0] = 0;
+    size_t group_count = block_starts(at);
     size_t *groups = rad_alloc(h->ctx, group_count + 1, sizeof *groups);
     if (!groups) {
         rad_free(h->ctx, links);
         return RAD_ERROR_NO_MEMORY;
     }
-    group_count = 0;
-    for (size_t i = 0; i < count; ++i)
-        if (i == 0 || links[i].receiver != links[i - 1].receiver) groups[group_count++] = i;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last, group = at[k];
+        block_range(count, k, &first, &last);
+        for (size_t i = first; i < last; ++i)
+            if (i == 0 || links[i].receiver != links[i - 1].receiver) groups[group++] = i;
+    }
     groups[group_count] = count;
     if (h->links != links) rad_free(h->ctx, h->links);
     rad_free(h->ctx, h->group_first);
@@ -1349,24 +1405,23 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
  * cycles one slot at a time: 13 s of one thread at 10^6, every step a cache miss.) */
 static rad_status order_samples(rad_hier *h) {
     if (!h->sample_count) return RAD_OK;
-    enum { BLOCKS = 256 };
     size_t at[BLOCKS + 1];
-    const size_t count = h->link_count, block = (count + BLOCKS - 1) / BLOCKS;
+    const size_t count = h->link_count;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
     for (long k = 0; k < BLOCKS; ++k) {
-        size_t first = (size_t)k * block, last = first + block < count ? first + block : count, here = 0;
+        size_t first, last, here = 0;
+        block_range(count, k, &first, &last);
         for (size_t l = first; l < last; ++l) here += h->links[l].sample != RAD_HIER_NO_NODE;
         at[k + 1] = here;
     }
     at[0] = 0;
-    for (int k = 0; k < BLOCKS; ++k) at[k + 1] += at[k];
-    const size_t used = at[BLOCKS];
+    const size_t used = block_starts(at);
     link_sample *ordered = rad_alloc(h->ctx, used ? used : 1, sizeof *ordered);
     if (!ordered) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
     for (long k = 0; k < BLOCKS; ++k) {
-        size_t first = (size_t)k * block, last = first + block < count ? first + block : count;
-        size_t slot = at[k];
+        size_t first, last, slot = at[k];
+        block_range(count, k, &first, &last);
         for (size_t l = first; l < last; ++l) {
             rad_hier_link *link = &h->links[l];
             if (link->sample == RAD_HIER_NO_NODE) continue;
@@ -1505,7 +1560,7 @@ rad_status rad_hier_refine(rad_hier *h) {
             status = RAD_ERROR_NO_MEMORY;
             break;
         }
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads(h)) if (pending_count >= 4096)
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (pending_count >= 4096)
         for (long i = 0; i < (long)pending_count; ++i) {
             if (estimated) estimated[i].weight[0] = NO_SAMPLE;
             if (!decision[i] && pending[i].form_factor == NOT_ESTIMATED)
@@ -1559,14 +1614,11 @@ rad_status rad_hier_refine(rad_hier *h) {
             else status = RAD_ERROR_NO_MEMORY;
         }
         if (!status) {
-            enum { BLOCKS = 256 };
             size_t keep_at[BLOCKS + 1], fresh_at[BLOCKS + 1];
-            size_t block = (pending_count + BLOCKS - 1) / BLOCKS;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (pending_count >= 4096)
             for (long k = 0; k < BLOCKS; ++k) {
-                size_t kept_here = 0, fresh_here = 0;
-                size_t first = (size_t)k * block, last = first + block;
-                if (last > pending_count) last = pending_count;
+                size_t kept_here = 0, fresh_here = 0, first, last;
+                block_range(pending_count, k, &first, &last);
                 for (size_t i = first; i < last; ++i)
                     if (!decision[i]) kept_here++;
                     else fresh_here += children_made(h, &pending[i], decision[i]);
@@ -1575,15 +1627,12 @@ rad_status rad_hier_refine(rad_hier *h) {
             }
             keep_at[0] = kept_count;
             fresh_at[0] = 0;
-            for (int k = 0; k < BLOCKS; ++k) {
-                keep_at[k + 1] += keep_at[k];
-                fresh_at[k + 1] += fresh_at[k];
-            }
+            block_starts(keep_at);
+            block_starts(fresh_at);
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (pending_count >= 4096)
             for (long k = 0; k < BLOCKS; ++k) {
-                size_t at_kept = keep_at[k], at_fresh = fresh_at[k];
-                size_t first = (size_t)k * block, last = first + block;
-                if (last > pending_count) last = pending_count;
+                size_t at_kept = keep_at[k], at_fresh = fresh_at[k], first, last;
+                block_range(pending_count, k, &first, &last);
                 for (size_t i = first; i < last; ++i) {
                     if (!decision[i]) {
                         if (!in_place) kept[at_kept++] = pending[i];
@@ -1605,11 +1654,8 @@ rad_status rad_hier_refine(rad_hier *h) {
             kept_count = keep_at[BLOCKS];
             count = fresh_at[BLOCKS];
             if (in_place) {
-                size_t at = 0;
-                for (size_t i = 0; i < pending_count; ++i)
-                    if (!decision[i]) pending[at++] = pending[i];
+                sorted_count = compact_links(h, pending, pending_count, decision, 0);
                 kept = pending;
-                sorted_count = at;
             }
         }
         if (pending != kept) rad_free(ctx, pending);
@@ -1629,8 +1675,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         status = keep_samples(h, fresh, seen, made, count);
         rad_free(ctx, seen);
         if (status) break;
-        for (size_t i = 0; i < count; ++i)
-            if (made[i]) fresh[pending_count++] = fresh[i];
+        pending_count = compact_links(h, fresh, count, made, 1);
         rad_free(ctx, made);
         made = NULL;
         pending = fresh;
