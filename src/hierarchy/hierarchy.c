@@ -27,7 +27,6 @@
                             * 4 before: Sponza's mean swung by 2 points between seeds, see jackknife()) */
 #define SEEN_BATCHES 3      /* ... whose deciding set saw most of the source (MOSTLY_SEEN): two fresh */
 #define MOSTLY_SEEN 0.9     /* the kernel-weighed share of the deciding set's rays that were seen */
-#define CLUSTER_PARTIAL_SETS 1 /* fresh sets of 16 sampled pairs that estimate a cluster link */
 
 typedef double rgb[3];
 
@@ -191,12 +190,11 @@ static void init_node(rad_hier *h, rad_hier_node *n, const rad_vec3 *c, int coun
     memcpy(n->radiosity, h->emission[polygon], sizeof n->radiosity);
 }
 
-/* Splits a leaf into four: a quad at its edge midpoints and centre, a triangle at its edge
- * midpoints (the fourth child is the middle triangle). Children keep the winding. */
-static rad_status subdivide(rad_hier *h, uint32_t index) {
-    if (h->nodes[index].first_child != RAD_HIER_NO_NODE) return RAD_OK;
-    rad_status status = reserve_nodes(h, 4);
-    if (status) return status;
+/* Splits leaf `index` into four made at nodes first .. first + 3 (reserved): a quad at its edge
+ * midpoints and centre, a triangle at its edge midpoints (the fourth child is the middle
+ * triangle). Children keep the winding. Touches only the leaf and those four, so leaves may
+ * be split in parallel. */
+static void split_into(rad_hier *h, uint32_t index, uint32_t first) {
     rad_hier_node parent = h->nodes[index];
     const rad_vec3 *c = parent.corner;
     rad_vec3 child[4][4];
@@ -215,7 +213,6 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
                                   {m20, m12, c[2], c[2]}, {m12, m20, m01, m01}};
         memcpy(child, t, sizeof child);
     }
-    uint32_t first = (uint32_t)h->node_count;
     for (int k = 0; k < 4; ++k) {
         init_node(h, &h->nodes[first + k], child[k], count, parent.polygon, parent.root,
                   parent.depth + 1);
@@ -228,10 +225,18 @@ static rad_status subdivide(rad_hier *h, uint32_t index) {
             h->importance[first + k] =
                 parent.area > 0 ? h->importance[index] * h->nodes[first + k].area / parent.area : 0;
     }
-    h->node_count += 4;
-    h->stats.leaves += 3;
     h->nodes[index].first_child = first;
     h->nodes[index].child_count = 4;
+}
+
+/* Splits a leaf into four new nodes (split_into); a node already split is left alone. */
+static rad_status subdivide(rad_hier *h, uint32_t index) {
+    if (h->nodes[index].first_child != RAD_HIER_NO_NODE) return RAD_OK;
+    rad_status status = reserve_nodes(h, 4);
+    if (status) return status;
+    split_into(h, index, (uint32_t)h->node_count);
+    h->node_count += 4;
+    h->stats.leaves += 3;
     return RAD_OK;
 }
 
@@ -452,8 +457,8 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
          * sums), and zero when none does: partly hidden links take PARTIAL_BATCHES - 1 fresh
          * sets (test_opening: a floor under a sky seen through a hole, -11.3% with one set,
          * -2.9% with four; Sponza's links carried 0.88 of the light a Monte Carlo gather of the
-         * same leaves finds, docs/hierarchical.md). The first set only decides (as for cluster
-         * links): given that its 16 rays all arrived, the pair is likelier seen than it is, and
+         * same leaves finds, docs/hierarchical.md). The first set only decides (as it did for
+         * cluster links before hspeed10): given that its 16 rays all arrived, the pair is likelier seen than it is, and
          * taking the whole unoccluded factor then made the office's floor links that saw the
          * lamps unoccluded carry 1.19-1.30 of their light, the closed office 20000 absorb 4.6%
          * more than it emits at link error 2.5e-4, and test_desk_shadows +2.2%. So every link
@@ -608,14 +613,14 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     return p;
 }
 
-/* Four points on a node's surfaces for visibility rays toward unit direction w, for each of
- * `sets` seeds (out[4 s + k] for seeds[s]): a polygon node's jittered points; for a cluster,
+/* Four points on a node's surfaces for visibility rays toward unit direction w, from `seed`:
+ * a polygon node's jittered points; for a cluster,
  * points on members reached by a fixed pseudo-random walk (seeded by the pair) down it that
  * picks each child in proportion to its projected area toward w (members facing away, whose own
  * bodies would block the rays, are not sampled), with the member (members[k]) and the
  * probability the walk drew it with (probability[k]).
  *
- * The sets from `slack_from` on widen "toward w" by `slack` (s): a member with f = n.w is drawn
+ * A `slack` (s) above 0 widens "toward w": a member with f = n.w is drawn
  * in proportion to A f when f >= s, A (f + s)^2 / (4 s) when -s < f < s (the mean of max(0,
  * n.u) over directions u spread about w, roughly; it meets A f at f = s with the same slope),
  * 0 below; a cluster in proportion to the same weight of each signed axis's component of w
@@ -627,14 +632,14 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
  * factor counts what each drawn member adds (member_weight, unbiased only over members that
  * can be drawn): on Sponza the links from clusters carried 0.99 of a Monte Carlo gather of the
  * same leaves and the image was 0.45-1.07% dark at seeds 0-2, the closed office 20000's 0.975
- * (docs/hierarchical.md, "sponza3"). The deciding set keeps the plain draw, so the oracle sees
- * the links it saw before. The walk reads the compact tables
+ * (docs/hierarchical.md, "sponza3"). A cluster receiver's points keep the plain draw (its
+ * links are opened, hspeed10). The walk reads the compact tables
  * (walk_cluster, walk_root): one cache line a level, where the nodes and cluster_info cost three
  * (the walk was two fifths of the solve at 10^6). The walks go down together, a level each in
  * turn: each level's read waits for the level above, so walks taken one after the other wait
  * for every miss in a row, while walks taken in turn wait for theirs side by side (the walks
  * were a quarter of the 10^6 office's samples). */
-#define MAX_WALKS 8
+#define WALKS 4
 /* A member's weight per unit area at facing f = n.w, widened by s (above): f from s up, the
  * quadratic (f + s)^2 / (4 s) between -s and s, 0 below; max(0, f) when s is 0. */
 static inline float facing_weight(float f, float s) {
@@ -642,45 +647,46 @@ static inline float facing_weight(float f, float s) {
     return f > -s ? (f + s) * (f + s) / (4 * s) : 0;
 }
 
-static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const uint32_t *seeds,
-                          int sets, rad_vec3 *out, uint32_t *members, double *probability,
-                          float slack, int slack_from) {
+static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
+                          rad_vec3 *out, uint32_t *members, double *probability, float slack) {
     if (!is_cluster(&h->nodes[index])) {
-        for (int s = 0; s < sets; ++s) visibility_points(&h->nodes[index], seeds[s], out + 4 * s);
+        visibility_points(&h->nodes[index], seed, out);
         return;
     }
     const float wx = (float)fabs(w.x), wy = (float)fabs(w.y), wz = (float)fabs(w.z);
     const int sx = w.x < 0, sy = 2 + (w.y < 0), sz = 4 + (w.z < 0);
-    const int walks = 4 * sets;
-    const walk_cluster *at[MAX_WALKS];
-    uint32_t state[MAX_WALKS], root[MAX_WALKS];
-    float chance[MAX_WALKS];
-    for (int k = 0; k < walks; ++k) {
+    /* A cluster's weight with slack is linear in its signed-axis areas: each axis's factor,
+     * the same at every level, once. */
+    const float widened[6] = {facing_weight((float)w.x, slack), facing_weight(-(float)w.x, slack),
+                              facing_weight((float)w.y, slack), facing_weight(-(float)w.y, slack),
+                              facing_weight((float)w.z, slack), facing_weight(-(float)w.z, slack)};
+    const walk_cluster *at[WALKS];
+    uint32_t state[WALKS], root[WALKS];
+    float chance[WALKS];
+    for (int k = 0; k < WALKS; ++k) {
         chance[k] = 1;
-        state[k] = pair_hash(seeds[k / 4], index, (uint32_t)(k % 4));
+        state[k] = pair_hash(seed, index, (uint32_t)k);
         at[k] = &h->walk[index - h->cluster_first];
         root[k] = RAD_HIER_NO_NODE;
     }
-    for (int left = walks; left > 0;)
-        for (int k = 0; k < walks; ++k) {
+    for (int left = WALKS; left > 0;)
+        for (int k = 0; k < WALKS; ++k) {
             if (root[k] != RAD_HIER_NO_NODE) continue;
             const walk_cluster *c = at[k];
             state[k] = state[k] * 1664525u + 1013904223u;
             float weight[LEAF_CLUSTER > 2 ? LEAF_CLUSTER : 2], total = 0;
             uint32_t count = c->count <= LEAF_CLUSTER ? c->count : LEAF_CLUSTER;
-            const float wide = k / 4 >= slack_from ? slack : 0;
             for (uint32_t i = 0; i < count; ++i) {
                 if (c->leaf) {
                     const walk_root *r = &h->root_walk[c->first + i];
                     float facing = r->normal[0] * (float)w.x + r->normal[1] * (float)w.y +
                                    r->normal[2] * (float)w.z;
-                    weight[i] = r->area * facing_weight(facing, wide);
+                    weight[i] = r->area * facing_weight(facing, slack);
                 } else {
                     const float *a = h->walk[c->first + i].axis_area;
-                    if (wide > 0)
-                        weight[i] = a[0] * facing_weight((float)w.x, wide) + a[1] * facing_weight(-(float)w.x, wide) +
-                                    a[2] * facing_weight((float)w.y, wide) + a[3] * facing_weight(-(float)w.y, wide) +
-                                    a[4] * facing_weight((float)w.z, wide) + a[5] * facing_weight(-(float)w.z, wide);
+                    if (slack > 0)
+                        weight[i] = a[0] * widened[0] + a[1] * widened[1] + a[2] * widened[2] +
+                                    a[3] * widened[3] + a[4] * widened[4] + a[5] * widened[5];
                     else
                         weight[i] = wx * a[sx] + wy * a[sy] + wz * a[sz];
                 }
@@ -707,8 +713,8 @@ static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, const u
                 else __builtin_prefetch(&h->walk[next->first]);
             }
         }
-    for (int k = 0; k < walks; ++k) {
-        out[k] = visibility_point(&h->nodes[root[k]], state[k], k % 4);
+    for (int k = 0; k < WALKS; ++k) {
+        out[k] = visibility_point(&h->nodes[root[k]], state[k], k);
         members[k] = root[k];
         probability[k] = chance[k];
     }
@@ -743,6 +749,12 @@ static int refined_anyway(const rad_hier *h, rad_hier_link *link, double error) 
     return cluster_oracle(h, link, &relative, 0) != 0;
 }
 
+/* The corner of a cluster's box farthest along `normal`. */
+static rad_vec3 farthest_along(const cluster_info *ci, rad_vec3 normal) {
+    return v3(normal.x > 0 ? ci->hi.x : ci->lo.x, normal.y > 0 ? ci->hi.y : ci->lo.y,
+              normal.z > 0 ? ci->hi.z : ci->lo.z);
+}
+
 /* Nonzero when `surface` is a polygon node, `cluster` a cluster, and no corner of the
  * cluster's box lies strictly in front of the surface's plane (the test any_in_front makes for
  * two polygons): no member can reach the surface's front, nor be reached from it. */
@@ -751,10 +763,7 @@ static int cluster_behind(const rad_hier *h, uint32_t surface, uint32_t cluster)
     if (is_cluster(n) || !cluster_index(h, cluster)) return 0;
     const cluster_info *ci = info(h, cluster);
     rad_vec3 normal = h->normal[n->polygon];
-    /* The box's corner farthest along the normal. */
-    rad_vec3 far = v3(normal.x > 0 ? ci->hi.x : ci->lo.x, normal.y > 0 ? ci->hi.y : ci->lo.y,
-                      normal.z > 0 ? ci->hi.z : ci->lo.z);
-    return !(v3_dot(normal, v3_sub(far, n->corner[0])) > 0);
+    return !(v3_dot(normal, v3_sub(farthest_along(ci, normal), n->corner[0])) > 0);
 }
 
 /* Nonzero when no member of cluster `cluster` faces any point of node `other`'s box: for every
@@ -784,6 +793,26 @@ static int cluster_faces_away(const rad_hier *h, uint32_t cluster, uint32_t othe
         if (ci->axis_area[2 * a + 1] > 0 && other_lo[a] < box_hi[a]) return 0;
     }
     return 1;
+}
+
+/* Nonzero when `receiver` is a polygon node and the box of source cluster `source` lies
+ * behind its plane (behind every corner, by a millionth of the two radii): every sampled point is
+ * then behind the receiver, so every ray of the link leaves the receiver's back and the link's
+ * factor is exactly 0 (each ray's receiver weight A max(0, n.ray) is 0), its centre estimate
+ * too (n.w < 0), and its bound upper - lower whatever the rays find blocked. Such links are
+ * still made (no_light_between explains why), but without rays or member walks: in the 10^5
+ * office 0.55 M of the 4.4 M links kept (hspeed9), each with 16 to 32 rays. The margin keeps
+ * a flat cluster lying in the receiver's own plane (floor tiles beside a tile), whose rays'
+ * weights are rounding errors, on the path with rays, so the factors are the same bits. */
+static int receiver_behind(const rad_hier *h, uint32_t receiver, uint32_t source) {
+    const rad_hier_node *n = &h->nodes[receiver];
+    if (is_cluster(n) || !cluster_index(h, source)) return 0;
+    const cluster_info *ci = info(h, source);
+    rad_vec3 normal = h->normal[n->polygon];
+    double radius, front = -INFINITY; /* the receiver's points lie behind its farthest corner */
+    node_centre(h, receiver, &radius);
+    for (int k = 0; k < n->corner_count; ++k) front = fmax(front, v3_dot(normal, n->corner[k]));
+    return v3_dot(normal, farthest_along(ci, normal)) - front < -1e-6 * (radius + ci->radius);
 }
 
 /* Nonzero when no light can pass between the two ends of a link with a cluster at one end or
@@ -843,13 +872,12 @@ static void keep_seen_members(link_sample *out, const uint32_t *member, const do
 }
 
 /* A cheap link (cheap_link): one ray per receiver point (a cluster receiver's four sampled
- * points), each to its own sampled source point, instead of the 16 pairs that decide partial
- * visibility and the 16 fresh ones that estimate a partly hidden link. The mean over the pairs
- * of V P_r P_s / (pi r^2 A_r) is unbiased (the full scheme's is high for links whose first set
- * happened to be unblocked); clamped to the upper bound as there. (Its rays used to count
- * toward the members' exposure, which mattered to Sponza before links sent their own samples;
- * docs/hierarchical.md, "sixth session".) 3-4 rays and 4 walks where a partly hidden link cast
- * 32 and walked 8. */
+ * points), each to its own sampled source point, instead of the 16 pairs between the four
+ * receiver points and the four source points of a full link. The mean over the pairs of
+ * V P_r P_s / (pi r^2 A_r) is unbiased; clamped to the upper bound as there. (Its rays used to
+ * count toward the members' exposure, which mattered to Sponza before links sent their own
+ * samples; docs/hierarchical.md, "sixth session".) 3-4 rays where a full link casts 16 (32
+ * before hspeed10). */
 static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double spread,
                            double estimate, double slack, rad_hier_link *out,
                            link_sample *seen_members) {
@@ -863,10 +891,10 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
     const rad_vec3 back = v3_scale(w, -1);
     int pairs = 4;
     if (is_cluster(nr))
-        sample_points(h, receiver, w, &receiver_seed, 1, x, receiver_member, receiver_chance, 0, 1);
+        sample_points(h, receiver, w, receiver_seed, x, receiver_member, receiver_chance, 0);
     else
         pairs = quadrature_points(nr, x);
-    sample_points(h, source, back, &source_seed, 1, y, source_member, source_chance, (float)slack, 0);
+    sample_points(h, source, back, source_seed, y, source_member, source_chance, (float)slack);
     uint8_t occluded[4];
     rad_rays_occluded_batch(h->rays, x, y, (size_t)pairs, occluded);
     double sum = 0, added[4] = {0, 0, 0, 0};
@@ -897,13 +925,12 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
 /* The link receiver <- source when either is a cluster: the point estimate between the
  * centres, its bound, and the visible fraction of the rays between sampled member points.
  * A self-link, or one whose bounding spheres overlap, carries nothing and must be refined.
- * With `may_skip`, a link the oracle will refine in this pass whatever its estimate (the
- * radiosities it reads do not change within rad_hier_refine) is not estimated: no rays when
- * its bound fails without partial visibility, no fresh set when it fails with it. Its factor
- * is then NOT_ESTIMATED, and a link kept after all (the memory budget stopped refinement) is
- * made again without `may_skip`. On Sponza 0.27 M links skip every ray and 0.24 M the fresh
- * set (of 4.5 M cluster links with rays): 3-4% of the render's processor time. Their rays no
- * longer count toward the members' exposure. Returns 0 when no light can pass. */
+ * With `may_skip`, a link the oracle will refine in this pass (the radiosities it reads do not
+ * change within rad_hier_refine) is not estimated: no rays when its bound fails, with the
+ * whole estimate counted unless the link is cheap (cheap_link) or carries nothing
+ * (receiver_behind). Its factor is then NOT_ESTIMATED, and a link kept after all (the memory
+ * budget stopped refinement) is made again without `may_skip`. Returns 0 when no light can
+ * pass. */
 static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t source,
                              rad_hier_link *out, int may_skip, link_sample *seen_members) {
     out->receiver = receiver;
@@ -936,86 +963,68 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         out->form_factor = NOT_ESTIMATED;
         return 1;
     }
+    if (receiver_behind(h, receiver, source)) {
+        /* No ray can carry light (receiver_behind): what they would give is known. */
+        out->form_factor = 0;
+        out->error = -(float)fmin(upper - lower, UNKNOWN_ERROR);
+        return 1;
+    }
     if (cheap_link(h, receiver, upper - lower + estimate))
         return make_cheap_link(h, w, upper, upper - lower, estimate, slack, out, seen_members);
     /* The factor itself from the rays between sampled member points (chosen in proportion to
-     * projected area): the mean over the pairs of V P_r P_s / (pi r^2 A_r), with a polygon
+     * projected area): the mean over the 16 pairs of V P_r P_s / (pi r^2 A_r), with a polygon
      * end's A cos taken along each ray. The centres' distance alone underestimates it (the
      * mean of 1 / r^2 over an extended pair exceeds 1 / d^2, and near pairs are the visible
      * ones): Sponza's arcades, lit through large clusters, came out half as bright. Clamped to
-     * the upper bound. */
-    /* The sets of sampled pairs: the first says whether the pair is partly hidden; the factor
-     * is then the mean of CLUSTER_PARTIAL_SETS fresh sets, not of the first. Given that some of
-     * its rays were blocked, the first set's estimate is low, and given that none were, high
-     * (the oracle keeps the links it found unblocked and refines many partly hidden ones): on
-     * Sponza cluster links carried 0.89-0.96 of a Monte Carlo gather of the same leaves, and
-     * the image was -4.8% against the path tracer, with one fresh set for the partly hidden
-     * links -1.5%. With the unblocked links' factors from their first set the closed office
-     * 20000 absorbed 2.0% more than it emitted, from a fresh set 1.5% less (their points are
-     * walked beside the first set's; 16 more rays). */
+     * the upper bound.
+     *
+     * The link counts as partly hidden whatever its rays find: its bound is the spread plus
+     * the whole estimate, and the oracle decides on it before any ray. Its rays then only
+     * estimate, and nothing they find decides whether the link is kept, so the estimate is
+     * unbiased. (Until hspeed10 a first set of 16 pairs decided partial visibility and a fresh
+     * set estimated, because an estimate from the rays that chose the link was biased: low
+     * given blocked rays, high given none, Sponza -4.8% against the path tracer. 83-87% of
+     * these links were partly hidden anyway and 0.1% were refined on it when made; the
+     * deciding set was 16 rays and 4 member walks of every such link, a fifth of the rays at
+     * 10^6: docs/hierarchical.md, "Speed at scale, tenth session".) The points and members are
+     * the ones the fresh set drew (its seeds). */
+    if (may_skip && refined_anyway(h, out, upper - lower + estimate)) {
+        out->form_factor = NOT_ESTIMATED;
+        out->error = -out->error;
+        return 1;
+    }
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
-    int partial = 0, rn = 0, sn = 0, sets = 0;
-    double sum = 0, added[4] = {0, 0, 0, 0}; /* per source point of the counted set */
-    const uint32_t *counted_members = NULL;
-    _Static_assert(CLUSTER_PARTIAL_SETS == 1, "a link's sample holds one set's source members");
-    /* Every set's points at once (the walks of the fresh sets are wasted when the first is
-     * not partly hidden, but walked beside the first set's they cost little). */
-    enum { SETS = 1 + CLUSTER_PARTIAL_SETS };
-    rad_vec3 xs[4 * SETS], ys[4 * SETS];
-    uint32_t receiver_member[4 * SETS], source_member[4 * SETS];
-    double receiver_chance[4 * SETS], source_chance[4 * SETS];
-    uint32_t receiver_seed[SETS], source_seed[SETS];
-    for (int set = 0; set < SETS; ++set) {
-        receiver_seed[set] = link_hash(h, receiver, source, 1 + 0x100u * (uint32_t)set);
-        source_seed[set] = link_hash(h, receiver, source, 2 + 0x100u * (uint32_t)set);
-    }
-    if (is_cluster(nr)) {
-        sample_points(h, receiver, w, receiver_seed, SETS, xs, receiver_member, receiver_chance, 0, SETS);
-        rn = 4;
-    } else
-        rn = quadrature_points(nr, xs);
-    sample_points(h, source, v3_scale(w, -1), source_seed, SETS, ys, source_member, source_chance,
-                  (float)slack, 1);
-    sn = 4;
-    for (int set = 0; set <= CLUSTER_PARTIAL_SETS; ++set) {
-        uint8_t seen[16];
-        const rad_vec3 *x = is_cluster(nr) ? xs + 4 * set : xs, *y = ys + 4 * set;
-        const uint32_t *receiver_members = receiver_member + 4 * set;
-        const uint32_t *source_members = source_member + 4 * set;
-        int blocked;
-        visible_pairs(h, x, rn, y, sn, &blocked, seen);
-        if (set == 0) partial = blocked;
-        if (partial && set == 0 && may_skip && refined_anyway(h, out, upper - lower + estimate)) {
-            out->form_factor = NOT_ESTIMATED;
-            out->error = -out->error;
-            return 1;
+    rad_vec3 x[4], y[4];
+    uint32_t receiver_member[4], source_member[4];
+    double receiver_chance[4], source_chance[4];
+    int rn = 4;
+    if (is_cluster(nr))
+        sample_points(h, receiver, w, link_hash(h, receiver, source, 1 + 0x100u), x, receiver_member,
+                      receiver_chance, 0);
+    else
+        rn = quadrature_points(nr, x);
+    sample_points(h, source, v3_scale(w, -1), link_hash(h, receiver, source, 2 + 0x100u), y,
+                  source_member, source_chance, (float)slack);
+    uint8_t seen[16];
+    int blocked;
+    visible_pairs(h, x, rn, y, 4, &blocked, seen);
+    double sum = 0, added[4] = {0, 0, 0, 0}; /* per source point */
+    for (int i = 0; i < rn; ++i)
+        for (int j = 0; j < 4; ++j) {
+            if (!seen[i * 4 + j]) continue;
+            rad_vec3 ray = v3_sub(y[j], x[i]);
+            double r2 = v3_dot(ray, ray), length = sqrt(r2);
+            double wr = is_cluster(nr)
+                            ? member_weight(h, receiver_member[i], receiver_chance[i], v3_scale(ray, -1), length)
+                            : nr->area * fmax(0, v3_dot(h->normal[nr->polygon], ray) / length);
+            double ws = is_cluster(ns) ? member_weight(h, source_member[j], source_chance[j], ray, length)
+                                       : ns->area * fmax(0, -v3_dot(h->normal[ns->polygon], ray) / length);
+            sum += wr * ws / r2;
+            added[j] += wr * ws / r2;
         }
-        if (set == 0) continue; /* the first set only decides */
-        ++sets;
-        for (int i = 0; i < rn; ++i)
-            for (int j = 0; j < sn; ++j) {
-                if (!seen[i * sn + j]) continue;
-                rad_vec3 ray = v3_sub(y[j], x[i]);
-                double r2 = v3_dot(ray, ray), length = sqrt(r2);
-                double wr = is_cluster(nr)
-                                ? member_weight(h, receiver_members[i], receiver_chance[4 * set + i],
-                                                v3_scale(ray, -1), length)
-                                : nr->area * fmax(0, v3_dot(h->normal[nr->polygon], ray) / length);
-                double ws = is_cluster(ns)
-                                ? member_weight(h, source_members[j], source_chance[4 * set + j], ray, length)
-                                : ns->area * fmax(0, -v3_dot(h->normal[ns->polygon], ray) / length);
-                sum += wr * ws / r2;
-                added[j] += wr * ws / r2;
-            }
-        counted_members = source_members;
-    }
-    if (is_cluster(ns)) keep_seen_members(seen_members, counted_members, added, sn);
-    sum /= sets;
-    double sampled = fmin(upper, sum / (rn * sn) / (RAD_PI * area));
-    double error = (upper - lower) + (partial ? estimate : 0);
-    out->form_factor = (float)sampled;
-    out->error = (float)fmin(error, UNKNOWN_ERROR);
-    if (partial) out->error = -out->error;
+    if (is_cluster(ns)) keep_seen_members(seen_members, source_member, added, 4);
+    out->form_factor = (float)fmin(upper, sum / (rn * 4) / (RAD_PI * area));
+    out->error = -(float)fmin((upper - lower) + estimate, UNKNOWN_ERROR);
     return 1;
 }
 
@@ -1094,6 +1103,49 @@ static int decide_any(const rad_hier *h, const rad_hier_link *link, double *rela
     return decide(h, link, relative);
 }
 
+/* Long loops over links are cut into BLOCKS blocks: each block's count (of what the loop keeps
+ * or makes) is taken in parallel, the counts are summed in block order into each block's first
+ * slot, then every block writes its own slots, so the output is in the one serial order for any
+ * thread count. */
+enum { BLOCKS = 256 };
+static void block_range(size_t count, long k, size_t *first, size_t *last) {
+    size_t block = (count + BLOCKS - 1) / BLOCKS;
+    *first = (size_t)k * block < count ? (size_t)k * block : count;
+    *last = *first + block < count ? *first + block : count;
+}
+
+/* Turns the block counts at[1 .. BLOCKS] into each block's first slot (at[0] the first of all);
+ * returns the total. */
+static size_t block_starts(size_t *at) {
+    for (int k = 0; k < BLOCKS; ++k) at[k + 1] += at[k];
+    return at[BLOCKS];
+}
+
+/* Keeps links[i] where (flag[i] != 0) == keep_set, in order, in place; returns how many. Each
+ * block is squeezed in parallel, then the blocks are moved down one after the other. */
+static size_t compact_links(const rad_hier *h, rad_hier_link *links, size_t count,
+                            const uint8_t *flag, int keep_set) {
+    size_t at[BLOCKS + 1];
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last;
+        block_range(count, k, &first, &last);
+        size_t here = first;
+        for (size_t i = first; i < last; ++i)
+            if ((flag[i] != 0) == keep_set) links[here++] = links[i];
+        at[k + 1] = here - first;
+    }
+    at[0] = 0;
+    size_t kept = block_starts(at);
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last;
+        block_range(count, k, &first, &last);
+        if (at[k] != first && at[k + 1] > at[k])
+            memmove(links + at[k], links + first, (at[k + 1] - at[k]) * sizeof *links);
+    }
+    return kept;
+}
+
 /* Sorts links[0 .. count) by receiver (stable) into out. A counting sort in `parts` contiguous
  * parts, one per thread: each part counts its receivers, part p's links of receiver n go after
  * those of every part before p, so the result is the one stable order whatever the number of
@@ -1132,19 +1184,32 @@ static rad_status sort_by_receiver(rad_hier *h, const rad_hier_link *links, size
 /* Makes `links` (sorted by receiver, count of them) the hierarchy's links: frees the old ones,
  * rebuilds the receiver groups and counts the links with a cluster end. Takes ownership. */
 static rad_status take_sorted_links(rad_hier *h, rad_hier_link *links, size_t count) {
-    size_t group_count = 0, cluster_links = 0;
-    for (size_t i = 0; i < count; ++i) {
-        group_count += i == 0 || links[i].receiver != links[i - 1].receiver;
-        cluster_links += cluster_index(h, links[i].receiver) || cluster_index(h, links[i].source);
+    size_t at[BLOCKS + 1], cluster_links = 0;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096) \
+    reduction(+ : cluster_links)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last, starts = 0;
+        block_range(count, k, &first, &last);
+        for (size_t i = first; i < last; ++i) {
+            starts += i == 0 || links[i].receiver != links[i - 1].receiver;
+            cluster_links += cluster_index(h, links[i].receiver) || cluster_index(h, links[i].source);
+        }
+        at[k + 1] = starts;
     }
+    at[0] = 0;
+    size_t group_count = block_starts(at);
     size_t *groups = rad_alloc(h->ctx, group_count + 1, sizeof *groups);
     if (!groups) {
         rad_free(h->ctx, links);
         return RAD_ERROR_NO_MEMORY;
     }
-    group_count = 0;
-    for (size_t i = 0; i < count; ++i)
-        if (i == 0 || links[i].receiver != links[i - 1].receiver) groups[group_count++] = i;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last, group = at[k];
+        block_range(count, k, &first, &last);
+        for (size_t i = first; i < last; ++i)
+            if (i == 0 || links[i].receiver != links[i - 1].receiver) groups[group++] = i;
+    }
     groups[group_count] = count;
     if (h->links != links) rad_free(h->ctx, h->links);
     rad_free(h->ctx, h->group_first);
@@ -1335,41 +1400,42 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
 
 /* Puts the samples in link order, which the gather reads them in (in the order they were made
  * its reads missed the cache: the 10^5 office's gather took 1.7 times as long), and drops the
- * free slots. In place: each slot's new place is written into the free list's array (a
- * permutation, the free slots after the used ones), then the cycles are followed. */
+ * free slots: copied into a new array in link order, the links cut into blocks whose samples
+ * are counted, then copied, in parallel. (It used to permute them in place, following the
+ * cycles one slot at a time: 13 s of one thread at 10^6, every step a cache miss.) */
 static rad_status order_samples(rad_hier *h) {
-    const size_t slots = h->sample_count;
-    if (!slots) return RAD_OK;
-    uint32_t *target = h->free_samples; /* sample_capacity of them */
-    for (size_t i = 0; i < slots; ++i) target[i] = RAD_HIER_NO_NODE;
-    uint32_t at = 0;
-    for (size_t l = 0; l < h->link_count; ++l) {
-        rad_hier_link *link = &h->links[l];
-        if (link->sample == RAD_HIER_NO_NODE) continue;
-        target[link->sample] = at;
-        link->sample = at++;
+    if (!h->sample_count) return RAD_OK;
+    size_t at[BLOCKS + 1];
+    const size_t count = h->link_count;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last, here = 0;
+        block_range(count, k, &first, &last);
+        for (size_t l = first; l < last; ++l) here += h->links[l].sample != RAD_HIER_NO_NODE;
+        at[k + 1] = here;
     }
-    const size_t used = at;
-    for (size_t i = 0; i < slots; ++i)
-        if (target[i] == RAD_HIER_NO_NODE) target[i] = at++;
-    for (size_t i = 0; i < slots; ++i)
-        while (target[i] != i) {
-            uint32_t j = target[i];
-            link_sample moved = h->samples[j];
-            h->samples[j] = h->samples[i];
-            h->samples[i] = moved;
-            target[i] = target[j];
-            target[j] = j;
+    at[0] = 0;
+    const size_t used = block_starts(at);
+    link_sample *ordered = rad_alloc(h->ctx, used ? used : 1, sizeof *ordered);
+    if (!ordered) return RAD_ERROR_NO_MEMORY;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last, slot = at[k];
+        block_range(count, k, &first, &last);
+        for (size_t l = first; l < last; ++l) {
+            rad_hier_link *link = &h->links[l];
+            if (link->sample == RAD_HIER_NO_NODE) continue;
+            ordered[slot] = h->samples[link->sample];
+            link->sample = (uint32_t)slot++;
         }
+    }
+    rad_free(h->ctx, h->samples);
+    h->samples = ordered;
     h->sample_count = used;
     h->free_count = 0;
-    if (used && used < h->sample_capacity) {
-        link_sample *fit = rad_realloc(h->ctx, h->samples, used, sizeof *fit);
-        uint32_t *free_fit = rad_realloc(h->ctx, h->free_samples, used, sizeof *free_fit);
-        if (fit) h->samples = fit;
-        if (free_fit) h->free_samples = free_fit;
-        if (fit || free_fit) h->sample_capacity = used; /* both hold at least `used` */
-    }
+    h->sample_capacity = used; /* the free list holds at least as many slots (keep_samples) */
+    uint32_t *free_fit = used ? rad_realloc(h->ctx, h->free_samples, used, sizeof *free_fit) : NULL;
+    if (free_fit) h->free_samples = free_fit;
     return RAD_OK;
 }
 
@@ -1381,6 +1447,9 @@ rad_status rad_hier_refine(rad_hier *h) {
     size_t pending_count = h->link_count, kept_count = 0;
     size_t sorted_count = 0; /* the links kept in place at the front of `kept`, still sorted */
     uint8_t *decision = NULL, *made = NULL;
+    uint8_t *leaf_end = NULL; /* per pending link: 1 + the end its decision splits when that end
+                                 is a polygon leaf (new nodes), else 0 */
+    uint32_t *to_split = NULL; /* those leaves, each once, in link order */
     size_t refined = 0, unrefined = 0, unknown_error = 0;
     double largest = 0, found = 0;
     int budget = 0, first_pass = 1, cancelled = 0;
@@ -1414,8 +1483,10 @@ rad_status rad_hier_refine(rad_hier *h) {
             break;
         }
         rad_free(ctx, decision);
+        rad_free(ctx, leaf_end);
         decision = rad_alloc(ctx, pending_count, 1);
-        if (!decision) {
+        leaf_end = rad_alloc(ctx, pending_count, 1);
+        if (!decision || !leaf_end) {
             status = RAD_ERROR_NO_MEMORY;
             break;
         }
@@ -1432,9 +1503,15 @@ rad_status rad_hier_refine(rad_hier *h) {
             /* A link between overlapping ends has no known error: refined, it makes the
              * largest error found unknown (infinite). */
             if (known || decision[i]) pass_found = fmax(pass_found, known ? relative : INFINITY);
+            leaf_end[i] = 0;
             if (decision[i]) {
                 splits++;
                 candidates += children_made(h, &pending[i], decision[i]);
+                /* A self-link (3) joins clusters, which are opened, never split. */
+                uint32_t end = decision[i] == 1 ? pending[i].receiver : pending[i].source;
+                if (decision[i] != 3 && !cluster_index(h, end) &&
+                    h->nodes[end].first_child == RAD_HIER_NO_NODE)
+                    leaf_end[i] = decision[i];
             } else if (known)
                 pass_largest = fmax(pass_largest, relative);
         }
@@ -1448,27 +1525,29 @@ rad_status rad_hier_refine(rad_hier *h) {
             break;
         }
         /* The nodes this pass makes: four for each distinct polygon leaf it splits (opening a
-         * cluster or an already split node makes none). */
-        size_t new_nodes = 0;
+         * cluster or an already split node makes none), listed in link order so that they are
+         * numbered the same for any thread count. */
+        size_t split_count = 0;
         if (splits) {
             uint8_t *marked = rad_alloc_zero(ctx, h->node_count, 1);
-            if (!marked) {
+            rad_free(ctx, to_split);
+            to_split = rad_alloc(ctx, splits, sizeof *to_split);
+            if (!marked || !to_split) {
+                rad_free(ctx, marked);
                 status = RAD_ERROR_NO_MEMORY;
                 break;
             }
             for (size_t i = 0; i < pending_count; ++i) {
-                uint32_t ends[2] = {pending[i].receiver, pending[i].source};
-                for (int end = 0; end < 2; ++end) {
-                    const rad_hier_node *n = &h->nodes[ends[end]];
-                    if ((decision[i] == 1 + end || decision[i] == 3) && !is_cluster(n) &&
-                        n->first_child == RAD_HIER_NO_NODE && !marked[ends[end]]) {
-                        marked[ends[end]] = 1;
-                        new_nodes += 4;
-                    }
+                if (!leaf_end[i]) continue;
+                uint32_t leaf = leaf_end[i] == 1 ? pending[i].receiver : pending[i].source;
+                if (!marked[leaf]) {
+                    marked[leaf] = 1;
+                    to_split[split_count++] = leaf;
                 }
             }
             rad_free(ctx, marked);
         }
+        size_t new_nodes = 4 * split_count;
         if (splits &&
             check_memory(h, kept_count + pending_count + candidates,
                          h->node_count + new_nodes) == RAD_ERROR_MEMORY_BUDGET) {
@@ -1488,7 +1567,7 @@ rad_status rad_hier_refine(rad_hier *h) {
             status = RAD_ERROR_NO_MEMORY;
             break;
         }
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads(h)) if (pending_count >= 4096)
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (pending_count >= 4096)
         for (long i = 0; i < (long)pending_count; ++i) {
             if (estimated) estimated[i].weight[0] = NO_SAMPLE;
             if (!decision[i] && pending[i].form_factor == NOT_ESTIMATED)
@@ -1513,15 +1592,17 @@ rad_status rad_hier_refine(rad_hier *h) {
         for (size_t i = 0; i < pending_count && splits; ++i)
             if (decision[i] && pending[i].sample != RAD_HIER_NO_NODE)
                 h->free_samples[h->free_count++] = pending[i].sample;
-        /* Split the leaves the decisions ask for, in link order (receiver end first), so the
-         * nodes are numbered the same for any thread count. */
+        /* Split the leaves the decisions ask for, in parallel, each into the four nodes its
+         * place in the list gives it. */
         size_t nodes_before = h->node_count;
-        for (size_t i = 0; i < pending_count && splits && !status; ++i) {
-            if (!decision[i]) continue;
-            uint32_t rs[2] = {pending[i].receiver, pending[i].source};
-            for (int end = 0; end < 2 && !status; ++end)
-                if ((decision[i] == 1 + end || decision[i] == 3) && !cluster_index(h, rs[end]))
-                    status = subdivide(h, rs[end]);
+        if (splits && split_count) {
+            status = reserve_nodes(h, new_nodes);
+            if (status) break;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (split_count >= PARALLEL_MIN)
+            for (long j = 0; j < (long)split_count; ++j)
+                split_into(h, to_split[j], (uint32_t)(nodes_before + 4 * (size_t)j));
+            h->node_count += new_nodes;
+            h->stats.leaves += 3 * split_count;
         }
         light_nodes(h, nodes_before);
         /* Links the oracle passed are kept; the others are replaced by their children's. The
@@ -1540,14 +1621,11 @@ rad_status rad_hier_refine(rad_hier *h) {
             else status = RAD_ERROR_NO_MEMORY;
         }
         if (!status) {
-            enum { BLOCKS = 256 };
             size_t keep_at[BLOCKS + 1], fresh_at[BLOCKS + 1];
-            size_t block = (pending_count + BLOCKS - 1) / BLOCKS;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (pending_count >= 4096)
             for (long k = 0; k < BLOCKS; ++k) {
-                size_t kept_here = 0, fresh_here = 0;
-                size_t first = (size_t)k * block, last = first + block;
-                if (last > pending_count) last = pending_count;
+                size_t kept_here = 0, fresh_here = 0, first, last;
+                block_range(pending_count, k, &first, &last);
                 for (size_t i = first; i < last; ++i)
                     if (!decision[i]) kept_here++;
                     else fresh_here += children_made(h, &pending[i], decision[i]);
@@ -1556,15 +1634,12 @@ rad_status rad_hier_refine(rad_hier *h) {
             }
             keep_at[0] = kept_count;
             fresh_at[0] = 0;
-            for (int k = 0; k < BLOCKS; ++k) {
-                keep_at[k + 1] += keep_at[k];
-                fresh_at[k + 1] += fresh_at[k];
-            }
+            block_starts(keep_at);
+            block_starts(fresh_at);
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (pending_count >= 4096)
             for (long k = 0; k < BLOCKS; ++k) {
-                size_t at_kept = keep_at[k], at_fresh = fresh_at[k];
-                size_t first = (size_t)k * block, last = first + block;
-                if (last > pending_count) last = pending_count;
+                size_t at_kept = keep_at[k], at_fresh = fresh_at[k], first, last;
+                block_range(pending_count, k, &first, &last);
                 for (size_t i = first; i < last; ++i) {
                     if (!decision[i]) {
                         if (!in_place) kept[at_kept++] = pending[i];
@@ -1586,11 +1661,8 @@ rad_status rad_hier_refine(rad_hier *h) {
             kept_count = keep_at[BLOCKS];
             count = fresh_at[BLOCKS];
             if (in_place) {
-                size_t at = 0;
-                for (size_t i = 0; i < pending_count; ++i)
-                    if (!decision[i]) pending[at++] = pending[i];
+                sorted_count = compact_links(h, pending, pending_count, decision, 0);
                 kept = pending;
-                sorted_count = at;
             }
         }
         if (pending != kept) rad_free(ctx, pending);
@@ -1610,14 +1682,15 @@ rad_status rad_hier_refine(rad_hier *h) {
         status = keep_samples(h, fresh, seen, made, count);
         rad_free(ctx, seen);
         if (status) break;
-        for (size_t i = 0; i < count; ++i)
-            if (made[i]) fresh[pending_count++] = fresh[i];
+        pending_count = compact_links(h, fresh, count, made, 1);
         rad_free(ctx, made);
         made = NULL;
         pending = fresh;
         fresh = NULL;
     }
     rad_free(ctx, decision);
+    rad_free(ctx, leaf_end);
+    rad_free(ctx, to_split);
     rad_free(ctx, made);
     rad_free(ctx, fresh);
     h->stats.largest_error = largest;

@@ -22,8 +22,9 @@
  * P_r P_s / (pi d^2 A_r) between the two centres, where P is the projected area toward the
  * other end (a surface: A cos; a cluster: its members' areas summed per axis direction, exact
  * for axis-aligned members), and their error bound is the spread of that estimate over the two
- * bounding spheres and all member orientations, plus the whole factor when the rays between
- * sampled member points are partly blocked. Irradiance gathered by a cluster is pushed to its
+ * bounding spheres and all member orientations, plus the whole factor (partial visibility is
+ * assumed; cheap links, whose bound passes at any radiosity, count it when some of their rays
+ * are blocked). Irradiance gathered by a cluster is pushed to its
  * members; a cluster's radiosity is its members' area-weighted mean.
  *
  * Solving: Jacobi gathering over the links into each node's irradiance, then push-pull through
