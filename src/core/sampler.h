@@ -130,17 +130,34 @@ static inline uint64_t rad_sampler_dimension_hash(uint64_t seed, uint64_t index,
     return h;
 }
 
-/* Point `index` of 2D dimension `dimension`, as 32-bit fractions. */
-static inline void rad_sampler_point_bits(uint64_t seed, uint64_t index, uint32_t dimension,
-                                          uint32_t out[2]) {
-    uint32_t shuffled;
-    uint64_t h = rad_sampler_dimension_hash(seed, index, dimension, &shuffled);
+/* The 2D point of a shuffled index under dimension hash h (rad_sampler_dimension_hash). */
+static inline void rad_sampler_shuffled_bits(uint32_t shuffled, uint64_t h, uint32_t out[2]) {
     uint64_t g = rad_mix64(h + 0x2545f4914f6cdd1dull);
     /* First Sobol' dimension: the van der Corput sequence, reverse(shuffled); the scramble works
      * on the reversed value, which is `shuffled` itself. */
     out[0] = rad_reverse_bits32(rad_owen_hash_reversed(shuffled, (uint32_t)(h >> 32)));
     out[1] = rad_reverse_bits32(
         rad_owen_hash_reversed(rad_sobol_second_reversed(shuffled), (uint32_t)g));
+}
+
+/* Point `index` of 2D dimension `dimension`, as 32-bit fractions. */
+static inline void rad_sampler_point_bits(uint64_t seed, uint64_t index, uint32_t dimension,
+                                          uint32_t out[2]) {
+    uint32_t shuffled;
+    uint64_t h = rad_sampler_dimension_hash(seed, index, dimension, &shuffled);
+    rad_sampler_shuffled_bits(shuffled, h, out);
+}
+
+/* Points index .. index + count - 1 of 2D dimension `dimension`: rad_sampler_point_bits' for
+ * each, the dimension's hash made once. The run must not cross a multiple of 2^32 (the hash
+ * depends on the index's high half): a pixel's points share it (rad_sampler_pixel_index). */
+static inline void rad_sampler_run_bits(uint64_t seed, uint64_t index, int count,
+                                        uint32_t dimension, uint32_t (*out)[2]) {
+    uint32_t shuffled;
+    uint64_t h = rad_sampler_dimension_hash(seed, index, dimension, &shuffled);
+    for (int i = 0; i < count; ++i)
+        rad_sampler_shuffled_bits(rad_owen_scramble((uint32_t)index + (uint32_t)i, (uint32_t)h), h,
+                                  out[i]);
 }
 
 /* Point `index` of 4D dimension `dimension`: the first four Sobol' dimensions of one shuffled

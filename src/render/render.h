@@ -183,23 +183,17 @@ static inline void rad_sample_2d_at(const rad_sample *sample, uint32_t total, ui
 }
 
 /* Points first .. first + count - 1 of the pixel's `total` in `dimension`: rad_sample_2d_at's
- * numbers (rad_sampler_point_bits'), with the pixel's index and the dimension's hashes made once
- * for the run rather than once a point (a packet's 16 gather rays or emitter samples). A
- * pixel's points share the high half of their index (rad_sampler_pixel_index), so the run's
- * points do. */
+ * numbers, the pixel's index and the dimension's hash made once for the run rather than once a
+ * point (a packet of at most 16 gather rays or emitter samples; rad_sampler_run_bits). */
 static inline void rad_sample_2d_run(const rad_sample *sample, uint32_t total, uint32_t first,
                                      int count, uint32_t dimension, double (*out)[2]) {
     rad_sampler sampler = rad_sampler_make(sample->seed, 0);
-    uint64_t index = rad_sampler_pixel_index(sample->x, sample->y, total, first);
-    uint32_t shuffled;
-    uint64_t h = rad_sampler_dimension_hash(sampler.seed, index, dimension, &shuffled);
-    uint64_t g = rad_mix64(h + 0x2545f4914f6cdd1dull);
+    uint32_t bits[16][2];
+    rad_sampler_run_bits(sampler.seed, rad_sampler_pixel_index(sample->x, sample->y, total, first),
+                         count, dimension, bits);
     for (int i = 0; i < count; ++i) {
-        shuffled = rad_owen_scramble((uint32_t)index + (uint32_t)i, (uint32_t)h);
-        out[i][0] = rad_sampler_fraction(
-            rad_reverse_bits32(rad_owen_hash_reversed(shuffled, (uint32_t)(h >> 32))));
-        out[i][1] = rad_sampler_fraction(rad_reverse_bits32(
-            rad_owen_hash_reversed(rad_sobol_second_reversed(shuffled), (uint32_t)g)));
+        out[i][0] = rad_sampler_fraction(bits[i][0]);
+        out[i][1] = rad_sampler_fraction(bits[i][1]);
     }
 }
 
