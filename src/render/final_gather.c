@@ -58,7 +58,7 @@
  * the re-gathers traced two rays; the contact row was not looked at.) */
 #define SHORT_LEVELS 2
 #define NEAR_RANGE 0.5
-/* On a coarse hierarchy's leaves (regather.every_first) every first gather ray is re-gathered, and
+/* On a coarse hierarchy's leaves (RAD_LEAVES_COARSE) every first gather ray is re-gathered, and
  * the re-gathers' own rays are re-gathered again when short (SHORT_RANGE), up to this many
  * levels. The leaves at a concave contact are large and hold their mean, brighter than the
  * contact: a re-gather's ray from the floor beside the short block's base read the face's
@@ -247,7 +247,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
      * "Dark pixels"). Dark: the element's radiance under render.c's threshold. */
     const float *own = r->element_radiance[element];
     double range = (own[0] + own[1] + own[2]) / 3 < r->dark_radiance ? DARK_SHORT_RANGE : SHORT_RANGE;
-    if (r->regather.every_first) range = INFINITY;
+    if (r->regather.leaves == RAD_LEAVES_COARSE) range = INFINITY;
     rad_gather_origin from = {n, light_samples, rays, 0, 0, total, tally, range};
 
     /* Direct light. */
@@ -309,9 +309,9 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
 
 void rad_regather_choose(rad_renderer *r, int leaves) {
     /* A coarse hierarchy's re-gathers keep one ray: two would multiply at each of its levels. */
-    r->regather = leaves == RAD_LEAVES_COARSE ? (struct rad_regather){1, COARSE_SHORT_LEVELS, 1, 0}
-                  : leaves == RAD_LEAVES_FINE ? (struct rad_regather){0, FINE_SHORT_LEVELS, SHORT_RAYS, 0}
-                                              : (struct rad_regather){0, SHORT_LEVELS, SHORT_RAYS, 1};
+    r->regather = leaves == RAD_LEAVES_COARSE ? (struct rad_regather){leaves, COARSE_SHORT_LEVELS, 1}
+                  : leaves == RAD_LEAVES_FINE ? (struct rad_regather){leaves, FINE_SHORT_LEVELS, SHORT_RAYS}
+                                              : (struct rad_regather){RAD_LEAVES_UNIFORM, SHORT_LEVELS, SHORT_RAYS};
 }
 
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit) {
@@ -332,8 +332,8 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
      * gather ray re-gathered). */
     const int rays = r->regather.rays;
     double range = isinf(from->short_range) ? SHORT_RANGE
-                   : r->regather.uniform    ? NEAR_RANGE
-                                            : from->short_range;
+                   : r->regather.leaves == RAD_LEAVES_UNIFORM ? NEAR_RANGE
+                                                                     : from->short_range;
     rad_gather_origin next = {n, r->emitters.count ? 1 : 0, rays, point, from->level + 1, run, NULL,
                               range};
     double direct[3], gathered[3] = {0, 0, 0};

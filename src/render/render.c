@@ -684,7 +684,7 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
      * those with a dark corner. */
     int outside = split && sees_outside(view, corner_polygons, x, y);
     int more = split && (beside_outside || dark_corners(view, corner_polygons, x, y, dark) > 0);
-    int plain = split && !more && r->regather.uniform; /* SPLIT_GATHER */
+    int plain = split && !more && r->regather.leaves == RAD_LEAVES_UNIFORM; /* SPLIT_GATHER */
     sample.gather_rays = !record || !(more || plain)
                              ? 0
                              : (outside ? OUTSIDE_GATHER : more ? EDGE_GATHER : SPLIT_GATHER) *

@@ -104,10 +104,10 @@ struct rad_renderer {
      * mesh only short ones, once; on a finely refined hierarchy short ones, twice. Set with the
      * leaves. */
     struct rad_regather {
-        int every_first; /* every first gather ray is re-gathered (its short range infinite) */
-        int levels;      /* at most this many re-gathers along a path */
-        int rays;        /* gather rays of one re-gather */
-        int uniform;     /* the leaves are a uniform mesh's elements (RAD_LEAVES_UNIFORM) */
+        int leaves; /* RAD_LEAVES_UNIFORM, _COARSE (every first gather ray is re-gathered, its
+                       short range infinite) or _FINE: system/solution_view.h */
+        int levels; /* at most this many re-gathers along a path */
+        int rays;   /* gather rays of one re-gather */
     } regather;
 
     /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
