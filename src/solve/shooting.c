@@ -188,6 +188,36 @@ static rad_status shooting_begin(rad_solver_run *run) {
     return rad_shooting_begin(run, state);
 }
 
+/* When the shooter's row is not kept yet, compute it together with those of the patches
+ * likely to be shot next (the most unshot power after it, rows not kept), in one parallel loop:
+ * a row alone keeps two threads only partly busy (each row wakes the workers, and its last
+ * blocks run on one). Rows are the same whenever they are computed, so is the solution. */
+static void prefetch_rows(rad_solver_run *run, rad_shooting *state, size_t shooter) {
+    rad_system *s = run->system;
+    rad_ff_provider *ff = s->ff;
+    if (!ff->prefetch || !ff->holds || ff->holds(ff, shooter)) return;
+    size_t next[rad_ff_rows_ahead];
+    double power[rad_ff_rows_ahead];
+    size_t count = 1;
+    next[0] = shooter;
+    for (size_t p = 0; p < s->patch_count; ++p) {
+        double unshot = fabs(rad_shooting_patch_power(state, p));
+        if (p == shooter || !(unshot > 0) ||
+            (count == rad_ff_rows_ahead && unshot <= power[count - 1]) || ff->holds(ff, p))
+            continue;
+        /* Insert, keeping next[1 ..] by decreasing power. */
+        size_t k = count < rad_ff_rows_ahead ? count++ : count - 1;
+        while (k > 1 && power[k - 1] < unshot) {
+            next[k] = next[k - 1];
+            power[k] = power[k - 1];
+            --k;
+        }
+        next[k] = p;
+        power[k] = unshot;
+    }
+    ff->prefetch(ff, next, count); /* a failure leaves the row to be computed alone */
+}
+
 static rad_status shooting_step(rad_solver_run *run, int iteration, double *residual) {
     (void)iteration;
     rad_system *s = run->system;
@@ -207,6 +237,7 @@ static rad_status shooting_step(rad_solver_run *run, int iteration, double *resi
             shooter = p;
         }
     }
+    prefetch_rows(run, state, shooter);
     rad_status status = rad_shooting_shoot(run, state, shooter, NULL);
     if (status) return status;
     *residual = rad_shooting_finish(run, state);
