@@ -278,12 +278,13 @@ static void reference_row(const rad_ff_context *c, size_t patch, rad_ff_element_
     const int grid = 4, rays_per_point = 256;
     rad_ff_source source;
     rad_ff_source_begin(&source, c, patch, rays_per_point, maps);
-    rad_ff_shaft_begin(c->shaft, p);
+    rad_ff_shaft_view *view = rad_ff_shaft_view_create(c->shaft);
+    rad_ff_shaft_begin(c->shaft, view, p);
 #pragma omp parallel for schedule(dynamic, 16)
     for (long e = 0; e < (long)mesh->element_count; ++e) {
         row[e] = 0;
         if (mesh->element_patch[e] == patch || rad_ff_facing_away(mesh, p, (size_t)e)) continue;
-        int clear = rad_ff_shaft_clear(c->shaft, (size_t)e);
+        int clear = rad_ff_shaft_clear(c->shaft, view, (size_t)e);
         rad_ff_element_map receiver = rad_ff_element_map_make(mesh, (size_t)e);
         rad_vec3 ny = mesh->element_normal[e];
         double sum = 0;
@@ -320,6 +321,7 @@ static void reference_row(const rad_ff_context *c, size_t patch, rad_ff_element_
         }
         row[e] = (float)(mesh->element_area[e] / p->area * sum / (grid * grid));
     }
+    rad_ff_shaft_view_destroy(view);
 }
 
 static void bench_accuracy(void) {

@@ -412,6 +412,28 @@ static void test_threads(void) {
         }
         printf("  %-10s rows with 1 and 2 threads %s\n", method_names[m], same ? "identical" : "DIFFER");
         CHECK(same);
+        /* Rows computed together (the row cache's prefetch: every block of eight rows in one
+         * parallel loop, each row with its own source points and shaft candidates) are the rows
+         * computed one at a time, and are kept. */
+        if (methods[m] != RAD_FF_HEMICUBE) {
+            CHECK(b->ff->prefetch != NULL && b->ff->holds != NULL);
+            size_t patches[rad_ff_rows_ahead];
+            for (int k = 0; k < rad_ff_rows_ahead; ++k) /* far apart: walls, blocks, light */
+                patches[k] = (size_t)(k * 97 + 5) % a->patch_count;
+            CHECK(b->ff->prefetch && b->ff->prefetch(b->ff, patches, rad_ff_rows_ahead) == RAD_OK);
+            int together = 1, held = 1;
+            for (int k = 0; k < rad_ff_rows_ahead && b->ff->holds; ++k) {
+                held &= b->ff->holds(b->ff, patches[k]) != 0;
+                a->ff->row(a->ff, patches[k], ra);
+                b->ff->row(b->ff, patches[k], rb);
+                together &= memcmp(ra, rb, n * sizeof *ra) == 0;
+            }
+            printf("  %-10s %d rows together %s the rows alone, %s\n", method_names[m],
+                   rad_ff_rows_ahead, together ? "identical to" : "DIFFER from",
+                   held ? "kept" : "NOT KEPT");
+            CHECK(together);
+            CHECK(held);
+        }
         free(ra);
         free(rb);
         rad_system_destroy(a);

@@ -112,6 +112,11 @@ static rad_status analytic_row(rad_ff_provider *self, size_t patch, float *out) 
     return rad_ff_row_run((rad_ff_common *)self, patch, analytic_block, out);
 }
 
+static rad_status analytic_rows(rad_ff_provider *self, const size_t *patches, size_t count,
+                            float *const *out) {
+    return rad_ff_rows_run((rad_ff_common *)self, patches, count, analytic_block, out);
+}
+
 static void analytic_destroy(rad_ff_provider *self) { rad_ff_common_destroy((rad_ff_common *)self); }
 
 rad_status rad_ff_analytic_create(const rad_ff_context *context, rad_ff_provider **out) {
@@ -119,6 +124,7 @@ rad_status rad_ff_analytic_create(const rad_ff_context *context, rad_ff_provider
     rad_status status = rad_ff_common_create(context, sizeof *common, "analytic", analytic_row,
                                              analytic_destroy, &common);
     if (status) return status;
+    common->base.rows = analytic_rows;
     *out = &common->base;
     return RAD_OK;
 }

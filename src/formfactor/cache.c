@@ -67,6 +67,52 @@ static rad_status cache_row(rad_ff_provider *self, size_t patch, float *row) {
     return RAD_OK;
 }
 
+static int cache_holds(const rad_ff_provider *self, size_t patch) {
+    const cache_provider *cache = (const cache_provider *)self;
+    return patch < cache->patch_count && cache->slot_of[patch] >= 0;
+}
+
+/* Rows a solver will ask for soon: those not held, computed in one go by the inner provider
+ * into fresh slots. Nothing when they would not all fit beside what is kept (evicting rows to
+ * make room for guesses could throw away rows still in use). */
+static rad_status cache_prefetch(rad_ff_provider *self, const size_t *patches, size_t count) {
+    cache_provider *cache = (cache_provider *)self;
+    if (!cache->inner->rows) return RAD_OK;
+    size_t wanted[rad_ff_rows_ahead];
+    float *out[rad_ff_rows_ahead];
+    size_t k = 0;
+    for (size_t i = 0; i < count && k < rad_ff_rows_ahead; ++i) {
+        if (patches[i] >= cache->patch_count || cache->slot_of[patches[i]] >= 0) continue;
+        int repeated = 0;
+        for (size_t j = 0; j < k; ++j) repeated |= wanted[j] == patches[i];
+        if (!repeated) wanted[k++] = patches[i];
+    }
+    if (!k || cache->used + k > cache->capacity) return RAD_OK;
+    for (size_t j = 0; j < k; ++j) {
+        out[j] = rad_alloc(cache->ctx, cache->element_count, sizeof *out[j]);
+        if (!out[j]) { /* out of memory: keep going one row at a time */
+            while (j > 0) rad_free(cache->ctx, out[--j]);
+            rad_fail(cache->ctx, RAD_OK, "%s", "");
+            return RAD_OK;
+        }
+    }
+    rad_status status = cache->inner->rows(cache->inner, wanted, k, out);
+    if (status) {
+        for (size_t j = 0; j < k; ++j) rad_free(cache->ctx, out[j]);
+        return status;
+    }
+    cache->keeping = 1;
+    ++cache->clock;
+    for (size_t j = 0; j < k; ++j) {
+        size_t s = cache->used++;
+        cache->slot_row[s] = out[j];
+        cache->slot_patch[s] = wanted[j];
+        cache->slot_time[s] = cache->clock;
+        cache->slot_of[wanted[j]] = (int32_t)s;
+    }
+    return RAD_OK;
+}
+
 static void cache_destroy(rad_ff_provider *self) {
     cache_provider *cache = (cache_provider *)self;
     rad_context *ctx = cache->ctx;
@@ -114,6 +160,8 @@ rad_status rad_ff_cache_create(rad_context *ctx, rad_ff_provider *inner, size_t 
     cache->base.method = inner->method;
     cache->base.row = cache_row;
     cache->base.destroy = cache_destroy;
+    cache->base.holds = cache_holds;
+    cache->base.prefetch = cache_prefetch;
     *out = &cache->base;
     return RAD_OK;
 no_memory:

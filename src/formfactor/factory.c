@@ -154,8 +154,11 @@ rad_status rad_ff_common_create(const rad_ff_context *context, size_t size, cons
     rad_context *ctx = context->ctx;
     rad_ff_common *common = rad_alloc_zero(ctx, 1, size);
     if (!common) return RAD_ERROR_NO_MEMORY;
-    common->maps = rad_alloc(ctx, (size_t)context->max_members, sizeof *common->maps);
-    if (!common->maps) {
+    common->maps[0] = rad_alloc(ctx, (size_t)context->max_members, sizeof *common->maps[0]);
+    common->views[0] = rad_ff_shaft_view_create(context->shaft);
+    if (!common->maps[0] || (context->shaft && !common->views[0])) {
+        rad_ff_shaft_view_destroy(common->views[0]);
+        rad_free(ctx, common->maps[0]);
         rad_free(ctx, common);
         return RAD_ERROR_NO_MEMORY;
     }
@@ -171,7 +174,10 @@ void rad_ff_common_destroy(rad_ff_common *common) {
     if (!common) return;
     rad_context *ctx = common->c.ctx;
     rad_ff_context_release(&common->c);
-    rad_free(ctx, common->maps);
+    for (int slot = 0; slot < RAD_FF_ROWS_AHEAD; ++slot) {
+        rad_free(ctx, common->maps[slot]);
+        rad_ff_shaft_view_destroy(common->views[slot]);
+    }
     rad_free(ctx, common);
 }
 
@@ -188,13 +194,14 @@ const char *rad_ff_method_name(rad_ff_method method) {
     return entry ? entry->info.name : NULL;
 }
 
-void rad_ff_row_begin(rad_ff_common *common, size_t patch, rad_ff_row *row) {
+void rad_ff_row_begin(rad_ff_common *common, size_t patch, int slot, rad_ff_row *row) {
     const rad_ff_context *c = &common->c;
     row->c = c;
     row->mesh = c->mesh;
     row->rays = c->rays;
-    rad_ff_source_begin(&row->source, c, patch, c->options.samples, common->maps);
-    rad_ff_shaft_begin(c->shaft, row->source.patch);
+    rad_ff_source_begin(&row->source, c, patch, c->options.samples, common->maps[slot]);
+    row->shaft = common->views[slot];
+    rad_ff_shaft_begin(c->shaft, common->views[slot], row->source.patch);
     row->p = row->source.patch;
     row->patch = patch;
     row->np = row->p->normal;
@@ -212,28 +219,64 @@ void rad_ff_row_end(rad_ff_common *common, uint64_t receivers, uint64_t rays) {
     common->stats.rays += rays;
 }
 
+/* Rows in flight: block index i is block i % blocks of row i / blocks (every row of a mesh has
+ * the same blocks). */
 typedef struct {
-    const rad_ff_row *row;
+    rad_ff_common *common;
+    const size_t *patches;
+    rad_ff_row row[RAD_FF_ROWS_AHEAD];
     rad_ff_block_fn block;
-    float *out;
-    _Atomic uint64_t receivers, rays;
+    float *const *out;
+    long blocks;
+    _Atomic uint64_t receivers[RAD_FF_ROWS_AHEAD], rays[RAD_FF_ROWS_AHEAD];
 } row_run;
 
-static void row_run_block(void *user, long block, int worker) {
+static void row_run_begin(void *user, long slot, int worker) {
     (void)worker;
     row_run *run = user;
+    rad_ff_row_begin(run->common, run->patches[slot], (int)slot, &run->row[slot]);
+}
+
+static void row_run_block(void *user, long index, int worker) {
+    (void)worker;
+    row_run *run = user;
+    const long slot = index / run->blocks;
     rad_ff_block b;
-    rad_ff_block_begin(run->row, block, &b);
-    run->block(run->row, &b, run->out);
-    atomic_fetch_add_explicit(&run->receivers, b.receivers, memory_order_relaxed);
-    atomic_fetch_add_explicit(&run->rays, b.queue.cast, memory_order_relaxed);
+    rad_ff_block_begin(&run->row[slot], index % run->blocks, &b);
+    run->block(&run->row[slot], &b, run->out[slot]);
+    atomic_fetch_add_explicit(&run->receivers[slot], b.receivers, memory_order_relaxed);
+    atomic_fetch_add_explicit(&run->rays[slot], b.queue.cast, memory_order_relaxed);
+}
+
+rad_status rad_ff_rows_run(rad_ff_common *common, const size_t *patches, size_t count,
+                           rad_ff_block_fn block, float *const *out) {
+    rad_context *ctx = common->c.ctx;
+    if (count > RAD_FF_ROWS_AHEAD)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "%zu rows at once (at most %d)", count,
+                        RAD_FF_ROWS_AHEAD);
+    /* Each row's scratch, made the first time this many rows are in flight. */
+    for (size_t slot = 1; slot < count; ++slot) {
+        if (!common->maps[slot])
+            common->maps[slot] = rad_alloc(ctx, (size_t)common->c.max_members, sizeof *common->maps[slot]);
+        if (common->c.shaft && !common->views[slot])
+            common->views[slot] = rad_ff_shaft_view_create(common->c.shaft);
+        if (!common->maps[slot] || (common->c.shaft && !common->views[slot])) return RAD_ERROR_NO_MEMORY;
+    }
+    row_run rows, *run = &rows;
+    memset(run, 0, sizeof *run);
+    run->common = common;
+    run->patches = patches;
+    run->block = block;
+    run->out = out;
+    if (count == 1) row_run_begin(run, 0, 0);
+    else rad_team_for(ctx, (long)count, row_run_begin, run);
+    run->blocks = run->row[0].blocks;
+    rad_team_for(ctx, run->blocks * (long)count, row_run_block, run);
+    for (size_t slot = 0; slot < count; ++slot)
+        rad_ff_row_end(common, atomic_load(&run->receivers[slot]), atomic_load(&run->rays[slot]));
+    return RAD_OK;
 }
 
 rad_status rad_ff_row_run(rad_ff_common *common, size_t patch, rad_ff_block_fn block, float *out) {
-    rad_ff_row row;
-    rad_ff_row_begin(common, patch, &row);
-    row_run run = {&row, block, out, 0, 0};
-    rad_team_for(common->c.ctx, row.blocks, row_run_block, &run);
-    rad_ff_row_end(common, atomic_load(&run.receivers), atomic_load(&run.rays));
-    return RAD_OK;
+    return rad_ff_rows_run(common, &patch, 1, block, &out);
 }

@@ -29,6 +29,10 @@ typedef struct rad_ff_patch {
 } rad_ff_patch;
 
 typedef struct rad_ff_shaft rad_ff_shaft;
+typedef struct rad_ff_shaft_view rad_ff_shaft_view;
+
+/* Rows computed in one parallel loop at most (rad_ff_rows_run). */
+#define RAD_FF_ROWS_AHEAD rad_ff_rows_ahead
 
 /* Everything a method needs; built by rad_ff_create and released with rad_ff_context_release
  * by the provider that holds it. */
@@ -62,7 +66,11 @@ typedef struct rad_ff_stats {
 typedef struct rad_ff_common {
     rad_ff_provider base;
     rad_ff_context c;
-    struct rad_ff_element_map *maps; /* max_members entries, for rad_ff_source_begin */
+    /* Scratch of each row in flight: max_members entries for rad_ff_source_begin, and the
+     * shaft's candidates (NULL without a shaft). Slot 0 is made with the provider, the others
+     * when rad_ff_rows_run first needs them. */
+    struct rad_ff_element_map *maps[RAD_FF_ROWS_AHEAD];
+    rad_ff_shaft_view *views[RAD_FF_ROWS_AHEAD];
     rad_ff_stats stats;
 } rad_ff_common;
 
@@ -338,19 +346,25 @@ rad_status rad_ff_shaft_create(rad_context *ctx, const struct rad_scene *scene,
                                const rad_mesh *mesh, rad_ff_shaft **out);
 void rad_ff_shaft_destroy(rad_ff_shaft *shaft);
 
-/* Prepares the occluder candidates of one shooting patch. Not thread safe; call before the
- * parallel loop over receivers. */
-void rad_ff_shaft_begin(rad_ff_shaft *shaft, const rad_ff_patch *patch);
+/* What culling keeps for one shooting patch, one view for each row in flight. NULL without a
+ * shaft or memory (a NULL view clears nothing). */
+rad_ff_shaft_view *rad_ff_shaft_view_create(const rad_ff_shaft *shaft);
+void rad_ff_shaft_view_destroy(rad_ff_shaft_view *view);
 
-/* Nonzero when no input polygon can block any segment between the patch of the last
+/* Prepares the occluder candidates of one shooting patch in `view`. Call before the parallel
+ * loop over receivers; rows with views of their own may begin at the same time. */
+void rad_ff_shaft_begin(const rad_ff_shaft *shaft, rad_ff_shaft_view *view,
+                        const rad_ff_patch *patch);
+
+/* Nonzero when no input polygon can block any segment between the patch of the view's last
  * rad_ff_shaft_begin and element e, so no ray is needed. Thread safe. A NULL shaft clears
  * nothing. */
-int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element);
+int rad_ff_shaft_clear(const rad_ff_shaft *shaft, const rad_ff_shaft_view *view, size_t element);
 
 /* The same for a whole receiving patch (in input polygon `polygon`): when it is clear, so is
  * each of its elements. Thread safe. */
-int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_patch *receiver,
-                             uint32_t polygon);
+int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_shaft_view *view,
+                             const rad_ff_patch *receiver, uint32_t polygon);
 
 /* ------------------------------------------------------------------------------------------- */
 /* The frame of a row (factory.c): what analytic.c, raycast.c and montecarlo.c share around their
@@ -363,6 +377,7 @@ typedef struct rad_ff_row {
     const rad_mesh *mesh;
     const rad_rays *rays;
     rad_ff_source source;
+    const rad_ff_shaft_view *shaft; /* the patch's culling candidates */
     const rad_ff_patch *p; /* the shooting patch's outline */
     size_t patch;
     rad_vec3 np;           /* its normal */
@@ -372,8 +387,9 @@ typedef struct rad_ff_row {
     long n, blocks;
 } rad_ff_row;
 
-/* Prepares the row of `patch`: its source points and shaft candidates. Not thread safe. */
-void rad_ff_row_begin(rad_ff_common *common, size_t patch, rad_ff_row *row);
+/* Prepares the row of `patch` in scratch slot `slot` (< RAD_FF_ROWS_AHEAD): its source points
+ * and shaft candidates. Rows in different slots may begin at the same time. */
+void rad_ff_row_begin(rad_ff_common *common, size_t patch, int slot, rad_ff_row *row);
 
 /* Adds a finished row to the provider's statistics. */
 void rad_ff_row_end(rad_ff_common *common, uint64_t receivers, uint64_t rays);
@@ -388,6 +404,12 @@ typedef void (*rad_ff_block_fn)(const rad_ff_row *row, struct rad_ff_block *bloc
  * spinning), then rad_ff_row_end. Blocks write disjoint elements, so the row is the same for
  * any thread count. */
 rad_status rad_ff_row_run(rad_ff_common *common, size_t patch, rad_ff_block_fn block, float *out);
+
+/* The rows of patches[0 .. count) (count <= RAD_FF_ROWS_AHEAD) into out[0 .. count), the same
+ * values as rad_ff_row_run gives each: every block of every row in one parallel loop, which
+ * keeps the threads busier than a loop per row (fewer wake-ups, one tail instead of `count`). */
+rad_status rad_ff_rows_run(rad_ff_common *common, const size_t *patches, size_t count,
+                           rad_ff_block_fn block, float *const *out);
 
 typedef struct rad_ff_block {
     long first, last;      /* its elements */
@@ -435,9 +457,10 @@ static inline int rad_ff_block_needs_rays(const rad_ff_row *row, rad_ff_block *b
     size_t q = row->mesh->element_patch[e];
     if (q != b->tested_patch) {
         b->tested_patch = q;
-        b->patch_clear = rad_ff_shaft_clear_patch(c->shaft, &c->patches[q], row->mesh->element_polygon[e]);
+        b->patch_clear = rad_ff_shaft_clear_patch(c->shaft, row->shaft, &c->patches[q],
+                                                  row->mesh->element_polygon[e]);
     }
-    return !(b->patch_clear || (each && rad_ff_shaft_clear(c->shaft, (size_t)e)));
+    return !(b->patch_clear || (each && rad_ff_shaft_clear(c->shaft, row->shaft, (size_t)e)));
 }
 
 /* Writes the block's part of the row: F_pe = A_e / A_p * f[e - first], f the factor of each

@@ -67,6 +67,11 @@ static rad_status montecarlo_row(rad_ff_provider *self, size_t patch, float *out
     return rad_ff_row_run((rad_ff_common *)self, patch, montecarlo_block, out);
 }
 
+static rad_status montecarlo_rows(rad_ff_provider *self, const size_t *patches, size_t count,
+                              float *const *out) {
+    return rad_ff_rows_run((rad_ff_common *)self, patches, count, montecarlo_block, out);
+}
+
 static void montecarlo_destroy(rad_ff_provider *self) {
     rad_ff_common_destroy((rad_ff_common *)self);
 }
@@ -76,6 +81,7 @@ rad_status rad_ff_montecarlo_create(const rad_ff_context *context, rad_ff_provid
     rad_status status = rad_ff_common_create(context, sizeof *common, "montecarlo",
                                              montecarlo_row, montecarlo_destroy, &common);
     if (status) return status;
+    common->base.rows = montecarlo_rows;
     *out = &common->base;
     return RAD_OK;
 }

@@ -19,7 +19,20 @@ struct rad_ff_provider {
      * in parallel inside. Rows do not depend on the order in which they are asked for. */
     rad_status (*row)(rad_ff_provider *self, size_t patch, float *row);
     void (*destroy)(rad_ff_provider *self);
+    /* Optional (NULL when not offered): the rows of patches[0 .. count) into out[0 .. count),
+     * the same values as row() gives, computed together (count <= rad_ff_rows_ahead). */
+    rad_status (*rows)(rad_ff_provider *self, const size_t *patches, size_t count,
+                       float *const *out);
+    /* Optional, for providers that keep rows (the row cache): nonzero when the row of `patch`
+     * is kept, so row() copies it; and the rows of patches[0 .. count) that a solver will ask
+     * for soon, computed together and kept (those not kept yet; nothing when they would not
+     * fit without evicting others or the inner provider cannot compute rows together). */
+    int (*holds)(const rad_ff_provider *self, size_t patch);
+    rad_status (*prefetch)(rad_ff_provider *self, const size_t *patches, size_t count);
 };
+
+/* The most rows a solver should hand to rows() or prefetch() at once. */
+enum { rad_ff_rows_ahead = 8 };
 
 /* The provider of a system whose form factors are given (a .ffm file or dense arrays):
  * n patches, n elements, row-major n x n matrix, copied. */

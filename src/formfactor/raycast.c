@@ -85,6 +85,11 @@ static rad_status raycast_row(rad_ff_provider *self, size_t patch, float *out) {
     return rad_ff_row_run((rad_ff_common *)self, patch, raycast_block, out);
 }
 
+static rad_status raycast_rows(rad_ff_provider *self, const size_t *patches, size_t count,
+                           float *const *out) {
+    return rad_ff_rows_run((rad_ff_common *)self, patches, count, raycast_block, out);
+}
+
 static void raycast_destroy(rad_ff_provider *self) { rad_ff_common_destroy((rad_ff_common *)self); }
 
 rad_status rad_ff_raycast_create(const rad_ff_context *context, rad_ff_provider **out) {
@@ -92,6 +97,7 @@ rad_status rad_ff_raycast_create(const rad_ff_context *context, rad_ff_provider 
     rad_status status = rad_ff_common_create(context, sizeof *common, "raycast", raycast_row,
                                              raycast_destroy, &common);
     if (status) return status;
+    common->base.rows = raycast_rows;
     *out = &common->base;
     return RAD_OK;
 }

@@ -49,7 +49,11 @@ struct rad_ff_shaft {
     uint32_t *corner_first; /* count + 1: occluder Q's corners are corners[first[Q] .. first[Q+1]) */
     rad_vec3 *corners;
     uint8_t *side;       /* side[R * count + Q]: where occluder R's corners lie against Q's plane */
-    /* Per shooting patch. */
+};
+
+/* Per shooting patch (rad_ff_shaft_begin): one for each row in flight. */
+struct rad_ff_shaft_view {
+    rad_context *ctx;
     uint8_t *patch_side; /* where the patch's corners lie against Q's plane */
     rad_vec3 patch_lo, patch_hi;
     uint32_t *candidate_first; /* count + 1 */
@@ -78,10 +82,32 @@ void rad_ff_shaft_destroy(rad_ff_shaft *shaft) {
     rad_free(ctx, shaft->corner_first);
     rad_free(ctx, shaft->corners);
     rad_free(ctx, shaft->side);
-    rad_free(ctx, shaft->patch_side);
-    rad_free(ctx, shaft->candidate_first);
-    rad_free(ctx, shaft->candidates);
     rad_free(ctx, shaft);
+}
+
+rad_ff_shaft_view *rad_ff_shaft_view_create(const rad_ff_shaft *shaft) {
+    if (!shaft) return NULL;
+    rad_context *ctx = shaft->ctx;
+    size_t n = shaft->polygon_count;
+    rad_ff_shaft_view *view = rad_alloc_zero(ctx, 1, sizeof *view);
+    if (!view) return NULL;
+    view->ctx = ctx;
+    view->patch_side = rad_alloc(ctx, n, sizeof *view->patch_side);
+    view->candidate_first = rad_alloc(ctx, n + 1, sizeof *view->candidate_first);
+    view->candidates = rad_alloc(ctx, n * n + 1, sizeof *view->candidates);
+    if (!view->patch_side || !view->candidate_first || !view->candidates) {
+        rad_ff_shaft_view_destroy(view);
+        return NULL;
+    }
+    return view;
+}
+
+void rad_ff_shaft_view_destroy(rad_ff_shaft_view *view) {
+    if (!view) return;
+    rad_free(view->ctx, view->patch_side);
+    rad_free(view->ctx, view->candidate_first);
+    rad_free(view->ctx, view->candidates);
+    rad_free(view->ctx, view);
 }
 
 /* A polygon's plane. */
@@ -202,14 +228,13 @@ rad_status rad_ff_shaft_create(rad_context *ctx, const rad_scene *scene, const r
     shaft->lo = rad_alloc(ctx, n, sizeof *shaft->lo);
     shaft->hi = rad_alloc(ctx, n, sizeof *shaft->hi);
     shaft->side = rad_alloc(ctx, n * n, sizeof *shaft->side);
-    shaft->patch_side = rad_alloc(ctx, n, sizeof *shaft->patch_side);
-    shaft->candidate_first = rad_alloc(ctx, n + 1, sizeof *shaft->candidate_first);
-    shaft->candidates = rad_alloc(ctx, n * n, sizeof *shaft->candidates);
+    uint32_t *fill = rad_alloc(ctx, n + 1, sizeof *fill);
     shaft->corner_first = rad_alloc_zero(ctx, n + 1, sizeof *shaft->corner_first);
     shaft->corners = rad_alloc(ctx, corner_total + 1, sizeof *shaft->corners);
     if (!shaft->normal || !shaft->offset || !shaft->tolerance || !shaft->lo || !shaft->hi ||
         !shaft->corner_first || !shaft->corners ||
-        !shaft->side || !shaft->patch_side || !shaft->candidate_first || !shaft->candidates) {
+        !shaft->side || !fill) {
+        rad_free(ctx, fill);
         rad_free(ctx, fit);
         rad_free(ctx, leader);
         rad_ff_shaft_destroy(shaft);
@@ -218,13 +243,13 @@ rad_status rad_ff_shaft_create(rad_context *ctx, const rad_scene *scene, const r
     /* Each occluder's corners, in one run (counted first, then placed). */
     for (size_t q = 0; q < polygons; ++q) shaft->corner_first[occluder_of[q] + 1] += scene->polygons[q].count;
     for (size_t g = 0; g < n; ++g) shaft->corner_first[g + 1] += shaft->corner_first[g];
-    uint32_t *fill = shaft->candidate_first; /* scratch until rad_ff_shaft_begin */
     memcpy(fill, shaft->corner_first, n * sizeof *fill);
     for (size_t q = 0; q < polygons; ++q) {
         const rad_polygon *polygon = &scene->polygons[q];
         for (uint32_t k = 0; k < polygon->count; ++k)
             shaft->corners[fill[occluder_of[q]]++] = rad_polygon_vertex(scene, polygon, k);
     }
+    rad_free(ctx, fill);
     /* Each occluder's plane: that of its first polygon, the band widened by how far its
      * corners stray from it (a polygon that is not quite planar: Embree sees its fan of
      * triangles), so the tests stay conservative. */
@@ -320,20 +345,21 @@ static int outside_shaft(const rad_ff_shaft *shaft, size_t q, const shaft_lines 
     return 0;
 }
 
-void rad_ff_shaft_begin(rad_ff_shaft *shaft, const rad_ff_patch *patch) {
-    if (!shaft) return;
+void rad_ff_shaft_begin(const rad_ff_shaft *shaft, rad_ff_shaft_view *view,
+                        const rad_ff_patch *patch) {
+    if (!shaft || !view) return;
     size_t n = shaft->polygon_count;
     for (size_t q = 0; q < n; ++q)
-        shaft->patch_side[q] = classify(shaft, q, patch->corners, patch->corner_count);
-    shaft->patch_lo = patch->lo;
-    shaft->patch_hi = patch->hi;
+        view->patch_side[q] = classify(shaft, q, patch->corners, patch->corner_count);
+    view->patch_lo = patch->lo;
+    view->patch_hi = patch->hi;
     /* Candidates for each receiving polygon R: the same tests with all of R in place of one
      * element (the shaft from the patch to R holds the shafts to each of its elements). */
     double a_lo[3] = {patch->lo.x, patch->lo.y, patch->lo.z};
     double a_hi[3] = {patch->hi.x, patch->hi.y, patch->hi.z};
     uint32_t used = 0;
     for (size_t r = 0; r < n; ++r) {
-        shaft->candidate_first[r] = used;
+        view->candidate_first[r] = used;
         rad_vec3 lo = shaft->lo[r], hi = shaft->hi[r];
         double b_lo[3] = {lo.x, lo.y, lo.z}, b_hi[3] = {hi.x, hi.y, hi.z};
         lo = v3(min2(lo.x, patch->lo.x), min2(lo.y, patch->lo.y), min2(lo.z, patch->lo.z));
@@ -341,20 +367,20 @@ void rad_ff_shaft_begin(rad_ff_shaft *shaft, const rad_ff_patch *patch) {
         shaft_lines lines;
         shaft_lines_make(&lines, a_lo, a_hi, b_lo, b_hi);
         for (size_t q = 0; q < n; ++q) {
-            if ((shaft->patch_side[q] | shaft->side[r * n + q]) != (SIDE_FRONT | SIDE_BACK)) continue;
+            if ((view->patch_side[q] | shaft->side[r * n + q]) != (SIDE_FRONT | SIDE_BACK)) continue;
             if (!boxes_overlap(lo, hi, shaft->lo[q], shaft->hi[q])) continue;
             if (outside_shaft(shaft, q, &lines)) continue;
-            shaft->candidates[used++] = (uint32_t)q;
+            view->candidates[used++] = (uint32_t)q;
         }
     }
-    shaft->candidate_first[n] = used;
+    view->candidate_first[n] = used;
 }
 
 /* The test for a convex receiver with these corners, lying in input polygon r. */
-static int clear_to(const rad_ff_shaft *shaft, uint32_t r, const rad_vec3 *corners, int count) {
-    uint32_t first = shaft->candidate_first[r], last = shaft->candidate_first[r + 1];
+static int clear_to(const rad_ff_shaft *shaft, const rad_ff_shaft_view *view, uint32_t r, const rad_vec3 *corners, int count) {
+    uint32_t first = view->candidate_first[r], last = view->candidate_first[r + 1];
     if (first == last) return 1;
-    rad_vec3 lo = shaft->patch_lo, hi = shaft->patch_hi;
+    rad_vec3 lo = view->patch_lo, hi = view->patch_hi;
     for (int k = 0; k < count; ++k) {
         rad_vec3 c = corners[k];
         lo = v3(min2(lo.x, c.x), min2(lo.y, c.y), min2(lo.z, c.z));
@@ -363,13 +389,13 @@ static int clear_to(const rad_ff_shaft *shaft, uint32_t r, const rad_vec3 *corne
     shaft_lines lines;
     lines.count = -1; /* made when first needed */
     for (uint32_t i = first; i < last; ++i) {
-        uint32_t q = shaft->candidates[i];
+        uint32_t q = view->candidates[i];
         if (!boxes_overlap(lo, hi, shaft->lo[q], shaft->hi[q])) continue;
-        if ((shaft->patch_side[q] | classify(shaft, q, corners, count)) != (SIDE_FRONT | SIDE_BACK))
+        if ((view->patch_side[q] | classify(shaft, q, corners, count)) != (SIDE_FRONT | SIDE_BACK))
             continue;
         if (lines.count < 0) {
-            double a_lo[3] = {shaft->patch_lo.x, shaft->patch_lo.y, shaft->patch_lo.z};
-            double a_hi[3] = {shaft->patch_hi.x, shaft->patch_hi.y, shaft->patch_hi.z};
+            double a_lo[3] = {view->patch_lo.x, view->patch_lo.y, view->patch_lo.z};
+            double a_hi[3] = {view->patch_hi.x, view->patch_hi.y, view->patch_hi.z};
             double b_lo[3] = {INFINITY, INFINITY, INFINITY};
             double b_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
             for (int k = 0; k < count; ++k)
@@ -386,17 +412,17 @@ static int clear_to(const rad_ff_shaft *shaft, uint32_t r, const rad_vec3 *corne
     return 1;
 }
 
-int rad_ff_shaft_clear(const rad_ff_shaft *shaft, size_t element) {
-    if (!shaft) return 0;
+int rad_ff_shaft_clear(const rad_ff_shaft *shaft, const rad_ff_shaft_view *view, size_t element) {
+    if (!shaft || !view) return 0;
     const rad_mesh *mesh = shaft->mesh;
     rad_vec3 corners[4];
     int count = rad_mesh_corner_count(mesh, element);
     for (int k = 0; k < count; ++k) corners[k] = rad_element_corner(mesh, element, k);
-    return clear_to(shaft, shaft->occluder_of[mesh->element_polygon[element]], corners, count);
+    return clear_to(shaft, view, shaft->occluder_of[mesh->element_polygon[element]], corners, count);
 }
 
-int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_patch *receiver,
-                             uint32_t polygon) {
-    if (!shaft) return 0;
-    return clear_to(shaft, shaft->occluder_of[polygon], receiver->corners, receiver->corner_count);
+int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_shaft_view *view,
+                             const rad_ff_patch *receiver, uint32_t polygon) {
+    if (!shaft || !view) return 0;
+    return clear_to(shaft, view, shaft->occluder_of[polygon], receiver->corners, receiver->corner_count);
 }

@@ -701,14 +701,25 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
         if (!uneven_corner(view, corner_polygons, x, y) && sample.light_samples >= EVEN_SHARE)
             sample.light_samples /= EVEN_SHARE;
     }
+    rad_vec3 direction[16];
+    rad_element_hit first[16];
     for (int s = 0; s < samples; ++s) {
-        double jitter[2];
+        if (s % 16 == 0) {
+            /* The pixel's next (up to) 16 camera rays, which leave the eye together, as one
+             * packet; each is then followed from its first hit. */
+            int n = samples - s < 16 ? samples - s : 16;
+            for (int i = 0; i < n; ++i) {
+                double jitter[2];
+                sample.index = (uint32_t)(s + i);
+                rad_sample_2d(&sample, 1, 0, RAD_RENDER_DIM_PIXEL, jitter);
+                direction[i] = rad_view_direction(view, x + jitter[0], y + jitter[1]);
+            }
+            rad_element_rays_intersect16(r->rays, view->eye, direction, n, 0, first);
+        }
         sample.index = (uint32_t)s;
-        rad_sample_2d(&sample, 1, 0, RAD_RENDER_DIM_PIXEL, jitter);
-        double jx = jitter[0], jy = jitter[1];
         double radiance[3];
-        rad_trace_radiance(r, &sample, view->eye, rad_view_direction(view, x + jx, y + jy), NULL,
-                           radiance);
+        rad_trace_radiance_hit(r, &sample, view->eye, direction[s % 16], NULL, &first[s % 16],
+                               radiance);
         for (int c = 0; c < 3; ++c) sum[c] += radiance[c];
         if (s == 0) polygon = sample.first_polygon;
         else if (polygon != sample.first_polygon) polygon = RAD_RENDER_NO_POLYGON;

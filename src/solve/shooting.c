@@ -40,11 +40,19 @@ typedef struct {
     rad_shooting *state;
     const float *row;
     const double *power;
+    int totals; /* recount the unshot totals too */
 } pass_job;
 
+/* The unshot totals feed only the ambient term (and the overshoot made from it): a shot
+ * recounts them only when that is asked for; the first pass (rad_shooting_begin) always does. */
+static int pass_totals(const rad_shooting *state, const double *power) {
+    return !power || state->overshoot || state->with_ambient;
+}
+
 /* One chunk of patches: when `power` is given, first add the light it sends through `row`
- * (every element j receives power F_pj / A_j and reflects rho_j of it); always recount the
- * chunk's patches' unshot powers and its share of the unshot totals. */
+ * (every element j receives power F_pj / A_j and reflects rho_j of it; elements the row does not
+ * reach are left as they are); always recount the chunk's patches' unshot powers, and its share
+ * of the unshot totals when the ambient term will be made from them (pass_totals). */
 static void pass_chunk(void *user, long chunk, int worker) {
     (void)worker;
     const pass_job *job = user;
@@ -53,13 +61,14 @@ static void pass_chunk(void *user, long chunk, int worker) {
     const float *row = job->row;
     const double *power = job->power;
     const int tracing = run->tracing && power;
+    const int totals = job->totals;
     double unshot[3] = {0, 0, 0};
     size_t first = (size_t)chunk * CHUNK_PATCHES, last = first + CHUNK_PATCHES;
     if (last > s->patch_count) last = s->patch_count;
     for (size_t p = first; p < last; ++p) {
         double patch_power = 0;
         for (size_t j = s->patch_first[p]; j < s->patch_first[p + 1]; ++j) {
-            if (power) {
+            if (power && (row[j] != 0 || tracing)) {
                 double f = (double)row[j] / s->area[j];
                 for (int c = 0; c < 3; ++c) {
                     double received = power[c] * f;
@@ -73,11 +82,12 @@ static void pass_chunk(void *user, long chunk, int worker) {
                 }
             }
             patch_power += (s->unshot[j][0] + s->unshot[j][1] + s->unshot[j][2]) * s->area[j];
-            for (int c = 0; c < 3; ++c) unshot[c] += s->unshot[j][c] * s->area[j];
+            if (totals)
+                for (int c = 0; c < 3; ++c) unshot[c] += s->unshot[j][c] * s->area[j];
         }
         job->state->patch_power[p] = patch_power;
     }
-    memcpy(job->state->chunk_unshot[chunk], unshot, sizeof unshot);
+    if (totals) memcpy(job->state->chunk_unshot[chunk], unshot, sizeof unshot);
 }
 
 /* One pass over the elements, chunk by chunk (pass_chunk); the chunks' shares are then added
@@ -86,10 +96,11 @@ static void pass_chunk(void *user, long chunk, int worker) {
 static void pass(rad_solver_run *run, rad_shooting *state, const float *row, const double *power) {
     rad_system *s = run->system;
     const long chunks = (long)chunk_count(s);
-    pass_job job = {run, state, row, power};
+    pass_job job = {run, state, row, power, pass_totals(state, power)};
     if (s->element_count >= PARALLEL_ELEMENTS) rad_team_for(s->ctx, chunks, pass_chunk, &job);
     else
         for (long chunk = 0; chunk < chunks; ++chunk) pass_chunk(&job, chunk, 0);
+    if (!job.totals) return;
     double total[3] = {0, 0, 0};
     for (long chunk = 0; chunk < chunks; ++chunk)
         for (int c = 0; c < 3; ++c) total[c] += state->chunk_unshot[chunk][c];
@@ -188,6 +199,36 @@ static rad_status shooting_begin(rad_solver_run *run) {
     return rad_shooting_begin(run, state);
 }
 
+/* When the shooter's row is not kept yet, compute it together with those of the patches
+ * likely to be shot next (the most unshot power after it, rows not kept), in one parallel loop:
+ * a row alone keeps two threads only partly busy (each row wakes the workers, and its last
+ * blocks run on one). Rows are the same whenever they are computed, so is the solution. */
+static void prefetch_rows(rad_solver_run *run, rad_shooting *state, size_t shooter) {
+    rad_system *s = run->system;
+    rad_ff_provider *ff = s->ff;
+    if (!ff->prefetch || !ff->holds || ff->holds(ff, shooter)) return;
+    size_t next[rad_ff_rows_ahead];
+    double power[rad_ff_rows_ahead];
+    size_t count = 1;
+    next[0] = shooter;
+    for (size_t p = 0; p < s->patch_count; ++p) {
+        double unshot = fabs(rad_shooting_patch_power(state, p));
+        if (p == shooter || !(unshot > 0) ||
+            (count == rad_ff_rows_ahead && unshot <= power[count - 1]) || ff->holds(ff, p))
+            continue;
+        /* Insert, keeping next[1 ..] by decreasing power. */
+        size_t k = count < rad_ff_rows_ahead ? count++ : count - 1;
+        while (k > 1 && power[k - 1] < unshot) {
+            next[k] = next[k - 1];
+            power[k] = power[k - 1];
+            --k;
+        }
+        next[k] = p;
+        power[k] = unshot;
+    }
+    ff->prefetch(ff, next, count); /* a failure leaves the row to be computed alone */
+}
+
 static rad_status shooting_step(rad_solver_run *run, int iteration, double *residual) {
     (void)iteration;
     rad_system *s = run->system;
@@ -207,6 +248,7 @@ static rad_status shooting_step(rad_solver_run *run, int iteration, double *resi
             shooter = p;
         }
     }
+    prefetch_rows(run, state, shooter);
     rad_status status = rad_shooting_shoot(run, state, shooter, NULL);
     if (status) return status;
     *residual = rad_shooting_finish(run, state);
