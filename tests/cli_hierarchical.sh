@@ -174,7 +174,7 @@ check "closed office: escaped within 2% of emitted" awk '
 # 40,000 elements (0.30626, 0.30647: `solve cornell --elements N --json`), and its ceiling, lit
 # by the other surfaces only, is as bright (0.18490 at 10,000 elements, mean of the channels).
 # With each link reading its source's mean: 0.30792 and 0.18323 (-0.90 %), both checks fail.
-# 0.30626 and 0.18467 with it (docs/hierarchical.md, "hcornell2"). About 1 processor-s.
+# 0.30622 and 0.18469 with it (docs/hierarchical.md, "hcornell2"). About 1 processor-s.
 "$radiosity" solve cornell --solver hierarchical --link-error 5e-6 --json >"$work/fine.json"
 check "fine leaves: Cornell's escaped fraction as shooting's" awk '
     match($0, /"escaped_fraction": [-0-9.e+]+/) { f = substr($0, RSTART + 20, RLENGTH - 20) + 0; n++ }

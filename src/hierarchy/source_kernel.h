@@ -7,7 +7,7 @@
 
 /* The mean radiosity of node `source`'s descendants `depth` levels down (or the leaves above
  * that depth), each weighed by its area times the point kernel cos cos / r^2 from the
- * receiver's quadrature points to its centre (nr, ns: the receiver's and the source's normals),
+ * receiver's centre to its own (nr, ns: the receiver's and the source's normals),
  * into out. Returns 0 (out untouched) when the source has no children or no descendant faces
  * the receiver. */
 int rad_hier_source_kernel_mean(const rad_hier_node *nodes, const rad_hier_node *receiver,
