@@ -50,7 +50,7 @@ static void add_quad(rad_scene *scene, uint32_t surface, rad_vec3 a, rad_vec3 b,
 
 /* Refines and solves until no link refines. */
 static rad_hier *solve_hierarchy(rad_context *ctx, const rad_scene *scene, double link_error) {
-    rad_hier_options options = {link_error, 0, 0, NULL, NULL, 0};
+    rad_hier_options options = {link_error, 0, 0, NULL, NULL, 0, 0};
     rad_hier *h = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
     if (!h) return NULL;
@@ -544,7 +544,7 @@ static size_t links_facing_away(const rad_hier *hier) {
 static void test_clusters(void) {
     rad_context *ctx = context(2), *one = context(1);
     rad_scene *scene = tiled_room(ctx);
-    rad_hier_options options = {1e-4, 0, 0, NULL, NULL, 0};
+    rad_hier_options options = {1e-4, 0, 0, NULL, NULL, 0, 0};
     rad_hier *clustered = NULL, *flat = NULL, *single = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &clustered) == RAD_OK);
     CHECK(rad_hier_create(one, scene, &options, &single) == RAD_OK);
@@ -769,7 +769,7 @@ static rad_scene *two_rooms(rad_context *ctx) {
 /* Solves the two rooms at `link_error`, with importance from `view` when it is not NULL. */
 static rad_hier *solve_two_rooms(rad_context *ctx, const rad_scene *scene, double link_error,
                                  const rad_view *view) {
-    rad_hier_options options = {link_error, 0, 0, NULL, NULL, 0};
+    rad_hier_options options = {link_error, 0, 0, NULL, NULL, 0, 0};
     rad_hier *h = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
     if (!h) return NULL;
@@ -1062,7 +1062,7 @@ static void test_desk_shadows(void) {
             add_rect(scene, lamp, v3(x + 1.2, y + 1.2, 2.72), v3_scale(Y, 0.6), v3_scale(X, 0.6));
             add_box(scene, desk, v3(x + 0.7, y + 0.7, 0.72), v3(x + 2.3, y + 1.5, 0.75));
         }
-    rad_hier_options options = {10, 0, 1, NULL, NULL, 0};
+    rad_hier_options options = {10, 0, 1, NULL, NULL, 0, 0};
     rad_hier *h = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
     CHECK(rad_hier_link_roots(h) == RAD_OK);
@@ -1198,7 +1198,7 @@ static void test_interrupted_refinement(void) {
     rad_hier *whole = solve_hierarchy(plain, scene, 1e-4);
     stopper s = {"hierarchical refinement", 4, 0, 0};
     rad_context *ctx = stopping_context(2, &s);
-    rad_hier_options options = {1e-4, 0, 0, NULL, NULL, 0};
+    rad_hier_options options = {1e-4, 0, 0, NULL, NULL, 0, 0};
     rad_hier *h = NULL;
     CHECK(rad_hier_create(ctx, scene, &options, &h) == RAD_OK);
     CHECK(rad_hier_link_roots(h) == RAD_OK);

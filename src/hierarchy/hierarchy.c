@@ -2,6 +2,7 @@
  * oracle and the gather/push-pull solve of hierarchical radiosity (Hanrahan, Salzman &
  * Aupperle 1991). See hierarchy.h for the method and docs/hierarchical.md for the parameters. */
 #include "hierarchy/hierarchy.h"
+#include "hierarchy/source_kernel.h"
 
 #include "formfactor/geometric.h"
 #include "core/sampler.h"
@@ -108,6 +109,7 @@ struct rad_hier {
     double radiosity_cap; /* no radiosity exceeds it: emission_max / (1 - the largest
                              reflectance); 0 when no such bound is known (cheap_link) */
     double min_area;  /* absolute */
+    int source_depth; /* rad_hier_options.source_depth */
     rad_hier_stats stats;
     /* Light besides the materials' emission (rad_hier_options.light): per node, NULL without. */
     void (*light_fn)(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
@@ -1046,7 +1048,12 @@ static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, 
  * a cluster sent a directional, exposure-weighted mean, Sillion 1995.) */
 static void source_radiosity(const rad_hier *h, const rad_hier_link *link, double out[3]) {
     if (link->sample == RAD_HIER_NO_NODE) {
-        memcpy(out, h->nodes[link->source].radiosity, sizeof(double[3]));
+        const rad_hier_node *r = &h->nodes[link->receiver], *s = &h->nodes[link->source];
+        if (h->source_depth && link->error >= 0 && r->corner_count && s->corner_count &&
+            rad_hier_source_kernel_mean(h->nodes, r, h->normal[r->polygon], link->source,
+                                        h->normal[s->polygon], h->source_depth, out))
+            return;
+        memcpy(out, s->radiosity, sizeof(double[3]));
         return;
     }
     const link_sample *seen = &h->samples[link->sample];
@@ -2344,6 +2351,7 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     rad_roots_destroy(ctx, made);
     h->root_count = h->node_count;
     h->min_area = o.min_area * total_area;
+    h->source_depth = o.source_depth;
     double rho_max = 0;
     for (size_t p = 0; p < np && !status; ++p)
         for (int c = 0; c < 3; ++c) rho_max = fmax(rho_max, h->reflectance[p][c]);

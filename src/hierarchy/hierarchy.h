@@ -85,6 +85,10 @@ typedef struct rad_hier_options {
      * the oracle allows (half the range times the area, against the threshold), so that light
      * with sharp edges of its own (a caustic through glass) is held by leaves that resolve it. */
     int light_split;
+    /* Nonzero: a fully visible link between two polygon nodes reads its source's descendants
+     * this many levels down, weighed by the kernel from its receiver (source_kernel.h), not
+     * the source's mean. */
+    int source_depth;
 } rad_hier_options;
 
 typedef struct rad_hier_stats {

@@ -71,8 +71,12 @@
  * larger there than a uniform mesh's elements, the threshold being absolute. Cornell 256 x 256
  * at link error 1e-5, seeds 1-4: 4x4 RMSE 0.99-1.01 % with one level, 0.93-0.94 % with two, the
  * worst 8x8 block 4.7-5.2 % off against 2.7-4.3 %, for 9 % more gather and 17 % more shadow
- * rays (docs/hierarchical.md, "The Cornell render from fine leaves"). */
-#define FINE_SHORT_LEVELS 2
+ * rays (docs/hierarchical.md, "The Cornell render from fine leaves"). Three levels since the
+ * links read their sources by the kernel (RAD_HIER_FINE_SOURCE_DEPTH), at link error 5e-6,
+ * seeds 0-3: 8x8 RMSE 0.419-0.451 -> 0.407-0.438 % (bias 0.238 -> 0.218 %, the short block's
+ * face above the floor), 16x16 0.255-0.302 -> 0.246-0.292 %, gather rays +5.5 %, shadow
+ * +10.6 % (docs/hierarchical.md, "hcornell2"). */
+#define FINE_SHORT_LEVELS 3
 /* Gather rays of a re-gather (below) on a uniform mesh. Its one emitter sample is not what is
  * noisy: its gather ray is, and it made about a sixth of the Cornell box's 4x4 noise variance
  * (cornell50: 256 x 256, seeds 0-3, gather rays 5.69 -> 6.45 M for 2, processor +8 %; 4x4 RMSE

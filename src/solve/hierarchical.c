@@ -183,6 +183,11 @@ rad_status rad_hier_setup_create(rad_system *s, double link_error, int importanc
     if (!reflection) reflection = s->specular_reflection;
     rad_hier_options options = {0};
     options.link_error = link_error;
+    /* Fine leaves of a small scene: links read their source's descendants by the receiver's
+     * kernel (hierarchical_view.h). */
+    if (link_error <= RAD_HIER_FINE_LINK_ERROR && !s->ff && s->mesh &&
+        s->mesh->element_count <= RAD_HIER_GATHERED_ROOTS)
+        options.source_depth = RAD_HIER_FINE_SOURCE_DEPTH;
     rad_status status = RAD_OK;
     if (s->light_emission || s->specular_emission || reflection) {
         /* Point, spot and directional lights, the sky and light through mirrors and glass:
