@@ -355,8 +355,31 @@ static void select_median(const box_tree *tree, uint32_t *items, size_t n, size_
     }
 }
 
-/* Node `index` over items first .. first + n - 1 and everything under it. */
-static void tree_build(box_tree *tree, size_t index, uint32_t first, uint32_t n) {
+/* Nodes a build makes under a node of n items (the numbers its subtree takes). */
+static size_t nodes_below(uint32_t n) {
+    return n <= TREE_LEAF ? 0 : 2 + nodes_below(n / 2) + nodes_below(n - n / 2);
+}
+
+/* The subtrees at depth TREE_SPLIT_DEPTH are built on the context's threads; each knows the
+ * node numbers a depth-first build gives it, so the tree is the same for any thread count. */
+#define TREE_SPLIT_DEPTH 3
+
+typedef struct tree_task {
+    size_t index, next;
+    uint32_t first, n;
+} tree_task;
+
+typedef struct tree_job {
+    box_tree *tree;
+    size_t count;
+    tree_task tasks[1 << TREE_SPLIT_DEPTH];
+} tree_job;
+
+/* Node `index` over items first .. first + n - 1 and everything under it, its descendants
+ * numbered from `next` on in depth-first order; returns the next free number. With `defer`,
+ * the subtrees at depth TREE_SPLIT_DEPTH become defer's tasks instead. */
+static size_t tree_build(box_tree *tree, size_t index, uint32_t first, uint32_t n, size_t next,
+                         tree_job *defer, int depth) {
     tree_node *node = &tree->nodes[index];
     rad_vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
     rad_vec3 centre_lo = lo, centre_hi = hi;
@@ -372,17 +395,30 @@ static void tree_build(box_tree *tree, size_t index, uint32_t first, uint32_t n)
     node->lo = lo, node->hi = hi;
     if (n <= TREE_LEAF) {
         node->first = first, node->count = n;
-        return;
+        return next;
     }
     rad_vec3 spread = v3_sub(centre_hi, centre_lo);
     int axis = spread.x >= spread.y && spread.x >= spread.z ? 0 : spread.y >= spread.z ? 1 : 2;
     uint32_t half = n / 2;
     select_median(tree, tree->items + first, n, half, axis);
-    size_t child = tree->node_count;
-    tree->node_count += 2;
+    size_t child = next;
     node->first = (uint32_t)child, node->count = 0;
-    tree_build(tree, child, first, half);
-    tree_build(tree, child + 1, first + half, n - half);
+    next += 2;
+    if (defer && depth + 1 >= TREE_SPLIT_DEPTH) {
+        defer->tasks[defer->count++] = (tree_task){child, next, first, half};
+        next += nodes_below(half);
+        defer->tasks[defer->count++] = (tree_task){child + 1, next, first + half, n - half};
+        return next + nodes_below(n - half);
+    }
+    next = tree_build(tree, child, first, half, next, defer, depth + 1);
+    return tree_build(tree, child + 1, first + half, n - half, next, defer, depth + 1);
+}
+
+static void tree_task_run(void *user, long index, int worker) {
+    (void)worker;
+    tree_job *job = user;
+    const tree_task *task = &job->tasks[index];
+    tree_build(job->tree, task->index, task->first, task->n, task->next, NULL, 0);
 }
 
 /* The tree over the sweep positions whose polygons take part (`usable`). */
@@ -402,8 +438,9 @@ static rad_status tree_create(rad_context *ctx, const box *boxes, const uint8_t 
     for (size_t t = 0; t < np; ++t)
         if (usable[t]) tree->items[n++] = (uint32_t)t;
     if (n) {
-        tree->node_count = 1;
-        tree_build(tree, 0, 0, n);
+        tree_job job = {.tree = tree};
+        tree->node_count = tree_build(tree, 0, 0, n, 1, &job, 0);
+        rad_team_for(ctx, (long)job.count, tree_task_run, &job);
     }
     return RAD_OK;
 }
