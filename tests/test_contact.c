@@ -13,6 +13,7 @@
 #include "mesh/contact.h"
 #include "mesh/mesh.h"
 #include "radiosity.h"
+#include "scene/rays.h"
 #include "scene/scene.h"
 #include "system/system.h"
 #include "test.h"
@@ -431,6 +432,61 @@ static void test_house(rad_context *ctx) {
     rad_scene_destroy(house);
 }
 
+/* Steps 2 to 4 run over chunks of polygons on the context's threads (hmesh): the cut of the
+ * office of 20,000 triangles (about 10,000 polygons, ten chunks) is the same, to the bit, on
+ * one thread and on three, with the roots' options and with T-points. And the scene's rays are
+ * built once and shared until its geometry changes. */
+static void test_threads(void) {
+    rad_contact_cut *cuts[2][2] = {{NULL, NULL}, {NULL, NULL}};
+    rad_context *contexts[2] = {NULL, NULL};
+    rad_scene *scenes[2] = {NULL, NULL};
+    const int threads[2] = {1, 3};
+    for (int t = 0; t < 2; ++t) {
+        rad_context_options options = {0};
+        options.threads = threads[t];
+        if (rad_context_create(&options, &contexts[t])) return;
+        CHECK(rad_scene_generate_office(contexts[t], 20000, &scenes[t]) == RAD_OK);
+        if (!scenes[t]) return;
+        rad_contact_options roots = {0}, t_points = {0};
+        roots.no_near = roots.sealed = roots.sparing = roots.quiet = 1;
+        t_points.t_points = t_points.quiet = 1;
+        CHECK(rad_contact_cut_create_with(contexts[t], scenes[t], &roots, &cuts[t][0]) == RAD_OK);
+        CHECK(rad_contact_cut_create_with(contexts[t], scenes[t], &t_points, &cuts[t][1]) == RAD_OK);
+    }
+    CHECK(scenes[0]->polygon_count > 4 * 1024);
+    for (int k = 0; k < 2; ++k) {
+        const rad_contact_cut *a = cuts[0][k], *b = cuts[1][k];
+        if (!a || !b) continue;
+        CHECK(a->contact_lines > 0 && a->piece_count > scenes[0]->polygon_count / 2);
+        CHECK(a->piece_count == b->piece_count && a->point_count == b->point_count);
+        CHECK(a->cut_polygons == b->cut_polygons && a->contact_lines == b->contact_lines);
+        CHECK(a->hidden_pieces == b->hidden_pieces && a->hidden_area == b->hidden_area);
+        CHECK(a->covered_pieces == b->covered_pieces && a->left_whole == b->left_whole);
+        CHECK(a->t_points == b->t_points && a->bound_tests == b->bound_tests);
+        if (a->piece_count == b->piece_count && a->point_count == b->point_count) {
+            CHECK(memcmp(a->pieces, b->pieces, a->piece_count * sizeof *a->pieces) == 0);
+            CHECK(memcmp(a->points, b->points, a->point_count * sizeof *a->points) == 0);
+        }
+    }
+    /* One build, shared; dropped when a vertex is added. */
+    rad_scene *scene = scenes[1];
+    rad_rays *first = NULL, *second = NULL;
+    CHECK(rad_rays_create(contexts[1], scene, &first) == RAD_OK);
+    CHECK(rad_rays_create(contexts[1], scene, &second) == RAD_OK);
+    CHECK(first && first == second && scene->rays == first);
+    rad_rays_destroy(second);
+    uint32_t vertex;
+    CHECK(rad_scene_add_vertex(scene, v3(0, 0, 0), &vertex) == RAD_OK);
+    CHECK(scene->rays == NULL);
+    rad_rays_destroy(first); /* the last holder */
+    for (int t = 0; t < 2; ++t) {
+        rad_contact_cut_destroy(contexts[t], cuts[t][0]);
+        rad_contact_cut_destroy(contexts[t], cuts[t][1]);
+        rad_scene_destroy(scenes[t]);
+        rad_context_destroy(contexts[t]);
+    }
+}
+
 int main(void) {
     rad_context_options options = {0};
     options.seed = 3;
@@ -457,6 +513,7 @@ int main(void) {
     test_house(ctx);
     test_coplanar(ctx);
     test_stacked(ctx);
+    test_threads();
     rad_system_destroy(system);
     rad_scene_destroy(scene);
     rad_context_destroy(ctx);

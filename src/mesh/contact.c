@@ -17,9 +17,12 @@
  *    only through the pieces the segment crosses.
  * 5. Where a cut ends on another piece's edge (a shadow segment inside a face; a line reaching
  *    an edge the polygon shares with another polygon of its surface), that piece gets the end
- *    as a corner: the pieces then meet corner to corner and the mesh has no T-junctions. */
+ *    as a corner: the pieces then meet corner to corner and the mesh has no T-junctions.
+ * Steps 2 to 4 run on the context's threads over fixed chunks of polygons, joined in order: the
+ * same cut, to the bit, for any thread count. */
 #include "mesh/contact.h"
 
+#include "core/team.h"
 #include "mesh/shadow.h"
 #include "scene/rays.h"
 #include "scene/scene.h"
@@ -352,8 +355,31 @@ static void select_median(const box_tree *tree, uint32_t *items, size_t n, size_
     }
 }
 
-/* Node `index` over items first .. first + n - 1 and everything under it. */
-static void tree_build(box_tree *tree, size_t index, uint32_t first, uint32_t n) {
+/* Nodes a build makes under a node of n items (the numbers its subtree takes). */
+static size_t nodes_below(uint32_t n) {
+    return n <= TREE_LEAF ? 0 : 2 + nodes_below(n / 2) + nodes_below(n - n / 2);
+}
+
+/* The subtrees at depth TREE_SPLIT_DEPTH are built on the context's threads; each knows the
+ * node numbers a depth-first build gives it, so the tree is the same for any thread count. */
+#define TREE_SPLIT_DEPTH 3
+
+typedef struct tree_task {
+    size_t index, next;
+    uint32_t first, n;
+} tree_task;
+
+typedef struct tree_job {
+    box_tree *tree;
+    size_t count;
+    tree_task tasks[1 << TREE_SPLIT_DEPTH];
+} tree_job;
+
+/* Node `index` over items first .. first + n - 1 and everything under it, its descendants
+ * numbered from `next` on in depth-first order; returns the next free number. With `defer`,
+ * the subtrees at depth TREE_SPLIT_DEPTH become defer's tasks instead. */
+static size_t tree_build(box_tree *tree, size_t index, uint32_t first, uint32_t n, size_t next,
+                         tree_job *defer, int depth) {
     tree_node *node = &tree->nodes[index];
     rad_vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
     rad_vec3 centre_lo = lo, centre_hi = hi;
@@ -369,17 +395,30 @@ static void tree_build(box_tree *tree, size_t index, uint32_t first, uint32_t n)
     node->lo = lo, node->hi = hi;
     if (n <= TREE_LEAF) {
         node->first = first, node->count = n;
-        return;
+        return next;
     }
     rad_vec3 spread = v3_sub(centre_hi, centre_lo);
     int axis = spread.x >= spread.y && spread.x >= spread.z ? 0 : spread.y >= spread.z ? 1 : 2;
     uint32_t half = n / 2;
     select_median(tree, tree->items + first, n, half, axis);
-    size_t child = tree->node_count;
-    tree->node_count += 2;
+    size_t child = next;
     node->first = (uint32_t)child, node->count = 0;
-    tree_build(tree, child, first, half);
-    tree_build(tree, child + 1, first + half, n - half);
+    next += 2;
+    if (defer && depth + 1 >= TREE_SPLIT_DEPTH) {
+        defer->tasks[defer->count++] = (tree_task){child, next, first, half};
+        next += nodes_below(half);
+        defer->tasks[defer->count++] = (tree_task){child + 1, next, first + half, n - half};
+        return next + nodes_below(n - half);
+    }
+    next = tree_build(tree, child, first, half, next, defer, depth + 1);
+    return tree_build(tree, child + 1, first + half, n - half, next, defer, depth + 1);
+}
+
+static void tree_task_run(void *user, long index, int worker) {
+    (void)worker;
+    tree_job *job = user;
+    const tree_task *task = &job->tasks[index];
+    tree_build(job->tree, task->index, task->first, task->n, task->next, NULL, 0);
 }
 
 /* The tree over the sweep positions whose polygons take part (`usable`). */
@@ -399,8 +438,9 @@ static rad_status tree_create(rad_context *ctx, const box *boxes, const uint8_t 
     for (size_t t = 0; t < np; ++t)
         if (usable[t]) tree->items[n++] = (uint32_t)t;
     if (n) {
-        tree->node_count = 1;
-        tree_build(tree, 0, 0, n);
+        tree_job job = {.tree = tree};
+        tree->node_count = tree_build(tree, 0, 0, n, 1, &job, 0);
+        rad_team_for(ctx, (long)job.count, tree_task_run, &job);
     }
     return RAD_OK;
 }
@@ -812,6 +852,434 @@ static rad_status add_t_points(rad_context *ctx, const rad_scene *scene, double 
     return status;
 }
 
+/* ------------------------------------------------------------------------------------------- */
+/* Step 2 in parallel: the sweep positions in chunks of PAIR_CHUNK, each chunk's contacts kept */
+/* apart and joined in sweep order, so the contacts come out as one sweep makes them.          */
+
+#define PAIR_CHUNK 1024
+
+typedef struct pair_scratch {
+    uint32_t *candidates, *stack;
+    size_t candidate_count, candidate_capacity, stack_capacity;
+} pair_scratch;
+
+typedef struct pair_chunk {
+    contact *contacts;
+    size_t contact_count, contact_capacity;
+    size_t bound_tests, coplanar_pairs, covered_pairs;
+    uint32_t coplanar[2], covering[2]; /* the chunk's first pair of each kind */
+    rad_status status;
+} pair_chunk;
+
+typedef struct pair_job {
+    rad_context *ctx;
+    const rad_scene *scene;
+    const plane_info *info;
+    const uint32_t *order;
+    const box *boxes;
+    const uint8_t *usable;
+    const box_tree *tree;
+    double eps, slack;
+    int no_near, sealed;
+    size_t np;
+    pair_scratch *scratch; /* per worker */
+    pair_chunk *chunks;
+} pair_job;
+
+/* Step 2 for the polygon at sweep position s and those after it whose bounds meet its own. */
+static rad_status pairs_of(const pair_job *job, pair_scratch *scratch, pair_chunk *chunk, size_t s) {
+    rad_context *ctx = job->ctx;
+    const rad_scene *scene = job->scene;
+    const plane_info *info = job->info;
+    const box *boxes = job->boxes;
+    const double eps = job->eps, slack = job->slack;
+    const int no_near = job->no_near, sealed = job->sealed;
+    uint32_t a = job->order[s];
+    if (!job->usable[s]) return RAD_OK;
+    /* Bounds nearer than slack, or than NEAR_GAP times the larger polygon's extent (step 2b;
+     * none for the roots, no_near): the tree gives the bounds within slack plus both reaches,
+     * judged here on the larger reach, read in sweep order (boxes) with the reaches computed
+     * once, the polygons only for pairs that meet. */
+    rad_status status = tree_candidates(ctx, job->tree, (uint32_t)s, &scratch->candidates,
+                                        &scratch->candidate_count, &scratch->candidate_capacity,
+                                        &scratch->stack, &scratch->stack_capacity, &chunk->bound_tests);
+    const double reach_a = boxes[s].reach;
+    const rad_vec3 a_lo = boxes[s].lo, a_hi = boxes[s].hi;
+    for (size_t k = 0; k < scratch->candidate_count && !status; ++k) {
+        size_t t = scratch->candidates[k];
+        const rad_vec3 b_lo = boxes[t].lo, b_hi = boxes[t].hi;
+        const double m = slack + fmax(reach_a, boxes[t].reach);
+        if (b_lo.x > a_hi.x + m || b_lo.y > a_hi.y + m || a_lo.y > b_hi.y + m ||
+            b_lo.z > a_hi.z + m || a_lo.z > b_hi.z + m)
+            continue;
+        uint32_t b = job->order[t];
+        /* Polygons of one surface are cut only where one passes through the other or stands
+         * on it (kind 1): a building exported as one material, walls of one surface running
+         * into each other at the corners. */
+        const int same = scene->polygons[a].surface == scene->polygons[b].surface;
+        for (int way = 0; way < 2 && !status; ++way) {
+            uint32_t receiver = way ? b : a, other = way ? a : b;
+            line l;
+            int kind = contact_line(scene, info, receiver, other, eps, &l);
+            if (same && kind != 1) {
+                if (kind == 2) break;
+                continue;
+            }
+            if (kind == 2) {
+                /* Coplanar: overlapping when the centre of one lies inside the other. Step 2c:
+                 * facing the same way (a rug on a floor, a decal, a face given twice), the
+                 * larger is cut along the smaller's outline and loses the pieces under it, so
+                 * the two never fight for the same place; facing opposite ways (back to back),
+                 * only the note. */
+                if (way == 1 || !(inside(scene, info, a, b, eps) || inside(scene, info, b, a, eps))) break;
+                if (v3_dot(info[a].normal, info[b].normal) < 0) {
+                    if (!chunk->coplanar_pairs) chunk->coplanar[0] = a, chunk->coplanar[1] = b;
+                    chunk->coplanar_pairs++;
+                    break;
+                }
+                double area_a = rad_polygon_area(scene, &scene->polygons[a]);
+                double area_b = rad_polygon_area(scene, &scene->polygons[b]);
+                receiver = area_a > area_b || (area_a == area_b && a > b) ? a : b;
+                other = receiver == a ? b : a;
+                if (!chunk->covered_pairs) chunk->covering[0] = receiver, chunk->covering[1] = other;
+                chunk->covered_pairs++;
+            }
+            line near[64];
+            size_t lines = kind == 1                         ? 1
+                           : kind == 0 && no_near && !sealed ? 0
+                           : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, sealed, near);
+            if (kind == 1) near[0] = l;
+            if (grow(ctx, (void **)&chunk->contacts, &chunk->contact_capacity, chunk->contact_count + lines,
+                     sizeof *chunk->contacts))
+                return RAD_ERROR_NO_MEMORY;
+            for (size_t k = 0; k < lines; ++k)
+                chunk->contacts[chunk->contact_count++] = (contact){receiver, other, near[k], kind == 2};
+            if (kind == 2) break;
+        }
+    }
+    return status;
+}
+
+static void pair_chunk_run(void *user, long index, int worker) {
+    const pair_job *job = user;
+    pair_chunk *chunk = &job->chunks[index];
+    pair_scratch *scratch = &job->scratch[worker];
+    if (!scratch->stack) {
+        scratch->stack_capacity = 64;
+        if (!(scratch->stack = rad_alloc(job->ctx, 64, sizeof *scratch->stack))) {
+            chunk->status = RAD_ERROR_NO_MEMORY;
+            return;
+        }
+    }
+    size_t end = ((size_t)index + 1) * PAIR_CHUNK < job->np ? ((size_t)index + 1) * PAIR_CHUNK : job->np;
+    for (size_t s = (size_t)index * PAIR_CHUNK; s < end && !chunk->status; ++s)
+        chunk->status = pairs_of(job, scratch, chunk, s);
+}
+
+/* Step 2 over every sweep position: the contacts, in sweep order, into *contacts; the counts
+ * and the first pair of each kind into cut. */
+static rad_status pairs_find(pair_job *job, rad_contact_cut *cut, contact **contacts, size_t *contact_count,
+                             uint32_t coplanar[2], uint32_t covering[2]) {
+    rad_context *ctx = job->ctx;
+    const size_t chunk_count = (job->np + PAIR_CHUNK - 1) / PAIR_CHUNK;
+    const int workers = rad_thread_count(ctx) > 0 ? rad_thread_count(ctx) : 1;
+    rad_status status = RAD_OK;
+    job->scratch = rad_alloc_zero(ctx, (size_t)workers, sizeof *job->scratch);
+    job->chunks = rad_alloc_zero(ctx, chunk_count + 1, sizeof *job->chunks);
+    if (!job->scratch || !job->chunks) status = RAD_ERROR_NO_MEMORY;
+    if (!status) rad_team_for(ctx, (long)chunk_count, pair_chunk_run, job);
+    size_t total = 0;
+    for (size_t c = 0; c < chunk_count && !status; ++c) {
+        status = job->chunks[c].status;
+        total += job->chunks[c].contact_count;
+    }
+    if (!status && !(*contacts = rad_alloc(ctx, total + 1, sizeof **contacts))) status = RAD_ERROR_NO_MEMORY;
+    for (size_t c = 0; c < chunk_count && !status; ++c) {
+        const pair_chunk *chunk = &job->chunks[c];
+        memcpy(*contacts + *contact_count, chunk->contacts, chunk->contact_count * sizeof **contacts);
+        *contact_count += chunk->contact_count;
+        cut->bound_tests += chunk->bound_tests;
+        if (!cut->coplanar_pairs && chunk->coplanar_pairs)
+            coplanar[0] = chunk->coplanar[0], coplanar[1] = chunk->coplanar[1];
+        if (!cut->covered_pairs && chunk->covered_pairs)
+            covering[0] = chunk->covering[0], covering[1] = chunk->covering[1];
+        cut->coplanar_pairs += chunk->coplanar_pairs;
+        cut->covered_pairs += chunk->covered_pairs;
+    }
+    for (size_t c = 0; job->chunks && c < chunk_count; ++c) rad_free(ctx, job->chunks[c].contacts);
+    for (int w = 0; job->scratch && w < workers; ++w) {
+        rad_free(ctx, job->scratch[w].candidates);
+        rad_free(ctx, job->scratch[w].stack);
+    }
+    rad_free(ctx, job->chunks);
+    rad_free(ctx, job->scratch);
+    return status;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* Steps 3 and 4 in parallel: the polygons in chunks of CUT_CHUNK (a fixed size, so what each   */
+/* chunk makes does not depend on the thread count), each chunk's pieces and counts kept apart */
+/* and joined in polygon order: the same cut, to the bit, as one polygon after another.        */
+
+#define CUT_CHUNK 1024
+
+/* What one worker reuses from polygon to polygon. */
+typedef struct cut_scratch {
+    piece_list work;
+    rad_vec3 *left, *right; /* split_room points each */
+    uint8_t *fate;          /* with sparing: per piece of one polygon, 1 covered, 2 hidden */
+    size_t fate_capacity;
+} cut_scratch;
+
+/* What one chunk of polygons made. */
+typedef struct cut_chunk {
+    piece_list list;          /* its pieces' points */
+    uint32_t *polygon;        /* per piece of list: the input polygon */
+    size_t polygon_capacity;
+    double *hidden_area;      /* the hidden pieces' areas, in order (summed when joined) */
+    size_t hidden_count, hidden_capacity;
+    size_t cut_polygons, contact_lines, covered_pieces, left_whole, shadow_cuts;
+    rad_status status;
+} cut_chunk;
+
+typedef struct cut_job {
+    rad_context *ctx;
+    const rad_scene *scene;
+    const rad_contact_options *options;
+    const plane_info *info;
+    const contact *contacts; /* by receiver */
+    size_t contact_count;
+    const rad_shadow_segment *segments; /* by polygon */
+    size_t segment_count;
+    uint8_t *taken; /* per segment: cut along (each polygon writes only its own) */
+    const rad_rays *rays;
+    double eps;
+    int sparing;
+    size_t split_room;
+    size_t np;
+    size_t *contact_first; /* polygon i's contacts: [contact_first[2i], contact_first[2i + 1]) */
+    size_t *segment_first; /* the same for its shadow segments */
+    cut_scratch *scratch;  /* per worker */
+    cut_chunk *chunks;
+} cut_job;
+
+/* Steps 3 and 4 for polygon i: its pieces into chunk->list. */
+static rad_status cut_polygon(const cut_job *job, cut_scratch *scratch, cut_chunk *chunk, size_t i) {
+    rad_context *ctx = job->ctx;
+    const rad_scene *scene = job->scene;
+    const rad_contact_options *options = job->options;
+    const plane_info *info = job->info;
+    const contact *contacts = job->contacts;
+    const rad_shadow_segment *segments = job->segments;
+    const rad_rays *rays = job->rays;
+    const double eps = job->eps;
+    const size_t split_room = job->split_room;
+    piece_list *work = &scratch->work;
+    rad_vec3 *left = scratch->left, *right = scratch->right;
+    rad_status status = RAD_OK;
+    const rad_polygon *polygon = &scene->polygons[i];
+    size_t first_contact = job->contact_first[2 * i], next_contact = job->contact_first[2 * i + 1];
+    size_t lines = next_contact - first_contact;
+    work->pieces = work->used = 0;
+    rad_vec3 corners[64];
+    const rad_vec3 *whole = corners;
+    rad_vec3 *big = NULL;
+    if (polygon->count > 64) {
+        big = rad_alloc(ctx, polygon->count, sizeof *big);
+        if (!big) return RAD_ERROR_NO_MEMORY;
+        whole = big;
+    }
+    for (uint32_t k = 0; k < polygon->count; ++k)
+        (big ? big : corners)[k] = rad_polygon_vertex(scene, polygon, k);
+    status = add_piece(ctx, work, whole, polygon->count);
+    size_t made = 0;
+    for (size_t c = first_contact; c < next_contact && made < MAX_LINES && !status; ++c) {
+        line l = contacts[c].cut;
+        int seen = 0; /* the same line from another polygon (a block's side and its top) */
+        for (size_t d = first_contact; d < c && !seen; ++d) {
+            line o = contacts[d].cut;
+            seen = v3_length(v3_cross(o.direction, l.direction)) < 1e-9 &&
+                   v3_length(v3_cross(v3_sub(l.point, o.point), o.direction)) < eps;
+        }
+        if (seen) continue;
+        made++;
+        rad_vec3 side = v3_cross(info[i].normal, l.direction);
+        size_t pieces = work->pieces;
+        for (size_t w = 0; w < pieces && !status; ++w) {
+            size_t nl, nr;
+            if (work->count[w] == 0) continue;
+            if (work->count[w] + 2 > split_room / 2) continue;
+            if (!split(work->points + work->first[w], work->count[w], l.point, side, eps, left, &nl,
+                       right, &nr))
+                continue;
+            if (polygon_area(left, nl) <= eps * eps || polygon_area(right, nr) <= eps * eps) continue;
+            work->count[w] = 0; /* replaced by its two halves */
+            status = add_piece(ctx, work, left, nl);
+            if (!status) status = add_piece(ctx, work, right, nr);
+        }
+    }
+    /* Sparing: the cut is kept only when it pays (a piece hidden or covered) and stays small;
+     * else the polygon is one piece again. */
+    if (job->sparing && made && !status) {
+        size_t live = 0, dropped = 0;
+        if (grow(ctx, (void **)&scratch->fate, &scratch->fate_capacity, work->pieces, 1)) {
+            rad_free(ctx, big);
+            return RAD_ERROR_NO_MEMORY;
+        }
+        for (size_t w = 0; w < work->pieces; ++w) {
+            scratch->fate[w] = 0;
+            if (work->count[w] == 0) continue;
+            live++;
+            const rad_vec3 *p = work->points + work->first[w];
+            scratch->fate[w] = (uint8_t)piece_fate(scene, rays, info, contacts + first_contact, lines,
+                                                   p, work->count[w], eps);
+            dropped += scratch->fate[w] != 0;
+        }
+        if (!dropped || live - dropped > RAD_CONTACT_SPARING_PIECES) {
+            work->pieces = work->used = 0;
+            status = add_piece(ctx, work, whole, polygon->count);
+            made = 0;
+            chunk->left_whole++;
+        }
+    }
+    rad_free(ctx, big);
+    if (made) chunk->cut_polygons++, chunk->contact_lines += made;
+    /* Shadow boundaries on this polygon, the largest weight first. */
+    size_t first_segment = job->segment_first[2 * i], next_segment = job->segment_first[2 * i + 1];
+    size_t shadow_lines = 0;
+    for (size_t c = first_segment; c < next_segment && shadow_lines < MAX_SHADOW_LINES && !status; ++c) {
+        int near = 0;
+        for (size_t d = first_segment; d < c && !near; ++d)
+            near = job->taken[d] && beside(&segments[c], &segments[d], SEPARATION * options->element_size);
+        if (near) continue;
+        if (!cut_segment(ctx, work, &segments[c], info[i].normal, eps, SLIVER * options->element_size,
+                         left, right, split_room / 2, &status))
+            continue;
+        job->taken[c] = 1;
+        shadow_lines++;
+    }
+    chunk->shadow_cuts += shadow_lines;
+    for (size_t w = 0; w < work->pieces && !status; ++w) {
+        if (work->count[w] == 0) continue;
+        const rad_vec3 *p = work->points + work->first[w];
+        int fate_w = !made         ? 0
+                     : job->sparing ? scratch->fate[w]
+                                    : piece_fate(scene, rays, info, contacts + first_contact, lines, p,
+                                                 work->count[w], eps);
+        if (fate_w == 1) {
+            chunk->covered_pieces++;
+            continue;
+        }
+        if (fate_w == 2) {
+            if (grow(ctx, (void **)&chunk->hidden_area, &chunk->hidden_capacity, chunk->hidden_count + 1,
+                     sizeof *chunk->hidden_area))
+                return RAD_ERROR_NO_MEMORY;
+            chunk->hidden_area[chunk->hidden_count++] = polygon_area(p, work->count[w]);
+            continue;
+        }
+        status = add_piece(ctx, &chunk->list, p, work->count[w]);
+        if (status) break;
+        if (grow(ctx, (void **)&chunk->polygon, &chunk->polygon_capacity, chunk->list.pieces,
+                 sizeof *chunk->polygon))
+            return RAD_ERROR_NO_MEMORY;
+        chunk->polygon[chunk->list.pieces - 1] = (uint32_t)i;
+    }
+    return status;
+}
+
+static void cut_chunk_run(void *user, long index, int worker) {
+    const cut_job *job = user;
+    cut_chunk *chunk = &job->chunks[index];
+    cut_scratch *scratch = &job->scratch[worker];
+    size_t end = ((size_t)index + 1) * CUT_CHUNK < job->np ? ((size_t)index + 1) * CUT_CHUNK : job->np;
+    for (size_t i = (size_t)index * CUT_CHUNK; i < end && !chunk->status; ++i)
+        chunk->status = cut_polygon(job, scratch, chunk, i);
+}
+
+/* Steps 3 and 4 over every polygon: the pieces kept into *list and cut->pieces, the counts
+ * into cut. */
+static rad_status cut_polygons(cut_job *job, rad_contact_cut *cut, piece_list *list) {
+    rad_context *ctx = job->ctx;
+    const size_t np = job->np;
+    const size_t chunk_count = (np + CUT_CHUNK - 1) / CUT_CHUNK;
+    const int workers = rad_thread_count(ctx) > 0 ? rad_thread_count(ctx) : 1;
+    rad_status status = RAD_OK;
+    job->contact_first = rad_alloc(ctx, 2 * np + 1, sizeof *job->contact_first);
+    job->segment_first = rad_alloc(ctx, 2 * np + 1, sizeof *job->segment_first);
+    job->scratch = rad_alloc_zero(ctx, (size_t)workers, sizeof *job->scratch);
+    job->chunks = rad_alloc_zero(ctx, chunk_count + 1, sizeof *job->chunks);
+    if (!job->contact_first || !job->segment_first || !job->scratch || !job->chunks)
+        status = RAD_ERROR_NO_MEMORY;
+    for (int w = 0; w < workers && !status; ++w) {
+        job->scratch[w].left = rad_alloc(ctx, job->split_room, sizeof *job->scratch[w].left);
+        job->scratch[w].right = rad_alloc(ctx, job->split_room, sizeof *job->scratch[w].right);
+        if (!job->scratch[w].left || !job->scratch[w].right) status = RAD_ERROR_NO_MEMORY;
+    }
+    /* Each polygon's contacts and segments, found as the walk in polygon order finds them. */
+    size_t next_contact = 0, next_segment = 0;
+    for (size_t i = 0; i < np && !status; ++i) {
+        job->contact_first[2 * i] = next_contact;
+        while (next_contact < job->contact_count && job->contacts[next_contact].receiver == i) next_contact++;
+        job->contact_first[2 * i + 1] = next_contact;
+        while (next_segment < job->segment_count && job->segments[next_segment].polygon < i) next_segment++;
+        job->segment_first[2 * i] = next_segment;
+        while (next_segment < job->segment_count && job->segments[next_segment].polygon == i) next_segment++;
+        job->segment_first[2 * i + 1] = next_segment;
+    }
+    if (!status) rad_team_for(ctx, (long)chunk_count, cut_chunk_run, job);
+    /* Joined in polygon order. */
+    size_t pieces = 0, points = 0;
+    for (size_t c = 0; c < chunk_count && !status; ++c) {
+        status = job->chunks[c].status;
+        pieces += job->chunks[c].list.pieces;
+        points += job->chunks[c].list.used;
+    }
+    if (!status) {
+        list->points = rad_alloc(ctx, points + 1, sizeof *list->points);
+        list->first = rad_alloc(ctx, pieces + 1, sizeof *list->first);
+        list->count = rad_alloc(ctx, pieces + 1, sizeof *list->count);
+        cut->pieces = rad_alloc(ctx, pieces + 1, sizeof *cut->pieces);
+        if (!list->points || !list->first || !list->count || !cut->pieces) status = RAD_ERROR_NO_MEMORY;
+        list->capacity = points + 1;
+        list->piece_capacity = pieces + 1;
+    }
+    for (size_t c = 0; c < chunk_count && !status; ++c) {
+        const cut_chunk *chunk = &job->chunks[c];
+        memcpy(list->points + list->used, chunk->list.points, chunk->list.used * sizeof *list->points);
+        for (size_t k = 0; k < chunk->list.pieces; ++k) {
+            size_t at = list->pieces + k;
+            list->first[at] = (uint32_t)(list->used + chunk->list.first[k]);
+            list->count[at] = chunk->list.count[k];
+            cut->pieces[at] = (rad_contact_piece){chunk->polygon[k], list->first[at], list->count[at]};
+        }
+        list->used += chunk->list.used;
+        list->pieces += chunk->list.pieces;
+        cut->cut_polygons += chunk->cut_polygons;
+        cut->contact_lines += chunk->contact_lines;
+        cut->covered_pieces += chunk->covered_pieces;
+        cut->left_whole += chunk->left_whole;
+        cut->shadow_cuts += chunk->shadow_cuts;
+        cut->hidden_pieces += chunk->hidden_count;
+        for (size_t k = 0; k < chunk->hidden_count; ++k) cut->hidden_area += chunk->hidden_area[k];
+    }
+    for (size_t c = 0; job->chunks && c < chunk_count; ++c) {
+        piece_list_free(ctx, &job->chunks[c].list);
+        rad_free(ctx, job->chunks[c].polygon);
+        rad_free(ctx, job->chunks[c].hidden_area);
+    }
+    for (int w = 0; job->scratch && w < workers; ++w) {
+        piece_list_free(ctx, &job->scratch[w].work);
+        rad_free(ctx, job->scratch[w].left);
+        rad_free(ctx, job->scratch[w].right);
+        rad_free(ctx, job->scratch[w].fate);
+    }
+    rad_free(ctx, job->chunks);
+    rad_free(ctx, job->scratch);
+    rad_free(ctx, job->contact_first);
+    rad_free(ctx, job->segment_first);
+    return status;
+}
+
 rad_status rad_contact_cut_create(rad_context *ctx, const rad_scene *scene, rad_contact_cut **out) {
     return rad_contact_cut_create_with(ctx, scene, NULL, out);
 }
@@ -829,21 +1297,16 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     box *boxes = NULL; /* the bounds in sweep order */
     uint8_t *usable = NULL; /* per sweep position: the polygon takes part in step 2 */
     box_tree tree = {0};
-    uint32_t *candidates = NULL, *candidate_stack = NULL;
-    size_t candidate_count = 0, candidate_capacity = 0, candidate_stack_capacity = 0;
     contact *contacts = NULL;
-    size_t contact_count = 0, contact_capacity = 0, largest = 3;
+    size_t contact_count = 0, largest = 3;
     rad_contact_cut *cut = rad_alloc_zero(ctx, 1, sizeof *cut);
-    piece_list list = {0}, work = {0};
-    rad_vec3 *left = NULL, *right = NULL;
+    piece_list list = {0};
     rad_rays *rays = NULL;
     rad_status status = RAD_OK;
     uint32_t coplanar[2] = {0, 0}, covering[2] = {0, 0};
     rad_shadow_segment *segments = NULL;
     size_t segment_count = 0;
     uint8_t *taken = NULL;
-    uint8_t *fate = NULL; /* with sparing: per piece of one polygon, 1 covered, 2 hidden */
-    size_t fate_capacity = 0;
     int sparing = options && options->sparing;
     /* Without near-parallel lines (step 2b; the hierarchy's roots) only pairs whose bounds meet
      * can touch: no reach, a window of a few eps, not NEAR_GAP times the largest polygon (with
@@ -896,74 +1359,9 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     }
     status = tree_create(ctx, boxes, usable, np, slack, &tree);
     if (!status) {
-        candidate_stack = rad_alloc(ctx, 64, sizeof *candidate_stack);
-        candidate_stack_capacity = 64;
-        if (!candidate_stack) status = RAD_ERROR_NO_MEMORY;
-    }
-    for (size_t s = 0; s < np && !status; ++s) {
-        uint32_t a = order[s];
-        if (!usable[s]) continue;
-        /* Bounds nearer than slack, or than NEAR_GAP times the larger polygon's extent (step
-         * 2b; none for the roots, no_near): the tree gives the bounds within slack plus both
-         * reaches, judged here on the larger reach, read in sweep order (boxes) with the reaches
-         * computed once, the polygons only for pairs that meet. */
-        status = tree_candidates(ctx, &tree, (uint32_t)s, &candidates, &candidate_count,
-                                 &candidate_capacity, &candidate_stack, &candidate_stack_capacity,
-                                 &cut->bound_tests);
-        const double reach_a = boxes[s].reach;
-        const rad_vec3 a_lo = boxes[s].lo, a_hi = boxes[s].hi;
-        for (size_t k = 0; k < candidate_count && !status; ++k) {
-            size_t t = candidates[k];
-            const rad_vec3 b_lo = boxes[t].lo, b_hi = boxes[t].hi;
-            const double m = slack + fmax(reach_a, boxes[t].reach);
-            if (b_lo.x > a_hi.x + m || b_lo.y > a_hi.y + m || a_lo.y > b_hi.y + m ||
-                b_lo.z > a_hi.z + m || a_lo.z > b_hi.z + m)
-                continue;
-            uint32_t b = order[t];
-            /* Polygons of one surface are cut only where one passes through the other or
-             * stands on it (kind 1): a building exported as one material, walls of one surface
-             * running into each other at the corners. */
-            const int same = scene->polygons[a].surface == scene->polygons[b].surface;
-            for (int way = 0; way < 2 && !status; ++way) {
-                uint32_t receiver = way ? b : a, other = way ? a : b;
-                line l;
-                int kind = contact_line(scene, info, receiver, other, eps, &l);
-                if (same && kind != 1) {
-                    if (kind == 2) break;
-                    continue;
-                }
-                if (kind == 2) {
-                    /* Coplanar: overlapping when the centre of one lies inside the other.
-                     * Step 2c: facing the same way (a rug on a floor, a decal, a face given
-                     * twice), the larger is cut along the smaller's outline and loses the pieces
-                     * under it, so the two never fight for the same place; facing opposite
-                     * ways (back to back), only the note. */
-                    if (way == 1 || !(inside(scene, info, a, b, eps) || inside(scene, info, b, a, eps))) break;
-                    if (v3_dot(info[a].normal, info[b].normal) < 0) {
-                        if (!cut->coplanar_pairs) coplanar[0] = a, coplanar[1] = b;
-                        cut->coplanar_pairs++;
-                        break;
-                    }
-                    double area_a = rad_polygon_area(scene, &scene->polygons[a]);
-                    double area_b = rad_polygon_area(scene, &scene->polygons[b]);
-                    receiver = area_a > area_b || (area_a == area_b && a > b) ? a : b;
-                    other = receiver == a ? b : a;
-                    if (!cut->covered_pairs) covering[0] = receiver, covering[1] = other;
-                    cut->covered_pairs++;
-                }
-                line near[64];
-                size_t lines = kind == 1                                    ? 1
-                               : kind == 0 && no_near && !sealed ? 0
-                               : near_parallel_lines(scene, info, receiver, other, eps, kind == 2, sealed, near);
-                if (kind == 1) near[0] = l;
-                if (grow(ctx, (void **)&contacts, &contact_capacity, contact_count + lines, sizeof *contacts)) {
-                    status = RAD_ERROR_NO_MEMORY;
-                    break;
-                }
-                for (size_t k = 0; k < lines; ++k) contacts[contact_count++] = (contact){receiver, other, near[k], kind == 2};
-                if (kind == 2) break;
-            }
-        }
+        pair_job job = {ctx, scene, info, order, boxes, usable, &tree, eps, slack, no_near, sealed,
+                        np, NULL, NULL};
+        status = pairs_find(&job, cut, &contacts, &contact_count, coplanar, covering);
     }
     if (status) goto done;
     if (contact_count) qsort(contacts, contact_count, sizeof *contacts, by_receiver);
@@ -980,126 +1378,13 @@ rad_status rad_contact_cut_create_with(rad_context *ctx, const rad_scene *scene,
     }
     /* Rays for step 4, only when something was cut. */
     if (contact_count) status = rad_rays_create(ctx, scene, &rays);
-    size_t split_room = (largest + MAX_LINES + MAX_SHADOW_LINES + 2) * 2;
-    left = rad_alloc(ctx, split_room, sizeof *left);
-    right = rad_alloc(ctx, split_room, sizeof *right);
-    if (!status && (!left || !right)) status = RAD_ERROR_NO_MEMORY;
-    /* Step 3 and 4, polygon by polygon, into the output pieces. */
-    size_t next_contact = 0, next_segment = 0;
-    size_t piece_capacity = 0;
-    for (size_t i = 0; i < np && !status; ++i) {
-        const rad_polygon *polygon = &scene->polygons[i];
-        size_t first_contact = next_contact;
-        while (next_contact < contact_count && contacts[next_contact].receiver == i) next_contact++;
-        size_t lines = next_contact - first_contact;
-        work.pieces = work.used = 0;
-        rad_vec3 corners[64];
-        const rad_vec3 *whole = corners;
-        rad_vec3 *big = NULL;
-        if (polygon->count > 64) {
-            big = rad_alloc(ctx, polygon->count, sizeof *big);
-            if (!big) {
-                status = RAD_ERROR_NO_MEMORY;
-                break;
-            }
-            whole = big;
-        }
-        for (uint32_t k = 0; k < polygon->count; ++k)
-            (big ? big : corners)[k] = rad_polygon_vertex(scene, polygon, k);
-        status = add_piece(ctx, &work, whole, polygon->count);
-        size_t made = 0;
-        for (size_t c = first_contact; c < next_contact && made < MAX_LINES && !status; ++c) {
-            line l = contacts[c].cut;
-            int seen = 0; /* the same line from another polygon (a block's side and its top) */
-            for (size_t d = first_contact; d < c && !seen; ++d) {
-                line o = contacts[d].cut;
-                seen = v3_length(v3_cross(o.direction, l.direction)) < 1e-9 &&
-                       v3_length(v3_cross(v3_sub(l.point, o.point), o.direction)) < eps;
-            }
-            if (seen) continue;
-            made++;
-            rad_vec3 side = v3_cross(info[i].normal, l.direction);
-            size_t pieces = work.pieces;
-            for (size_t w = 0; w < pieces && !status; ++w) {
-                size_t nl, nr;
-                if (work.count[w] == 0) continue;
-                if (work.count[w] + 2 > split_room / 2) continue;
-                if (!split(work.points + work.first[w], work.count[w], l.point, side, eps, left, &nl,
-                           right, &nr))
-                    continue;
-                if (polygon_area(left, nl) <= eps * eps || polygon_area(right, nr) <= eps * eps) continue;
-                work.count[w] = 0; /* replaced by its two halves */
-                status = add_piece(ctx, &work, left, nl);
-                if (!status) status = add_piece(ctx, &work, right, nr);
-            }
-        }
-        /* Sparing: the cut is kept only when it pays (a piece hidden or covered) and stays
-         * small; else the polygon is one piece again. */
-        if (sparing && made && !status) {
-            size_t live = 0, dropped = 0;
-            if (grow(ctx, (void **)&fate, &fate_capacity, work.pieces, 1)) {
-                status = RAD_ERROR_NO_MEMORY;
-                rad_free(ctx, big);
-                break;
-            }
-            for (size_t w = 0; w < work.pieces; ++w) {
-                fate[w] = 0;
-                if (work.count[w] == 0) continue;
-                live++;
-                const rad_vec3 *p = work.points + work.first[w];
-                fate[w] = (uint8_t)piece_fate(scene, rays, info, contacts + first_contact, lines, p,
-                                              work.count[w], eps);
-                dropped += fate[w] != 0;
-            }
-            if (!dropped || live - dropped > RAD_CONTACT_SPARING_PIECES) {
-                work.pieces = work.used = 0;
-                status = add_piece(ctx, &work, whole, polygon->count);
-                made = 0;
-                cut->left_whole++;
-            }
-        }
-        rad_free(ctx, big);
-        if (made) cut->cut_polygons++, cut->contact_lines += made;
-        /* Shadow boundaries on this polygon, the largest weight first. */
-        while (next_segment < segment_count && segments[next_segment].polygon < i) next_segment++;
-        size_t first_segment = next_segment, shadow_lines = 0;
-        while (next_segment < segment_count && segments[next_segment].polygon == i) next_segment++;
-        for (size_t c = first_segment; c < next_segment && shadow_lines < MAX_SHADOW_LINES && !status; ++c) {
-            int near = 0;
-            for (size_t d = first_segment; d < c && !near; ++d)
-                near = taken[d] && beside(&segments[c], &segments[d], SEPARATION * options->element_size);
-            if (near) continue;
-            if (!cut_segment(ctx, &work, &segments[c], info[i].normal, eps, SLIVER * options->element_size,
-                             left, right, split_room / 2, &status))
-                continue;
-            taken[c] = 1;
-            shadow_lines++;
-        }
-        cut->shadow_cuts += shadow_lines;
-        for (size_t w = 0; w < work.pieces && !status; ++w) {
-            if (work.count[w] == 0) continue;
-            const rad_vec3 *p = work.points + work.first[w];
-            int fate_w = !made    ? 0
-                         : sparing ? fate[w]
-                                   : piece_fate(scene, rays, info, contacts + first_contact, lines, p, work.count[w], eps);
-            if (fate_w == 1) {
-                cut->covered_pieces++;
-                continue;
-            }
-            if (fate_w == 2) {
-                cut->hidden_pieces++;
-                cut->hidden_area += polygon_area(p, work.count[w]);
-                continue;
-            }
-            status = add_piece(ctx, &list, p, work.count[w]);
-            if (status) break;
-            if (grow(ctx, (void **)&cut->pieces, &piece_capacity, list.pieces, sizeof *cut->pieces)) {
-                status = RAD_ERROR_NO_MEMORY;
-                break;
-            }
-            cut->pieces[list.pieces - 1] = (rad_contact_piece){(uint32_t)i, list.first[list.pieces - 1],
-                                                               list.count[list.pieces - 1]};
-        }
+    /* Step 3 and 4, polygon by polygon, chunk by chunk on the context's threads, then the
+     * chunks' pieces joined in polygon order. */
+    if (!status) {
+        cut_job job = {ctx, scene, options, info, contacts, contact_count, segments, segment_count,
+                       taken, rays, eps, sparing, (largest + MAX_LINES + MAX_SHADOW_LINES + 2) * 2,
+                       np, NULL, NULL, NULL, NULL};
+        status = cut_polygons(&job, cut, &list);
     }
     if (status) goto done;
     cut->piece_count = list.pieces;
@@ -1128,19 +1413,13 @@ done:
     rad_rays_destroy(rays);
     rad_free(ctx, segments);
     rad_free(ctx, taken);
-    rad_free(ctx, fate);
     rad_free(ctx, info);
     rad_free(ctx, order);
     rad_free(ctx, boxes);
     rad_free(ctx, usable);
     tree_free(ctx, &tree);
-    rad_free(ctx, candidates);
-    rad_free(ctx, candidate_stack);
     rad_free(ctx, contacts);
     piece_list_free(ctx, &list);
-    piece_list_free(ctx, &work);
-    rad_free(ctx, left);
-    rad_free(ctx, right);
     rad_contact_cut_destroy(ctx, cut);
     return status;
 }

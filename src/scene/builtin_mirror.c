@@ -74,6 +74,7 @@ static rad_status turn_surface(rad_scene *scene, uint32_t surface, double angle)
                                 center.z + s * d.x + c * d.z);
     }
     rad_free(scene->ctx, mine);
+    rad_scene_geometry_changed(scene);
     return RAD_OK;
 }
 

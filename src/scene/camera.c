@@ -1,7 +1,10 @@
 /* camera.c - pinhole cameras (see camera.h). */
 #include "scene/camera.h"
 
+#include "core/team.h"
 #include "scene/rays.h"
+
+#include <string.h>
 
 rad_camera rad_camera_framing(const rad_scene *scene) {
     rad_vec3 lo, hi;
@@ -52,6 +55,46 @@ static rad_vec3 sphere_direction(int k, int n) {
     return v3(r * cos(phi), z, r * sin(phi));
 }
 
+/* The candidate eyes of the automatic camera and their scores. */
+typedef struct eye_grid {
+    const rad_rays *rays;
+    rad_vec3 lo, size;                                /* the scene's bounding box */
+    double score[AUTO_GRID * AUTO_GRID * AUTO_GRID]; /* 0: not inside the open space */
+} eye_grid;
+
+/* Point g of the grid (a slowest, c fastest). */
+static rad_vec3 grid_point(const eye_grid *grid, int g) {
+    int a = g / (AUTO_GRID * AUTO_GRID), b = g / AUTO_GRID % AUTO_GRID, c = g % AUTO_GRID;
+    return v3(grid->lo.x + grid->size.x * (a + 0.5) / AUTO_GRID,
+              grid->lo.y + grid->size.y * (b + 0.5) / AUTO_GRID,
+              grid->lo.z + grid->size.z * (c + 0.5) / AUTO_GRID);
+}
+
+/* Point g's mean free path over AUTO_DIRECTIONS rays, or 0 when it is not inside: at most one
+ * direction in 32 meets a back (a thin gap, a one-sided panel), at least three in four a
+ * front. */
+static void eye_score(void *user, long g, int worker) {
+    (void)worker;
+    eye_grid *grid = user;
+    rad_vec3 p = grid_point(grid, (int)g);
+    int front = 0, back = 0;
+    double free_path = 0;
+    for (int k = 0; k < AUTO_DIRECTIONS; ++k) {
+        rad_hit hit;
+        if (!rad_rays_intersect(grid->rays, p, sphere_direction(k, AUTO_DIRECTIONS), 0, INFINITY, &hit))
+            continue;
+        if (hit.front) {
+            ++front;
+            free_path += hit.t;
+        } else {
+            ++back;
+        }
+    }
+    grid->score[g] = back * 32 > AUTO_DIRECTIONS || front * 4 < 3 * AUTO_DIRECTIONS
+                         ? 0
+                         : free_path / AUTO_DIRECTIONS;
+}
+
 void rad_scene_auto_camera(rad_scene *scene) {
     if (!scene->geometric || scene->has_camera || !scene->polygon_count) return;
     rad_context *ctx = scene->ctx;
@@ -67,41 +110,22 @@ void rad_scene_auto_camera(rad_scene *scene) {
     }
     /* The eye: of a grid of points in the bounding box, one that sees front faces all around
      * (inside the open space, not inside a solid or outside the room), with the longest mean
-     * free path: the middle of the largest open volume. */
-    rad_vec3 lo, hi;
-    rad_scene_bounds(scene, &lo, &hi);
-    rad_vec3 size = v3_sub(hi, lo);
+     * free path: the middle of the largest open volume. The points are scored on the
+     * context's threads, then taken in grid order. */
+    eye_grid grid;
+    memset(&grid, 0, sizeof grid);
+    rad_vec3 hi;
+    grid.rays = rays;
+    rad_scene_bounds(scene, &grid.lo, &hi);
+    grid.size = v3_sub(hi, grid.lo);
+    rad_team_for(ctx, AUTO_GRID * AUTO_GRID * AUTO_GRID, eye_score, &grid);
     double best = 0;
     rad_vec3 eye = v3(0, 0, 0);
-    for (int a = 0; a < AUTO_GRID; ++a)
-        for (int b = 0; b < AUTO_GRID; ++b)
-            for (int c = 0; c < AUTO_GRID; ++c) {
-                rad_vec3 p = v3(lo.x + size.x * (a + 0.5) / AUTO_GRID,
-                                lo.y + size.y * (b + 0.5) / AUTO_GRID,
-                                lo.z + size.z * (c + 0.5) / AUTO_GRID);
-                int front = 0, back = 0;
-                double free_path = 0;
-                for (int k = 0; k < AUTO_DIRECTIONS; ++k) {
-                    rad_hit hit;
-                    if (!rad_rays_intersect(rays, p, sphere_direction(k, AUTO_DIRECTIONS), 0,
-                                            INFINITY, &hit))
-                        continue;
-                    if (hit.front) {
-                        ++front;
-                        free_path += hit.t;
-                    } else {
-                        ++back;
-                    }
-                }
-                /* Inside: at most one direction in 32 meets a back (a thin gap, a one-sided
-                 * panel), at least three in four a front. */
-                if (back * 32 > AUTO_DIRECTIONS || front * 4 < 3 * AUTO_DIRECTIONS) continue;
-                double score = free_path / AUTO_DIRECTIONS;
-                if (score > best) {
-                    best = score;
-                    eye = p;
-                }
-            }
+    for (int g = 0; g < AUTO_GRID * AUTO_GRID * AUTO_GRID; ++g)
+        if (grid.score[g] > best) {
+            best = grid.score[g];
+            eye = grid_point(&grid, g);
+        }
     if (!(best > 0)) {
         rad_rays_destroy(rays); /* no open space inside: the framing camera stays */
         return;

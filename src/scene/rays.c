@@ -2,6 +2,7 @@
 #include "scene/rays.h"
 
 #include <float.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -107,7 +108,26 @@ rad_status rad_embree_open(rad_context *ctx, RTCDevice *device, RTCScene *scene)
     return RAD_OK;
 }
 
+rad_rays *rad_rays_share(rad_rays *rays) {
+    atomic_fetch_add(&rays->holders, 1);
+    return rays;
+}
+
+static rad_status rays_build(rad_context *ctx, const rad_scene *scene, rad_rays **out);
+
 rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **out) {
+    *out = NULL;
+    if (scene->rays && scene->rays->ctx == ctx) {
+        *out = rad_rays_share(scene->rays);
+        return RAD_OK;
+    }
+    rad_status status = rays_build(ctx, scene, out);
+    /* Kept on the scene (a cache: the scene is otherwise unchanged) for the next caller. */
+    if (!status && ctx == scene->ctx && !scene->rays) ((rad_scene *)scene)->rays = rad_rays_share(*out);
+    return status;
+}
+
+static rad_status rays_build(rad_context *ctx, const rad_scene *scene, rad_rays **out) {
     *out = NULL;
     rad_rays *rays = rad_alloc_zero(ctx, 1, sizeof *rays);
     if (!rays) return RAD_ERROR_NO_MEMORY;
@@ -176,6 +196,7 @@ rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **
 
 void rad_rays_destroy(rad_rays *rays) {
     if (!rays) return;
+    if (atomic_fetch_sub(&rays->holders, 1) > 0) return; /* others still hold them */
     if (rays->scene) rtcReleaseScene(rays->scene);
     if (rays->device) rtcReleaseDevice(rays->device);
     rad_free(rays->ctx, rays->triangle_polygon);

@@ -52,14 +52,21 @@ typedef struct rad_rays {
     size_t triangle_count;
     double epsilon; /* scene-scaled offset that keeps rays off the surfaces they start on */
     rad_ray_frame frame; /* world -> Embree coordinates */
+    _Atomic long holders; /* holders beyond the first (0: one; rad_rays_share) */
 } rad_rays;
 
+/* The rays of the scene's polygons. Built once per scene and context: the scene keeps them
+ * (scene->rays) and later calls get the same structure, shared, until the geometry changes
+ * (rad_scene_geometry_changed). Each call's rays are released with rad_rays_destroy. */
 rad_status rad_rays_create(rad_context *ctx, const rad_scene *scene, rad_rays **out);
+/* One more holder of `rays` (released with rad_rays_destroy); returns rays. Thread safe. */
+rad_rays *rad_rays_share(rad_rays *rays);
 
 /* The context's Embree device (made on first use with the context's threads; its errors land
  * on the context), retained for the caller to release, and an empty robust, high-quality scene
  * on it: what every ray structure of the project starts from. */
 rad_status rad_embree_open(rad_context *ctx, RTCDevice *device, RTCScene *scene);
+/* Releases one holder's rays; the last frees them. NULL is fine. Thread safe. */
 void rad_rays_destroy(rad_rays *rays);
 
 /* Nonzero when something blocks the segment between a and b (ends excluded by epsilon).

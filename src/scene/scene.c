@@ -1,6 +1,8 @@
 /* scene.c - scene storage and builders shared by the .ffm parser, the built-in scenes and the
  * importer. */
 #include "scene/scene.h"
+
+#include "scene/rays.h"
 #include "scene/texture.h"
 
 #include <math.h>
@@ -41,7 +43,13 @@ void rad_scene_destroy(rad_scene *scene) {
     for (size_t i = 0; i < scene->texture_count; ++i) rad_texture_release(scene->textures[i]);
     rad_free(ctx, scene->textures);
     rad_free(ctx, scene->polygon_uvs);
+    rad_rays_destroy(scene->rays);
     rad_free(ctx, scene);
+}
+
+void rad_scene_geometry_changed(rad_scene *scene) {
+    rad_rays_destroy(scene->rays);
+    scene->rays = NULL;
 }
 
 int rad_scene_is_geometric(const rad_scene *scene) { return scene && scene->geometric; }
@@ -87,6 +95,7 @@ rad_status rad_scene_add_surface(rad_scene *scene, const char *name, uint32_t ma
 
 rad_status rad_scene_add_vertex(rad_scene *scene, rad_vec3 position, uint32_t *index) {
     if (GROW(scene, vertices, vertex_count, vertex_capacity)) return RAD_ERROR_NO_MEMORY;
+    if (scene->rays) rad_scene_geometry_changed(scene);
     if (index) *index = (uint32_t)scene->vertex_count;
     scene->vertices[scene->vertex_count++] = position;
     return RAD_OK;
@@ -104,6 +113,7 @@ rad_status rad_scene_add_polygon(rad_scene *scene, uint32_t surface, const uint3
         scene->polygon_vertices[scene->polygon_vertex_count++] = vertices[k];
     }
     if (GROW(scene, polygons, polygon_count, polygon_capacity)) return RAD_ERROR_NO_MEMORY;
+    if (scene->rays) rad_scene_geometry_changed(scene);
     scene->polygons[scene->polygon_count++] =
         (rad_polygon){(uint32_t)(scene->polygon_vertex_count - count), count, surface};
     return RAD_OK;

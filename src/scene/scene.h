@@ -110,7 +110,18 @@ struct rad_scene {
      * mirror or glass materials, 1 always, -1 never; its photon count (0: the default). */
     int specular_first;
     uint64_t specular_photons;
+
+    /* The Embree scene of these polygons (scene/rays.h), made by the first rad_rays_create on
+     * the scene's context and handed out, shared, to every later one (the automatic camera,
+     * the contacts, the form factors, the hierarchy, the renderers: one build of a 10^6
+     * triangle scene instead of three or four); dropped when the geometry changes
+     * (rad_scene_geometry_changed), released with the scene. */
+    struct rad_rays *rays;
 };
+
+/* Drops the scene's shared rays (scene/rays.h): call it after changing its vertices or
+ * polygons in place; rad_scene_add_vertex and rad_scene_add_polygon call it. */
+void rad_scene_geometry_changed(rad_scene *scene);
 
 /* Nonzero when some material has a perfect mirror or glass lobe (caustics are possible). */
 int rad_scene_has_specular(const rad_scene *scene);

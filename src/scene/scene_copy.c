@@ -2,6 +2,7 @@
  * system so that the hierarchical solver can build its quadtrees and rays from the input
  * polygons (and light its nodes from the lights and the sky) after the caller has destroyed the
  * scene. */
+#include "scene/rays.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
 
@@ -52,6 +53,8 @@ rad_status rad_scene_copy_geometry(rad_context *ctx, const rad_scene *scene, rad
     copy->has_camera = scene->has_camera;
     copy->camera = scene->camera;
     copy->camera_automatic = scene->camera_automatic;
+    /* The same polygons: the same rays, shared. */
+    if (scene->rays && scene->rays->ctx == ctx) copy->rays = rad_rays_share(scene->rays);
     if (!ok) {
         rad_scene_destroy(copy);
         return RAD_ERROR_NO_MEMORY;
