@@ -78,7 +78,9 @@ typedef void (*rad_error_fn)(void *user, rad_status status, const char *message)
  * then returns RAD_ERROR_CANCELLED and leaves its results as far as they got. */
 typedef int (*rad_progress_fn)(void *user, const char *phase, double done, double total);
 
-/* One allocator for everything the library allocates itself. All three functions or none. */
+/* One allocator for everything the library allocates itself. All three functions or none.
+ * With more than one thread the functions are called from worker threads at once: they must be
+ * thread-safe (malloc is). */
 typedef struct rad_allocator {
     void *(*allocate)(void *user, size_t size);
     void *(*reallocate)(void *user, void *pointer, size_t size);
