@@ -32,6 +32,13 @@
 
 typedef double rgb[3];
 
+/* fmax and fmin as glibc's x86-64 libm gives them (the second argument when the two compare
+ * equal, the other one when one is NaN), inline: the compiler calls libm for fmax and fmin
+ * (their NaN rule), and those calls through the PLT were 2% of the office's solve, most of
+ * them in the oracle, the links' bounds and the walks. */
+static inline double larger(double a, double b) { return a > b || b != b ? a : b; }
+static inline double smaller(double a, double b) { return a < b || b != b ? a : b; }
+
 /* What one cluster link's own rays saw of its source (issue #16): the members its counted set of
  * sampled pairs ended on, each weighed by what its visible pairs added to the link's form
  * factor (V P_r P_s / r^2), normalised to sum 1. The link sends sum weight B_member, re-read
@@ -367,7 +374,7 @@ static void kernel_weighed(const rad_vec3 *x, int rn, const rad_vec3 *y, int sn,
         for (int j = 0; j < sn; ++j) {
             rad_vec3 ray = v3_sub(y[j], x[i]);
             double r2 = v3_dot(ray, ray);
-            double k = fmax(0, v3_dot(nr, ray)) * fmax(0, -v3_dot(ns, ray)) / (r2 * r2);
+            double k = larger(0, v3_dot(nr, ray)) * larger(0, -v3_dot(ns, ray)) / (r2 * r2);
             *all += k;
             *visible += seen[i * sn + j] ? k : 0;
         }
@@ -391,7 +398,7 @@ static double jackknife(double ratio, double all, double visible, const double *
         if (!(rest > 0)) return ratio;
         left_out += (visible - set_visible[j]) / rest;
     }
-    return fmin(1, fmax(0, m * ratio - (m - 1) * left_out / m));
+    return smaller(1, larger(0, m * ratio - (m - 1) * left_out / m));
 }
 
 /* The link receiver <- source: its form factor and error bound. Returns 0 when no light can
@@ -414,8 +421,8 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
     for (int i = 0; i < rn; ++i) {
         double f = rad_ff_point_polygon(x[i], nr, s->corner, s->corner_count);
         sum += f;
-        lo = fmin(lo, f);
-        hi = fmax(hi, f);
+        lo = smaller(lo, f);
+        hi = larger(hi, f);
     }
     double form_factor = sum / rn;
     if (!(form_factor > 0)) return 0;
@@ -428,8 +435,8 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
     for (int k = 0; k < r->corner_count; ++k) {
         double f = rad_ff_point_polygon(v3_lerp(r->corner[k], centre, 0.01), nr, s->corner,
                                         s->corner_count);
-        lo = fmin(lo, f);
-        hi = fmax(hi, f);
+        lo = smaller(lo, f);
+        hi = larger(hi, f);
     }
     /* Rays that all hit something do not prove the pair hidden (a sliver of the receiver may
      * see past the occluder): such a link carries nothing but keeps its whole factor as its
@@ -526,7 +533,7 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
     const rad_hier_node *r = &h->nodes[link->receiver], *s = &h->nodes[link->source];
     const double *rho = h->reflectance[r->polygon];
     double carried = 0;
-    for (int c = 0; c < 3; ++c) carried = fmax(carried, rho[c] * s->radiosity[c]);
+    for (int c = 0; c < 3; ++c) carried = larger(carried, rho[c] * s->radiosity[c]);
     double weight = r->area * importance_weight(h, link->receiver);
     double spread_error = carried * fabs((double)link->error) * weight;
     /* The source's own variation: the link carries its mean, but the receiver may see mostly
@@ -539,14 +546,14 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
             double lo = INFINITY, hi = -INFINITY;
             for (uint32_t k = 0; k < s->child_count; ++k) {
                 double b = h->nodes[s->first_child + k].radiosity[c];
-                lo = fmin(lo, b);
-                hi = fmax(hi, b);
+                lo = smaller(lo, b);
+                hi = larger(hi, b);
             }
-            variation = fmax(variation, 0.5 * rho[c] * (hi - lo));
+            variation = larger(variation, 0.5 * rho[c] * (hi - lo));
         }
     /* A link made without its estimate (NOT_ESTIMATED) was skipped because its decision is
      * the same for any factor (make_link): 0 stands for it. */
-    double variation_error = variation * fmax(0.0, (double)link->form_factor) * weight;
+    double variation_error = variation * larger(0.0, (double)link->form_factor) * weight;
     double error = spread_error + variation_error;
     *relative = error / h->threshold;
     if (!(error > h->threshold)) return 0;
@@ -565,8 +572,8 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
 /* ---- Cluster links (Smits, Arvo & Greenberg 1994; Sillion 1995) -------------------------- */
 
 static int is_cluster(const rad_hier_node *n) { return n->corner_count == 0; }
-static rad_vec3 v3_min(rad_vec3 a, rad_vec3 b) { return v3(fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)); }
-static rad_vec3 v3_max(rad_vec3 a, rad_vec3 b) { return v3(fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)); }
+static rad_vec3 v3_min(rad_vec3 a, rad_vec3 b) { return v3(smaller(a.x, b.x), smaller(a.y, b.y), smaller(a.z, b.z)); }
+static rad_vec3 v3_max(rad_vec3 a, rad_vec3 b) { return v3(larger(a.x, b.x), larger(a.y, b.y), larger(a.z, b.z)); }
 
 /* Whether node `index` is a cluster, from its number alone (the clusters are numbered
  * cluster_first .. + cluster_count, after the roots and before every split node). */
@@ -594,7 +601,7 @@ static rad_vec3 node_centre(const rad_hier *h, uint32_t index, double *radius) {
     }
     rad_vec3 centre = surface_centre(n);
     double r = 0;
-    for (int k = 0; k < n->corner_count; ++k) r = fmax(r, v3_length(v3_sub(n->corner[k], centre)));
+    for (int k = 0; k < n->corner_count; ++k) r = larger(r, v3_length(v3_sub(n->corner[k], centre)));
     *radius = r;
     return centre;
 }
@@ -612,16 +619,16 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     projection p;
     if (!is_cluster(n)) {
         double c = v3_dot(h->normal[n->polygon], w);
-        p.estimate = n->area * fmax(0, c);
-        p.lower = n->area * fmax(0, c - spread);
-        p.upper = n->area * fmin(1, fmax(0, c + spread));
+        p.estimate = n->area * larger(0, c);
+        p.lower = n->area * larger(0, c - spread);
+        p.upper = n->area * smaller(1, larger(0, c + spread));
         return p;
     }
     const cluster_info *ci = info(h, index);
     const double *a = ci->axis_area;
     p.estimate = fabs(w.x) * a[w.x < 0] + fabs(w.y) * a[2 + (w.y < 0)] + fabs(w.z) * a[4 + (w.z < 0)];
-    p.upper = fmin(n->area, p.estimate + n->area * spread);
-    p.lower = fmax(0, v3_dot(ci->normal_sum, w) - n->area * spread);
+    p.upper = smaller(n->area, p.estimate + n->area * spread);
+    p.lower = larger(0, v3_dot(ci->normal_sum, w) - n->area * spread);
     if (p.lower > p.estimate) p.lower = p.estimate;
     return p;
 }
@@ -758,7 +765,7 @@ static int cluster_oracle(const rad_hier *h, const rad_hier_link *link, double *
  * refined with any larger one. */
 static int refined_anyway(const rad_hier *h, rad_hier_link *link, double error) {
     double relative;
-    link->error = (float)fmin(error, UNKNOWN_ERROR);
+    link->error = (float)smaller(error, UNKNOWN_ERROR);
     return cluster_oracle(h, link, &relative, 0) != 0;
 }
 
@@ -824,7 +831,7 @@ static int receiver_behind(const rad_hier *h, uint32_t receiver, uint32_t source
     rad_vec3 normal = h->normal[n->polygon];
     double radius, front = -INFINITY; /* the receiver's points lie behind its farthest corner */
     node_centre(h, receiver, &radius);
-    for (int k = 0; k < n->corner_count; ++k) front = fmax(front, v3_dot(normal, n->corner[k]));
+    for (int k = 0; k < n->corner_count; ++k) front = larger(front, v3_dot(normal, n->corner[k]));
     return v3_dot(normal, farthest_along(ci, normal)) - front < -1e-6 * (radius + ci->radius);
 }
 
@@ -853,7 +860,7 @@ static double receiver_reflectance(const rad_hier *h, uint32_t receiver) {
     const rad_hier_node *r = &h->nodes[receiver];
     if (is_cluster(r)) return info(h, receiver)->reflectance;
     const double *rho = h->reflectance[r->polygon];
-    return fmax(rho[0], fmax(rho[1], rho[2]));
+    return larger(rho[0], larger(rho[1], rho[2]));
 }
 
 /* Whether a cluster link with form-factor bound `bound` (its spread plus its estimate, the
@@ -920,17 +927,17 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
         double r2 = v3_dot(ray, ray), length = sqrt(r2);
         double wr = is_cluster(nr)
                         ? member_weight(h, receiver_member[k], receiver_chance[k], v3_scale(ray, -1), length)
-                        : nr->area * fmax(0, v3_dot(h->normal[nr->polygon], ray) / length);
+                        : nr->area * larger(0, v3_dot(h->normal[nr->polygon], ray) / length);
         double ws = is_cluster(ns)
                         ? member_weight(h, source_member[k], source_chance[k], ray, length)
-                        : ns->area * fmax(0, -v3_dot(h->normal[ns->polygon], ray) / length);
+                        : ns->area * larger(0, -v3_dot(h->normal[ns->polygon], ray) / length);
         added[k] = wr * ws / r2;
         sum += added[k];
     }
     if (is_cluster(ns)) keep_seen_members(seen_members, source_member, added, pairs);
-    out->form_factor = (float)fmin(upper, sum / pairs / (RAD_PI * nr->area));
+    out->form_factor = (float)smaller(upper, sum / pairs / (RAD_PI * nr->area));
     double error = spread + (blocked ? estimate : 0);
-    out->error = (float)fmin(error, UNKNOWN_ERROR);
+    out->error = (float)smaller(error, UNKNOWN_ERROR);
     if (blocked) out->error = -out->error;
     return 1;
 }
@@ -959,13 +966,13 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     double d = v3_length(between), reach = rr + rs;
     if (!(d > reach)) return 1;
     rad_vec3 w = v3_scale(between, 1 / d);
-    double spread = asin(fmin(1, reach / d));
+    double spread = asin(smaller(1, reach / d));
     /* How far behind w a source member may face and still be drawn (sample_points): the sine of
      * the angle the two spheres subtend. The tangent is the exact bound (members with n.w
      * between minus the tangent and minus the sine still face a few rays and are not drawn);
      * the sine is what was measured on Sponza, and the tangent drew no better tiles in
      * test_bright_member or test_cluster_form_factors. */
-    double slack = fmin(1, reach / d);
+    double slack = smaller(1, reach / d);
     projection pr = project(h, receiver, w, spread), ps = project(h, source, v3_scale(w, -1), spread);
     if (!(pr.upper > 0) || !(ps.upper > 0)) return 0;
     double area = h->nodes[receiver].area;
@@ -979,7 +986,7 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     if (receiver_behind(h, receiver, source)) {
         /* No ray can carry light (receiver_behind): what they would give is known. */
         out->form_factor = 0;
-        out->error = -(float)fmin(upper - lower, UNKNOWN_ERROR);
+        out->error = -(float)smaller(upper - lower, UNKNOWN_ERROR);
         return 1;
     }
     if (cheap_link(h, receiver, upper - lower + estimate))
@@ -1029,15 +1036,15 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
             double r2 = v3_dot(ray, ray), length = sqrt(r2);
             double wr = is_cluster(nr)
                             ? member_weight(h, receiver_member[i], receiver_chance[i], v3_scale(ray, -1), length)
-                            : nr->area * fmax(0, v3_dot(h->normal[nr->polygon], ray) / length);
+                            : nr->area * larger(0, v3_dot(h->normal[nr->polygon], ray) / length);
             double ws = is_cluster(ns) ? member_weight(h, source_member[j], source_chance[j], ray, length)
-                                       : ns->area * fmax(0, -v3_dot(h->normal[ns->polygon], ray) / length);
+                                       : ns->area * larger(0, -v3_dot(h->normal[ns->polygon], ray) / length);
             sum += wr * ws / r2;
             added[j] += wr * ws / r2;
         }
     if (is_cluster(ns)) keep_seen_members(seen_members, source_member, added, 4);
-    out->form_factor = (float)fmin(upper, sum / (rn * 4) / (RAD_PI * area));
-    out->error = -(float)fmin((upper - lower) + estimate, UNKNOWN_ERROR);
+    out->form_factor = (float)smaller(upper, sum / (rn * 4) / (RAD_PI * area));
+    out->error = -(float)smaller((upper - lower) + estimate, UNKNOWN_ERROR);
     return 1;
 }
 
@@ -1338,7 +1345,7 @@ static rad_status refine_light(rad_hier *h, size_t *splits, double *largest) {
             if (n->corner_count == 0 || n->first_child != RAD_HIER_NO_NODE) continue;
             double relative = 0.25 * h->light_spread[i] * n->area / h->threshold;
             if (!(relative > 1) || !can_split(h, n)) {
-                *largest = fmax(*largest, relative);
+                *largest = larger(*largest, relative);
                 continue;
             }
             rad_status status = check_memory(h, h->link_count, h->node_count + 4);
@@ -1374,7 +1381,7 @@ static rad_status brightest_members(rad_hier *h) {
         double brightest = 0;
         for (uint32_t k = 0; k < n->child_count; ++k) {
             const double *b = h->nodes[n->first_child + k].radiosity;
-            brightest = fmax(brightest, fmax(b[0], fmax(b[1], b[2])));
+            brightest = larger(brightest, larger(b[0], larger(b[1], b[2])));
         }
         h->clusters[c].brightest = brightest;
     }
@@ -1383,7 +1390,7 @@ static rad_status brightest_members(rad_hier *h) {
         const rad_hier_node *n = &h->nodes[h->cluster_first + c];
         double brightest = 0;
         for (uint32_t k = 0; k < n->child_count; ++k)
-            brightest = fmax(brightest, info(h, n->first_child + k)->brightest);
+            brightest = larger(brightest, info(h, n->first_child + k)->brightest);
         h->clusters[c].brightest = brightest;
     }
     /* Every node's, clusters' with their brightest member. */
@@ -1391,8 +1398,8 @@ static rad_status brightest_members(rad_hier *h) {
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (nodes >= 4096)
     for (long i = 0; i < nodes; ++i) {
         const double *b = h->nodes[i].radiosity;
-        double brightest = fmax(b[0], fmax(b[1], b[2]));
-        if (cluster_index(h, (uint32_t)i)) brightest = fmax(brightest, info(h, (uint32_t)i)->brightest);
+        double brightest = larger(b[0], larger(b[1], b[2]));
+        if (cluster_index(h, (uint32_t)i)) brightest = larger(brightest, info(h, (uint32_t)i)->brightest);
         h->sends[i] = brightest;
     }
     return RAD_OK;
@@ -1538,7 +1545,7 @@ rad_status rad_hier_refine(rad_hier *h) {
             int known = fabsf(pending[i].error) < UNKNOWN_ERROR;
             /* A link between overlapping ends has no known error: refined, it makes the
              * largest error found unknown (infinite). */
-            if (known || decision[i]) pass_found = fmax(pass_found, known ? relative : INFINITY);
+            if (known || decision[i]) pass_found = larger(pass_found, known ? relative : INFINITY);
             leaf_end[i] = 0;
             if (decision[i]) {
                 splits++;
@@ -1549,10 +1556,10 @@ rad_status rad_hier_refine(rad_hier *h) {
                     h->nodes[end].first_child == RAD_HIER_NO_NODE)
                     leaf_end[i] = decision[i];
             } else if (known)
-                pass_largest = fmax(pass_largest, relative);
+                pass_largest = larger(pass_largest, relative);
         }
-        largest = fmax(largest, pass_largest);
-        if (first_pass) found = fmax(found, pass_found);
+        largest = larger(largest, pass_largest);
+        if (first_pass) found = larger(found, pass_found);
         if (!splits && first_pass) {
             /* The oracle passed every link: they stay as they are, sorted, with their groups. */
             h->links = pending;
@@ -1621,7 +1628,7 @@ rad_status rad_hier_refine(rad_hier *h) {
             int unknown = fabsf(pending[i].error) >= UNKNOWN_ERROR;
             unrefined += over;
             unknown_error += over && unknown;
-            if (!unknown) largest = fmax(largest, relative);
+            if (!unknown) largest = larger(largest, relative);
         }
         refined += splits;
         /* The samples of the links refined away make room for their children's. */
@@ -1730,7 +1737,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     rad_free(ctx, made);
     rad_free(ctx, fresh);
     h->stats.largest_error = largest;
-    h->stats.found_error = fmax(found, largest);
+    h->stats.found_error = larger(found, largest);
     h->stats.refined = refined;
     h->stats.budget_reached = budget;
     h->stats.unrefined = unrefined;
@@ -1784,7 +1791,7 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
         const double zero[3] = {0, 0, 0}, *light = h->light ? h->light[index] : zero;
         for (int c = 0; c < 3; ++c) {
             double b = e[c] + light[c] + rho[c] * total[c];
-            change = fmax(change, fabs(b - n->radiosity[c]));
+            change = larger(change, fabs(b - n->radiosity[c]));
             n->radiosity[c] = b;
         }
         return change;
@@ -1792,7 +1799,7 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
     double sum[3] = {0, 0, 0}, area = 0;
     for (uint32_t k = 0; k < n->child_count; ++k) {
         uint32_t child = n->first_child + k;
-        change = fmax(change, push_pull(h, child, total));
+        change = larger(change, push_pull(h, child, total));
         const rad_hier_node *m = &h->nodes[child];
         for (int c = 0; c < 3; ++c) sum[c] += m->radiosity[c] * m->area;
         area += m->area;
@@ -1897,7 +1904,7 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
     reduction(max : change)
         for (long r = 0; r < roots; ++r) {
             const double *down = h->cluster_down[h->root_parent[r] - h->cluster_first];
-            change = fmax(change, push_pull(h, (uint32_t)r, down));
+            change = larger(change, push_pull(h, (uint32_t)r, down));
         }
         pull_clusters(h);
         if (change <= limit) break;
@@ -1929,7 +1936,7 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
  * most of it on (conservative: more refinement, never less). */
 static double polygon_reflectance(const rad_hier *h, uint32_t polygon) {
     const double *rho = h->reflectance[polygon];
-    return fmax(rho[0], fmax(rho[1], rho[2]));
+    return larger(rho[0], larger(rho[1], rho[2]));
 }
 
 /* Z of a node: sum rho A Y over its leaves. */
@@ -1954,7 +1961,7 @@ static double importance_push_pull(rad_hier *h, uint32_t index, double down) {
     double change = 0, sum = 0;
     for (uint32_t k = 0; k < n->child_count; ++k) {
         uint32_t child = n->first_child + k;
-        change = fmax(change, importance_push_pull(h, child, total));
+        change = larger(change, importance_push_pull(h, child, total));
         sum += h->importance[child];
     }
     h->importance[index] = sum;
@@ -1987,7 +1994,7 @@ static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds
     }
     for (size_t i = 0; i < h->node_count; ++i)
         if (h->importance_emitted[i] > 0 && h->nodes[i].area > 0)
-            emitted_max = fmax(emitted_max, h->importance_emitted[i] / h->nodes[i].area);
+            emitted_max = larger(emitted_max, h->importance_emitted[i] / h->nodes[i].area);
     double limit = tolerance * (emitted_max > 0 ? emitted_max : 1);
     importance_pull_clusters(h);
     for (int round = 1; round <= max_rounds; ++round) {
@@ -2036,8 +2043,8 @@ static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds
             const double n[3] = {normal.x, normal.y, normal.z};
             double down = 0;
             for (int a = 0; a < 3; ++a)
-                down += q[2 * a] * fmax(0, n[a]) + q[2 * a + 1] * fmax(0, -n[a]);
-            change = fmax(change, importance_push_pull(h, (uint32_t)r, down));
+                down += q[2 * a] * larger(0, n[a]) + q[2 * a + 1] * larger(0, -n[a]);
+            change = larger(change, importance_push_pull(h, (uint32_t)r, down));
         }
         importance_pull_clusters(h);
         if (change <= limit) break;
@@ -2212,7 +2219,7 @@ static rad_status build_clusters(rad_hier *h) {
                     ci->hi = v3_max(ci->hi, mi->hi);
                     for (int a = 0; a < 6; ++a) ci->axis_area[a] += mi->axis_area[a];
                     ci->normal_sum = v3_add(ci->normal_sum, mi->normal_sum);
-                    ci->reflectance = fmax(ci->reflectance, mi->reflectance);
+                    ci->reflectance = larger(ci->reflectance, mi->reflectance);
                 } else {
                     for (int k2 = 0; k2 < m->corner_count; ++k2) {
                         ci->lo = v3_min(ci->lo, m->corner[k2]);
@@ -2221,12 +2228,12 @@ static rad_status build_clusters(rad_hier *h) {
                     rad_vec3 normal = h->normal[m->polygon];
                     double d[3] = {normal.x, normal.y, normal.z};
                     for (int a = 0; a < 3; ++a) {
-                        ci->axis_area[2 * a] += m->area * fmax(0, d[a]);
-                        ci->axis_area[2 * a + 1] += m->area * fmax(0, -d[a]);
+                        ci->axis_area[2 * a] += m->area * larger(0, d[a]);
+                        ci->axis_area[2 * a + 1] += m->area * larger(0, -d[a]);
                     }
                     ci->normal_sum = v3_add(ci->normal_sum, v3_scale(normal, m->area));
                     for (int i = 0; i < 3; ++i)
-                        ci->reflectance = fmax(ci->reflectance, h->reflectance[m->polygon][i]);
+                        ci->reflectance = larger(ci->reflectance, h->reflectance[m->polygon][i]);
                 }
                 node->area += m->area;
                 for (int i = 0; i < 3; ++i) power[i] += m->radiosity[i] * m->area;
@@ -2283,8 +2290,8 @@ static rad_status split_by_light(rad_hier *h) {
             light_nodes(h, h->nodes[index].first_child);
             for (uint32_t k = 0; k < 4; ++k)
                 for (int c = 0; c < 3; ++c) {
-                    lo = fmin(lo, h->light[h->nodes[index].first_child + k][c]);
-                    hi = fmax(hi, h->light[h->nodes[index].first_child + k][c]);
+                    lo = smaller(lo, h->light[h->nodes[index].first_child + k][c]);
+                    hi = larger(hi, h->light[h->nodes[index].first_child + k][c]);
                 }
             if (!(0.5 * (hi - lo) * probe.area > h->threshold)) {
                 /* Resolved: take the children back (they are the last four nodes made). */
@@ -2359,9 +2366,9 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
         for (int c = 0; c < 3; ++c) {
             h->reflectance[p][c] = m->reflectance[c];
             h->emission[p][c] = RAD_PI * m->emission[c];
-            h->emission_max = fmax(h->emission_max, h->emission[p][c]);
+            h->emission_max = larger(h->emission_max, h->emission[p][c]);
         }
-        double emitted = fmax(h->emission[p][0], fmax(h->emission[p][1], h->emission[p][2]));
+        double emitted = larger(h->emission[p][0], larger(h->emission[p][1], h->emission[p][2]));
         h->normal[p] = rad_polygon_normal(scene, polygon);
         h->polygon_root_first[p] = (uint32_t)h->node_count; /* before renumbering: identity */
         for (; next_root < roots->count && roots->roots[next_root].polygon == p; ++next_root) {
@@ -2382,7 +2389,7 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     h->min_area = o.min_area * total_area;
     double rho_max = 0;
     for (size_t p = 0; p < np && !status; ++p)
-        for (int c = 0; c < 3; ++c) rho_max = fmax(rho_max, h->reflectance[p][c]);
+        for (int c = 0; c < 3; ++c) rho_max = larger(rho_max, h->reflectance[p][c]);
     h->radiosity_cap = rho_max < 1 ? h->emission_max / (1 - rho_max) : 0;
     h->threshold = o.link_error * (h->emitted_power > 0 ? h->emitted_power : 1);
     if (!status && h->root_count == 0)
@@ -2401,8 +2408,8 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
         if (!status) light_nodes(h, 0);
         for (size_t i = 0; i < h->root_count && !status; ++i) {
             rad_hier_node *n = &h->nodes[i];
-            double most = fmax(h->light[i][0], fmax(h->light[i][1], h->light[i][2]));
-            h->emission_max = fmax(h->emission_max, most);
+            double most = larger(h->light[i][0], larger(h->light[i][1], h->light[i][2]));
+            h->emission_max = larger(h->emission_max, most);
             h->emitted_power += most * n->area;
             for (int c = 0; c < 3; ++c) n->radiosity[c] += h->light[i][c];
         }
@@ -2493,7 +2500,7 @@ static double inside(const rad_hier *h, const rad_hier_node *n, rad_vec3 x) {
         rad_vec3 edge = v3_sub(b, a);
         double length = v3_length(edge);
         if (!(length > 0)) continue;
-        worst = fmin(worst, v3_dot(v3_cross(edge, v3_sub(x, a)), normal) / length);
+        worst = smaller(worst, v3_dot(v3_cross(edge, v3_sub(x, a)), normal) / length);
     }
     return worst;
 }
