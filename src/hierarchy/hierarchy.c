@@ -891,23 +891,23 @@ static void keep_seen_members(link_sample *out, const uint32_t *member, const do
     if (!(total > 0)) out->weight[0] = NO_SAMPLE;
 }
 
-/* A cheap link (cheap_link): one ray per receiver point (a cluster receiver's four sampled
- * points), each to its own sampled source point, instead of the 16 pairs between the four
- * receiver points and the four source points of a full link. The mean over the pairs of
- * V P_r P_s / (pi r^2 A_r) is unbiased; clamped to the upper bound as there. (Its rays used to
- * count toward the members' exposure, which mattered to Sponza before links sent their own
- * samples; docs/hierarchical.md, "sixth session".) 3-4 rays where a full link casts 16 (32
- * before hspeed10). */
-static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double spread,
-                           double estimate, double slack, rad_hier_link *out,
-                           link_sample *seen_members) {
+/* A cluster link's factor from its rays: one ray per receiver point (a polygon receiver's
+ * quadrature points, a cluster receiver's four sampled points), each to its own sampled source
+ * point (the points drawn from the link's stream `stream`, link_hash). The mean over the pairs
+ * of V P_r P_s / (pi r^2 A_r) is unbiased; clamped to the upper bound. The bound is the spread,
+ * plus the whole estimate when a ray was blocked or when `partial` says the link counts as
+ * partly hidden whatever its rays find (make_cluster_link). 3-4 rays; a link not cheap
+ * (cheap_link) cast 16 until hspeed11, between every receiver point and every source point. */
+static int estimate_cluster_link(const rad_hier *h, rad_vec3 w, double upper, double spread,
+                           double estimate, double slack, uint32_t stream, int partial,
+                           rad_hier_link *out, link_sample *seen_members) {
     const uint32_t receiver = out->receiver, source = out->source;
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
     rad_vec3 x[4], y[4];
     uint32_t receiver_member[4], source_member[4];
     double receiver_chance[4], source_chance[4];
-    const uint32_t receiver_seed = link_hash(h, receiver, source, 1);
-    const uint32_t source_seed = link_hash(h, receiver, source, 2);
+    const uint32_t receiver_seed = link_hash(h, receiver, source, 1 + stream);
+    const uint32_t source_seed = link_hash(h, receiver, source, 2 + stream);
     const rad_vec3 back = v3_scale(w, -1);
     int pairs = 4;
     if (is_cluster(nr))
@@ -936,6 +936,7 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
     }
     if (is_cluster(ns)) keep_seen_members(seen_members, source_member, added, pairs);
     out->form_factor = (float)smaller(upper, sum / pairs / (RAD_PI * nr->area));
+    blocked |= partial;
     double error = spread + (blocked ? estimate : 0);
     out->error = (float)smaller(error, UNKNOWN_ERROR);
     if (blocked) out->error = -out->error;
@@ -990,10 +991,10 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         return 1;
     }
     if (cheap_link(h, receiver, upper - lower + estimate))
-        return make_cheap_link(h, w, upper, upper - lower, estimate, slack, out, seen_members);
+        return estimate_cluster_link(h, w, upper, upper - lower, estimate, slack, 0, 0, out, seen_members);
     /* The factor itself from the rays between sampled member points (chosen in proportion to
-     * projected area): the mean over the 16 pairs of V P_r P_s / (pi r^2 A_r), with a polygon
-     * end's A cos taken along each ray. The centres' distance alone underestimates it (the
+     * projected area): the mean over the pairs of V P_r P_s / (pi r^2 A_r), with a polygon
+     * end's A cos taken along each ray (estimate_cluster_link). The centres' distance alone underestimates it (the
      * mean of 1 / r^2 over an extended pair exceeds 1 / d^2, and near pairs are the visible
      * ones): Sponza's arcades, lit through large clusters, came out half as bright. Clamped to
      * the upper bound.
@@ -1007,45 +1008,17 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
      * these links were partly hidden anyway and 0.1% were refined on it when made; the
      * deciding set was 16 rays and 4 member walks of every such link, a fifth of the rays at
      * 10^6: docs/hierarchical.md, "Speed at scale, tenth session".) The points and members are
-     * the ones the fresh set drew (its seeds). */
+     * the ones the fresh set drew (its seeds). Since hspeed11 the four pairs (receiver point k,
+     * source point k) of those points, not all 16: the same walks, a quarter of the rays
+     * (7.7 M such links at 10^6); unbiased as before, Sponza at seeds 0-2 within the seeds'
+     * spread ("Speed at scale, eleventh session"). */
     if (may_skip && refined_anyway(h, out, upper - lower + estimate)) {
         out->form_factor = NOT_ESTIMATED;
         out->error = -out->error;
         return 1;
     }
-    const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
-    rad_vec3 x[4], y[4];
-    uint32_t receiver_member[4], source_member[4];
-    double receiver_chance[4], source_chance[4];
-    int rn = 4;
-    if (is_cluster(nr))
-        sample_points(h, receiver, w, link_hash(h, receiver, source, 1 + 0x100u), x, receiver_member,
-                      receiver_chance, 0);
-    else
-        rn = quadrature_points(nr, x);
-    sample_points(h, source, v3_scale(w, -1), link_hash(h, receiver, source, 2 + 0x100u), y,
-                  source_member, source_chance, (float)slack);
-    uint8_t seen[16];
-    int blocked;
-    visible_pairs(h, x, rn, y, 4, &blocked, seen);
-    double sum = 0, added[4] = {0, 0, 0, 0}; /* per source point */
-    for (int i = 0; i < rn; ++i)
-        for (int j = 0; j < 4; ++j) {
-            if (!seen[i * 4 + j]) continue;
-            rad_vec3 ray = v3_sub(y[j], x[i]);
-            double r2 = v3_dot(ray, ray), length = sqrt(r2);
-            double wr = is_cluster(nr)
-                            ? member_weight(h, receiver_member[i], receiver_chance[i], v3_scale(ray, -1), length)
-                            : nr->area * larger(0, v3_dot(h->normal[nr->polygon], ray) / length);
-            double ws = is_cluster(ns) ? member_weight(h, source_member[j], source_chance[j], ray, length)
-                                       : ns->area * larger(0, -v3_dot(h->normal[ns->polygon], ray) / length);
-            sum += wr * ws / r2;
-            added[j] += wr * ws / r2;
-        }
-    if (is_cluster(ns)) keep_seen_members(seen_members, source_member, added, 4);
-    out->form_factor = (float)smaller(upper, sum / (rn * 4) / (RAD_PI * area));
-    out->error = -(float)smaller((upper - lower) + estimate, UNKNOWN_ERROR);
-    return 1;
+    return estimate_cluster_link(h, w, upper, upper - lower, estimate, slack, 0x100u, 1, out,
+                                 seen_members);
 }
 
 /* Any link: the contour integral between two polygon nodes, the point estimate otherwise. */
