@@ -815,22 +815,21 @@ static int cluster_faces_away(const rad_hier *h, uint32_t cluster, uint32_t othe
     return 1;
 }
 
-/* Nonzero when `receiver` is a polygon node and the box of source cluster `source` lies
- * behind its plane (behind every corner, by a millionth of the two radii): every sampled point is
- * then behind the receiver, so every ray of the link leaves the receiver's back and the link's
+/* Nonzero when `receiver` (bounding radius `radius`, node_centre) is a polygon node and the box
+ * of source cluster `source` lies behind its plane (behind every corner, by a millionth of the
+ * two radii): every sampled point is then behind the receiver, so every ray of the link leaves the receiver's back and the link's
  * factor is exactly 0 (each ray's receiver weight A max(0, n.ray) is 0), its centre estimate
  * too (n.w < 0), and its bound upper - lower whatever the rays find blocked. Such links are
  * still made (no_light_between explains why), but without rays or member walks: in the 10^5
  * office 0.55 M of the 4.4 M links kept (hspeed9), each with 16 to 32 rays. The margin keeps
  * a flat cluster lying in the receiver's own plane (floor tiles beside a tile), whose rays'
  * weights are rounding errors, on the path with rays, so the factors are the same bits. */
-static int receiver_behind(const rad_hier *h, uint32_t receiver, uint32_t source) {
+static int receiver_behind(const rad_hier *h, uint32_t receiver, double radius, uint32_t source) {
     const rad_hier_node *n = &h->nodes[receiver];
     if (is_cluster(n) || !cluster_index(h, source)) return 0;
     const cluster_info *ci = info(h, source);
     rad_vec3 normal = h->normal[n->polygon];
-    double radius, front = -INFINITY; /* the receiver's points lie behind its farthest corner */
-    node_centre(h, receiver, &radius);
+    double front = -INFINITY; /* the receiver's points lie behind its farthest corner */
     for (int k = 0; k < n->corner_count; ++k) front = larger(front, v3_dot(normal, n->corner[k]));
     return v3_dot(normal, farthest_along(ci, normal)) - front < -1e-6 * (radius + ci->radius);
 }
@@ -984,7 +983,7 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         out->form_factor = NOT_ESTIMATED;
         return 1;
     }
-    if (receiver_behind(h, receiver, source)) {
+    if (receiver_behind(h, receiver, rr, source)) {
         /* No ray can carry light (receiver_behind): what they would give is known. */
         out->form_factor = 0;
         out->error = -(float)smaller(upper - lower, UNKNOWN_ERROR);
