@@ -898,8 +898,8 @@ static void keep_seen_members(link_sample *out, const uint32_t *member, const do
  * partly hidden whatever its rays find (make_cluster_link). 3-4 rays; a link not cheap
  * (cheap_link) cast 16 until hspeed11, between every receiver point and every source point. */
 static int estimate_cluster_link(const rad_hier *h, rad_vec3 w, double upper, double spread,
-                           double estimate, double slack, uint32_t stream, int partial,
-                           rad_hier_link *out, link_sample *seen_members) {
+                                 double estimate, double slack, uint32_t stream, int partial,
+                                 rad_hier_link *out, link_sample *seen_members) {
     const uint32_t receiver = out->receiver, source = out->source;
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
     rad_vec3 x[4], y[4];
@@ -914,6 +914,26 @@ static int estimate_cluster_link(const rad_hier *h, rad_vec3 w, double upper, do
     else
         pairs = quadrature_points(nr, x);
     sample_points(h, source, back, source_seed, y, source_member, source_chance, (float)slack);
+    if (partial) {
+        /* Receiver point k is in quarter k of its node or member (the quadrature's order,
+         * visibility_point's strata), and so is source point k: paired k with k, the rays join
+         * like quarters, which on aligned surfaces (the office's) lie nearer each other than
+         * two points drawn apart (+0.1..+0.4% on every surface of the 10^5 office at three
+         * seeds). A turn drawn per link pairs each receiver quarter with every source quarter
+         * alike over the links. */
+        const uint32_t turn = link_hash(h, receiver, source, 3 + stream) >> 30;
+        rad_vec3 y0[4];
+        uint32_t m0[4];
+        double c0[4];
+        memcpy(y0, y, sizeof y0);
+        memcpy(m0, source_member, sizeof m0);
+        memcpy(c0, source_chance, sizeof c0);
+        for (int k = 0; k < 4; ++k) {
+            y[k] = y0[(k + turn) & 3];
+            source_member[k] = m0[(k + turn) & 3];
+            source_chance[k] = c0[(k + turn) & 3];
+        }
+    }
     uint8_t occluded[4];
     rad_rays_occluded_batch(h->rays, x, y, (size_t)pairs, occluded);
     double sum = 0, added[4] = {0, 0, 0, 0};
