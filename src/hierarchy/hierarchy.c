@@ -27,8 +27,6 @@
                             * 4 before: Sponza's mean swung by 2 points between seeds, see jackknife()) */
 #define SEEN_BATCHES 3      /* ... whose deciding set saw most of the source (MOSTLY_SEEN): two fresh */
 #define MOSTLY_SEEN 0.9     /* the kernel-weighed share of the deciding set's rays that were seen */
-#define UNORDERED_SHARE 16  /* order_samples leaves fewer than 1 / UNORDERED_SHARE of the samples
-                             * out of link order */
 
 typedef double rgb[3];
 
@@ -108,7 +106,6 @@ struct rad_hier {
     uint32_t *free_samples; /* slots of samples whose links were refined, to be used again
                                (sample_capacity of them) */
     size_t free_count;
-    size_t samples_unordered; /* samples placed out of link order since order_samples last ran */
     rgb *root_radiosity;  /* per root, as pull_clusters last read it: what link samples send */
     double *sends; /* per node (node_capacity of them), what the cluster oracle charges a link
                       from it at: its largest radiosity (any channel), a cluster's brightest
@@ -1423,7 +1420,6 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
         links[i].sample = slot;
         h->samples[slot] = seen[i];
     }
-    h->samples_unordered += wanted;
     return RAD_OK;
 }
 
@@ -1434,12 +1430,6 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
  * cycles one slot at a time: 13 s of one thread at 10^6, every step a cache miss.) */
 static rad_status order_samples(rad_hier *h) {
     if (!h->sample_count) return RAD_OK;
-    /* A step that placed few samples (the 10^6 office's third and fourth refine 0.1 M and 451
-     * of 37.8 M links) leaves them where they are: the gather misses the cache on those few,
-     * where the copy needs a second array of every sample (0.75 GB at 10^6, the solve's peak
-     * memory, every page of it a fresh one). The values read are the same. */
-    if (h->samples_unordered < (h->sample_count - h->free_count) / UNORDERED_SHARE) return RAD_OK;
-    h->samples_unordered = 0;
     size_t at[BLOCKS + 1];
     const size_t count = h->link_count;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
@@ -2649,7 +2639,6 @@ static rad_status resample_links(rad_hier *h) {
     }
     h->sample_count = h->free_count = 0;
     rad_status status = keep_samples(h, h->links, seen, NULL, count);
-    h->samples_unordered = 0; /* placed in link order */
     rad_free(h->ctx, seen);
     return status;
 }
