@@ -31,6 +31,13 @@
 
 typedef double rgb[3];
 
+/* fmax and fmin as glibc's x86-64 libm gives them (the second argument when the two compare
+ * equal, the other one when one is NaN), inline: the compiler calls libm for fmax and fmin
+ * (their NaN rule), and those calls through the PLT were 2% of the office's solve, most of
+ * them in the oracle, the links' bounds and the walks. */
+static inline double larger(double a, double b) { return a > b || b != b ? a : b; }
+static inline double smaller(double a, double b) { return a < b || b != b ? a : b; }
+
 /* What one cluster link's own rays saw of its source (issue #16): the members its counted set of
  * sampled pairs ended on, each weighed by what its visible pairs added to the link's form
  * factor (V P_r P_s / r^2), normalised to sum 1. The link sends sum weight B_member, re-read
@@ -101,6 +108,10 @@ struct rad_hier {
                                (sample_capacity of them) */
     size_t free_count;
     rgb *root_radiosity;  /* per root, as pull_clusters last read it: what link samples send */
+    double *sends; /* per node (node_capacity of them), what the cluster oracle charges a link
+                      from it at: its largest radiosity (any channel), a cluster's brightest
+                      member's when larger; set by brightest_members, a split node's children
+                      take its own. NULL before the first refinement. */
     /* Links are sorted by receiver: group g's links are receivers' group_first[g] .. [g+1]. */
     size_t group_count;
     size_t *group_first;
@@ -166,6 +177,11 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
         if (!spread) return RAD_ERROR_NO_MEMORY;
         h->light_spread = spread;
     }
+    if (h->sends) {
+        double *sends = rad_realloc(h->ctx, h->sends, wanted, sizeof *sends);
+        if (!sends) return RAD_ERROR_NO_MEMORY;
+        h->sends = sends;
+    }
     if (h->importance) {
         double **arrays[3] = {&h->importance, &h->importance_emitted, &h->importance_gathered};
         for (int k = 0; k < 3; ++k) {
@@ -223,6 +239,7 @@ static void split_into(rad_hier *h, uint32_t index, uint32_t first) {
             h->light_spread[first + k] = 0;
         }
         memcpy(h->nodes[first + k].radiosity, parent.radiosity, sizeof parent.radiosity);
+        if (h->sends) h->sends[first + k] = h->sends[index]; /* the same radiosity */
         if (h->importance) /* the parent's importance per unit area, until the next solve */
             h->importance[first + k] =
                 parent.area > 0 ? h->importance[index] * h->nodes[first + k].area / parent.area : 0;
@@ -356,7 +373,7 @@ static void kernel_weighed(const rad_vec3 *x, int rn, const rad_vec3 *y, int sn,
         for (int j = 0; j < sn; ++j) {
             rad_vec3 ray = v3_sub(y[j], x[i]);
             double r2 = v3_dot(ray, ray);
-            double k = fmax(0, v3_dot(nr, ray)) * fmax(0, -v3_dot(ns, ray)) / (r2 * r2);
+            double k = larger(0, v3_dot(nr, ray)) * larger(0, -v3_dot(ns, ray)) / (r2 * r2);
             *all += k;
             *visible += seen[i * sn + j] ? k : 0;
         }
@@ -380,7 +397,7 @@ static double jackknife(double ratio, double all, double visible, const double *
         if (!(rest > 0)) return ratio;
         left_out += (visible - set_visible[j]) / rest;
     }
-    return fmin(1, fmax(0, m * ratio - (m - 1) * left_out / m));
+    return smaller(1, larger(0, m * ratio - (m - 1) * left_out / m));
 }
 
 /* The link receiver <- source: its form factor and error bound. Returns 0 when no light can
@@ -403,8 +420,8 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
     for (int i = 0; i < rn; ++i) {
         double f = rad_ff_point_polygon(x[i], nr, s->corner, s->corner_count);
         sum += f;
-        lo = fmin(lo, f);
-        hi = fmax(hi, f);
+        lo = smaller(lo, f);
+        hi = larger(hi, f);
     }
     double form_factor = sum / rn;
     if (!(form_factor > 0)) return 0;
@@ -417,8 +434,8 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
     for (int k = 0; k < r->corner_count; ++k) {
         double f = rad_ff_point_polygon(v3_lerp(r->corner[k], centre, 0.01), nr, s->corner,
                                         s->corner_count);
-        lo = fmin(lo, f);
-        hi = fmax(hi, f);
+        lo = smaller(lo, f);
+        hi = larger(hi, f);
     }
     /* Rays that all hit something do not prove the pair hidden (a sliver of the receiver may
      * see past the occluder): such a link carries nothing but keeps its whole factor as its
@@ -515,7 +532,7 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
     const rad_hier_node *r = &h->nodes[link->receiver], *s = &h->nodes[link->source];
     const double *rho = h->reflectance[r->polygon];
     double carried = 0;
-    for (int c = 0; c < 3; ++c) carried = fmax(carried, rho[c] * s->radiosity[c]);
+    for (int c = 0; c < 3; ++c) carried = larger(carried, rho[c] * s->radiosity[c]);
     double weight = r->area * importance_weight(h, link->receiver);
     double spread_error = carried * fabs((double)link->error) * weight;
     /* The source's own variation: the link carries its mean, but the receiver may see mostly
@@ -528,14 +545,14 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
             double lo = INFINITY, hi = -INFINITY;
             for (uint32_t k = 0; k < s->child_count; ++k) {
                 double b = h->nodes[s->first_child + k].radiosity[c];
-                lo = fmin(lo, b);
-                hi = fmax(hi, b);
+                lo = smaller(lo, b);
+                hi = larger(hi, b);
             }
-            variation = fmax(variation, 0.5 * rho[c] * (hi - lo));
+            variation = larger(variation, 0.5 * rho[c] * (hi - lo));
         }
     /* A link made without its estimate (NOT_ESTIMATED) was skipped because its decision is
      * the same for any factor (make_link): 0 stands for it. */
-    double variation_error = variation * fmax(0.0, (double)link->form_factor) * weight;
+    double variation_error = variation * larger(0.0, (double)link->form_factor) * weight;
     double error = spread_error + variation_error;
     *relative = error / h->threshold;
     if (!(error > h->threshold)) return 0;
@@ -554,8 +571,8 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
 /* ---- Cluster links (Smits, Arvo & Greenberg 1994; Sillion 1995) -------------------------- */
 
 static int is_cluster(const rad_hier_node *n) { return n->corner_count == 0; }
-static rad_vec3 v3_min(rad_vec3 a, rad_vec3 b) { return v3(fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)); }
-static rad_vec3 v3_max(rad_vec3 a, rad_vec3 b) { return v3(fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)); }
+static rad_vec3 v3_min(rad_vec3 a, rad_vec3 b) { return v3(smaller(a.x, b.x), smaller(a.y, b.y), smaller(a.z, b.z)); }
+static rad_vec3 v3_max(rad_vec3 a, rad_vec3 b) { return v3(larger(a.x, b.x), larger(a.y, b.y), larger(a.z, b.z)); }
 
 /* Whether node `index` is a cluster, from its number alone (the clusters are numbered
  * cluster_first .. + cluster_count, after the roots and before every split node). */
@@ -583,7 +600,7 @@ static rad_vec3 node_centre(const rad_hier *h, uint32_t index, double *radius) {
     }
     rad_vec3 centre = surface_centre(n);
     double r = 0;
-    for (int k = 0; k < n->corner_count; ++k) r = fmax(r, v3_length(v3_sub(n->corner[k], centre)));
+    for (int k = 0; k < n->corner_count; ++k) r = larger(r, v3_length(v3_sub(n->corner[k], centre)));
     *radius = r;
     return centre;
 }
@@ -601,16 +618,16 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     projection p;
     if (!is_cluster(n)) {
         double c = v3_dot(h->normal[n->polygon], w);
-        p.estimate = n->area * fmax(0, c);
-        p.lower = n->area * fmax(0, c - spread);
-        p.upper = n->area * fmin(1, fmax(0, c + spread));
+        p.estimate = n->area * larger(0, c);
+        p.lower = n->area * larger(0, c - spread);
+        p.upper = n->area * smaller(1, larger(0, c + spread));
         return p;
     }
     const cluster_info *ci = info(h, index);
     const double *a = ci->axis_area;
     p.estimate = fabs(w.x) * a[w.x < 0] + fabs(w.y) * a[2 + (w.y < 0)] + fabs(w.z) * a[4 + (w.z < 0)];
-    p.upper = fmin(n->area, p.estimate + n->area * spread);
-    p.lower = fmax(0, v3_dot(ci->normal_sum, w) - n->area * spread);
+    p.upper = smaller(n->area, p.estimate + n->area * spread);
+    p.lower = larger(0, v3_dot(ci->normal_sum, w) - n->area * spread);
     if (p.lower > p.estimate) p.lower = p.estimate;
     return p;
 }
@@ -747,7 +764,7 @@ static int cluster_oracle(const rad_hier *h, const rad_hier_link *link, double *
  * refined with any larger one. */
 static int refined_anyway(const rad_hier *h, rad_hier_link *link, double error) {
     double relative;
-    link->error = (float)fmin(error, UNKNOWN_ERROR);
+    link->error = (float)smaller(error, UNKNOWN_ERROR);
     return cluster_oracle(h, link, &relative, 0) != 0;
 }
 
@@ -797,23 +814,22 @@ static int cluster_faces_away(const rad_hier *h, uint32_t cluster, uint32_t othe
     return 1;
 }
 
-/* Nonzero when `receiver` is a polygon node and the box of source cluster `source` lies
- * behind its plane (behind every corner, by a millionth of the two radii): every sampled point is
- * then behind the receiver, so every ray of the link leaves the receiver's back and the link's
+/* Nonzero when `receiver` (bounding radius `radius`, node_centre) is a polygon node and the box
+ * of source cluster `source` lies behind its plane (behind every corner, by a millionth of the
+ * two radii): every sampled point is then behind the receiver, so every ray of the link leaves the receiver's back and the link's
  * factor is exactly 0 (each ray's receiver weight A max(0, n.ray) is 0), its centre estimate
  * too (n.w < 0), and its bound upper - lower whatever the rays find blocked. Such links are
  * still made (no_light_between explains why), but without rays or member walks: in the 10^5
  * office 0.55 M of the 4.4 M links kept (hspeed9), each with 16 to 32 rays. The margin keeps
  * a flat cluster lying in the receiver's own plane (floor tiles beside a tile), whose rays'
  * weights are rounding errors, on the path with rays, so the factors are the same bits. */
-static int receiver_behind(const rad_hier *h, uint32_t receiver, uint32_t source) {
+static int receiver_behind(const rad_hier *h, uint32_t receiver, double radius, uint32_t source) {
     const rad_hier_node *n = &h->nodes[receiver];
     if (is_cluster(n) || !cluster_index(h, source)) return 0;
     const cluster_info *ci = info(h, source);
     rad_vec3 normal = h->normal[n->polygon];
-    double radius, front = -INFINITY; /* the receiver's points lie behind its farthest corner */
-    node_centre(h, receiver, &radius);
-    for (int k = 0; k < n->corner_count; ++k) front = fmax(front, v3_dot(normal, n->corner[k]));
+    double front = -INFINITY; /* the receiver's points lie behind its farthest corner */
+    for (int k = 0; k < n->corner_count; ++k) front = larger(front, v3_dot(normal, n->corner[k]));
     return v3_dot(normal, farthest_along(ci, normal)) - front < -1e-6 * (radius + ci->radius);
 }
 
@@ -842,7 +858,7 @@ static double receiver_reflectance(const rad_hier *h, uint32_t receiver) {
     const rad_hier_node *r = &h->nodes[receiver];
     if (is_cluster(r)) return info(h, receiver)->reflectance;
     const double *rho = h->reflectance[r->polygon];
-    return fmax(rho[0], fmax(rho[1], rho[2]));
+    return larger(rho[0], larger(rho[1], rho[2]));
 }
 
 /* Whether a cluster link with form-factor bound `bound` (its spread plus its estimate, the
@@ -873,23 +889,23 @@ static void keep_seen_members(link_sample *out, const uint32_t *member, const do
     if (!(total > 0)) out->weight[0] = NO_SAMPLE;
 }
 
-/* A cheap link (cheap_link): one ray per receiver point (a cluster receiver's four sampled
- * points), each to its own sampled source point, instead of the 16 pairs between the four
- * receiver points and the four source points of a full link. The mean over the pairs of
- * V P_r P_s / (pi r^2 A_r) is unbiased; clamped to the upper bound as there. (Its rays used to
- * count toward the members' exposure, which mattered to Sponza before links sent their own
- * samples; docs/hierarchical.md, "sixth session".) 3-4 rays where a full link casts 16 (32
- * before hspeed10). */
-static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double spread,
-                           double estimate, double slack, rad_hier_link *out,
-                           link_sample *seen_members) {
+/* A cluster link's factor from its rays: one ray per receiver point (a polygon receiver's
+ * quadrature points, a cluster receiver's four sampled points), each to its own sampled source
+ * point (the points drawn from the link's stream `stream`, link_hash). The mean over the pairs
+ * of V P_r P_s / (pi r^2 A_r) is unbiased; clamped to the upper bound. The bound is the spread,
+ * plus the whole estimate when a ray was blocked or when `partial` says the link counts as
+ * partly hidden whatever its rays find (make_cluster_link). 3-4 rays; a link not cheap
+ * (cheap_link) cast 16 until hspeed11, between every receiver point and every source point. */
+static int estimate_cluster_link(const rad_hier *h, rad_vec3 w, double upper, double spread,
+                                 double estimate, double slack, uint32_t stream, int partial,
+                                 rad_hier_link *out, link_sample *seen_members) {
     const uint32_t receiver = out->receiver, source = out->source;
     const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
     rad_vec3 x[4], y[4];
     uint32_t receiver_member[4], source_member[4];
     double receiver_chance[4], source_chance[4];
-    const uint32_t receiver_seed = link_hash(h, receiver, source, 1);
-    const uint32_t source_seed = link_hash(h, receiver, source, 2);
+    const uint32_t receiver_seed = link_hash(h, receiver, source, 1 + stream);
+    const uint32_t source_seed = link_hash(h, receiver, source, 2 + stream);
     const rad_vec3 back = v3_scale(w, -1);
     int pairs = 4;
     if (is_cluster(nr))
@@ -897,6 +913,26 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
     else
         pairs = quadrature_points(nr, x);
     sample_points(h, source, back, source_seed, y, source_member, source_chance, (float)slack);
+    if (partial) {
+        /* Receiver point k is in quarter k of its node or member (the quadrature's order,
+         * visibility_point's strata), and so is source point k: paired k with k, the rays join
+         * like quarters, which on aligned surfaces (the office's) lie nearer each other than
+         * two points drawn apart (+0.1..+0.4% on every surface of the 10^5 office at three
+         * seeds). A turn drawn per link pairs each receiver quarter with every source quarter
+         * alike over the links. */
+        const uint32_t turn = link_hash(h, receiver, source, 3 + stream) >> 30;
+        rad_vec3 y0[4];
+        uint32_t m0[4];
+        double c0[4];
+        memcpy(y0, y, sizeof y0);
+        memcpy(m0, source_member, sizeof m0);
+        memcpy(c0, source_chance, sizeof c0);
+        for (int k = 0; k < 4; ++k) {
+            y[k] = y0[(k + turn) & 3];
+            source_member[k] = m0[(k + turn) & 3];
+            source_chance[k] = c0[(k + turn) & 3];
+        }
+    }
     uint8_t occluded[4];
     rad_rays_occluded_batch(h->rays, x, y, (size_t)pairs, occluded);
     double sum = 0, added[4] = {0, 0, 0, 0};
@@ -909,17 +945,18 @@ static int make_cheap_link(const rad_hier *h, rad_vec3 w, double upper, double s
         double r2 = v3_dot(ray, ray), length = sqrt(r2);
         double wr = is_cluster(nr)
                         ? member_weight(h, receiver_member[k], receiver_chance[k], v3_scale(ray, -1), length)
-                        : nr->area * fmax(0, v3_dot(h->normal[nr->polygon], ray) / length);
+                        : nr->area * larger(0, v3_dot(h->normal[nr->polygon], ray) / length);
         double ws = is_cluster(ns)
                         ? member_weight(h, source_member[k], source_chance[k], ray, length)
-                        : ns->area * fmax(0, -v3_dot(h->normal[ns->polygon], ray) / length);
+                        : ns->area * larger(0, -v3_dot(h->normal[ns->polygon], ray) / length);
         added[k] = wr * ws / r2;
         sum += added[k];
     }
     if (is_cluster(ns)) keep_seen_members(seen_members, source_member, added, pairs);
-    out->form_factor = (float)fmin(upper, sum / pairs / (RAD_PI * nr->area));
+    out->form_factor = (float)smaller(upper, sum / pairs / (RAD_PI * nr->area));
+    blocked |= partial;
     double error = spread + (blocked ? estimate : 0);
-    out->error = (float)fmin(error, UNKNOWN_ERROR);
+    out->error = (float)smaller(error, UNKNOWN_ERROR);
     if (blocked) out->error = -out->error;
     return 1;
 }
@@ -948,13 +985,13 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
     double d = v3_length(between), reach = rr + rs;
     if (!(d > reach)) return 1;
     rad_vec3 w = v3_scale(between, 1 / d);
-    double spread = asin(fmin(1, reach / d));
+    double spread = asin(smaller(1, reach / d));
     /* How far behind w a source member may face and still be drawn (sample_points): the sine of
      * the angle the two spheres subtend. The tangent is the exact bound (members with n.w
      * between minus the tangent and minus the sine still face a few rays and are not drawn);
      * the sine is what was measured on Sponza, and the tangent drew no better tiles in
      * test_bright_member or test_cluster_form_factors. */
-    double slack = fmin(1, reach / d);
+    double slack = smaller(1, reach / d);
     projection pr = project(h, receiver, w, spread), ps = project(h, source, v3_scale(w, -1), spread);
     if (!(pr.upper > 0) || !(ps.upper > 0)) return 0;
     double area = h->nodes[receiver].area;
@@ -965,17 +1002,17 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         out->form_factor = NOT_ESTIMATED;
         return 1;
     }
-    if (receiver_behind(h, receiver, source)) {
+    if (receiver_behind(h, receiver, rr, source)) {
         /* No ray can carry light (receiver_behind): what they would give is known. */
         out->form_factor = 0;
-        out->error = -(float)fmin(upper - lower, UNKNOWN_ERROR);
+        out->error = -(float)smaller(upper - lower, UNKNOWN_ERROR);
         return 1;
     }
     if (cheap_link(h, receiver, upper - lower + estimate))
-        return make_cheap_link(h, w, upper, upper - lower, estimate, slack, out, seen_members);
+        return estimate_cluster_link(h, w, upper, upper - lower, estimate, slack, 0, 0, out, seen_members);
     /* The factor itself from the rays between sampled member points (chosen in proportion to
-     * projected area): the mean over the 16 pairs of V P_r P_s / (pi r^2 A_r), with a polygon
-     * end's A cos taken along each ray. The centres' distance alone underestimates it (the
+     * projected area): the mean over the pairs of V P_r P_s / (pi r^2 A_r), with a polygon
+     * end's A cos taken along each ray (estimate_cluster_link). The centres' distance alone underestimates it (the
      * mean of 1 / r^2 over an extended pair exceeds 1 / d^2, and near pairs are the visible
      * ones): Sponza's arcades, lit through large clusters, came out half as bright. Clamped to
      * the upper bound.
@@ -989,45 +1026,17 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
      * these links were partly hidden anyway and 0.1% were refined on it when made; the
      * deciding set was 16 rays and 4 member walks of every such link, a fifth of the rays at
      * 10^6: docs/hierarchical.md, "Speed at scale, tenth session".) The points and members are
-     * the ones the fresh set drew (its seeds). */
+     * the ones the fresh set drew (its seeds). Since hspeed11 the four pairs (receiver point k,
+     * source point k) of those points, not all 16: the same walks, a quarter of the rays
+     * (7.7 M such links at 10^6); unbiased as before, Sponza at seeds 0-2 within the seeds'
+     * spread ("Speed at scale, eleventh session"). */
     if (may_skip && refined_anyway(h, out, upper - lower + estimate)) {
         out->form_factor = NOT_ESTIMATED;
         out->error = -out->error;
         return 1;
     }
-    const rad_hier_node *nr = &h->nodes[receiver], *ns = &h->nodes[source];
-    rad_vec3 x[4], y[4];
-    uint32_t receiver_member[4], source_member[4];
-    double receiver_chance[4], source_chance[4];
-    int rn = 4;
-    if (is_cluster(nr))
-        sample_points(h, receiver, w, link_hash(h, receiver, source, 1 + 0x100u), x, receiver_member,
-                      receiver_chance, 0);
-    else
-        rn = quadrature_points(nr, x);
-    sample_points(h, source, v3_scale(w, -1), link_hash(h, receiver, source, 2 + 0x100u), y,
-                  source_member, source_chance, (float)slack);
-    uint8_t seen[16];
-    int blocked;
-    visible_pairs(h, x, rn, y, 4, &blocked, seen);
-    double sum = 0, added[4] = {0, 0, 0, 0}; /* per source point */
-    for (int i = 0; i < rn; ++i)
-        for (int j = 0; j < 4; ++j) {
-            if (!seen[i * 4 + j]) continue;
-            rad_vec3 ray = v3_sub(y[j], x[i]);
-            double r2 = v3_dot(ray, ray), length = sqrt(r2);
-            double wr = is_cluster(nr)
-                            ? member_weight(h, receiver_member[i], receiver_chance[i], v3_scale(ray, -1), length)
-                            : nr->area * fmax(0, v3_dot(h->normal[nr->polygon], ray) / length);
-            double ws = is_cluster(ns) ? member_weight(h, source_member[j], source_chance[j], ray, length)
-                                       : ns->area * fmax(0, -v3_dot(h->normal[ns->polygon], ray) / length);
-            sum += wr * ws / r2;
-            added[j] += wr * ws / r2;
-        }
-    if (is_cluster(ns)) keep_seen_members(seen_members, source_member, added, 4);
-    out->form_factor = (float)fmin(upper, sum / (rn * 4) / (RAD_PI * area));
-    out->error = -(float)fmin((upper - lower) + estimate, UNKNOWN_ERROR);
-    return 1;
+    return estimate_cluster_link(h, w, upper, upper - lower, estimate, slack, 0x100u, 1, out,
+                                 seen_members);
 }
 
 /* Any link: the contour integral between two polygon nodes, the point estimate otherwise. */
@@ -1069,15 +1078,16 @@ static void source_radiosity(const rad_hier *h, const rad_hier_link *link, doubl
  * bounding sphere is opened (Smits et al. 1994). */
 static int cluster_oracle(const rad_hier *h, const rad_hier_link *link, double *relative,
                           int pick_end) {
-    const rad_hier_node *r = &h->nodes[link->receiver], *s = &h->nodes[link->source];
+    const rad_hier_node *r = &h->nodes[link->receiver];
     double rho = receiver_reflectance(h, link->receiver);
-    double brightest = fmax(s->radiosity[0], fmax(s->radiosity[1], s->radiosity[2]));
     /* A cluster source sends its members' light: charge the error at its brightest member's
      * radiosity (Smits, Arvo & Greenberg 1994 bound a cluster's transfer by its members' largest
      * radiosity), not at their mean. A cluster that mixes a bright member with dark ones is then
      * opened until the bright one is sent on its own, where the directional, exposure-weighted
-     * mean (source_radiosity) would spread its light over members the receiver does not see. */
-    if (is_cluster(s)) brightest = fmax(brightest, info(h, link->source)->brightest);
+     * mean (source_radiosity) would spread its light over members the receiver does not see.
+     * Read from the compact per-node `sends` (brightest_members): the sources are read at
+     * random, and the node and its cluster record cost three cache lines where this costs one. */
+    double brightest = h->sends[link->source];
     /* A link that carries nothing yet (overlapping ends) is refined whatever its importance:
      * until it is, no importance crosses it either. */
     double weight = fabs(link->error) >= UNKNOWN_ERROR ? 1 : importance_weight(h, link->receiver);
@@ -1090,6 +1100,7 @@ static int cluster_oracle(const rad_hier *h, const rad_hier_link *link, double *
     if (is_cluster(r) && brightest > 0) return link->receiver == link->source ? 3 : 1;
     if (!(error > h->threshold)) return 0;
     if (link->receiver == link->source) return 3;
+    const rad_hier_node *s = &h->nodes[link->source];
     int split_r = is_cluster(r) || can_split(h, r), split_s = is_cluster(s) || can_split(h, s);
     if (!pick_end) return split_r || split_s;
     double radius_r, radius_s;
@@ -1330,7 +1341,7 @@ static rad_status refine_light(rad_hier *h, size_t *splits, double *largest) {
             if (n->corner_count == 0 || n->first_child != RAD_HIER_NO_NODE) continue;
             double relative = 0.25 * h->light_spread[i] * n->area / h->threshold;
             if (!(relative > 1) || !can_split(h, n)) {
-                *largest = fmax(*largest, relative);
+                *largest = larger(*largest, relative);
                 continue;
             }
             rad_status status = check_memory(h, h->link_count, h->node_count + 4);
@@ -1350,11 +1361,15 @@ static rad_status refine_light(rad_hier *h, size_t *splits, double *largest) {
 }
 
 /* Sets every cluster's `brightest` from its members' radiosities, children first (leaf
- * clusters in parallel, then the others from the last to the first): what the oracle charges a
- * cluster source's links at (cluster_oracle). Taken at the start of every refinement from the
+ * clusters in parallel, then the others from the last to the first), and every node's `sends`:
+ * what the oracle charges a source's links at (cluster_oracle). Taken at the start of every refinement from the
  * radiosities it refines with, so a loaded hierarchy gets the same. */
-static void brightest_members(rad_hier *h) {
+static rad_status brightest_members(rad_hier *h) {
     const long count = (long)h->cluster_count;
+    if (!h->sends) {
+        h->sends = rad_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *h->sends);
+        if (!h->sends) return RAD_ERROR_NO_MEMORY;
+    }
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 64)
     for (long c = 0; c < count; ++c) {
         if (!h->walk[c].leaf) continue;
@@ -1362,7 +1377,7 @@ static void brightest_members(rad_hier *h) {
         double brightest = 0;
         for (uint32_t k = 0; k < n->child_count; ++k) {
             const double *b = h->nodes[n->first_child + k].radiosity;
-            brightest = fmax(brightest, fmax(b[0], fmax(b[1], b[2])));
+            brightest = larger(brightest, larger(b[0], larger(b[1], b[2])));
         }
         h->clusters[c].brightest = brightest;
     }
@@ -1371,9 +1386,19 @@ static void brightest_members(rad_hier *h) {
         const rad_hier_node *n = &h->nodes[h->cluster_first + c];
         double brightest = 0;
         for (uint32_t k = 0; k < n->child_count; ++k)
-            brightest = fmax(brightest, info(h, n->first_child + k)->brightest);
+            brightest = larger(brightest, info(h, n->first_child + k)->brightest);
         h->clusters[c].brightest = brightest;
     }
+    /* Every node's, clusters' with their brightest member. */
+    const long nodes = (long)h->node_count;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (nodes >= 4096)
+    for (long i = 0; i < nodes; ++i) {
+        const double *b = h->nodes[i].radiosity;
+        double brightest = larger(b[0], larger(b[1], b[2]));
+        if (cluster_index(h, (uint32_t)i)) brightest = larger(brightest, info(h, (uint32_t)i)->brightest);
+        h->sends[i] = brightest;
+    }
+    return RAD_OK;
 }
 
 /* Gives each of links[0 .. count) that was made (made[i], or every one when made is NULL) and
@@ -1460,8 +1485,8 @@ rad_status rad_hier_refine(rad_hier *h) {
     size_t refined = 0, unrefined = 0, unknown_error = 0;
     double largest = 0, found = 0;
     int budget = 0, first_pass = 1, cancelled = 0;
-    rad_status status = RAD_OK;
-    brightest_members(h);
+    rad_status status = brightest_members(h);
+    if (status) return status;
     if (h->refining) {
         /* Going on with a refinement stopped between two passes, from its next pass. */
         pending_count = h->link_count - h->refine_kept;
@@ -1509,7 +1534,7 @@ rad_status rad_hier_refine(rad_hier *h) {
             int known = fabsf(pending[i].error) < UNKNOWN_ERROR;
             /* A link between overlapping ends has no known error: refined, it makes the
              * largest error found unknown (infinite). */
-            if (known || decision[i]) pass_found = fmax(pass_found, known ? relative : INFINITY);
+            if (known || decision[i]) pass_found = larger(pass_found, known ? relative : INFINITY);
             leaf_end[i] = 0;
             if (decision[i]) {
                 splits++;
@@ -1520,10 +1545,10 @@ rad_status rad_hier_refine(rad_hier *h) {
                     h->nodes[end].first_child == RAD_HIER_NO_NODE)
                     leaf_end[i] = decision[i];
             } else if (known)
-                pass_largest = fmax(pass_largest, relative);
+                pass_largest = larger(pass_largest, relative);
         }
-        largest = fmax(largest, pass_largest);
-        if (first_pass) found = fmax(found, pass_found);
+        largest = larger(largest, pass_largest);
+        if (first_pass) found = larger(found, pass_found);
         if (!splits && first_pass) {
             /* The oracle passed every link: they stay as they are, sorted, with their groups. */
             h->links = pending;
@@ -1592,7 +1617,7 @@ rad_status rad_hier_refine(rad_hier *h) {
             int unknown = fabsf(pending[i].error) >= UNKNOWN_ERROR;
             unrefined += over;
             unknown_error += over && unknown;
-            if (!unknown) largest = fmax(largest, relative);
+            if (!unknown) largest = larger(largest, relative);
         }
         refined += splits;
         /* The samples of the links refined away make room for their children's. */
@@ -1701,7 +1726,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     rad_free(ctx, made);
     rad_free(ctx, fresh);
     h->stats.largest_error = largest;
-    h->stats.found_error = fmax(found, largest);
+    h->stats.found_error = larger(found, largest);
     h->stats.refined = refined;
     h->stats.budget_reached = budget;
     h->stats.unrefined = unrefined;
@@ -1755,7 +1780,7 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
         const double zero[3] = {0, 0, 0}, *light = h->light ? h->light[index] : zero;
         for (int c = 0; c < 3; ++c) {
             double b = e[c] + light[c] + rho[c] * total[c];
-            change = fmax(change, fabs(b - n->radiosity[c]));
+            change = larger(change, fabs(b - n->radiosity[c]));
             n->radiosity[c] = b;
         }
         return change;
@@ -1763,7 +1788,7 @@ static double push_pull(rad_hier *h, uint32_t index, const double down[3]) {
     double sum[3] = {0, 0, 0}, area = 0;
     for (uint32_t k = 0; k < n->child_count; ++k) {
         uint32_t child = n->first_child + k;
-        change = fmax(change, push_pull(h, child, total));
+        change = larger(change, push_pull(h, child, total));
         const rad_hier_node *m = &h->nodes[child];
         for (int c = 0; c < 3; ++c) sum[c] += m->radiosity[c] * m->area;
         area += m->area;
@@ -1868,7 +1893,7 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
     reduction(max : change)
         for (long r = 0; r < roots; ++r) {
             const double *down = h->cluster_down[h->root_parent[r] - h->cluster_first];
-            change = fmax(change, push_pull(h, (uint32_t)r, down));
+            change = larger(change, push_pull(h, (uint32_t)r, down));
         }
         pull_clusters(h);
         if (change <= limit) break;
@@ -1900,7 +1925,7 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
  * most of it on (conservative: more refinement, never less). */
 static double polygon_reflectance(const rad_hier *h, uint32_t polygon) {
     const double *rho = h->reflectance[polygon];
-    return fmax(rho[0], fmax(rho[1], rho[2]));
+    return larger(rho[0], larger(rho[1], rho[2]));
 }
 
 /* Z of a node: sum rho A Y over its leaves. */
@@ -1925,7 +1950,7 @@ static double importance_push_pull(rad_hier *h, uint32_t index, double down) {
     double change = 0, sum = 0;
     for (uint32_t k = 0; k < n->child_count; ++k) {
         uint32_t child = n->first_child + k;
-        change = fmax(change, importance_push_pull(h, child, total));
+        change = larger(change, importance_push_pull(h, child, total));
         sum += h->importance[child];
     }
     h->importance[index] = sum;
@@ -1958,7 +1983,7 @@ static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds
     }
     for (size_t i = 0; i < h->node_count; ++i)
         if (h->importance_emitted[i] > 0 && h->nodes[i].area > 0)
-            emitted_max = fmax(emitted_max, h->importance_emitted[i] / h->nodes[i].area);
+            emitted_max = larger(emitted_max, h->importance_emitted[i] / h->nodes[i].area);
     double limit = tolerance * (emitted_max > 0 ? emitted_max : 1);
     importance_pull_clusters(h);
     for (int round = 1; round <= max_rounds; ++round) {
@@ -2007,8 +2032,8 @@ static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds
             const double n[3] = {normal.x, normal.y, normal.z};
             double down = 0;
             for (int a = 0; a < 3; ++a)
-                down += q[2 * a] * fmax(0, n[a]) + q[2 * a + 1] * fmax(0, -n[a]);
-            change = fmax(change, importance_push_pull(h, (uint32_t)r, down));
+                down += q[2 * a] * larger(0, n[a]) + q[2 * a + 1] * larger(0, -n[a]);
+            change = larger(change, importance_push_pull(h, (uint32_t)r, down));
         }
         importance_pull_clusters(h);
         if (change <= limit) break;
@@ -2183,7 +2208,7 @@ static rad_status build_clusters(rad_hier *h) {
                     ci->hi = v3_max(ci->hi, mi->hi);
                     for (int a = 0; a < 6; ++a) ci->axis_area[a] += mi->axis_area[a];
                     ci->normal_sum = v3_add(ci->normal_sum, mi->normal_sum);
-                    ci->reflectance = fmax(ci->reflectance, mi->reflectance);
+                    ci->reflectance = larger(ci->reflectance, mi->reflectance);
                 } else {
                     for (int k2 = 0; k2 < m->corner_count; ++k2) {
                         ci->lo = v3_min(ci->lo, m->corner[k2]);
@@ -2192,12 +2217,12 @@ static rad_status build_clusters(rad_hier *h) {
                     rad_vec3 normal = h->normal[m->polygon];
                     double d[3] = {normal.x, normal.y, normal.z};
                     for (int a = 0; a < 3; ++a) {
-                        ci->axis_area[2 * a] += m->area * fmax(0, d[a]);
-                        ci->axis_area[2 * a + 1] += m->area * fmax(0, -d[a]);
+                        ci->axis_area[2 * a] += m->area * larger(0, d[a]);
+                        ci->axis_area[2 * a + 1] += m->area * larger(0, -d[a]);
                     }
                     ci->normal_sum = v3_add(ci->normal_sum, v3_scale(normal, m->area));
                     for (int i = 0; i < 3; ++i)
-                        ci->reflectance = fmax(ci->reflectance, h->reflectance[m->polygon][i]);
+                        ci->reflectance = larger(ci->reflectance, h->reflectance[m->polygon][i]);
                 }
                 node->area += m->area;
                 for (int i = 0; i < 3; ++i) power[i] += m->radiosity[i] * m->area;
@@ -2254,8 +2279,8 @@ static rad_status split_by_light(rad_hier *h) {
             light_nodes(h, h->nodes[index].first_child);
             for (uint32_t k = 0; k < 4; ++k)
                 for (int c = 0; c < 3; ++c) {
-                    lo = fmin(lo, h->light[h->nodes[index].first_child + k][c]);
-                    hi = fmax(hi, h->light[h->nodes[index].first_child + k][c]);
+                    lo = smaller(lo, h->light[h->nodes[index].first_child + k][c]);
+                    hi = larger(hi, h->light[h->nodes[index].first_child + k][c]);
                 }
             if (!(0.5 * (hi - lo) * probe.area > h->threshold)) {
                 /* Resolved: take the children back (they are the last four nodes made). */
@@ -2330,9 +2355,9 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
         for (int c = 0; c < 3; ++c) {
             h->reflectance[p][c] = m->reflectance[c];
             h->emission[p][c] = RAD_PI * m->emission[c];
-            h->emission_max = fmax(h->emission_max, h->emission[p][c]);
+            h->emission_max = larger(h->emission_max, h->emission[p][c]);
         }
-        double emitted = fmax(h->emission[p][0], fmax(h->emission[p][1], h->emission[p][2]));
+        double emitted = larger(h->emission[p][0], larger(h->emission[p][1], h->emission[p][2]));
         h->normal[p] = rad_polygon_normal(scene, polygon);
         h->polygon_root_first[p] = (uint32_t)h->node_count; /* before renumbering: identity */
         for (; next_root < roots->count && roots->roots[next_root].polygon == p; ++next_root) {
@@ -2354,7 +2379,7 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     h->source_depth = o.source_depth;
     double rho_max = 0;
     for (size_t p = 0; p < np && !status; ++p)
-        for (int c = 0; c < 3; ++c) rho_max = fmax(rho_max, h->reflectance[p][c]);
+        for (int c = 0; c < 3; ++c) rho_max = larger(rho_max, h->reflectance[p][c]);
     h->radiosity_cap = rho_max < 1 ? h->emission_max / (1 - rho_max) : 0;
     h->threshold = o.link_error * (h->emitted_power > 0 ? h->emitted_power : 1);
     if (!status && h->root_count == 0)
@@ -2373,8 +2398,8 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
         if (!status) light_nodes(h, 0);
         for (size_t i = 0; i < h->root_count && !status; ++i) {
             rad_hier_node *n = &h->nodes[i];
-            double most = fmax(h->light[i][0], fmax(h->light[i][1], h->light[i][2]));
-            h->emission_max = fmax(h->emission_max, most);
+            double most = larger(h->light[i][0], larger(h->light[i][1], h->light[i][2]));
+            h->emission_max = larger(h->emission_max, most);
             h->emitted_power += most * n->area;
             for (int c = 0; c < 3; ++c) n->radiosity[c] += h->light[i][c];
         }
@@ -2412,6 +2437,7 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->light);
     rad_free(ctx, h->light_spread);
     rad_free(ctx, h->root_radiosity);
+    rad_free(ctx, h->sends);
     rad_free(ctx, h->hit_polygon);
     rad_free(ctx, h->hit_point);
     rad_free(ctx, h->importance);
@@ -2464,7 +2490,7 @@ static double inside(const rad_hier *h, const rad_hier_node *n, rad_vec3 x) {
         rad_vec3 edge = v3_sub(b, a);
         double length = v3_length(edge);
         if (!(length > 0)) continue;
-        worst = fmin(worst, v3_dot(v3_cross(edge, v3_sub(x, a)), normal) / length);
+        worst = smaller(worst, v3_dot(v3_cross(edge, v3_sub(x, a)), normal) / length);
     }
     return worst;
 }
