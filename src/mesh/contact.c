@@ -996,7 +996,8 @@ static rad_status pairs_find(pair_job *job, rad_contact_cut *cut, contact **cont
     if (!status && !(*contacts = rad_alloc(ctx, total + 1, sizeof **contacts))) status = RAD_ERROR_NO_MEMORY;
     for (size_t c = 0; c < chunk_count && !status; ++c) {
         const pair_chunk *chunk = &job->chunks[c];
-        memcpy(*contacts + *contact_count, chunk->contacts, chunk->contact_count * sizeof **contacts);
+        if (chunk->contact_count) /* an empty chunk has no array: memcpy from NULL is undefined */
+            memcpy(*contacts + *contact_count, chunk->contacts, chunk->contact_count * sizeof **contacts);
         *contact_count += chunk->contact_count;
         cut->bound_tests += chunk->bound_tests;
         if (!cut->coplanar_pairs && chunk->coplanar_pairs)
@@ -1245,7 +1246,8 @@ static rad_status cut_polygons(cut_job *job, rad_contact_cut *cut, piece_list *l
     }
     for (size_t c = 0; c < chunk_count && !status; ++c) {
         const cut_chunk *chunk = &job->chunks[c];
-        memcpy(list->points + list->used, chunk->list.points, chunk->list.used * sizeof *list->points);
+        if (chunk->list.used) /* an empty chunk may have no array */
+            memcpy(list->points + list->used, chunk->list.points, chunk->list.used * sizeof *list->points);
         for (size_t k = 0; k < chunk->list.pieces; ++k) {
             size_t at = list->pieces + k;
             list->first[at] = (uint32_t)(list->used + chunk->list.first[k]);
