@@ -1253,6 +1253,72 @@ static rad_status adopt_links(rad_hier *h, rad_hier_link *links, size_t count) {
     return take_sorted_links(h, sorted, count);
 }
 
+/* How many of the first `k` links of the merge of a[0 .. na) and b[0 .. nb) (both sorted by
+ * receiver, a's links before b's of the same receiver) come from a: the merge path's split. */
+static size_t merge_split(const rad_hier_link *a, size_t na, const rad_hier_link *b, size_t nb,
+                          size_t k) {
+    size_t lo = k > nb ? k - nb : 0, hi = k < na ? k : na;
+    while (lo < hi) {
+        size_t i = lo + (hi - lo) / 2;
+        if (a[i].receiver <= b[k - i - 1].receiver) lo = i + 1;
+        else hi = i;
+    }
+    return lo;
+}
+
+/* Merges apart[0 .. tail) into links[0 .. sorted) (both sorted by receiver), in place in
+ * links[0 .. sorted + tail), links' own before apart's of the same receiver. The output is cut
+ * into one part per thread at merge-path points (Odeh et al. 2012, "Merge Path"); each part
+ * merges from its back, as the serial loop did. A part's links below its first output slot may
+ * be overwritten by the parts before it, so they are copied aside first. The merge has one
+ * result, so the bits do not depend on the number of parts. */
+static rad_status merge_in_place(rad_hier *h, rad_hier_link *links, size_t sorted,
+                                 const rad_hier_link *apart, size_t tail) {
+    enum { MAX_PARTS = 64 };
+    const size_t count = sorted + tail;
+    int parts = count >= (1u << 16) ? threads(h) : 1;
+    if (parts > MAX_PARTS) parts = MAX_PARTS;
+    if (parts < 1) parts = 1;
+    size_t out_at[MAX_PARTS + 1], from_links[MAX_PARTS + 1], aside_at[MAX_PARTS + 1];
+    aside_at[0] = 0;
+    for (int p = 0; p <= parts; ++p) {
+        out_at[p] = (size_t)((double)count * p / parts);
+        if (p == parts) out_at[p] = count;
+        from_links[p] = merge_split(links, sorted, apart, tail, out_at[p]);
+    }
+    for (int p = 0; p < parts; ++p) {
+        size_t low = from_links[p + 1] < out_at[p] ? from_links[p + 1] : out_at[p];
+        aside_at[p + 1] = aside_at[p] + (low - from_links[p]);
+    }
+    rad_hier_link *aside = NULL;
+    if (aside_at[parts]) {
+        aside = rad_alloc(h->ctx, aside_at[parts], sizeof *aside);
+        if (!aside) return RAD_ERROR_NO_MEMORY;
+#pragma omp parallel for schedule(static, 1) num_threads(parts)
+        for (int p = 0; p < parts; ++p)
+            memcpy(aside + aside_at[p], links + from_links[p],
+                   (aside_at[p + 1] - aside_at[p]) * sizeof *aside);
+    }
+#pragma omp parallel for schedule(static, 1) num_threads(parts)
+    for (int p = 0; p < parts; ++p) {
+        const size_t i0 = from_links[p], j0 = out_at[p] - i0, k0 = out_at[p];
+        const size_t saved_end = i0 + (aside_at[p + 1] - aside_at[p]);
+        size_t i = from_links[p + 1], j = out_at[p + 1] - i, k = out_at[p + 1];
+        while (k > k0) {
+            if (j == j0 && k == i) break; /* the rest of links' part is in place already */
+            const rad_hier_link *a =
+                i == i0 ? NULL : i - 1 < saved_end ? &aside[aside_at[p] + (i - 1 - i0)] : &links[i - 1];
+            if (a && (j == j0 || a->receiver > apart[j - 1].receiver)) {
+                links[--k] = *a;
+                --i;
+            } else
+                links[--k] = apart[--j];
+        }
+    }
+    rad_free(h->ctx, aside);
+    return RAD_OK;
+}
+
 /* The same when links[0 .. sorted) are sorted by receiver already (the links a refinement kept
  * in place, in their order) and the rest are not: the rest are sorted apart and merged in from
  * the back, the sorted part's links before the others' of the same receiver, which is the
@@ -1268,10 +1334,12 @@ static rad_status merge_links(rad_hier *h, rad_hier_link *links, size_t sorted, 
             rad_free(h->ctx, links);
             return status;
         }
-        size_t i = sorted, j = tail, k = count;
-        while (j > 0)
-            links[--k] = i > 0 && links[i - 1].receiver > apart[j - 1].receiver ? links[--i] : apart[--j];
+        status = merge_in_place(h, links, sorted, apart, tail);
         rad_free(h->ctx, apart);
+        if (status) {
+            rad_free(h->ctx, links);
+            return status;
+        }
     }
     return take_sorted_links(h, links, count);
 }
