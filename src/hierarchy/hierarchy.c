@@ -1475,8 +1475,19 @@ static rad_status brightest_members(rad_hier *h) {
  * appended. */
 static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sample *seen,
                                const uint8_t *made, size_t count) {
-    size_t wanted = 0;
-    for (size_t i = 0; i < count; ++i) wanted += (!made || made[i]) && seen[i].weight[0] != NO_SAMPLE;
+    /* Each block counts its wanted samples in parallel; the k-th wanted of all takes the k-th
+     * free slot from the top of the free list, past those the next new slot, as the serial
+     * loop gave them. */
+    size_t at[BLOCKS + 1];
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last, here = 0;
+        block_range(count, k, &first, &last);
+        for (size_t i = first; i < last; ++i) here += (!made || made[i]) && seen[i].weight[0] != NO_SAMPLE;
+        at[k + 1] = here;
+    }
+    at[0] = 0;
+    const size_t wanted = block_starts(at);
     size_t needed = h->sample_count + (wanted > h->free_count ? wanted - h->free_count : 0);
     if (needed > UINT32_MAX - 1)
         return rad_fail(h->ctx, RAD_ERROR_MEMORY_BUDGET, "more than 2^32 cluster links");
@@ -1489,12 +1500,22 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
         if (!grown || !slots) return RAD_ERROR_NO_MEMORY;
         h->sample_capacity = capacity;
     }
-    for (size_t i = 0; i < count; ++i) {
-        if ((made && !made[i]) || seen[i].weight[0] == NO_SAMPLE) continue;
-        uint32_t slot = h->free_count ? h->free_samples[--h->free_count] : (uint32_t)h->sample_count++;
-        links[i].sample = slot;
-        h->samples[slot] = seen[i];
+    const size_t free_count = h->free_count, sample_count = h->sample_count;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last, nth = at[k];
+        block_range(count, k, &first, &last);
+        for (size_t i = first; i < last; ++i) {
+            if ((made && !made[i]) || seen[i].weight[0] == NO_SAMPLE) continue;
+            uint32_t slot = nth < free_count ? h->free_samples[free_count - 1 - nth]
+                                             : (uint32_t)(sample_count + (nth - free_count));
+            ++nth;
+            links[i].sample = slot;
+            h->samples[slot] = seen[i];
+        }
     }
+    h->free_count = wanted < free_count ? free_count - wanted : 0;
+    h->sample_count = sample_count + (wanted > free_count ? wanted - free_count : 0);
     return RAD_OK;
 }
 
