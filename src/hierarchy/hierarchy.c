@@ -81,6 +81,12 @@ typedef struct walk_root {
     float area, normal[3];
 } walk_root;
 
+/* A node's bounding sphere (node_centre). */
+typedef struct node_shape {
+    rad_vec3 centre;
+    double radius;
+} node_shape;
+
 struct rad_hier {
     rad_context *ctx;
     uint32_t salt; /* from the context's seed, added to every link's stream (link_hash); 0 for seed 0 */
@@ -112,6 +118,9 @@ struct rad_hier {
                       from it at: its largest radiosity (any channel), a cluster's brightest
                       member's when larger; set by brightest_members, a split node's children
                       take its own. NULL before the first refinement. */
+    node_shape *shape; /* per node (node_capacity of them), its bounding sphere (node_centre),
+                          filled for every node at the first refinement and for each split's
+                          children by split_into; NULL before. */
     /* Links are sorted by receiver: group g's links are receivers' group_first[g] .. [g+1]. */
     size_t group_count;
     size_t *group_first;
@@ -182,6 +191,11 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
         if (!sends) return RAD_ERROR_NO_MEMORY;
         h->sends = sends;
     }
+    if (h->shape) {
+        node_shape *shape = rad_realloc(h->ctx, h->shape, wanted, sizeof *shape);
+        if (!shape) return RAD_ERROR_NO_MEMORY;
+        h->shape = shape;
+    }
     if (h->importance) {
         double **arrays[3] = {&h->importance, &h->importance_emitted, &h->importance_gathered};
         for (int k = 0; k < 3; ++k) {
@@ -192,6 +206,20 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
     }
     h->node_capacity = wanted;
     return RAD_OK;
+}
+
+static rad_vec3 surface_centre(const rad_hier_node *n) {
+    rad_vec3 sum = v3(0, 0, 0);
+    for (int k = 0; k < n->corner_count; ++k) sum = v3_add(sum, n->corner[k]);
+    return v3_scale(sum, 1.0 / n->corner_count);
+}
+
+/* A polygon node's bounding sphere: its corners' about their centroid. */
+static node_shape surface_shape(const rad_hier_node *n) {
+    node_shape shape = {surface_centre(n), 0};
+    for (int k = 0; k < n->corner_count; ++k)
+        shape.radius = larger(shape.radius, v3_length(v3_sub(n->corner[k], shape.centre)));
+    return shape;
 }
 
 static void init_node(rad_hier *h, rad_hier_node *n, const rad_vec3 *c, int count,
@@ -240,6 +268,7 @@ static void split_into(rad_hier *h, uint32_t index, uint32_t first) {
         }
         memcpy(h->nodes[first + k].radiosity, parent.radiosity, sizeof parent.radiosity);
         if (h->sends) h->sends[first + k] = h->sends[index]; /* the same radiosity */
+        if (h->shape) h->shape[first + k] = surface_shape(&h->nodes[first + k]);
         if (h->importance) /* the parent's importance per unit area, until the next solve */
             h->importance[first + k] =
                 parent.area > 0 ? h->importance[index] * h->nodes[first + k].area / parent.area : 0;
@@ -584,25 +613,21 @@ static const cluster_info *info(const rad_hier *h, uint32_t index) {
     return &h->clusters[index - h->cluster_first];
 }
 
-static rad_vec3 surface_centre(const rad_hier_node *n) {
-    rad_vec3 sum = v3(0, 0, 0);
-    for (int k = 0; k < n->corner_count; ++k) sum = v3_add(sum, n->corner[k]);
-    return v3_scale(sum, 1.0 / n->corner_count);
-}
-
 /* A node's bounding sphere: the box's for a cluster, the corners' about the centroid for a
- * polygon node. */
+ * polygon node (surface_shape); read from h->shape once the first refinement filled it. */
 static rad_vec3 node_centre(const rad_hier *h, uint32_t index, double *radius) {
+    if (h->shape) {
+        *radius = h->shape[index].radius;
+        return h->shape[index].centre;
+    }
     const rad_hier_node *n = &h->nodes[index];
     if (is_cluster(n)) {
         *radius = info(h, index)->radius;
         return info(h, index)->centre;
     }
-    rad_vec3 centre = surface_centre(n);
-    double r = 0;
-    for (int k = 0; k < n->corner_count; ++k) r = larger(r, v3_length(v3_sub(n->corner[k], centre)));
-    *radius = r;
-    return centre;
+    node_shape shape = surface_shape(n);
+    *radius = shape.radius;
+    return shape.centre;
 }
 
 /* The projected area of a node toward unit direction w, and bounds on it over every direction
@@ -1437,6 +1462,17 @@ static rad_status brightest_members(rad_hier *h) {
     if (!h->sends) {
         h->sends = rad_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *h->sends);
         if (!h->sends) return RAD_ERROR_NO_MEMORY;
+    }
+    if (!h->shape) { /* split_into keeps it from here on */
+        node_shape *shape = rad_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *shape);
+        if (!shape) return RAD_ERROR_NO_MEMORY;
+        const long nodes = (long)h->node_count;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (nodes >= 4096)
+        for (long i = 0; i < nodes; ++i) {
+            if (cluster_index(h, (uint32_t)i)) shape[i] = (node_shape){info(h, (uint32_t)i)->centre, info(h, (uint32_t)i)->radius};
+            else shape[i] = surface_shape(&h->nodes[i]);
+        }
+        h->shape = shape;
     }
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 64)
     for (long c = 0; c < count; ++c) {
@@ -2527,6 +2563,7 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->light_spread);
     rad_free(ctx, h->root_radiosity);
     rad_free(ctx, h->sends);
+    rad_free(ctx, h->shape);
     rad_free(ctx, h->hit_polygon);
     rad_free(ctx, h->hit_point);
     rad_free(ctx, h->importance);
