@@ -81,6 +81,12 @@ typedef struct walk_root {
     float area, normal[3];
 } walk_root;
 
+/* A node's bounding sphere (node_centre). */
+typedef struct node_shape {
+    rad_vec3 centre;
+    double radius;
+} node_shape;
+
 struct rad_hier {
     rad_context *ctx;
     uint32_t salt; /* from the context's seed, added to every link's stream (link_hash); 0 for seed 0 */
@@ -112,6 +118,9 @@ struct rad_hier {
                       from it at: its largest radiosity (any channel), a cluster's brightest
                       member's when larger; set by brightest_members, a split node's children
                       take its own. NULL before the first refinement. */
+    node_shape *shape; /* per node (node_capacity of them), its bounding sphere (node_centre),
+                          filled for every node at the first refinement and for each split's
+                          children by split_into; NULL before. */
     /* Links are sorted by receiver: group g's links are receivers' group_first[g] .. [g+1]. */
     size_t group_count;
     size_t *group_first;
@@ -182,6 +191,11 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
         if (!sends) return RAD_ERROR_NO_MEMORY;
         h->sends = sends;
     }
+    if (h->shape) {
+        node_shape *shape = rad_realloc(h->ctx, h->shape, wanted, sizeof *shape);
+        if (!shape) return RAD_ERROR_NO_MEMORY;
+        h->shape = shape;
+    }
     if (h->importance) {
         double **arrays[3] = {&h->importance, &h->importance_emitted, &h->importance_gathered};
         for (int k = 0; k < 3; ++k) {
@@ -192,6 +206,20 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
     }
     h->node_capacity = wanted;
     return RAD_OK;
+}
+
+static rad_vec3 surface_centre(const rad_hier_node *n) {
+    rad_vec3 sum = v3(0, 0, 0);
+    for (int k = 0; k < n->corner_count; ++k) sum = v3_add(sum, n->corner[k]);
+    return v3_scale(sum, 1.0 / n->corner_count);
+}
+
+/* A polygon node's bounding sphere: its corners' about their centroid. */
+static node_shape surface_shape(const rad_hier_node *n) {
+    node_shape shape = {surface_centre(n), 0};
+    for (int k = 0; k < n->corner_count; ++k)
+        shape.radius = larger(shape.radius, v3_length(v3_sub(n->corner[k], shape.centre)));
+    return shape;
 }
 
 static void init_node(rad_hier *h, rad_hier_node *n, const rad_vec3 *c, int count,
@@ -240,6 +268,7 @@ static void split_into(rad_hier *h, uint32_t index, uint32_t first) {
         }
         memcpy(h->nodes[first + k].radiosity, parent.radiosity, sizeof parent.radiosity);
         if (h->sends) h->sends[first + k] = h->sends[index]; /* the same radiosity */
+        if (h->shape) h->shape[first + k] = surface_shape(&h->nodes[first + k]);
         if (h->importance) /* the parent's importance per unit area, until the next solve */
             h->importance[first + k] =
                 parent.area > 0 ? h->importance[index] * h->nodes[first + k].area / parent.area : 0;
@@ -584,25 +613,21 @@ static const cluster_info *info(const rad_hier *h, uint32_t index) {
     return &h->clusters[index - h->cluster_first];
 }
 
-static rad_vec3 surface_centre(const rad_hier_node *n) {
-    rad_vec3 sum = v3(0, 0, 0);
-    for (int k = 0; k < n->corner_count; ++k) sum = v3_add(sum, n->corner[k]);
-    return v3_scale(sum, 1.0 / n->corner_count);
-}
-
 /* A node's bounding sphere: the box's for a cluster, the corners' about the centroid for a
- * polygon node. */
+ * polygon node (surface_shape); read from h->shape once the first refinement filled it. */
 static rad_vec3 node_centre(const rad_hier *h, uint32_t index, double *radius) {
+    if (h->shape) {
+        *radius = h->shape[index].radius;
+        return h->shape[index].centre;
+    }
     const rad_hier_node *n = &h->nodes[index];
     if (is_cluster(n)) {
         *radius = info(h, index)->radius;
         return info(h, index)->centre;
     }
-    rad_vec3 centre = surface_centre(n);
-    double r = 0;
-    for (int k = 0; k < n->corner_count; ++k) r = larger(r, v3_length(v3_sub(n->corner[k], centre)));
-    *radius = r;
-    return centre;
+    node_shape shape = surface_shape(n);
+    *radius = shape.radius;
+    return shape.centre;
 }
 
 /* The projected area of a node toward unit direction w, and bounds on it over every direction
@@ -1253,6 +1278,72 @@ static rad_status adopt_links(rad_hier *h, rad_hier_link *links, size_t count) {
     return take_sorted_links(h, sorted, count);
 }
 
+/* How many of the first `k` links of the merge of a[0 .. na) and b[0 .. nb) (both sorted by
+ * receiver, a's links before b's of the same receiver) come from a: the merge path's split. */
+static size_t merge_split(const rad_hier_link *a, size_t na, const rad_hier_link *b, size_t nb,
+                          size_t k) {
+    size_t lo = k > nb ? k - nb : 0, hi = k < na ? k : na;
+    while (lo < hi) {
+        size_t i = lo + (hi - lo) / 2;
+        if (a[i].receiver <= b[k - i - 1].receiver) lo = i + 1;
+        else hi = i;
+    }
+    return lo;
+}
+
+/* Merges apart[0 .. tail) into links[0 .. sorted) (both sorted by receiver), in place in
+ * links[0 .. sorted + tail), links' own before apart's of the same receiver. The output is cut
+ * into one part per thread at merge-path points (Odeh et al. 2012, "Merge Path"); each part
+ * merges from its back, as the serial loop did. A part's links below its first output slot may
+ * be overwritten by the parts before it, so they are copied aside first. The merge has one
+ * result, so the bits do not depend on the number of parts. */
+static rad_status merge_in_place(rad_hier *h, rad_hier_link *links, size_t sorted,
+                                 const rad_hier_link *apart, size_t tail) {
+    enum { MAX_PARTS = 64 };
+    const size_t count = sorted + tail;
+    int parts = count >= (1u << 16) ? threads(h) : 1;
+    if (parts > MAX_PARTS) parts = MAX_PARTS;
+    if (parts < 1) parts = 1;
+    size_t out_at[MAX_PARTS + 1], from_links[MAX_PARTS + 1], aside_at[MAX_PARTS + 1];
+    aside_at[0] = 0;
+    for (int p = 0; p <= parts; ++p) {
+        out_at[p] = (size_t)((double)count * p / parts);
+        if (p == parts) out_at[p] = count;
+        from_links[p] = merge_split(links, sorted, apart, tail, out_at[p]);
+    }
+    for (int p = 0; p < parts; ++p) {
+        size_t low = from_links[p + 1] < out_at[p] ? from_links[p + 1] : out_at[p];
+        aside_at[p + 1] = aside_at[p] + (low - from_links[p]);
+    }
+    rad_hier_link *aside = NULL;
+    if (aside_at[parts]) {
+        aside = rad_alloc(h->ctx, aside_at[parts], sizeof *aside);
+        if (!aside) return RAD_ERROR_NO_MEMORY;
+#pragma omp parallel for schedule(static, 1) num_threads(parts)
+        for (int p = 0; p < parts; ++p)
+            memcpy(aside + aside_at[p], links + from_links[p],
+                   (aside_at[p + 1] - aside_at[p]) * sizeof *aside);
+    }
+#pragma omp parallel for schedule(static, 1) num_threads(parts)
+    for (int p = 0; p < parts; ++p) {
+        const size_t i0 = from_links[p], j0 = out_at[p] - i0, k0 = out_at[p];
+        const size_t saved_end = i0 + (aside_at[p + 1] - aside_at[p]);
+        size_t i = from_links[p + 1], j = out_at[p + 1] - i, k = out_at[p + 1];
+        while (k > k0) {
+            if (j == j0 && k == i) break; /* the rest of links' part is in place already */
+            const rad_hier_link *a =
+                i == i0 ? NULL : i - 1 < saved_end ? &aside[aside_at[p] + (i - 1 - i0)] : &links[i - 1];
+            if (a && (j == j0 || a->receiver > apart[j - 1].receiver)) {
+                links[--k] = *a;
+                --i;
+            } else
+                links[--k] = apart[--j];
+        }
+    }
+    rad_free(h->ctx, aside);
+    return RAD_OK;
+}
+
 /* The same when links[0 .. sorted) are sorted by receiver already (the links a refinement kept
  * in place, in their order) and the rest are not: the rest are sorted apart and merged in from
  * the back, the sorted part's links before the others' of the same receiver, which is the
@@ -1268,10 +1359,12 @@ static rad_status merge_links(rad_hier *h, rad_hier_link *links, size_t sorted, 
             rad_free(h->ctx, links);
             return status;
         }
-        size_t i = sorted, j = tail, k = count;
-        while (j > 0)
-            links[--k] = i > 0 && links[i - 1].receiver > apart[j - 1].receiver ? links[--i] : apart[--j];
+        status = merge_in_place(h, links, sorted, apart, tail);
         rad_free(h->ctx, apart);
+        if (status) {
+            rad_free(h->ctx, links);
+            return status;
+        }
     }
     return take_sorted_links(h, links, count);
 }
@@ -1370,6 +1463,17 @@ static rad_status brightest_members(rad_hier *h) {
         h->sends = rad_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *h->sends);
         if (!h->sends) return RAD_ERROR_NO_MEMORY;
     }
+    if (!h->shape) { /* split_into keeps it from here on */
+        node_shape *shape = rad_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *shape);
+        if (!shape) return RAD_ERROR_NO_MEMORY;
+        const long nodes = (long)h->node_count;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (nodes >= 4096)
+        for (long i = 0; i < nodes; ++i) {
+            if (cluster_index(h, (uint32_t)i)) shape[i] = (node_shape){info(h, (uint32_t)i)->centre, info(h, (uint32_t)i)->radius};
+            else shape[i] = surface_shape(&h->nodes[i]);
+        }
+        h->shape = shape;
+    }
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 64)
     for (long c = 0; c < count; ++c) {
         if (!h->walk[c].leaf) continue;
@@ -1407,8 +1511,19 @@ static rad_status brightest_members(rad_hier *h) {
  * appended. */
 static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sample *seen,
                                const uint8_t *made, size_t count) {
-    size_t wanted = 0;
-    for (size_t i = 0; i < count; ++i) wanted += (!made || made[i]) && seen[i].weight[0] != NO_SAMPLE;
+    /* Each block counts its wanted samples in parallel; the k-th wanted of all takes the k-th
+     * free slot from the top of the free list, past those the next new slot, as the serial
+     * loop gave them. */
+    size_t at[BLOCKS + 1];
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last, here = 0;
+        block_range(count, k, &first, &last);
+        for (size_t i = first; i < last; ++i) here += (!made || made[i]) && seen[i].weight[0] != NO_SAMPLE;
+        at[k + 1] = here;
+    }
+    at[0] = 0;
+    const size_t wanted = block_starts(at);
     size_t needed = h->sample_count + (wanted > h->free_count ? wanted - h->free_count : 0);
     if (needed > UINT32_MAX - 1)
         return rad_fail(h->ctx, RAD_ERROR_MEMORY_BUDGET, "more than 2^32 cluster links");
@@ -1421,12 +1536,22 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
         if (!grown || !slots) return RAD_ERROR_NO_MEMORY;
         h->sample_capacity = capacity;
     }
-    for (size_t i = 0; i < count; ++i) {
-        if ((made && !made[i]) || seen[i].weight[0] == NO_SAMPLE) continue;
-        uint32_t slot = h->free_count ? h->free_samples[--h->free_count] : (uint32_t)h->sample_count++;
-        links[i].sample = slot;
-        h->samples[slot] = seen[i];
+    const size_t free_count = h->free_count, sample_count = h->sample_count;
+#pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
+    for (long k = 0; k < BLOCKS; ++k) {
+        size_t first, last, nth = at[k];
+        block_range(count, k, &first, &last);
+        for (size_t i = first; i < last; ++i) {
+            if ((made && !made[i]) || seen[i].weight[0] == NO_SAMPLE) continue;
+            uint32_t slot = nth < free_count ? h->free_samples[free_count - 1 - nth]
+                                             : (uint32_t)(sample_count + (nth - free_count));
+            ++nth;
+            links[i].sample = slot;
+            h->samples[slot] = seen[i];
+        }
     }
+    h->free_count = wanted < free_count ? free_count - wanted : 0;
+    h->sample_count = sample_count + (wanted > free_count ? wanted - free_count : 0);
     return RAD_OK;
 }
 
@@ -2438,6 +2563,7 @@ void rad_hier_destroy(rad_hier *h) {
     rad_free(ctx, h->light_spread);
     rad_free(ctx, h->root_radiosity);
     rad_free(ctx, h->sends);
+    rad_free(ctx, h->shape);
     rad_free(ctx, h->hit_polygon);
     rad_free(ctx, h->hit_point);
     rad_free(ctx, h->importance);
