@@ -178,32 +178,21 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
     rad_hier_node *grown = rad_realloc(h->ctx, h->nodes, wanted, sizeof *grown);
     if (!grown) return RAD_ERROR_NO_MEMORY;
     h->nodes = grown;
-    if (h->light) {
-        rgb *light = rad_realloc(h->ctx, h->light, wanted, sizeof *light);
-        if (!light) return RAD_ERROR_NO_MEMORY;
-        h->light = light;
-        float *spread = rad_realloc(h->ctx, h->light_spread, wanted, sizeof *spread);
-        if (!spread) return RAD_ERROR_NO_MEMORY;
-        h->light_spread = spread;
+    /* The per-node arrays the hierarchy keeps (only those it has) grow with the nodes. */
+#define GROW_PER_NODE(array)                                                   \
+    if (h->array) {                                                            \
+        void *more = rad_realloc(h->ctx, h->array, wanted, sizeof *h->array);  \
+        if (!more) return RAD_ERROR_NO_MEMORY;                                 \
+        h->array = more;                                                       \
     }
-    if (h->sends) {
-        double *sends = rad_realloc(h->ctx, h->sends, wanted, sizeof *sends);
-        if (!sends) return RAD_ERROR_NO_MEMORY;
-        h->sends = sends;
-    }
-    if (h->shape) {
-        node_shape *shape = rad_realloc(h->ctx, h->shape, wanted, sizeof *shape);
-        if (!shape) return RAD_ERROR_NO_MEMORY;
-        h->shape = shape;
-    }
-    if (h->importance) {
-        double **arrays[3] = {&h->importance, &h->importance_emitted, &h->importance_gathered};
-        for (int k = 0; k < 3; ++k) {
-            double *grown_array = rad_realloc(h->ctx, *arrays[k], wanted, sizeof(double));
-            if (!grown_array) return RAD_ERROR_NO_MEMORY;
-            *arrays[k] = grown_array;
-        }
-    }
+    GROW_PER_NODE(light)
+    GROW_PER_NODE(light_spread)
+    GROW_PER_NODE(sends)
+    GROW_PER_NODE(shape)
+    GROW_PER_NODE(importance)
+    GROW_PER_NODE(importance_emitted)
+    GROW_PER_NODE(importance_gathered)
+#undef GROW_PER_NODE
     h->node_capacity = wanted;
     return RAD_OK;
 }
