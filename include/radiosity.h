@@ -16,6 +16,11 @@
  *   - Each create has one destroy; destroying NULL is fine.
  *   - Option structs are valid when zeroed: zero means "the default".
  *   - The library never exits and never prints; warnings go to the log callback.
+ *   - Threads: the library runs its own worker threads (rad_context_options.threads). A context
+ *     and everything made on it (scenes, systems, images) are used by one caller thread at a
+ *     time; objects of different contexts may be used on different threads at once. A scene is
+ *     not read-only even through a const pointer: the first call that traces rays on it builds
+ *     and keeps its ray structure.
  *   - Units: see docs/units.md. Emission in scene files is radiance L; the solver works in
  *     radiosity (exitance) B = pi L. Patch systems (.ffm) give emission directly as radiosity.
  */
