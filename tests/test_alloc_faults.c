@@ -77,6 +77,15 @@ typedef rad_status (*scenario_fn)(rad_context *ctx, const void *arg, double *res
 
 static rad_status solve_all(rad_system *system, int trace, double *result);
 
+/* Adds every surface's radiosity to *result: a scenario's fingerprint. */
+static void add_radiosities(const rad_system *system, double *result) {
+    for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
+        rad_surface_info info;
+        rad_system_surface(system, i, &info);
+        *result += info.radiosity[0] + info.radiosity[1] + info.radiosity[2];
+    }
+}
+
 /* Where the scenarios write their files: under /dev/shm when it is a writable directory (the
  * library syncs every file it writes), else /tmp. */
 static char work_directory[64];
@@ -121,11 +130,7 @@ static rad_status run_scene(rad_context *ctx, const void *arg, double *result) {
         options.max_iterations = 0;
         options.resume = 1;
         if (!status) status = rad_solve(system, &options, NULL);
-        for (size_t i = 0; !status && i < rad_system_surface_count(system); ++i) {
-            rad_surface_info info;
-            rad_system_surface(system, i, &info);
-            *result += info.radiosity[0] + info.radiosity[1] + info.radiosity[2];
-        }
+        if (!status) add_radiosities(system, result);
     }
     if (!status) {
         size_t n = rad_system_surface_count(system);
@@ -149,11 +154,7 @@ static rad_status solve_all(rad_system *system, int trace, double *result) {
             if (traced) options.trace = ignore_trace;
             rad_status status = rad_solve(system, &options, NULL);
             if (status) return status;
-            for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
-                rad_surface_info info;
-                rad_system_surface(system, i, &info);
-                *result += info.radiosity[0] + info.radiosity[1] + info.radiosity[2];
-            }
+            add_radiosities(system, result);
         }
     }
     return RAD_OK;
@@ -189,11 +190,7 @@ static rad_status run_mirror(rad_context *ctx, const void *arg, double *result) 
     options.solver = RAD_SOLVER_SHOOTING;
     options.tolerance = 1e-2;
     if (!status) status = rad_solve(system, &options, NULL);
-    for (size_t i = 0; !status && i < rad_system_surface_count(system); ++i) {
-        rad_surface_info info;
-        rad_system_surface(system, i, &info);
-        *result += info.radiosity[0] + info.radiosity[1] + info.radiosity[2];
-    }
+    if (!status) add_radiosities(system, result);
     rad_system_destroy(system);
     return status;
 }
@@ -301,11 +298,7 @@ static rad_status run_outputs(rad_context *ctx, const void *arg, double *result)
         }
     }
     if (!status && system) {
-        for (size_t i = 0; i < rad_system_surface_count(system); ++i) {
-            rad_surface_info info;
-            rad_system_surface(system, i, &info);
-            *result += info.radiosity[0] + info.radiosity[1] + info.radiosity[2];
-        }
+        add_radiosities(system, result);
     }
     rad_image_destroy(image);
     rad_image_destroy(read_back);
@@ -334,11 +327,7 @@ static rad_status run_parallel(rad_context *ctx, const void *arg, double *result
     options.link_error = 1e-2;
     options.max_iterations = 1;
     if (!status) status = rad_solve(system, &options, NULL);
-    for (size_t i = 0; !status && i < rad_system_surface_count(system); ++i) {
-        rad_surface_info info;
-        rad_system_surface(system, i, &info);
-        *result += info.radiosity[0] + info.radiosity[1] + info.radiosity[2];
-    }
+    if (!status) add_radiosities(system, result);
     rad_system_destroy(system);
     return status;
 }
