@@ -1972,10 +1972,14 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
         return status;
     }
     pull_clusters(h); /* the clusters start from their members as they are now */
-    /* The kernel's weights, once for this solve's rounds (source_kernel.h). */
+    /* The kernel's weights, once for this solve's rounds (source_kernel.h), in what the memory
+     * budget leaves beside the links and nodes (check_memory's count). */
+    double held = 2.0 * (double)h->link_count * sizeof(rad_hier_link) +
+                  (double)h->node_count * sizeof(rad_hier_node);
     rad_status kept = rad_hier_kernel_cache_build(h->ctx, &h->kernel, h->nodes, h->normal, h->links,
                                                   h->source_depth ? h->link_count : 0,
-                                                  h->source_depth, threads(h));
+                                                  h->source_depth,
+                                                  (double)h->ctx->max_memory - held, threads(h));
     if (kept) return kept;
     for (round = 1; round <= max_rounds; ++round) {
         /* Gather: every receiver sums its links in their fixed order. */

@@ -109,10 +109,11 @@ static void keep_descendants(const rad_hier_node *nodes, uint32_t index, int dep
 rad_status rad_hier_kernel_cache_build(rad_context *ctx, rad_hier_kernel_cache *cache,
                                        const rad_hier_node *nodes, const rad_vec3 *normal,
                                        const rad_hier_link *links, size_t count, int depth,
-                                       int threads) {
+                                       double budget, int threads) {
     rad_hier_kernel_cache_free(ctx, cache);
     if (depth <= 0 || count == 0) return RAD_OK;
-    if (count >= UINT32_MAX) return RAD_OK; /* the weights are recomputed every round instead */
+    /* The weights are recomputed every round instead past 2^32 links or entries, or the budget. */
+    if (count >= UINT32_MAX || (double)(count + 1) * sizeof *cache->first > budget) return RAD_OK;
     cache->first = rad_alloc(ctx, count + 1, sizeof *cache->first);
     if (!cache->first) return RAD_ERROR_NO_MEMORY;
     /* Each link's count, then where its entries begin. */
@@ -131,6 +132,11 @@ rad_status rad_hier_kernel_cache_build(rad_context *ctx, rad_hier_kernel_cache *
             return RAD_OK;
         }
         cache->first[l] = (uint32_t)total;
+    }
+    if ((double)(count + 1) * sizeof *cache->first +
+            (double)total * (sizeof *cache->node + sizeof *cache->weight) > budget) {
+        rad_hier_kernel_cache_free(ctx, cache);
+        return RAD_OK;
     }
     if (total) {
         cache->node = rad_alloc(ctx, total, sizeof *cache->node);

@@ -26,12 +26,14 @@ typedef struct rad_hier_kernel_cache {
 } rad_hier_kernel_cache;
 
 /* Keeps the weights of links[0 .. count) (rad_hier_source_kernel_mean's, the same bits) for the
- * links that read their source through the kernel. Without the memory, or past 2^32 entries,
- * nothing is kept (RAD_ERROR_NO_MEMORY, RAD_OK) and the caller computes them as before. */
+ * links that read their source through the kernel, 12 bytes a descendant read (Cornell at link
+ * error 5e-6: 13 MB for 161,845 links, four times the links' own). When they would take more
+ * than `budget` bytes, or past 2^32 entries, nothing is kept (RAD_OK, count 0) and the caller
+ * computes them every round as before; RAD_ERROR_NO_MEMORY when an allocation fails. */
 rad_status rad_hier_kernel_cache_build(rad_context *ctx, rad_hier_kernel_cache *cache,
                                        const rad_hier_node *nodes, const rad_vec3 *normal,
                                        const rad_hier_link *links, size_t count, int depth,
-                                       int threads);
+                                       double budget, int threads);
 /* Link `link`'s kernel-weighed mean from the kept weights and the nodes' radiosities now, as
  * rad_hier_source_kernel_mean; 0 (out untouched) when none is kept for it. */
 int rad_hier_kernel_cache_mean(const rad_hier_kernel_cache *cache, const rad_hier_node *nodes,
