@@ -183,4 +183,13 @@ check "fine leaves: Cornell's ceiling as shooting's" python3 -c '
 import json, sys
 ceiling = [p for p in json.load(open(sys.argv[1]))["patches"] if p["name"] == "ceiling"][0]
 sys.exit(0 if abs(sum(ceiling["radiosity"]) / 3 / 0.18490 - 1) < 0.004 else 1)' "$work/fine.json"
+# The kernel's weights are kept for each solve's rounds (rad_hier_kernel_cache) unless the memory
+# budget is short (13 MB of them here; 12 MiB leaves too little beside the links and nodes), and
+# the two ways give the same bits: every surface's radiosity as printed to 17 digits.
+"$radiosity" solve cornell --solver hierarchical --link-error 5e-6 --max-memory 12 --json \
+    >"$work/fine_tight.json"
+check "fine leaves: kernel weights kept or recomputed, the same radiosities" python3 -c '
+import json, sys
+kept, tight = (json.load(open(p))["patches"] for p in sys.argv[1:3])
+sys.exit(0 if kept == tight and len(kept) == 8 else 1)' "$work/fine.json" "$work/fine_tight.json"
 finish

@@ -130,6 +130,7 @@ struct rad_hier {
                              reflectance); 0 when no such bound is known (cheap_link) */
     double min_area;  /* absolute */
     int source_depth; /* rad_hier_options.source_depth */
+    rad_hier_kernel_cache kernel; /* its weights, kept for the rounds of one rad_hier_solve */
     rad_hier_stats stats;
     /* Light besides the materials' emission (rad_hier_options.light): per node, NULL without. */
     void (*light_fn)(void *user, uint32_t polygon, const rad_vec3 *corners, int count,
@@ -1072,9 +1073,12 @@ static int make_any_link(const rad_hier *h, uint32_t receiver, uint32_t source, 
 static void source_radiosity(const rad_hier *h, const rad_hier_link *link, double out[3]) {
     if (link->sample == RAD_HIER_NO_NODE) {
         const rad_hier_node *r = &h->nodes[link->receiver], *s = &h->nodes[link->source];
-        if (h->source_depth && link->error >= 0 && r->corner_count && s->corner_count &&
-            rad_hier_source_kernel_mean(h->nodes, r, h->normal[r->polygon], link->source,
-                                        h->normal[s->polygon], h->source_depth, out))
+        if (h->kernel.count) {
+            if (rad_hier_kernel_cache_mean(&h->kernel, h->nodes, (size_t)(link - h->links), out))
+                return;
+        } else if (h->source_depth && link->error >= 0 && r->corner_count && s->corner_count &&
+                   rad_hier_source_kernel_mean(h->nodes, r, h->normal[r->polygon], link->source,
+                                               h->normal[s->polygon], h->source_depth, out))
             return;
         memcpy(out, s->radiosity, sizeof(double[3]));
         return;
@@ -1968,6 +1972,15 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
         return status;
     }
     pull_clusters(h); /* the clusters start from their members as they are now */
+    /* The kernel's weights, once for this solve's rounds (source_kernel.h), in what the memory
+     * budget leaves beside the links and nodes (check_memory's count). */
+    double held = 2.0 * (double)h->link_count * sizeof(rad_hier_link) +
+                  (double)h->node_count * sizeof(rad_hier_node);
+    rad_status kept = rad_hier_kernel_cache_build(h->ctx, &h->kernel, h->nodes, h->normal, h->links,
+                                                  h->source_depth ? h->link_count : 0,
+                                                  h->source_depth,
+                                                  (double)h->ctx->max_memory - held, threads(h));
+    if (kept) return kept;
     for (round = 1; round <= max_rounds; ++round) {
         /* Gather: every receiver sums its links in their fixed order. */
 #pragma omp parallel num_threads(threads(h)) if (nodes >= PARALLEL_MIN)
@@ -2011,10 +2024,13 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
         }
         pull_clusters(h);
         if (change <= limit) break;
-        if (rad_progress(h->ctx, "hierarchical gathering", round, max_rounds))
+        if (rad_progress(h->ctx, "hierarchical gathering", round, max_rounds)) {
+            rad_hier_kernel_cache_free(h->ctx, &h->kernel);
             return rad_fail(h->ctx, RAD_ERROR_CANCELLED, "cancelled after %d gathering rounds",
                             round);
+        }
     }
+    rad_hier_kernel_cache_free(h->ctx, &h->kernel); /* the next refinement changes the links */
     h->stats.solve_rounds = round > max_rounds ? max_rounds : round;
     if (!h->hit_point) return RAD_OK;
     rad_status status = solve_importance(h, tolerance, max_rounds);
