@@ -586,9 +586,10 @@ static int near_edge(const rad_view *view, const pixel_corner *corner_polygons, 
  * 0-2). */
 #define EVEN_SHARE 4
 /* ... and those with a corner the emitters light unevenly (penumbras) UNEVEN_SHARE times more,
- * on uniform meshes (cornell53; a hierarchy's renders are as they were). Their direct light is the visibility of the lamp, which the filter cannot
- * smooth (it moves only the gathered light), and at 8 samples per camera sample it was about a
- * fifth of the default render's 4x4 noise variance: Cornell 256, seeds 0-9, 4x4 RMSE 0.691 ->
+ * on uniform meshes (cornell53; a hierarchy's renders are as they were). Their direct light is
+ * the visibility of the lamp, which the filter cannot smooth (it moves only the gathered
+ * light), and at 8 samples per camera sample it was about a fifth of the default render's 4x4
+ * noise variance: Cornell 256, seeds 0-9, 4x4 RMSE 0.691 ->
  * 0.664 / 0.654 / 0.650 % at 2 / 4 / 8 times, shadow rays 1.42 -> 2.57 M at 4 (docs/rendering.md,
  * "cornell53"). */
 #define UNEVEN_SHARE 4
