@@ -28,7 +28,6 @@
                             * 4 before: Sponza's mean swung by 2 points between seeds, see jackknife()) */
 #define SEEN_BATCHES 3      /* ... whose deciding set saw most of the source (MOSTLY_SEEN): two fresh */
 #define MOSTLY_SEEN 0.9     /* the kernel-weighed share of the deciding set's rays that were seen */
-#define SEEN_CHUNK ((size_t)1 << 20) /* new links made (and their samples kept) at a time */
 
 typedef double rgb[3];
 
@@ -1495,23 +1494,6 @@ static rad_status brightest_members(rad_hier *h) {
     return RAD_OK;
 }
 
-/* Room in h->samples (and its free list) for `wanted` more samples, the free slots used first. */
-static rad_status reserve_samples(rad_hier *h, size_t wanted) {
-    size_t needed = h->sample_count + (wanted > h->free_count ? wanted - h->free_count : 0);
-    if (needed > UINT32_MAX - 1)
-        return rad_fail(h->ctx, RAD_ERROR_MEMORY_BUDGET, "more than 2^32 cluster links");
-    if (needed > h->sample_capacity) {
-        size_t capacity = needed + needed / 4;
-        link_sample *grown = rad_realloc(h->ctx, h->samples, capacity, sizeof *grown);
-        uint32_t *slots = rad_realloc(h->ctx, h->free_samples, capacity, sizeof *slots);
-        if (grown) h->samples = grown;
-        if (slots) h->free_samples = slots;
-        if (!grown || !slots) return RAD_ERROR_NO_MEMORY;
-        h->sample_capacity = capacity;
-    }
-    return RAD_OK;
-}
-
 /* Gives each of links[0 .. count) that was made (made[i], or every one when made is NULL) and
  * saw some of its source its sample seen[i], in h->samples: in the slots of refined links'
  * samples first (in the order they were freed, so the same for any thread count), then
@@ -1531,8 +1513,18 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
     }
     at[0] = 0;
     const size_t wanted = block_starts(at);
-    rad_status status = reserve_samples(h, wanted);
-    if (status) return status;
+    size_t needed = h->sample_count + (wanted > h->free_count ? wanted - h->free_count : 0);
+    if (needed > UINT32_MAX - 1)
+        return rad_fail(h->ctx, RAD_ERROR_MEMORY_BUDGET, "more than 2^32 cluster links");
+    if (needed > h->sample_capacity) {
+        size_t capacity = needed + needed / 4;
+        link_sample *grown = rad_realloc(h->ctx, h->samples, capacity, sizeof *grown);
+        uint32_t *slots = rad_realloc(h->ctx, h->free_samples, capacity, sizeof *slots);
+        if (grown) h->samples = grown;
+        if (slots) h->free_samples = slots;
+        if (!grown || !slots) return RAD_ERROR_NO_MEMORY;
+        h->sample_capacity = capacity;
+    }
     const size_t free_count = h->free_count, sample_count = h->sample_count;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
     for (long k = 0; k < BLOCKS; ++k) {
@@ -1823,29 +1815,17 @@ rad_status rad_hier_refine(rad_hier *h) {
         pending = NULL;
         pending_count = 0;
         if (status || !splits) break;
-        /* The new links' form factors, in parallel (each writes its own slot), SEEN_CHUNK links
-         * at a time, each chunk's samples kept before the next chunk's links are made:
-         * keep_samples gives the k-th sample of all the same slot whether it places them at
-         * once or chunk after chunk, and `seen` is 24 MB instead of 24 bytes a new link (up
-         * to 770 MB in a pass of the 10^6 office). The samples' room is made once for the
-         * pass (for every new link: only the pages written are paid for), so that they are
-         * not copied to a larger block chunk after chunk. */
-        link_sample *seen =
-            rad_alloc(ctx, count < SEEN_CHUNK ? (count ? count : 1) : SEEN_CHUNK, sizeof *seen);
+        /* The new links' form factors, in parallel (each writes its own slot). */
+        link_sample *seen = rad_alloc(ctx, count ? count : 1, sizeof *seen);
         if (!seen) {
             status = RAD_ERROR_NO_MEMORY;
             break;
         }
-        if (count > SEEN_CHUNK) status = reserve_samples(h, count);
-        for (size_t first = 0; first < count && !status; first += SEEN_CHUNK) {
-            const long chunk = (long)(count - first < SEEN_CHUNK ? count - first : SEEN_CHUNK);
-            rad_hier_link *links = fresh + first;
-#pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (chunk >= 64)
-            for (long i = 0; i < chunk; ++i)
-                made[first + (size_t)i] = (uint8_t)make_any_link(h, links[i].receiver, links[i].source,
-                                                                 &links[i], 1, &seen[i]);
-            status = keep_samples(h, links, seen, made + first, (size_t)chunk);
-        }
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (count >= 64)
+        for (long i = 0; i < (long)count; ++i)
+            made[i] = (uint8_t)make_any_link(h, fresh[i].receiver, fresh[i].source, &fresh[i], 1,
+                                             &seen[i]);
+        status = keep_samples(h, fresh, seen, made, count);
         rad_free(ctx, seen);
         if (status) break;
         pending_count = compact_links(h, fresh, count, made, 1);
