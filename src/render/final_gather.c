@@ -84,12 +84,6 @@
  * 8 emitter samples instead: 4x4 0.77 -> 0.73 %). A hierarchy's re-gathers (every first gather
  * ray, up to COARSE_SHORT_LEVELS deep) keep one: two would multiply at each level. */
 #define SHORT_RAYS 2
-/* Emitter samples of a re-gather on a uniform mesh (one on a hierarchy's leaves). Once the
- * penumbras drew more emitter samples (render.c, UNEVEN_SHARE) the re-gathers' one sample was
- * the larger part of the direct light's noise: the dark contacts and corners they serve are lit
- * by the lamp through the same penumbras. Cornell 256, seeds 0-9 (cornell53): 4x4 RMSE 0.654 ->
- * 0.633 % (4 samples: 0.626 %), shadow rays 2.57 -> 3.18 M (4: 4.41 M). */
-#define SHORT_LIGHTS 2
 
 /* ------------------------------------------------------------------------------------------- */
 /* Direct light                                                                                 */
@@ -311,7 +305,7 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
  * the size is the square root of the hit element's area) looks at the solution from closer than its elements resolve: beside a block's base the
  * floor element it meets holds the mean over its area, brighter than the dark corner the ray
  * sees, and the bias does not shrink with more rays. There the radiance is gathered once more
- * (SHORT_LIGHTS emitter samples and SHORT_RAYS gather rays from the hit), as the final gathers of photon maps do
+ * (one emitter sample and SHORT_RAYS gather rays from the hit), as the final gathers of photon maps do
  * for nearby hits (Jensen 1996; Christensen 1999), at most SHORT_LEVELS times along a path.
  * 4 sizes rather than 2: the short block's front face, lit only by the floor in its own shadow,
  * was 2-3% too bright at 2 (the shadow's edge inside floor elements), 1.5% at 4, for 12% more
@@ -341,17 +335,13 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
      * leaves by the range its parent's were, SHORT_RANGE after an infinite one (every first
      * gather ray re-gathered). */
     const int rays = r->regather.rays;
-    const int lights = r->emitters.count == 0                    ? 0
-                       : r->regather.leaves == RAD_LEAVES_UNIFORM ? SHORT_LIGHTS
-                                                                  : 1;
     double range = isinf(from->short_range) ? SHORT_RANGE
                    : r->regather.leaves == RAD_LEAVES_UNIFORM ? NEAR_RANGE
                                                                      : from->short_range;
-    rad_gather_origin next = {n, lights, rays, point, from->level + 1, run, NULL, range};
+    rad_gather_origin next = {n, r->emitters.count ? 1 : 0, rays, point, from->level + 1, run, NULL,
+                              range};
     double direct[3], gathered[3] = {0, 0, 0};
-    /* Its emitter samples: an aligned run of `lights` points of the pixel's run * lights. */
-    direct_light(r, sample, &next, run * (uint32_t)lights, point * (uint32_t)lights, dimension, y,
-                 rho, direct);
+    direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
     lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */
     rad_vec3 t, b;
     v3_basis(n, &t, &b);
