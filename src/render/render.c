@@ -585,14 +585,6 @@ static int near_edge(const rad_view *view, const pixel_corner *corner_polygons, 
  * before to 0.01 % (8 times fewer: 4x4 0.82 / 0.87 / 0.87 -> 0.86 / 0.91 / 0.91 % in seeds
  * 0-2). */
 #define EVEN_SHARE 4
-/* ... and those with a corner the emitters light unevenly (penumbras) UNEVEN_SHARE times more,
- * on uniform meshes (cornell53; a hierarchy's renders are as they were). Their direct light is
- * the visibility of the lamp, which the filter cannot smooth (it moves only the gathered
- * light), and at 8 samples per camera sample it was about a fifth of the default render's 4x4
- * noise variance: Cornell 256, seeds 0-9, 4x4 RMSE 0.691 ->
- * 0.664 / 0.654 / 0.650 % at 2 / 4 / 8 times, shadow rays 1.42 -> 2.57 M at 4 (docs/rendering.md,
- * "cornell53"). */
-#define UNEVEN_SHARE 4
 
 static int interior(const rad_renderer *r, const pixel_corner *corners, int x, int y) {
     if (!corners || r->settings.final_gather <= 0) return 0;
@@ -709,10 +701,8 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
         if (dark_corners(view, corner_polygons, x, y, dark) == 4) sample.gather_rays *= DARK_INTERIOR;
         sample.light_samples = INTERIOR_SHARE * r->settings.light_samples;
         /* Evenly lit: a quarter of the emitter samples (penumbra.c). */
-        if (!uneven_corner(view, corner_polygons, x, y)) {
-            if (sample.light_samples >= EVEN_SHARE) sample.light_samples /= EVEN_SHARE;
-        } else if (r->regather.leaves == RAD_LEAVES_UNIFORM)
-            sample.light_samples *= UNEVEN_SHARE;
+        if (!uneven_corner(view, corner_polygons, x, y) && sample.light_samples >= EVEN_SHARE)
+            sample.light_samples /= EVEN_SHARE;
     }
     rad_vec3 direction[16];
     rad_element_hit first[16];
