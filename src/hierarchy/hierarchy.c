@@ -1060,52 +1060,8 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         out->error = -out->error;
         return 1;
     }
-    /* A source whose brightest member sends at least half the brightest emission (a cluster
-     * holding the sky, or the surfaces it lights) takes BRIGHT_CLUSTER_SETS sets: its link's
-     * visibility noise is repeated by every bounce after it (sponza4, docs/hierarchical.md). */
-    enum { BRIGHT_CLUSTER_SETS = 3 };
-    int sets = h->sends && h->emission_max > 0 && h->sends[source] >= 0.5 * h->emission_max
-                   ? BRIGHT_CLUSTER_SETS
-                   : 1;
-    if (sets <= 1 || !is_cluster(&h->nodes[source]) || !seen_members)
-        return estimate_cluster_link(h, w, upper, upper - lower, estimate, slack, 0x100u, 1, out,
-                                     seen_members);
-    /* Several sets of four pairs: the factor is their mean; the members each set saw are
-     * weighed by the set's factor, and four of them are drawn in proportion (systematic
-     * resampling), which keeps the sent radiosity unbiased. */
-    double factor = 0, weight[4 * BRIGHT_CLUSTER_SETS];
-    uint32_t member[4 * BRIGHT_CLUSTER_SETS];
-    int count = 0;
-    rad_hier_link one = *out;
-    for (int j = 0; j < sets; ++j) {
-        link_sample seen;
-        seen.weight[0] = NO_SAMPLE;
-        estimate_cluster_link(h, w, upper, upper - lower, estimate, slack, 0x100u + 4u * (uint32_t)j, 1,
-                              &one, &seen);
-        if (j == 0) out->error = one.error;
-        factor += one.form_factor;
-        if (seen.weight[0] == NO_SAMPLE) continue;
-        for (int k = 0; k < 4; ++k) {
-            member[count] = seen.member[k];
-            weight[count++] = one.form_factor * SAMPLE_UNIT * seen.weight[k];
-        }
-    }
-    out->form_factor = (float)(factor / sets);
-    double total = 0;
-    for (int k = 0; k < count; ++k) total += weight[k];
-    if (!(total > 0)) {
-        seen_members->weight[0] = NO_SAMPLE;
-        out->form_factor = 0;
-        return 1;
-    }
-    uint32_t picked[4];
-    double added[4] = {1, 1, 1, 1}, step = total / 4, at = step * unit(link_hash(h, receiver, source, 0x1ffu)), run = 0;
-    for (int k = 0, i = 0; k < 4; ++k, at += step) {
-        while (i < count - 1 && run + weight[i] <= at) run += weight[i++];
-        picked[k] = member[i];
-    }
-    keep_seen_members(seen_members, picked, added, 4);
-    return 1;
+    return estimate_cluster_link(h, w, upper, upper - lower, estimate, slack, 0x100u, 1, out,
+                                 seen_members);
 }
 
 /* Any link: the contour integral between two polygon nodes, the point estimate otherwise. */
