@@ -512,9 +512,12 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
         double first_all = 0, first_seen = 0;
         if (partial) kernel_weighed(xv, rn, y, sn, nr, ns, seen, &first_all, &first_seen);
         /* A link from an emitter carries the scene's brightest light, and every bounce after
-         * it repeats its visibility's noise: its partly hidden links take EMITTER_BATCHES. */
+         * it repeats its visibility's noise: its partly hidden links take EMITTER_BATCHES.
+         * Not on a small scene's fine leaves (source_depth): there a lamp's light arrives over
+         * many small links whose noise averages out, and the hierarchical Cornell render was
+         * the same to 0.01 % in every block size (seeds 0, 1) for 8 % more processor time. */
         const double *emission = h->emission[s->polygon];
-        int emits = emission[0] > 0 || emission[1] > 0 || emission[2] > 0;
+        int emits = !h->source_depth && (emission[0] > 0 || emission[1] > 0 || emission[2] > 0);
         int sets = !partial ? 2
                    : emits ? EMITTER_BATCHES
                    : first_seen >= MOSTLY_SEEN * first_all ? SEEN_BATCHES : PARTIAL_BATCHES;
