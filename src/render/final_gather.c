@@ -84,6 +84,10 @@
  * 8 emitter samples instead: 4x4 0.77 -> 0.73 %). A hierarchy's re-gathers (every first gather
  * ray, up to COARSE_SHORT_LEVELS deep) keep one: two would multiply at each level. */
 #define SHORT_RAYS 2
+/* Gather rays of a first gather ray's re-gather on a coarse hierarchy's leaves (every first
+ * gather ray is re-gathered there; deeper re-gathers keep one ray). That chain, not the pixel's
+ * own emitter samples, made most of Sponza's block noise (docs/hierarchical.md, "sponza3"). */
+#define COARSE_FIRST_RAYS 2
 
 /* ------------------------------------------------------------------------------------------- */
 /* Direct light                                                                                 */
@@ -312,10 +316,13 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
  * rays (docs/rendering.md, "Choosing the defaults"). */
 
 void rad_regather_choose(rad_renderer *r, int leaves) {
-    /* A coarse hierarchy's re-gathers keep one ray: two would multiply at each of its levels. */
-    r->regather = leaves == RAD_LEAVES_COARSE ? (struct rad_regather){leaves, COARSE_SHORT_LEVELS, 1}
-                  : leaves == RAD_LEAVES_FINE ? (struct rad_regather){leaves, FINE_SHORT_LEVELS, SHORT_RAYS}
-                                              : (struct rad_regather){RAD_LEAVES_UNIFORM, SHORT_LEVELS, SHORT_RAYS};
+    /* A coarse hierarchy's re-gathers keep one ray past the first level: two would multiply at
+     * each of its levels. */
+    r->regather = leaves == RAD_LEAVES_COARSE
+                      ? (struct rad_regather){leaves, COARSE_SHORT_LEVELS, 1, COARSE_FIRST_RAYS}
+                  : leaves == RAD_LEAVES_FINE
+                      ? (struct rad_regather){leaves, FINE_SHORT_LEVELS, SHORT_RAYS, SHORT_RAYS}
+                      : (struct rad_regather){RAD_LEAVES_UNIFORM, SHORT_LEVELS, SHORT_RAYS, SHORT_RAYS};
 }
 
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit) {
@@ -334,7 +341,7 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
     /* The re-gather's own rays are short within NEAR_RANGE on a uniform mesh; on a hierarchy's
      * leaves by the range its parent's were, SHORT_RANGE after an infinite one (every first
      * gather ray re-gathered). */
-    const int rays = r->regather.rays;
+    const int rays = from->level == 0 ? r->regather.first_rays : r->regather.rays;
     double range = isinf(from->short_range) ? SHORT_RANGE
                    : r->regather.leaves == RAD_LEAVES_UNIFORM ? NEAR_RANGE
                                                                      : from->short_range;

@@ -108,6 +108,7 @@ struct rad_renderer {
                        short range infinite) or _FINE: system/solution_view.h */
         int levels; /* at most this many re-gathers along a path */
         int rays;   /* gather rays of one re-gather */
+        int first_rays; /* ... of a first gather ray's re-gather (level 1) */
     } regather;
 
     /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
