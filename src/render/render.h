@@ -100,9 +100,9 @@ struct rad_renderer {
      * the mean the pixel corners see (render.c); set by each render, 0: none. */
     double dark_radiance;
     /* How gather rays are gathered again at their hits (final_gather.c, rad_regather_choose):
-     * on a hierarchy's coarse leaves every first gather ray, deeper, one ray each; on a uniform
-     * mesh only short ones, once; on a finely refined hierarchy short ones, twice. Set with the
-     * leaves. */
+     * on a hierarchy's coarse leaves every first gather ray (with two rays, deeper with one);
+     * on a uniform mesh only short ones, once; on a finely refined hierarchy short ones, twice.
+     * Set with the leaves. */
     struct rad_regather {
         int leaves; /* RAD_LEAVES_UNIFORM, _COARSE (every first gather ray is re-gathered, its
                        short range infinite) or _FINE: system/solution_view.h */
