@@ -81,12 +81,15 @@
  * noisy: its gather ray is, and it made about a sixth of the Cornell box's 4x4 noise variance
  * (cornell50: 256 x 256, seeds 0-3, gather rays 5.69 -> 6.45 M for 2, processor +8 %; 4x4 RMSE
  * 0.77 -> 0.71 %, 8x8 0.50 -> 0.47 %, 16x16 0.33 -> 0.30 %; 4 rays: 7.97 M, 0.70 / 0.46 / 0.30 %;
- * 8 emitter samples instead: 4x4 0.77 -> 0.73 %). A hierarchy's re-gathers (every first gather
- * ray, up to COARSE_SHORT_LEVELS deep) keep one: two would multiply at each level. */
+ * 8 emitter samples instead: 4x4 0.77 -> 0.73 %). A coarse hierarchy's re-gathers (every first
+ * gather ray, up to COARSE_SHORT_LEVELS deep) keep one past the first level (COARSE_FIRST_RAYS):
+ * two would multiply at each level. */
 #define SHORT_RAYS 2
 /* Gather rays of a first gather ray's re-gather on a coarse hierarchy's leaves (every first
  * gather ray is re-gathered there; deeper re-gathers keep one ray). That chain, not the pixel's
- * own emitter samples, made most of Sponza's block noise (docs/hierarchical.md, "sponza3"). */
+ * own emitter samples, made most of Sponza's block noise (docs/hierarchical.md, "sponza3"):
+ * with 2, Sponza seeds 0-5's worst 16x16 blocks went from -5.0..+3.3 % to -4.6..+2.1 % for 5 %
+ * more processor time (docs/hierarchical.md, "Lead, fourteenth session"). */
 #define COARSE_FIRST_RAYS 2
 
 /* ------------------------------------------------------------------------------------------- */
