@@ -617,18 +617,15 @@ static const cluster_info *info(const rad_hier *h, uint32_t index) {
 }
 
 /* A node's bounding sphere: the box's for a cluster, the corners' about the centroid for a
- * polygon node (surface_shape); read from h->shape once the first refinement filled it. */
+ * polygon node (surface_shape). */
+static node_shape shape_of(const rad_hier *h, uint32_t index) {
+    if (is_cluster(&h->nodes[index])) return (node_shape){info(h, index)->centre, info(h, index)->radius};
+    return surface_shape(&h->nodes[index]);
+}
+
+/* shape_of, read from h->shape once the first refinement filled it. */
 static rad_vec3 node_centre(const rad_hier *h, uint32_t index, double *radius) {
-    if (h->shape) {
-        *radius = h->shape[index].radius;
-        return h->shape[index].centre;
-    }
-    const rad_hier_node *n = &h->nodes[index];
-    if (is_cluster(n)) {
-        *radius = info(h, index)->radius;
-        return info(h, index)->centre;
-    }
-    node_shape shape = surface_shape(n);
+    node_shape shape = h->shape ? h->shape[index] : shape_of(h, index);
     *radius = shape.radius;
     return shape.centre;
 }
@@ -1375,15 +1372,19 @@ static rad_status merge_links(rad_hier *h, rad_hier_link *links, size_t sorted, 
     return take_sorted_links(h, links, count);
 }
 
-static rad_status check_memory(rad_hier *h, size_t links, size_t nodes) {
-    char what[160];
-    snprintf(what, sizeof what, "hierarchical radiosity with %zu links and %zu nodes", links, nodes);
-    /* A node's own arrays beside it: its direct light and spread, its importance terms. */
+/* The bytes the memory budget counts for `links` links (two arrays of them while a refinement
+ * merges) and `nodes` nodes with their own arrays: direct light and spread, importance terms. */
+static double held_bytes(const rad_hier *h, size_t links, size_t nodes) {
     double node_bytes = (double)sizeof(rad_hier_node) +
                         (h->light ? (double)(sizeof *h->light + sizeof *h->light_spread) : 0) +
                         (h->importance ? 3.0 * sizeof(double) : 0);
-    double bytes = 2.0 * (double)links * sizeof(rad_hier_link) + (double)nodes * node_bytes;
-    return rad_check_budget(h->ctx, bytes, what);
+    return 2.0 * (double)links * sizeof(rad_hier_link) + (double)nodes * node_bytes;
+}
+
+static rad_status check_memory(rad_hier *h, size_t links, size_t nodes) {
+    char what[160];
+    snprintf(what, sizeof what, "hierarchical radiosity with %zu links and %zu nodes", links, nodes);
+    return rad_check_budget(h->ctx, held_bytes(h, links, nodes), what);
 }
 
 rad_status rad_hier_link_roots(rad_hier *h) {
@@ -1474,10 +1475,7 @@ static rad_status brightest_members(rad_hier *h) {
         if (!shape) return RAD_ERROR_NO_MEMORY;
         const long nodes = (long)h->node_count;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (nodes >= 4096)
-        for (long i = 0; i < nodes; ++i) {
-            if (cluster_index(h, (uint32_t)i)) shape[i] = (node_shape){info(h, (uint32_t)i)->centre, info(h, (uint32_t)i)->radius};
-            else shape[i] = surface_shape(&h->nodes[i]);
-        }
+        for (long i = 0; i < nodes; ++i) shape[i] = shape_of(h, (uint32_t)i);
         h->shape = shape;
     }
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 64)
@@ -1987,8 +1985,7 @@ rad_status rad_hier_solve(rad_hier *h, double tolerance, int max_rounds) {
     pull_clusters(h); /* the clusters start from their members as they are now */
     /* The kernel's weights, once for this solve's rounds (source_kernel.h), in what the memory
      * budget leaves beside the links and nodes (check_memory's count). */
-    double held = 2.0 * (double)h->link_count * sizeof(rad_hier_link) +
-                  (double)h->node_count * sizeof(rad_hier_node);
+    double held = held_bytes(h, h->link_count, h->node_count);
     rad_status kept = rad_hier_kernel_cache_build(h->ctx, &h->kernel, h->nodes, h->normal, h->links,
                                                   h->source_depth ? h->link_count : 0,
                                                   h->source_depth,
