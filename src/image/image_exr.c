@@ -173,6 +173,7 @@ static rad_status decode(rad_context *ctx, const char *path, exr_context_t exr, 
     rad_image *image = NULL;
     exr_decode_pipeline_t decoder = {0};
     int decoder_ready = 0;
+    float *skipped = NULL; /* where the channels not kept are decoded to (below) */
 
     exr_storage_t storage;
     EXR_CHECK(exr_get_storage(exr, 0, &storage));
@@ -207,10 +208,17 @@ static rad_status decode(rad_context *ctx, const char *path, exr_context_t exr, 
     EXR_CHECK(exr_get_scanlines_per_chunk(exr, 0, &lines_per_chunk));
     if (lines_per_chunk < 1) EXR_FAIL(RAD_ERROR_PARSE, "%s: damaged EXR file (chunk size)", path);
     size_t row_bytes = (size_t)width * 3 * sizeof(float);
+    /* The channels not kept (alpha, other layers, the unused one of Y and RGB) are decoded into
+     * one scratch chunk and dropped. A NULL destination, which OpenEXR documents as "skip",
+     * made OpenEXR 3.1's decoder write through NULL on a ZIP chunk stored uncompressed with one
+     * kept half channel of three (found by fuzz_image; fuzz/regressions/image keeps the input). */
+    skipped = rad_alloc(ctx, (size_t)width * (size_t)lines_per_chunk, sizeof *skipped);
+    if (!skipped) EXR_FAIL(RAD_ERROR_NO_MEMORY, "%s: no memory for an EXR chunk", path);
     for (int64_t y = window.min.y; y <= window.max.y; y += lines_per_chunk) {
         exr_chunk_info_t chunk;
         EXR_CHECK(exr_read_scanline_chunk_info(exr, 0, (int)y, &chunk));
-        if (chunk.start_y < window.min.y || (int64_t)chunk.start_y + chunk.height - 1 > window.max.y)
+        if (chunk.start_y < window.min.y || (int64_t)chunk.start_y + chunk.height - 1 > window.max.y ||
+            chunk.height > lines_per_chunk)
             EXR_FAIL(RAD_ERROR_PARSE, "%s: damaged EXR file (chunk at line %d)", path, chunk.start_y);
         EXR_CHECK(decoder_ready ? exr_decoding_update(exr, 0, &chunk, &decoder)
                                 : exr_decoding_initialize(exr, 0, &chunk, &decoder));
@@ -219,15 +227,12 @@ static rad_status decode(rad_context *ctx, const char *path, exr_context_t exr, 
             exr_coding_channel_info_t *channel = &decoder.channels[i];
             int slot = channel_slot(channel->channel_name ? channel->channel_name : "");
             if (slot == 3) slot = gray ? 0 : -1; /* Y only for a gray image, into red first */
-            if (slot < 0 || channel->height == 0) {
-                channel->decode_to_ptr = NULL;
-                continue;
-            }
-            channel->user_pixel_stride = 3 * sizeof(float);
-            channel->user_line_stride = (int32_t)row_bytes;
+            int kept = slot >= 0 && channel->height > 0;
+            channel->user_pixel_stride = kept ? 3 * sizeof(float) : sizeof(float);
+            channel->user_line_stride = (int32_t)(kept ? row_bytes : (size_t)width * sizeof(float));
             channel->user_bytes_per_element = sizeof(float);
             channel->user_data_type = EXR_PIXEL_FLOAT;
-            channel->decode_to_ptr = (uint8_t *)(first_row + slot);
+            channel->decode_to_ptr = kept ? (uint8_t *)(first_row + slot) : (uint8_t *)skipped;
         }
         if (!decoder_ready) {
             EXR_CHECK(exr_decoding_choose_default_routines(exr, 0, &decoder));
@@ -244,6 +249,7 @@ done:
 #undef EXR_CHECK
 #undef EXR_FAIL
     if (decoder_ready || decoder.channels) exr_decoding_destroy(exr, &decoder);
+    rad_free(ctx, skipped);
     if (status) {
         rad_image_free(image);
         return status;
