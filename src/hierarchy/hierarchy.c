@@ -66,6 +66,9 @@ typedef struct cluster_info {
     double reflectance;    /* the largest member reflectance (any channel) */
     rad_vec3 lo, hi;       /* the box */
     uint32_t parent;       /* the parent cluster's node, or RAD_HIER_NO_NODE for the top */
+    float reflected;       /* the largest reflected radiosity (radiosity minus its own emission,
+                              any channel) of a member root, as of the last refinement
+                              (brightest_members); in the padding after parent */
     double brightest;      /* the largest radiosity (any channel) of a member root, as of the
                               last refinement (brightest_members) */
 } cluster_info;
@@ -1060,8 +1063,55 @@ static int make_cluster_link(const rad_hier *h, uint32_t receiver, uint32_t sour
         out->error = -out->error;
         return 1;
     }
-    return estimate_cluster_link(h, w, upper, upper - lower, estimate, slack, 0x100u, 1, out,
-                                 seen_members);
+    /* A cluster source whose brightest member reflects at least a quarter of the brightest
+     * emission (the surfaces a sky lights) takes BRIGHT_CLUSTER_SETS sets: its link's
+     * visibility noise is repeated by every bounce after it (sponza4, sponza5,
+     * docs/hierarchical.md). Reflected, not sent: an emitter's own light (the office's lamps,
+     * the sky) does not count, so their clusters keep one set. */
+    enum { BRIGHT_CLUSTER_SETS = 3 };
+    int sets = is_cluster(&h->nodes[source]) && h->emission_max > 0 &&
+                       info(h, source)->reflected >= 0.25 * h->emission_max
+                   ? BRIGHT_CLUSTER_SETS
+                   : 1;
+    if (sets <= 1 || !seen_members)
+        return estimate_cluster_link(h, w, upper, upper - lower, estimate, slack, 0x100u, 1, out,
+                                     seen_members);
+    /* Several sets of four pairs: the factor is their mean; the members each set saw are
+     * weighed by the set's factor, and four of them are drawn in proportion (systematic
+     * resampling), which keeps the sent radiosity unbiased. */
+    double factor = 0, weight[4 * BRIGHT_CLUSTER_SETS];
+    uint32_t member[4 * BRIGHT_CLUSTER_SETS];
+    int count = 0;
+    rad_hier_link one = *out;
+    for (int j = 0; j < sets; ++j) {
+        link_sample seen;
+        seen.weight[0] = NO_SAMPLE;
+        estimate_cluster_link(h, w, upper, upper - lower, estimate, slack, 0x100u + 4u * (uint32_t)j, 1,
+                              &one, &seen);
+        if (j == 0) out->error = one.error;
+        factor += one.form_factor;
+        if (seen.weight[0] == NO_SAMPLE) continue;
+        for (int k = 0; k < 4; ++k) {
+            member[count] = seen.member[k];
+            weight[count++] = one.form_factor * SAMPLE_UNIT * seen.weight[k];
+        }
+    }
+    out->form_factor = (float)(factor / sets);
+    double total = 0;
+    for (int k = 0; k < count; ++k) total += weight[k];
+    if (!(total > 0)) {
+        seen_members->weight[0] = NO_SAMPLE;
+        out->form_factor = 0;
+        return 1;
+    }
+    uint32_t picked[4];
+    double added[4] = {1, 1, 1, 1}, step = total / 4, at = step * unit(link_hash(h, receiver, source, 0x1ffu)), run = 0;
+    for (int k = 0, i = 0; k < 4; ++k, at += step) {
+        while (i < count - 1 && run + weight[i] <= at) run += weight[i++];
+        picked[k] = member[i];
+    }
+    keep_seen_members(seen_members, picked, added, 4);
+    return 1;
 }
 
 /* Any link: the contour integral between two polygon nodes, the point estimate otherwise. */
@@ -1482,20 +1532,26 @@ static rad_status brightest_members(rad_hier *h) {
     for (long c = 0; c < count; ++c) {
         if (!h->walk[c].leaf) continue;
         const rad_hier_node *n = &h->nodes[h->cluster_first + (size_t)c];
-        double brightest = 0;
+        double brightest = 0, reflected = 0;
         for (uint32_t k = 0; k < n->child_count; ++k) {
-            const double *b = h->nodes[n->first_child + k].radiosity;
+            const rad_hier_node *m = &h->nodes[n->first_child + k];
+            const double *b = m->radiosity, *e = h->emission[m->polygon];
             brightest = larger(brightest, larger(b[0], larger(b[1], b[2])));
+            reflected = larger(reflected, larger(b[0] - e[0], larger(b[1] - e[1], b[2] - e[2])));
         }
         h->clusters[c].brightest = brightest;
+        h->clusters[c].reflected = (float)reflected;
     }
     for (size_t c = h->cluster_count; c-- > 0;) {
         if (h->walk[c].leaf) continue;
         const rad_hier_node *n = &h->nodes[h->cluster_first + c];
-        double brightest = 0;
-        for (uint32_t k = 0; k < n->child_count; ++k)
+        double brightest = 0, reflected = 0;
+        for (uint32_t k = 0; k < n->child_count; ++k) {
             brightest = larger(brightest, info(h, n->first_child + k)->brightest);
+            reflected = larger(reflected, info(h, n->first_child + k)->reflected);
+        }
         h->clusters[c].brightest = brightest;
+        h->clusters[c].reflected = (float)reflected;
     }
     /* Every node's, clusters' with their brightest member. */
     const long nodes = (long)h->node_count;
