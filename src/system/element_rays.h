@@ -1,7 +1,7 @@
 /* element_rays.h - ray queries against the ELEMENT mesh (Embree 3): the surfaces the radiosity
  * solution lives on. A hit names the element and where on it (Embree's u, v), so the renderer can
- * interpolate the radiosity at the hit. Quads go in as RTC_GEOMETRY_TYPE_QUAD, triangles as
- * RTC_GEOMETRY_TYPE_TRIANGLE.
+ * interpolate the radiosity at the hit. Every element goes into one RTC_GEOMETRY_TYPE_QUAD
+ * geometry, its primitive ID being the element (triangles as quads with the last corner twice).
  *
  * The renderer traces every ray (camera, gather, shadow, specular) against this one geometry, so
  * a point found by one query is exactly on the surface the next query starts from; the input
@@ -20,9 +20,6 @@ typedef struct rad_element_rays {
     const rad_mesh *mesh;
     RTCDevice device;
     RTCScene scene;
-    unsigned quad_geometry, triangle_geometry; /* Embree geometry ids; RTC_INVALID_GEOMETRY_ID if none */
-    uint32_t *quad_element;     /* primID of the quad geometry -> element */
-    uint32_t *triangle_element; /* primID of the triangle geometry -> element */
     double epsilon;             /* scene-scaled offset that keeps rays off their start surface */
     rad_ray_frame frame;        /* world -> Embree coordinates (scene/rays.h) */
 } rad_element_rays;
