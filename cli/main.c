@@ -75,8 +75,12 @@ int main(int argc, char **argv) {
     /* Large arrays from the heap and kept there when freed, not fresh mapped pages each time:
      * the hierarchy allocates and frees its link arrays (about 90 MB on Sponza) at every
      * refinement, and zeroing their new pages was 7% of Sponza's processor time. Measured
-     * (docs/hierarchical.md): Sponza's solve 10% less processor time, 50 MB more peak memory. */
-    mallopt(M_MMAP_MAX, 0);
+     * (docs/hierarchical.md): Sponza's solve 10% less processor time, 50 MB more peak memory.
+     * Blocks of MMAP_FROM and more are still mapped, and unmapped when freed: at 10^6
+     * triangles the refinement's link arrays of several hundred MB each, kept in the heap,
+     * left holes the next ones did not fit (peak 3.8 GB, 3.0-3.2 GB mapped). */
+    enum { MMAP_FROM = 128 << 20 };
+    mallopt(M_MMAP_THRESHOLD, MMAP_FROM);
     mallopt(M_TRIM_THRESHOLD, INT_MAX);
     /* No M_TOP_PAD: the importer's child runs under RLIMIT_AS (--max-memory), and a padded
      * heap asked for more address space than a small budget allows (cli_formfactors). */
