@@ -585,6 +585,12 @@ static int near_edge(const rad_view *view, const pixel_corner *corner_polygons, 
  * before to 0.01 % (8 times fewer: 4x4 0.82 / 0.87 / 0.87 -> 0.86 / 0.91 / 0.91 % in seeds
  * 0-2). */
 #define EVEN_SHARE 4
+/* And interior pixels with a corner on an unevenly lit element (a penumbra) draw UNEVEN_SHARE
+ * times the emitter samples, on a uniform mesh: what is left of the default Cornell render's
+ * 4x4 noise is mostly the floor's and the blocks' penumbras, where the lamp's share seen varies
+ * over the pixel and over the lamp (docs/rendering.md, "Penumbra pixels"). Not on a hierarchy's
+ * leaves, whose noise is the re-gathers' (docs/hierarchical.md). */
+#define UNEVEN_SHARE 2
 
 static int interior(const rad_renderer *r, const pixel_corner *corners, int x, int y) {
     if (!corners || r->settings.final_gather <= 0) return 0;
@@ -700,9 +706,13 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
         sample.gather_rays = INTERIOR_SHARE * r->settings.final_gather;
         if (dark_corners(view, corner_polygons, x, y, dark) == 4) sample.gather_rays *= DARK_INTERIOR;
         sample.light_samples = INTERIOR_SHARE * r->settings.light_samples;
-        /* Evenly lit: a quarter of the emitter samples (penumbra.c). */
-        if (!uneven_corner(view, corner_polygons, x, y) && sample.light_samples >= EVEN_SHARE)
-            sample.light_samples /= EVEN_SHARE;
+        /* Evenly lit: a quarter of the emitter samples (penumbra.c); in a penumbra on a
+         * uniform mesh, twice as many (UNEVEN_SHARE). */
+        if (!uneven_corner(view, corner_polygons, x, y)) {
+            if (sample.light_samples >= EVEN_SHARE) sample.light_samples /= EVEN_SHARE;
+        } else if (r->regather.leaves == RAD_LEAVES_UNIFORM) {
+            sample.light_samples *= UNEVEN_SHARE;
+        }
     }
     rad_vec3 direction[16];
     rad_element_hit first[16];
