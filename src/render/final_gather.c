@@ -77,6 +77,10 @@
  * face above the floor), 16x16 0.255-0.302 -> 0.246-0.292 %, gather rays +5.5 %, shadow
  * +10.6 % (docs/hierarchical.md, "hcornell2"). */
 #define FINE_SHORT_LEVELS 3
+/* Gather rays of the second and third re-gathers on fine leaves (the first keeps SHORT_RAYS):
+ * two at each level multiplied the deep chains' rays for little of the noise (docs/hierarchical.md,
+ * "Deep re-gathers on fine leaves"). */
+#define FINE_DEEP_RAYS 1
 /* Gather rays of a re-gather (below) on a uniform mesh. Its one emitter sample is not what is
  * noisy: its gather ray is, and it made about a sixth of the Cornell box's 4x4 noise variance
  * (cornell50: 256 x 256, seeds 0-3, gather rays 5.69 -> 6.45 M for 2, processor +8 %; 4x4 RMSE
@@ -324,7 +328,7 @@ void rad_regather_choose(rad_renderer *r, int leaves) {
     r->regather = leaves == RAD_LEAVES_COARSE
                       ? (struct rad_regather){leaves, COARSE_SHORT_LEVELS, 1, COARSE_FIRST_RAYS}
                   : leaves == RAD_LEAVES_FINE
-                      ? (struct rad_regather){leaves, FINE_SHORT_LEVELS, SHORT_RAYS, SHORT_RAYS}
+                      ? (struct rad_regather){leaves, FINE_SHORT_LEVELS, FINE_DEEP_RAYS, SHORT_RAYS}
                       : (struct rad_regather){RAD_LEAVES_UNIFORM, SHORT_LEVELS, SHORT_RAYS, SHORT_RAYS};
 }
 
