@@ -17,8 +17,8 @@ void rad_element_rays_destroy(rad_element_rays *rays) {
  * (v0, v1, v2) goes in as the quad (v0, v1, v2, v2), which Embree documents as the way to mix
  * the two; its hits all fall in the quad's first half (v0, v1, v3), where u and v are the
  * triangle's own. One geometry rather than a quad and a triangle geometry: no element table to
- * read after each hit, and one BVH to traverse (3-4 % less processor time on the Cornell render
- * and on Sponza, docs/rendering.md "Where the time goes"). */
+ * read after each hit, and one BVH to traverse (less processor time on the Cornell render and on
+ * Sponza, the same hits on the Cornell box: docs/rendering.md, "One element geometry"). */
 static rad_status add_elements(rad_element_rays *rays) {
     const rad_mesh *mesh = rays->mesh;
     if (mesh->element_count == 0) return RAD_OK;
