@@ -78,7 +78,8 @@ int main(int argc, char **argv) {
      * (docs/hierarchical.md): Sponza's solve 10% less processor time, 50 MB more peak memory.
      * Blocks of MMAP_FROM and more are still mapped, and unmapped when freed: at 10^6
      * triangles the refinement's link arrays of several hundred MB each, kept in the heap,
-     * left holes the next ones did not fit (peak 3.8 GB, 3.0-3.2 GB mapped). */
+     * left holes the next ones did not fit: its peak 4.0 -> 2.9 GB (docs/hierarchical.md,
+     * "Sixteenth session"). */
     enum { MMAP_FROM = 128 << 20 };
     mallopt(M_MMAP_THRESHOLD, MMAP_FROM);
     mallopt(M_TRIM_THRESHOLD, INT_MAX);

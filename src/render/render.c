@@ -588,7 +588,7 @@ static int near_edge(const rad_view *view, const pixel_corner *corner_polygons, 
 /* And interior pixels with a corner on an unevenly lit element (a penumbra) draw UNEVEN_SHARE
  * times the emitter samples, on a uniform mesh: what is left of the default Cornell render's
  * 4x4 noise is mostly the floor's and the blocks' penumbras, where the lamp's share seen varies
- * over the pixel and over the lamp (docs/rendering.md, "Penumbra pixels"). Not on a hierarchy's
+ * over the pixel and over the lamp (docs/rendering.md, "One element geometry, and penumbra pixels"). Not on a hierarchy's
  * leaves, whose noise is the re-gathers' (docs/hierarchical.md). */
 #define UNEVEN_SHARE 2
 
