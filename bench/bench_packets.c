@@ -8,6 +8,7 @@
  * of three, one thread) as a Markdown table. Timings only: nothing here passes or fails.
  * Usage: bench_packets */
 #include "radiosity.h"
+#include "core/rng.h"
 #include "scene/camera.h"
 #include "system/element_rays.h"
 #include "system/system.h"
@@ -22,11 +23,6 @@ static double processor_seconds(void) {
     struct timespec t;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static double uniform(uint64_t *state) {
-    *state = *state * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(*state >> 11) * 0x1p-53;
 }
 
 /* The rays in Embree's frame: origin, unit directions (gather) and unit directions with the
@@ -150,23 +146,23 @@ int main(void) {
             hi = v3(fmax(hi.x, q.x), fmax(hi.y, q.y), fmax(hi.z, q.z));
         }
     }
-    uint64_t state = 12345;
+    rad_rng state = rad_rng_make(12345, 0);
     tnear = (float)(rays->epsilon * rays->frame.scale);
     for (int point = 0; point < POINTS;) {
         rad_element_hit hit;
-        rad_vec3 d = rad_view_direction(&view, 256 * uniform(&state), 256 * uniform(&state));
+        rad_vec3 d = rad_view_direction(&view, 256 * rad_rng_uniform(&state), 256 * rad_rng_uniform(&state));
         if (!rad_element_rays_intersect(rays, view.eye, d, 0, INFINITY, &hit) || !hit.front) continue;
         rad_vec3 x = v3_add(view.eye, v3_scale(d, hit.t)), n = mesh->element_normal[hit.element], t, b;
         v3_basis(n, &t, &b);
         rad_ray_frame_point(&rays->frame, x, origin[point]);
         for (int k = 0; k < RAYS; ++k) {
-            double u0 = uniform(&state), u1 = uniform(&state), radius = sqrt(u0);
+            double u0 = rad_rng_uniform(&state), u1 = rad_rng_uniform(&state), radius = sqrt(u0);
             rad_vec3 w = v3_add(v3_add(v3_scale(t, radius * cos(2 * RAD_PI * u1)),
                                        v3_scale(b, radius * sin(2 * RAD_PI * u1))),
                                 v3_scale(n, sqrt(1 - u0)));
             for (int c = 0; c < 3; ++c) gather[point][k][c] = (float)(c == 0 ? w.x : c == 1 ? w.y : w.z);
-            rad_vec3 lamp = v3(lo.x + uniform(&state) * (hi.x - lo.x), lo.y,
-                               lo.z + uniform(&state) * (hi.z - lo.z));
+            rad_vec3 lamp = v3(lo.x + rad_rng_uniform(&state) * (hi.x - lo.x), lo.y,
+                               lo.z + rad_rng_uniform(&state) * (hi.z - lo.z));
             rad_vec3 s = v3_sub(lamp, x);
             double length = v3_length(s);
             shadow[point][k][0] = (float)(s.x / length);
