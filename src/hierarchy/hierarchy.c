@@ -1621,10 +1621,10 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
  * its reads missed the cache: the 10^5 office's gather took 1.7 times as long), and drops the
  * free slots: copied into a new array in link order, the links cut into blocks whose samples
  * are counted, then copied, in parallel. (It used to permute them in place, following the
- * cycles one slot at a time: 13 s of one thread at 10^6, every step a cache miss.) */
-/* Not when fewer than 1 in ORDER_NEW of the samples came since the last time: the copy, most of
- * a late refinement pass at 10^6 triangles, then costs more than the few cache misses it saves
- * (the links are as before; the gather's sums read the same values in the same order). */
+ * cycles one slot at a time: 13 s of one thread at 10^6, every step a cache miss.) Not when
+ * fewer than 1 in ORDER_NEW of the samples came since the last time: the copy, most of a late
+ * refinement pass at 10^6 triangles, then costs more than the few cache misses it saves (the
+ * links are as before; the gather's sums read the same values in the same order). */
 #define ORDER_NEW 16
 static rad_status order_samples(rad_hier *h) {
     if (!h->sample_count) return RAD_OK;
