@@ -71,26 +71,17 @@ int cmd_pathtrace(int argc, char **argv) {
     if (!(a.clamp >= 0) || isinf(a.clamp))
         return cli_error(EXIT_USAGE, "pathtrace: --clamp must be 0 (off) or a positive number");
 
-    rad_context *ctx = cli_context_with_progress(a.threads, (uint64_t)a.seed, a.max_memory, a.quiet);
-    rad_image_save_options save;
-    if ((status = cli_image_check_path(ctx, &a.image, &save))) {
-        rad_context_destroy(ctx);
-        return status;
-    }
+    cli_image_run run;
     const char *scene_name = positional_count ? positional[0] : "cornell";
-    rad_scene *scene = NULL;
+    if ((status = cli_image_open("pathtrace", &a.image, a.threads, (uint64_t)a.seed, a.max_memory,
+                                 a.quiet, scene_name, &run)))
+        return status;
     rad_image *image = NULL;
     rad_pathtrace_stats stats = {0};
     double write_seconds = 0;
-    rad_status rs = cli_load_scene(ctx, scene_name, &scene);
-    if (!rs && (status = cli_check_outputs_against_scene("pathtrace", scene, &a.image.output, 1))) {
-        rad_scene_destroy(scene); /* the output is the scene's .mtl, .bin, a texture, ... */
-        rad_context_destroy(ctx);
-        return status;
-    }
-    if (!rs) {
+    if (!run.status) {
         rad_camera_desc camera;
-        cli_camera_get(&a.camera, scene, &camera);
+        cli_camera_get(&a.camera, run.scene, &camera);
         rad_pathtrace_options trace = {0};
         trace.width = a.image.width;
         trace.height = a.image.height;
@@ -100,16 +91,11 @@ int cmd_pathtrace(int argc, char **argv) {
         trace.clamp_indirect = a.clamp;
         trace.time_budget = a.time_budget;
         cli_stage("pathtrace", "%dx%d pixels, %d paths per pixel", a.image.width, a.image.height, a.spp);
-        rs = rad_pathtrace(ctx, scene, &trace, &image, &stats);
+        run.status = rad_pathtrace(run.ctx, run.scene, &trace, &image, &stats);
     }
-    if (!rs) {
-        double start = cli_seconds();
-        rs = rad_image_save(image, a.image.output, &save);
-        write_seconds = cli_seconds() - start;
-    }
-    cli_progress_clear();
+    cli_image_write(&run, &a.image, image, &write_seconds);
     int exit_status = 0;
-    if (rs) exit_status = cli_fail(ctx, rs);
+    if (run.status) exit_status = cli_fail(run.ctx, run.status);
     else if (stats.stopped) {
         /* Stopped early (Ctrl-C, --time-budget): the image written has fewer paths; say how
          * many (the rows the last pass finished have one pass more). */
@@ -123,7 +109,7 @@ int cmd_pathtrace(int argc, char **argv) {
                 stats.seconds, counts, a.spp, a.image.output);
         if (stats.stopped == RAD_PATHTRACE_CANCELLED) exit_status = cli_interrupt_exit_status();
     }
-    if (!rs && a.stats) {
+    if (!run.status && a.stats) {
         double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
         printf("path tracing %8.3f s   %dx%d, %d spp, %llu paths, %.3g Mpaths/s, %.3g Mrays/s "
                "(%.2f rays per path)\n",
@@ -134,7 +120,6 @@ int cmd_pathtrace(int argc, char **argv) {
         printf("write        %8.3f s\n", write_seconds);
     }
     rad_image_destroy(image);
-    rad_scene_destroy(scene);
-    rad_context_destroy(ctx);
+    cli_image_close(&run);
     return exit_status;
 }

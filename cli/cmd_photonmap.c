@@ -81,26 +81,17 @@ int cmd_photonmap(int argc, char **argv) {
     if ((status = cli_lights_check("photonmap", &a.lights))) return status;
     if (a.max_memory < 0) return cli_error(EXIT_USAGE, "photonmap: --max-memory must be positive");
 
-    rad_context *ctx = cli_context_with_progress(a.threads, (uint64_t)a.seed, a.max_memory, a.quiet);
-    rad_image_save_options save;
-    if ((status = cli_image_check_path(ctx, &a.image, &save))) {
-        rad_context_destroy(ctx);
-        return status;
-    }
+    cli_image_run run;
     const char *scene_name = positional_count ? positional[0] : "cornell";
-    rad_scene *scene = NULL;
+    if ((status = cli_image_open("photonmap", &a.image, a.threads, (uint64_t)a.seed, a.max_memory,
+                                 a.quiet, scene_name, &run)))
+        return status;
     rad_image *image = NULL;
     rad_photonmap_stats stats = {0};
     double write_seconds = 0;
-    rad_status rs = cli_load_scene(ctx, scene_name, &scene);
-    if (!rs && (status = cli_check_outputs_against_scene("photonmap", scene, &a.image.output, 1))) {
-        rad_scene_destroy(scene); /* the output is the scene's .mtl, .bin, a texture, ... */
-        rad_context_destroy(ctx);
-        return status;
-    }
-    if (!rs) {
+    if (!run.status) {
         rad_camera_desc camera;
-        cli_camera_get(&a.camera, scene, &camera);
+        cli_camera_get(&a.camera, run.scene, &camera);
         rad_photonmap_options o = {0};
         o.width = a.image.width;
         o.height = a.image.height;
@@ -115,16 +106,11 @@ int cmd_photonmap(int argc, char **argv) {
         cli_stage("photonmap", "%dx%d pixels, %d samples per pixel, %zu + %zu photons%s",
                   a.image.width, a.image.height, a.spp, a.photons, a.caustic_photons,
                   a.progressive > 1 ? ", progressive" : "");
-        rs = rad_photonmap(ctx, scene, &o, &image, &stats);
+        run.status = rad_photonmap(run.ctx, run.scene, &o, &image, &stats);
     }
-    if (!rs) {
-        double start = cli_seconds();
-        rs = rad_image_save(image, a.image.output, &save);
-        write_seconds = cli_seconds() - start;
-    }
-    cli_progress_clear();
+    cli_image_write(&run, &a.image, image, &write_seconds);
     int exit_status = 0;
-    if (rs) exit_status = cli_fail(ctx, rs);
+    if (run.status) exit_status = cli_fail(run.ctx, run.status);
     else if (a.stats) {
         double trace = stats.trace_seconds > 0 ? stats.trace_seconds : 1e-9;
         printf("photon tracing %8.3f s   %llu photons, %.3g Mphotons/s (processor time %.3f s: "
@@ -143,7 +129,6 @@ int cmd_photonmap(int argc, char **argv) {
         printf("write          %8.3f s\n", write_seconds);
     }
     rad_image_destroy(image);
-    rad_scene_destroy(scene);
-    rad_context_destroy(ctx);
+    cli_image_close(&run);
     return exit_status;
 }

@@ -1,5 +1,7 @@
 /* image_options.c - the output image flags shared by pathtrace and photonmap (image_options.h). */
 #include "image_options.h"
+#include "output_path.h"
+#include "progress.h"
 
 void cli_image_args_init(cli_image_args *args) {
     args->output = NULL;
@@ -27,4 +29,37 @@ int cli_image_check_path(rad_context *ctx, const cli_image_args *args, rad_image
     int usage = rs == RAD_ERROR_INVALID_ARGUMENT;
     cli_fail(ctx, rs);
     return usage ? EXIT_USAGE : 1;
+}
+
+int cli_image_open(const char *command, const cli_image_args *args, int threads, uint64_t seed,
+                   double max_memory_mib, int quiet, const char *scene_name, cli_image_run *run) {
+    run->ctx = cli_context_with_progress(threads, seed, max_memory_mib, quiet);
+    run->scene = NULL;
+    int status = cli_image_check_path(run->ctx, args, &run->save);
+    if (!status) {
+        run->status = cli_load_scene(run->ctx, scene_name, &run->scene);
+        /* The output may be one of the scene's own files (its .mtl, .bin, a texture, ...). */
+        if (!run->status)
+            status = cli_check_outputs_against_scene(command, run->scene, &args->output, 1);
+    }
+    if (status) cli_image_close(run);
+    return status;
+}
+
+void cli_image_write(cli_image_run *run, const cli_image_args *args, const rad_image *image,
+                     double *seconds) {
+    *seconds = 0;
+    if (!run->status) {
+        double start = cli_seconds();
+        run->status = rad_image_save(image, args->output, &run->save);
+        *seconds = cli_seconds() - start;
+    }
+    cli_progress_clear();
+}
+
+void cli_image_close(cli_image_run *run) {
+    rad_scene_destroy(run->scene);
+    rad_context_destroy(run->ctx);
+    run->scene = NULL;
+    run->ctx = NULL;
 }

@@ -38,4 +38,28 @@ int cli_image_check(const char *command, const cli_image_args *args);
  * 0, or after one error line EXIT_USAGE (a bad extension or curve) or 1 (an unwritable place). */
 int cli_image_check_path(rad_context *ctx, const cli_image_args *args, rad_image_save_options *save);
 
+/* What pathtrace and photonmap hold while they draw: the context, how the image is saved, the
+ * scene, and the status of the work so far (a failed load, then the drawing's). */
+typedef struct cli_image_run {
+    rad_context *ctx;
+    rad_image_save_options save;
+    rad_scene *scene;
+    rad_status status;
+} cli_image_run;
+
+/* The two commands' set-up: the context (with progress), the output checked, the scene
+ * `scene_name` loaded and the output checked against the scene's own files. Returns 0 with
+ * `run` filled (its status the load's: the scene is NULL when that failed), or an exit status
+ * after one error line, with nothing left to free. */
+int cli_image_open(const char *command, const cli_image_args *args, int threads, uint64_t seed,
+                   double max_memory_mib, int quiet, const char *scene_name, cli_image_run *run);
+
+/* Saves `image` to the output when nothing has failed so far (run->status), in *seconds the
+ * time it took, then clears the progress line. */
+void cli_image_write(cli_image_run *run, const cli_image_args *args, const rad_image *image,
+                     double *seconds);
+
+/* Frees the scene and the context. */
+void cli_image_close(cli_image_run *run);
+
 #endif
