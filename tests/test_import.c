@@ -322,6 +322,50 @@ static void test_faces(void) {
     rad_context_destroy(ctx);
 }
 
+/* A circle of 10,000 corners written with six decimals: the rounding leaves dents far below its
+ * size, so it is convex and is cut into convex pieces of at most 64 corners that share corners
+ * with a few others at most. Cut as non-convex (ear clipping), it was a fan of 9,998 slivers
+ * meeting in one corner, and the contact search and the smooth shading's neighbours then took
+ * every pair of them (minutes at 100,000 corners). */
+static void test_large_circle(void) {
+    rad_context *ctx = make_context();
+    enum { CORNERS = 10000 };
+    char *text = malloc(64 * (size_t)CORNERS + 64);
+    CHECK(text != NULL);
+    if (!text) return;
+    size_t used = (size_t)sprintf(text, "o disk\n");
+    for (int k = 0; k < CORNERS; ++k)
+        used += (size_t)sprintf(text + used, "v %.6f %.6f 0\n", cos(2 * RAD_PI * k / CORNERS),
+                                sin(2 * RAD_PI * k / CORNERS));
+    used += (size_t)sprintf(text + used, "f");
+    for (int k = 0; k < CORNERS; ++k) used += (size_t)sprintf(text + used, " %d", k + 1);
+    sprintf(text + used, "\n");
+    write_text(temp_path("circle.obj"), text);
+    free(text);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_load(ctx, temp_path("circle.obj"), &scene) == RAD_OK);
+    if (scene) {
+        CHECK_NEAR(surface_area(scene, find_surface(scene, "disk")), RAD_PI, 1e-5);
+        uint32_t *pieces = calloc(scene->vertex_count + 1, sizeof *pieces);
+        uint32_t most = 0;
+        for (size_t i = 0; i < scene->polygon_count && pieces; ++i) {
+            const rad_polygon *p = &scene->polygons[i];
+            CHECK(p->count <= 64);
+            CHECK(rad_polygon_normal(scene, p).z > 1 - 1e-9);
+            for (uint32_t k = 0; k < p->count; ++k) {
+                uint32_t v = scene->polygon_vertices[p->first + k];
+                if (++pieces[v] > most) most = pieces[v];
+            }
+        }
+        printf("a 10,000-gon: %zu pieces, a corner in %u of them at most\n", scene->polygon_count,
+               most);
+        CHECK(pieces && most <= 8);
+        free(pieces);
+    }
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
 /* ------------------------------------------------------------------------------------------- */
 /* Bad input: each one a clear message and the right status, never a crash.                     */
 
@@ -643,6 +687,7 @@ int main(void) {
     test_gltf_lamp_room(RAD_SOURCE_DIR "/scenes/lamp-room.glb");
     test_ply();
     test_faces();
+    test_large_circle();
     test_bad_input();
     test_round_trip("cornell", 1);
     test_round_trip("two-squares", 1);

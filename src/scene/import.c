@@ -9,7 +9,9 @@
  *    three distinct corners or (near) zero area are dropped and counted in a warning; a corner
  *    with a NaN or infinite coordinate is an error. Faces under a mirroring transform are
  *    turned so that the front stays the front (counter-clockwise). Non-convex faces are cut
- *    into convex quads and triangles (ear clipping, then pairs joined); two consecutive
+ *    into convex quads and triangles (ear clipping, then pairs joined); convex faces of more
+ *    than 64 corners into a 64-gon through corners spread along them and the caps between its
+ *    corners, cut the same way (cut_convex); two consecutive
  *    coplanar triangles that form a convex quad are joined again, since the mesher cuts quads
  *    into better elements than triangles.
  * 4. Materials: diffuse reflectance and emitted radiance, plus mirror/glass hints for the
@@ -168,20 +170,39 @@ static int degenerate(const rad_vec3 *p, size_t n) {
 
 /* Convex and simple, seen from the side its Newell normal points to: projected onto the plane
  * across that normal (so slightly non-planar quads count), every corner turns left or goes
- * straight, and the turns add up to one full turn. */
-static int convex(const rad_vec3 *p, size_t n) {
+ * straight, and the turns add up to one full turn. With `straight_dent` above 0, a corner that
+ * turns right by less than that share of the polygon's extent (its distance inside the line
+ * through its neighbours) goes straight. Faces of more than MAX_POLYGON_CORNERS corners are
+ * judged with STRAIGHT_DENT: a circle of many corners written with six decimals has such dents
+ * everywhere, and cut as non-convex it became a fan of slivers meeting in one corner (below). */
+#define STRAIGHT_DENT 1e-6
+static int convex_within(const rad_vec3 *p, size_t n, double straight_dent) {
     rad_vec3 normal = v3_normalize(newell_normal(p, n)), u, v;
     v3_basis(normal, &u, &v);
+    double dent = 0;
+    if (straight_dent > 0) {
+        rad_vec3 lo = p[0], hi = p[0];
+        for (size_t k = 1; k < n; ++k) {
+            lo = v3(fmin(lo.x, p[k].x), fmin(lo.y, p[k].y), fmin(lo.z, p[k].z));
+            hi = v3(fmax(hi.x, p[k].x), fmax(hi.y, p[k].y), fmax(hi.z, p[k].z));
+        }
+        dent = straight_dent * v3_length(v3_sub(hi, lo));
+    }
     double turning = 0;
     for (size_t k = 0; k < n; ++k) {
         rad_vec3 a3 = v3_sub(p[(k + 1) % n], p[k]), b3 = v3_sub(p[(k + 2) % n], p[(k + 1) % n]);
         double ax = v3_dot(a3, u), ay = v3_dot(a3, v), bx = v3_dot(b3, u), by = v3_dot(b3, v);
         double sine = ax * by - ay * bx, cosine = ax * bx + ay * by;
-        if (sine < -1e-12 * (fabs(ax) + fabs(ay)) * (fabs(bx) + fabs(by))) return 0;
+        /* sine / |a + b| is how far the corner lies off the line through its neighbours. */
+        if (sine < -1e-12 * (fabs(ax) + fabs(ay)) * (fabs(bx) + fabs(by)) &&
+            -sine > dent * hypot(ax + bx, ay + by))
+            return 0;
         turning += atan2(sine, cosine);
     }
     return fabs(turning - 2 * RAD_PI) < 1e-6;
 }
+
+static int convex(const rad_vec3 *p, size_t n) { return convex_within(p, n, 0); }
 
 /* Is 2-D point p strictly inside the counter-clockwise triangle abc? */
 static int inside_triangle(const double *a, const double *b, const double *c, const double *p) {
@@ -233,7 +254,7 @@ typedef struct importer {
     int usemtl_running;
 
     /* What was done, for the notes at the end. */
-    size_t degenerate, points_and_lines, turned, cut, joined;
+    size_t degenerate, points_and_lines, turned, cut, split, joined;
     size_t textured_without_uv; /* textured surfaces whose mesh has no texture coordinates */
     uint8_t *texture_lost; /* per scene material: its texture could not be used */
     size_t texture_lost_capacity;
@@ -611,8 +632,8 @@ static int join_pieces(const face *f, const uint32_t *s, const uint32_t *t, uint
 }
 
 static rad_status emit_piece(importer *im, const face *f, const uint32_t *piece, size_t n) {
-    rad_vec3 points[4];
-    uint32_t corners[4];
+    rad_vec3 points[MAX_POLYGON_CORNERS];
+    uint32_t corners[MAX_POLYGON_CORNERS];
     for (size_t k = 0; k < n; ++k) {
         points[k] = f->points[piece[k]];
         corners[k] = f->corners[piece[k]];
@@ -685,6 +706,48 @@ static rad_status cut_face(importer *im, const face *f) {
     return status;
 }
 
+/* How far the corners run[1 .. n-2] lie from the line through run[0] and run[n-1], at most. */
+static double off_chord(const face *f, const uint32_t *run, size_t n) {
+    rad_vec3 a = f->points[run[0]], chord = v3_sub(f->points[run[n - 1]], a);
+    double length = v3_length(chord), most = 0;
+    for (size_t k = 1; k + 1 < n; ++k) {
+        rad_vec3 d = v3_sub(f->points[run[k]], a);
+        most = fmax(most, length > 0 ? v3_length(v3_cross(d, chord)) / length : v3_length(d));
+    }
+    return most;
+}
+
+/* A convex face of more than MAX_POLYGON_CORNERS corners, given as the indices `run[0 .. n-1]`
+ * of its corners in f, cut into convex pieces of at most that many: the polygon through
+ * MAX_POLYGON_CORNERS corners spread evenly along it, then each run of corners between two of
+ * those (a cap, convex too) the same way. Every corner is in a few pieces at most, where ear
+ * clipping made a fan of n - 2 slivers meeting in one corner (the contact search then met every
+ * pair, the smooth shading's neighbours every sliver). A cap whose corners all lie within
+ * `straight` of its chord is dropped: it is the rounding's dents (turned inside out, as likely
+ * as not), not a piece of the face. */
+static rad_status cut_convex(importer *im, const face *f, const uint32_t *run, size_t n,
+                             double straight) {
+    if (n <= MAX_POLYGON_CORNERS) return emit_piece(im, f, run, n);
+    uint32_t core[MAX_POLYGON_CORNERS];
+    size_t at[MAX_POLYGON_CORNERS + 1];
+    for (size_t i = 0; i < MAX_POLYGON_CORNERS; ++i) {
+        at[i] = i * n / MAX_POLYGON_CORNERS;
+        core[i] = run[at[i]];
+    }
+    at[MAX_POLYGON_CORNERS] = n;
+    rad_status status = emit_piece(im, f, core, MAX_POLYGON_CORNERS);
+    uint32_t *cap = rad_alloc(im->ctx, n / MAX_POLYGON_CORNERS + 2, sizeof *cap);
+    if (!cap) return RAD_ERROR_NO_MEMORY;
+    for (size_t i = 0; i < MAX_POLYGON_CORNERS && !status; ++i) {
+        size_t count = 0;
+        for (size_t k = at[i]; k <= at[i + 1]; ++k) cap[count++] = run[k % n];
+        if (count >= 3 && off_chord(f, cap, count) > straight)
+            status = cut_convex(im, f, cap, count, straight);
+    }
+    rad_free(im->ctx, cap);
+    return status;
+}
+
 static rad_status add_face(importer *im, face *f) {
     if (degenerate(f->points, f->count)) {
         im->degenerate++;
@@ -708,8 +771,18 @@ static rad_status add_face(importer *im, face *f) {
     if (status) return status;
     if (f->count <= MAX_POLYGON_CORNERS && convex(f->points, f->count))
         return emit(im, f->points, f->corners, f->count);
-    im->cut++;
-    return cut_face(im, f);
+    if (f->count <= MAX_POLYGON_CORNERS || !convex_within(f->points, f->count, STRAIGHT_DENT)) {
+        im->cut++;
+        return cut_face(im, f);
+    }
+    im->split++;
+    rad_vec3 lo = f->points[0], hi = f->points[0];
+    for (size_t k = 0; k < f->count; ++k) {
+        im->order[k] = (uint32_t)k;
+        lo = v3(fmin(lo.x, f->points[k].x), fmin(lo.y, f->points[k].y), fmin(lo.z, f->points[k].z));
+        hi = v3(fmax(hi.x, f->points[k].x), fmax(hi.y, f->points[k].y), fmax(hi.z, f->points[k].z));
+    }
+    return cut_convex(im, f, im->order, f->count, STRAIGHT_DENT * v3_length(v3_sub(hi, lo)));
 }
 
 static rad_status grow_scratch(importer *im, size_t corners, size_t vertices) {
@@ -1225,6 +1298,9 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
         rad_info(ctx, "%s: turned %zu faces under mirroring transforms so their fronts stay "
                  "counter-clockwise", path, im.turned);
     if (im.cut) rad_info(ctx, "%s: cut %zu non-convex faces into convex pieces", path, im.cut);
+    if (im.split)
+        rad_info(ctx, "%s: cut %zu convex faces of more than %d corners into convex pieces", path,
+                 im.split, MAX_POLYGON_CORNERS);
     if (im.joined)
         rad_info(ctx, "%s: joined %zu pairs of triangles into quads", path, im.joined);
     rad_scene_warn_bright_materials(im.ctx, im.scene, im.path, im.texture_lost,
