@@ -366,34 +366,6 @@ static void test_large_circle(void) {
     rad_context_destroy(ctx);
 }
 
-/* An OBJ's '# camera:' comment: read when it is a usable camera, a warning and ignored when not
- * (here the eye is the point looked at). */
-static void test_camera_comment(void) {
-    rad_context *ctx = make_context();
-    static const char *const lines[2] = {
-        "# camera: eye 0.5 0.5 2  look 0.5 0.5 0  up 0 1 0  vertical field of view 50 degrees\n",
-        "# camera: eye 0 0 0  look 0 0 0  up 0 1 0  vertical field of view 50 degrees\n"};
-    for (int bad = 0; bad < 2; ++bad) {
-        char text[512];
-        snprintf(text, sizeof text, "# a square\n%s\no square\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
-                 "f 1 2 3 4\n", lines[bad]);
-        write_text(temp_path("camera.obj"), text);
-        log_text[0] = '\0';
-        rad_scene *scene = NULL;
-        CHECK(rad_scene_load(ctx, temp_path("camera.obj"), &scene) == RAD_OK);
-        if (!scene) continue;
-        CHECK(scene->has_camera == !bad);
-        if (!bad) {
-            CHECK_VEC(scene->camera.eye, 0.5, 0.5, 2, 1e-12);
-            CHECK_VEC(scene->camera.look, 0.5, 0.5, 0, 1e-12);
-            CHECK_NEAR(scene->camera.fov_degrees, 50, 1e-12);
-        }
-        CHECK((strstr(log_text, "'# camera:' line is not a camera") != NULL) == bad);
-        rad_scene_destroy(scene);
-    }
-    rad_context_destroy(ctx);
-}
-
 /* ------------------------------------------------------------------------------------------- */
 /* Bad input: each one a clear message and the right status, never a crash.                     */
 
@@ -724,7 +696,6 @@ int main(void) {
     test_ply();
     test_faces();
     test_large_circle();
-    test_camera_comment();
     test_bad_input();
     test_round_trip("cornell", 1);
     test_round_trip("two-squares", 1);
