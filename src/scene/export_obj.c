@@ -106,8 +106,7 @@ static int write_obj(rad_context *ctx, FILE *file, const rad_scene *scene, char 
     int failed = fprintf(file, "# %s, written by radiosity. Lengths in scene units; faces are "
                                "counter-clockwise seen from the front.\n", scene->source) < 0;
     if (scene->has_camera) {
-        /* OBJ has no cameras: a comment, for people and for the importer, which reads it back
-         * (import.c, read_camera_comment). */
+        /* For people: OBJ has no cameras, and the importer does not read this line. */
         const rad_camera *c = &scene->camera;
         const double values[10] = {c->eye.x, c->eye.y, c->eye.z, c->look.x, c->look.y,
                                    c->look.z, c->up.x, c->up.y, c->up.z, c->fov_degrees};

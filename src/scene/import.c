@@ -17,8 +17,7 @@
  * 4. Materials: diffuse reflectance and emitted radiance, plus mirror/glass hints for the
  *    ray-traced pass. Values are kept as the file gives them (a reflectance above 1 is refused
  *    later, when the system is built).
- * 5. The first camera, if the file has one; for an OBJ, the `# camera:` comment this program's
- *    exporter writes.
+ * 5. The first camera, if the file has one.
  * 6. Textures (scene/texture.h): a material's diffuse or base-colour texture (a file beside the
  *    scene, or an image embedded in it) is decoded here, in the import child, and the first
  *    texture-coordinate channel goes with each polygon's corners. A texture that cannot be used
@@ -956,42 +955,6 @@ static void read_camera(importer *im) {
     im->scene->camera = (rad_camera){eye, v3_add(eye, view), up, fov};
 }
 
-/* OBJ has no cameras; this program's exporter writes the scene's camera as a comment among the
- * first lines (export_obj.c), "# camera: eye X Y Z  look X Y Z  up X Y Z  vertical field of
- * view F degrees", and it is read back from the comments before the first statement, so a
- * generated house or office opens with the view it was made for (the framing camera sees a
- * closed house from outside, unlit). A line that does not parse, or a camera that could not
- * be used, is a warning and ignored. */
-static void read_camera_comment(importer *im) {
-    FILE *file = fopen(im->path, "r");
-    if (!file) return;
-    char line[512];
-    for (int count = 0; count < 32 && fgets(line, sizeof line, file); ++count) {
-        if (line[0] != '#') {
-            if (line[strspn(line, " \t\r\n")] != '\0') break; /* the first statement */
-            continue;
-        }
-        if (strncmp(line, "# camera:", 9) != 0) continue;
-        double v[10];
-        int read = sscanf(line + 9, " eye %lf %lf %lf look %lf %lf %lf up %lf %lf %lf vertical field "
-                          "of view %lf degrees", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6],
-                          &v[7], &v[8], &v[9]);
-        rad_vec3 eye = v3(v[0], v[1], v[2]), look = v3(v[3], v[4], v[5]), up = v3(v[6], v[7], v[8]);
-        if (read != 10 || !finite3(eye) || !finite3(look) || !finite3(up) ||
-            !(v3_length(v3_sub(look, eye)) > 0) || !(v3_length(up) > 0) ||
-            !(v3_length(v3_cross(v3_sub(look, eye), up)) > 0) || !(v[9] > 0 && v[9] < 180)) {
-            rad_warn(im->ctx, "%s: the '# camera:' line is not a camera this program can use; "
-                     "ignored", im->path);
-            break;
-        }
-        im->scene->has_camera = 1;
-        im->scene->camera = (rad_camera){eye, look, v3_normalize(up), v[9]};
-        rad_info(im->ctx, "%s: the camera of its '# camera:' line", im->path);
-        break;
-    }
-    fclose(file);
-}
-
 /* OBJ: a note for each material a `usemtl` names that no MTL file gave (assimp makes a
  * material of that name with its own defaults). The MTL files are those `mtllib` names,
  * beside the OBJ; their `newmtl` names are the known ones. */
@@ -1325,7 +1288,6 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
         return status;
     }
     if (im.ai->mNumCameras > 0) read_camera(&im);
-    else if (has_extension(path, ".obj")) read_camera_comment(&im);
 
     if (im.degenerate)
         rad_warn(ctx, "%s: dropped %zu degenerate faces (zero area or fewer than 3 distinct "
