@@ -134,6 +134,7 @@ rad_status rad_emitters_build(rad_renderer *r) {
                                                             members[i].radiance);
             for (size_t j = i; j < end; ++j)
                 r->element_emitter[element_of(&members[j])][0] = r->element_emitter[element_of(&members[j])][1] = k;
+            rad_emitter_table_close_group(&r->emitters);
             i = end;
             continue;
         }
@@ -149,6 +150,8 @@ rad_status rad_emitters_build(rad_renderer *r) {
                 r->element_emitter[e][1] = add_emitter(&r->emitters, mesh, v[2], v[3], v[1], radiance);
             }
         }
+        /* One input polygon's pieces: a group, for the choice by receiver (light/emitters.h). */
+        rad_emitter_table_close_group(&r->emitters);
     }
     rad_free(r->ctx, members);
     rad_emitter_table_finish(&r->emitters, RAD_EMITTERS_BY_POWER);

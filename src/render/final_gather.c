@@ -106,7 +106,10 @@ double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_elem
     int piece = rad_mesh_corner_count(r->mesh, hit->element) == 4 && hit->u + hit->v > 1;
     int32_t k = r->element_emitter[hit->element][piece];
     if (k < 0) return 0;
-    return rad_emitter_table_pdf(&r->emitters, (size_t)k, direction, hit->t);
+    /* The receiver, back along the ray from the point met (the choice of emitter depends on it). */
+    rad_vec3 x = v3_sub(rad_element_point(r->mesh, hit->element, hit->u, hit->v),
+                        v3_scale(direction, hit->t));
+    return rad_emitter_table_pdf(&r->emitters, (size_t)k, x, direction, hit->t);
 }
 
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,

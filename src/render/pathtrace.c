@@ -157,7 +157,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
             double weight = 1;
             if (!previous_delta && t->next_event) {
                 double light_pdf = rad_emitter_table_pdf(
-                    &t->emitters, (size_t)t->polygon_emitter[hit.polygon], direction, hit.t);
+                    &t->emitters, (size_t)t->polygon_emitter[hit.polygon], origin, direction, hit.t);
                 weight = power_heuristic(previous_pdf, light_pdf);
             }
             double add[3];
