@@ -51,6 +51,12 @@ check "automatic camera: render sees the room" test -s nocam.pfm
 "$radiosity" scenes --info "$source_dir/scenes/room.obj" --json >objroom.json 2>/dev/null
 check "an open scene keeps the framing camera" python3 -c "import json
 assert json.load(open('objroom.json'))['camera']['automatic'] == 'framing'"
+# A closed house on a slab that runs out under its walls: from outside the framing camera sees
+# fronts (the slab, the walls), but the lamp's light stays inside, so the camera goes in.
+"$radiosity" scenes --generate house house.obj >/dev/null 2>&1
+"$radiosity" scenes --info house.obj --json >house.json 2>/dev/null
+check "a lamp inside a closed house: the camera inside" python3 -c "import json
+assert json.load(open('house.json'))['camera']['automatic'] == 'inside'"
 expect_exit 0 "place it with --eye and --look" -- "$radiosity" render nocam.gltf --quiet \
     --elements 100 --width 16 --height 16 --eye 2,1.5,-1 --look 2,1.5,2 -o "$work/outside.pfm"
 
