@@ -62,8 +62,8 @@ static rad_vec3 emitter_point(const rad_emitter *light, double u0, double u1) {
 
 /* Entry e's weight in the global choice: its area, or its power (area times summed radiance). */
 static double base_weight(const rad_emitter *e, rad_emitter_selection selection) {
-    return selection == RAD_EMITTERS_BY_AREA ? e->area
-                                             : e->area * (e->radiance[0] + e->radiance[1] + e->radiance[2]);
+    if (selection == RAD_EMITTERS_BY_AREA) return e->area;
+    return e->area * (e->radiance[0] + e->radiance[1] + e->radiance[2]);
 }
 
 void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection selection) {
@@ -92,7 +92,8 @@ void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection se
         group->area = 0;
         for (uint32_t k = first; k < end; ++k) {
             const rad_emitter *e = &table->emitters[k];
-            rad_vec3 centre = v3_add(e->p0, v3_scale(v3_add(e->e1, e->e2), e->parallelogram ? 0.5 : 1.0 / 3));
+            double to_centre = e->parallelogram ? 0.5 : 1.0 / 3;
+            rad_vec3 centre = v3_add(e->p0, v3_scale(v3_add(e->e1, e->e2), to_centre));
             weighted = v3_add(weighted, v3_scale(centre, e->area));
             group->area += e->area;
             table->group_of[k] = (uint32_t)g;
@@ -164,14 +165,17 @@ static void group_probabilities(const rad_emitter_table *table, rad_vec3 x, doub
         double s = v3_dot(d, d) + group->area;
         total += (p[g] = h > 0 ? group->probability * h / (s * sqrt(s)) : 0);
     }
-    for (size_t g = 0; g < table->group_count; ++g)
-        p[g] = total > 0 ? (1 - LOCAL_GLOBAL_SHARE) * p[g] / total + LOCAL_GLOBAL_SHARE * table->groups[g].probability
-                         : table->groups[g].probability;
+    for (size_t g = 0; g < table->group_count; ++g) {
+        double global = table->groups[g].probability;
+        p[g] = total > 0 ? (1 - LOCAL_GLOBAL_SHARE) * p[g] / total + LOCAL_GLOBAL_SHARE * global
+                         : global;
+    }
 }
 
 /* An entry for receiver x: the group holding u under P_g(x), then the entry in it by the global
  * distribution, u rescaled and reused at each step. Its probability P_k(x) in *probability. */
-static size_t pick_local(const rad_emitter_table *table, rad_vec3 x, double *u, double *probability) {
+static size_t pick_local(const rad_emitter_table *table, rad_vec3 x, double *u,
+                         double *probability) {
     double p[RAD_EMITTERS_LOCAL_MAX], before = 0;
     group_probabilities(table, x, p);
     size_t g = 0;

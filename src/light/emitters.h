@@ -12,10 +12,10 @@
  * A table whose entries were put in 2 to RAD_EMITTERS_LOCAL_MAX groups (one per lamp:
  * rad_emitter_table_close_group) picks the group for the receiver x instead, then the entry in
  * it by power: P_k(x) = P_g(x) P_k / P_g, P_g(x) by the light group g would bring to x
- * unoccluded, roughly, mixed with the global choice (emitters.c, local_weight). The final gather
- * in a generated office of 169 lamps drew its emitter samples mostly on lamps far from the
- * point, and its walls and floor were speckled. The density is then P_k(x) / A_k turned to
- * solid angle. */
+ * unoccluded, roughly, mixed with the global choice (emitters.c, group_probabilities). The
+ * final gather in a generated office of 169 lamps drew its emitter samples mostly on lamps far
+ * from the point, and its walls and floor were speckled. The density is then P_k(x) / A_k
+ * turned to solid angle. */
 #ifndef RAD_LIGHT_EMITTERS_H
 #define RAD_LIGHT_EMITTERS_H
 
@@ -86,9 +86,9 @@ int32_t rad_emitter_table_add_parallelogram(rad_emitter_table *table, rad_vec3 p
                                             rad_vec3 e2, rad_vec3 normal, const double radiance[3]);
 /* Ends a group (a lamp): the entries added since the last group ended. Only for tables whose
  * every emitting point maps back to its own entry in rad_emitter_table_pdf (the renderer's: an
- * element piece or a whole lamp each); the groups must lie each in one plane, face one way and
- * have one radiance. Without groups (the path tracer's table, which maps a polygon to its first
- * triangle) the choice stays global. */
+ * element piece or a whole lamp each); each group must lie in one plane and face one way (one
+ * input polygon's pieces). Without groups (the path tracer's table, which maps a polygon to its
+ * first triangle) the choice stays global. */
 void rad_emitter_table_close_group(rad_emitter_table *table);
 /* The selection distribution over what was added; a table whose triangles carry no power is
  * emptied (count 0: nothing to sample). */

@@ -54,11 +54,16 @@ static void probe(const rad_rays *rays, const rad_camera *camera, int *fronts, i
  * a closed house). No emitting surface: 0. */
 #define ENCLOSED_RAYS 256
 static rad_vec3 sphere_direction(int k, int n);
+
+static int emits(const rad_scene *scene, const rad_polygon *p) {
+    const double *e = scene->materials[scene->surfaces[p->surface].material].emission;
+    return e[0] > 0 || e[1] > 0 || e[2] > 0;
+}
+
 static int light_enclosed(const rad_scene *scene, const rad_rays *rays) {
     size_t lit = 0;
     for (size_t i = 0; i < scene->polygon_count; ++i) {
-        const double *e = scene->materials[scene->surfaces[scene->polygons[i].surface].material].emission;
-        lit += e[0] > 0 || e[1] > 0 || e[2] > 0;
+        lit += emits(scene, &scene->polygons[i]);
     }
     if (!lit) return 0;
     rad_vec3 lo, hi;
@@ -68,10 +73,10 @@ static int light_enclosed(const rad_scene *scene, const rad_rays *rays) {
     int rays_cast = 0, escaped = 0;
     for (size_t i = 0; i < scene->polygon_count && rays_cast < ENCLOSED_RAYS; ++i) {
         const rad_polygon *p = &scene->polygons[i];
-        const double *e = scene->materials[scene->surfaces[p->surface].material].emission;
-        if (!(e[0] > 0 || e[1] > 0 || e[2] > 0) || seen++ % step) continue;
+        if (!emits(scene, p) || seen++ % step) continue;
         rad_vec3 centre = v3(0, 0, 0), n = rad_polygon_normal(scene, p);
-        for (uint32_t k = 0; k < p->count; ++k) centre = v3_add(centre, rad_polygon_vertex(scene, p, k));
+        for (uint32_t k = 0; k < p->count; ++k)
+            centre = v3_add(centre, rad_polygon_vertex(scene, p, k));
         centre = v3_scale(centre, 1.0 / p->count);
         /* Directions of a Fibonacci sphere turned to n's side: as many per polygon as share. */
         int per = (int)(ENCLOSED_RAYS / (lit < ENCLOSED_RAYS ? lit : ENCLOSED_RAYS));
