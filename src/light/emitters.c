@@ -12,10 +12,8 @@ rad_status rad_emitter_table_reserve(rad_context *ctx, rad_emitter_table *table,
     table->cdf = rad_alloc(ctx, capacity, sizeof *table->cdf);
     table->guide = capacity < UINT32_MAX ? rad_alloc(ctx, capacity + 1, sizeof *table->guide) : NULL;
     table->group_first = rad_alloc_zero(ctx, capacity + 1, sizeof *table->group_first);
-    table->group_of = rad_alloc(ctx, capacity, sizeof *table->group_of);
     table->groups = rad_alloc(ctx, capacity, sizeof *table->groups);
-    if (!table->emitters || !table->cdf || !table->guide || !table->group_first ||
-        !table->group_of || !table->groups)
+    if (!table->emitters || !table->cdf || !table->guide || !table->group_first || !table->groups)
         return RAD_ERROR_NO_MEMORY;
     table->capacity = capacity;
     return RAD_OK;
@@ -60,19 +58,14 @@ static rad_vec3 emitter_point(const rad_emitter *light, double u0, double u1) {
                                     v3_scale(light->e2, root * u1)));
 }
 
-/* Entry e's weight in the global choice: its area, or its power (area times summed radiance). */
-static double base_weight(const rad_emitter *e, rad_emitter_selection selection) {
-    if (selection == RAD_EMITTERS_BY_AREA) return e->area;
-    return e->area * (e->radiance[0] + e->radiance[1] + e->radiance[2]);
-}
-
 void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection selection) {
-    table->selection = selection;
     /* Cumulative weights, then normalised: the last entry is exactly 1. */
     double total = 0;
     for (size_t i = 0; i < table->count; ++i) {
         const rad_emitter *e = &table->emitters[i];
-        double weight = base_weight(e, selection);
+        double weight = selection == RAD_EMITTERS_BY_AREA
+                            ? e->area
+                            : e->area * (e->radiance[0] + e->radiance[1] + e->radiance[2]);
         total += weight;
         table->cdf[i] = total;
     }
@@ -96,7 +89,6 @@ void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection se
             rad_vec3 centre = v3_add(e->p0, v3_scale(v3_add(e->e1, e->e2), to_centre));
             weighted = v3_add(weighted, v3_scale(centre, e->area));
             group->area += e->area;
-            table->group_of[k] = (uint32_t)g;
         }
         group->p0 = table->emitters[first].p0;
         group->normal = table->emitters[first].normal;
@@ -116,7 +108,6 @@ void rad_emitter_table_free(rad_context *ctx, rad_emitter_table *table) {
     rad_free(ctx, table->cdf);
     rad_free(ctx, table->guide);
     rad_free(ctx, table->group_first);
-    rad_free(ctx, table->group_of);
     rad_free(ctx, table->groups);
     *table = (rad_emitter_table){0};
 }
@@ -229,10 +220,16 @@ double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 
     if (cos_y <= 0) return 0;
     double probability = rad_emitter_table_probability(table, k);
     if (local_choice(table)) {
+        /* k's group: the last whose first entry is at most k. */
+        size_t lo = 0, hi = table->group_count - 1;
+        while (lo < hi) {
+            size_t mid = (lo + hi + 1) / 2;
+            if (table->group_first[mid] <= k) lo = mid;
+            else hi = mid - 1;
+        }
         double p[RAD_EMITTERS_LOCAL_MAX];
         group_probabilities(table, x, p);
-        const struct rad_emitter_group *group = &table->groups[table->group_of[k]];
-        probability *= p[table->group_of[k]] / group->probability;
+        probability *= p[lo] / table->groups[lo].probability;
     }
     return probability / light->area * distance * distance / cos_y;
 }

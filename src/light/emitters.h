@@ -50,13 +50,12 @@ typedef struct rad_emitter_table {
     /* A guide table (Chen & Asau 1974): guide[b] is the first entry whose cdf exceeds b / count,
      * where the search for u in [b / count, (b + 1) / count) starts (count + 1 entries). */
     uint32_t *guide;
-    rad_emitter_selection selection; /* what rad_emitter_table_finish was given */
     /* Groups of consecutive entries (one lamp each), for the choice by receiver: group_first[g]
-     * .. group_first[g + 1] - 1 are group g's entries (group_count + 1 values), group_of[k] is
-     * entry k's group; the rest is each group's own: a point of its plane, its front (unit),
-     * centre, area and global probability (filled by rad_emitter_table_finish). */
+     * .. group_first[g + 1] - 1 are group g's entries (group_count + 1 values); each group's
+     * own: a point of its plane, its front (unit), centre, area and global probability (filled
+     * by rad_emitter_table_finish). */
     size_t group_count;
-    uint32_t *group_first, *group_of;
+    uint32_t *group_first;
     struct rad_emitter_group {
         rad_vec3 p0, normal, centre;
         double area, probability;
