@@ -100,16 +100,14 @@
 /* ------------------------------------------------------------------------------------------- */
 /* Direct light                                                                                 */
 
-double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_element_hit *hit) {
+double rad_emitter_pdf(const rad_renderer *r, rad_vec3 origin, rad_vec3 direction,
+                       const rad_element_hit *hit) {
     if (r->emitters.count == 0) return 0;
     /* Embree's split of a quad: (v0, v1, v3) below the diagonal u + v = 1, (v2, v3, v1) above. */
     int piece = rad_mesh_corner_count(r->mesh, hit->element) == 4 && hit->u + hit->v > 1;
     int32_t k = r->element_emitter[hit->element][piece];
     if (k < 0) return 0;
-    /* The receiver, back along the ray from the point met (the choice of emitter depends on it). */
-    rad_vec3 x = v3_sub(rad_element_point(r->mesh, hit->element, hit->u, hit->v),
-                        v3_scale(direction, hit->t));
-    return rad_emitter_table_pdf(&r->emitters, (size_t)k, x, direction, hit->t);
+    return rad_emitter_table_pdf(&r->emitters, (size_t)k, origin, direction, hit->t);
 }
 
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
@@ -234,9 +232,9 @@ static void cosine_directions(rad_vec3 t, rad_vec3 b, rad_vec3 n, const double (
 #define PACKET 16 /* gather rays traced together (rad_element_rays_intersect16) */
 
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
-                                  rad_vec3 direction, const rad_element_hit *hit) {
+                                  rad_vec3 origin, rad_vec3 direction, const rad_element_hit *hit) {
     if (!from || from->light_samples <= 0) return 1;
-    double pdf_light = rad_emitter_pdf(r, direction, hit);
+    double pdf_light = rad_emitter_pdf(r, origin, direction, hit);
     double cos_x = v3_dot(from->normal, direction);
     if (!(pdf_light > 0) || cos_x <= 0) return 1;
     return rad_power_heuristic(from->gather_rays * cos_x / RAD_PI, from->light_samples * pdf_light);

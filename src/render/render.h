@@ -273,14 +273,16 @@ static inline double rad_power_heuristic(double a, double b) {
     return a * a + b * b > 0 ? a * a / (a * a + b * b) : 0;
 }
 
-/* final_gather.c: the solid-angle density rad_emitter_table_sample has (on r->emitters) for the
- * point a ray along `direction` meets at `hit`; zero when that is not the front of an emitter. */
-double rad_emitter_pdf(const rad_renderer *r, rad_vec3 direction, const rad_element_hit *hit);
+/* final_gather.c: the solid-angle density rad_emitter_table_sample has (on r->emitters, for the
+ * receiver `origin`) for the point a ray from `origin` along `direction` meets at `hit`; zero
+ * when that is not the front of an emitter. */
+double rad_emitter_pdf(const rad_renderer *r, rad_vec3 origin, rad_vec3 direction,
+                       const rad_element_hit *hit);
 
 /* final_gather.c: the weight (power heuristic, Veach 1997) of the emitted radiance a gather ray
  * from `from` meets straight away at distance t on the front of emitting `element`. */
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
-                                  rad_vec3 direction, const rad_element_hit *hit);
+                                  rad_vec3 origin, rad_vec3 direction, const rad_element_hit *hit);
 
 /* final_gather.c: whether a gather ray from `from` that hits `hit` is short: nearer than a few
  * element sizes, where the solution's piecewise values are too coarse to be seen (the floor
