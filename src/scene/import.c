@@ -170,24 +170,15 @@ static int degenerate(const rad_vec3 *p, size_t n) {
 
 /* Convex and simple, seen from the side its Newell normal points to: projected onto the plane
  * across that normal (so slightly non-planar quads count), every corner turns left or goes
- * straight, and the turns add up to one full turn. With `straight_dent` above 0, a corner that
- * turns right by less than that share of the polygon's extent (its distance inside the line
- * through its neighbours) goes straight. Faces of more than MAX_POLYGON_CORNERS corners are
- * judged with STRAIGHT_DENT: a circle of many corners written with six decimals has such dents
- * everywhere, and cut as non-convex it became a fan of slivers meeting in one corner (below). */
+ * straight, and the turns add up to one full turn. A corner that turns right but lies less than
+ * `dent` inside the line through its neighbours goes straight. Faces of more than
+ * MAX_POLYGON_CORNERS corners are judged with a dent of STRAIGHT_DENT times their extent: a
+ * circle of many corners written with six decimals has such dents everywhere, and cut as
+ * non-convex it became a fan of slivers meeting in one corner (cut_convex). */
 #define STRAIGHT_DENT 1e-6
-static int convex_within(const rad_vec3 *p, size_t n, double straight_dent) {
+static int convex_within(const rad_vec3 *p, size_t n, double dent) {
     rad_vec3 normal = v3_normalize(newell_normal(p, n)), u, v;
     v3_basis(normal, &u, &v);
-    double dent = 0;
-    if (straight_dent > 0) {
-        rad_vec3 lo = p[0], hi = p[0];
-        for (size_t k = 1; k < n; ++k) {
-            lo = v3(fmin(lo.x, p[k].x), fmin(lo.y, p[k].y), fmin(lo.z, p[k].z));
-            hi = v3(fmax(hi.x, p[k].x), fmax(hi.y, p[k].y), fmax(hi.z, p[k].z));
-        }
-        dent = straight_dent * v3_length(v3_sub(hi, lo));
-    }
     double turning = 0;
     for (size_t k = 0; k < n; ++k) {
         rad_vec3 a3 = v3_sub(p[(k + 1) % n], p[k]), b3 = v3_sub(p[(k + 2) % n], p[(k + 1) % n]);
@@ -771,18 +762,23 @@ static rad_status add_face(importer *im, face *f) {
     if (status) return status;
     if (f->count <= MAX_POLYGON_CORNERS && convex(f->points, f->count))
         return emit(im, f->points, f->corners, f->count);
-    if (f->count <= MAX_POLYGON_CORNERS || !convex_within(f->points, f->count, STRAIGHT_DENT)) {
+    double dent = 0;
+    if (f->count > MAX_POLYGON_CORNERS) {
+        rad_vec3 lo = f->points[0], hi = f->points[0];
+        for (size_t k = 1; k < f->count; ++k) {
+            const rad_vec3 q = f->points[k];
+            lo = v3(fmin(lo.x, q.x), fmin(lo.y, q.y), fmin(lo.z, q.z));
+            hi = v3(fmax(hi.x, q.x), fmax(hi.y, q.y), fmax(hi.z, q.z));
+        }
+        dent = STRAIGHT_DENT * v3_length(v3_sub(hi, lo));
+    }
+    if (f->count <= MAX_POLYGON_CORNERS || !convex_within(f->points, f->count, dent)) {
         im->cut++;
         return cut_face(im, f);
     }
     im->split++;
-    rad_vec3 lo = f->points[0], hi = f->points[0];
-    for (size_t k = 0; k < f->count; ++k) {
-        im->order[k] = (uint32_t)k;
-        lo = v3(fmin(lo.x, f->points[k].x), fmin(lo.y, f->points[k].y), fmin(lo.z, f->points[k].z));
-        hi = v3(fmax(hi.x, f->points[k].x), fmax(hi.y, f->points[k].y), fmax(hi.z, f->points[k].z));
-    }
-    return cut_convex(im, f, im->order, f->count, STRAIGHT_DENT * v3_length(v3_sub(hi, lo)));
+    for (size_t k = 0; k < f->count; ++k) im->order[k] = (uint32_t)k;
+    return cut_convex(im, f, im->order, f->count, dent);
 }
 
 static rad_status grow_scratch(importer *im, size_t corners, size_t vertices) {
