@@ -48,54 +48,45 @@ static void probe(const rad_rays *rays, const rad_camera *camera, int *fronts, i
         }
 }
 
-/* Whether the emitting surfaces' light stays inside the scene: of ENCLOSED_RAYS rays from the
- * emitting polygons' centres (a polygon of every few, in order) over their front hemispheres,
- * fewer than one in 32 leave it. Such light cannot reach what a camera outside sees (a lamp in
- * a closed house). No emitting surface: 0. */
-#define ENCLOSED_RAYS 256
-static rad_vec3 sphere_direction(int k, int n);
-
-static int emits(const rad_scene *scene, const rad_polygon *p) {
-    const double *e = scene->materials[scene->surfaces[p->surface].material].emission;
-    return e[0] > 0 || e[1] > 0 || e[2] > 0;
+/* Direction k of n spread evenly over the sphere (Fibonacci lattice). */
+static rad_vec3 sphere_direction(int k, int n) {
+    double z = 1 - (2 * k + 1.0) / n, r = sqrt(fmax(0.0, 1 - z * z));
+    double phi = k * RAD_PI * (3 - sqrt(5.0));
+    return v3(r * cos(phi), z, r * sin(phi));
 }
 
+/* Whether the emitting surfaces' light stays inside the scene: of ENCLOSED_RAYS rays from the
+ * emitting polygons' centres (every step-th one, in order, when there are more than that) over
+ * their front hemispheres, fewer than one in 32 leave it. Such light cannot reach what a camera
+ * outside sees (a lamp in a closed house). No emitting surface: 0. */
+#define ENCLOSED_RAYS 256
 static int light_enclosed(const rad_scene *scene, const rad_rays *rays) {
     size_t lit = 0;
-    for (size_t i = 0; i < scene->polygon_count; ++i) {
-        lit += emits(scene, &scene->polygons[i]);
-    }
+    for (size_t i = 0; i < scene->polygon_count; ++i)
+        lit += (size_t)rad_polygon_emits(scene, &scene->polygons[i]);
     if (!lit) return 0;
     rad_vec3 lo, hi;
     rad_scene_bounds(scene, &lo, &hi);
-    double near = 1e-6 * v3_length(v3_sub(hi, lo));
-    size_t step = lit > ENCLOSED_RAYS ? lit / ENCLOSED_RAYS : 1, seen = 0;
-    int rays_cast = 0, escaped = 0;
-    for (size_t i = 0; i < scene->polygon_count && rays_cast < ENCLOSED_RAYS; ++i) {
+    const double near = 1e-6 * v3_length(v3_sub(hi, lo));
+    const size_t step = lit > ENCLOSED_RAYS ? lit / ENCLOSED_RAYS : 1;
+    const int per = lit < ENCLOSED_RAYS ? (int)(ENCLOSED_RAYS / lit) : 1; /* rays per polygon */
+    int cast = 0, escaped = 0;
+    for (size_t i = 0, seen = 0; i < scene->polygon_count && cast < ENCLOSED_RAYS; ++i) {
         const rad_polygon *p = &scene->polygons[i];
-        if (!emits(scene, p) || seen++ % step) continue;
+        if (!rad_polygon_emits(scene, p) || seen++ % step) continue;
         rad_vec3 centre = v3(0, 0, 0), n = rad_polygon_normal(scene, p);
         for (uint32_t k = 0; k < p->count; ++k)
             centre = v3_add(centre, rad_polygon_vertex(scene, p, k));
         centre = v3_scale(centre, 1.0 / p->count);
-        /* Directions of a Fibonacci sphere turned to n's side: as many per polygon as share. */
-        int per = (int)(ENCLOSED_RAYS / (lit < ENCLOSED_RAYS ? lit : ENCLOSED_RAYS));
-        if (per < 1) per = 1;
-        for (int k = 0; k < per && rays_cast < ENCLOSED_RAYS; ++k, ++rays_cast) {
+        /* A Fibonacci sphere's directions, those behind the polygon mirrored to its front. */
+        for (int k = 0; k < per && cast < ENCLOSED_RAYS; ++k, ++cast) {
             rad_vec3 d = sphere_direction(k, per);
             if (v3_dot(d, n) < 0) d = v3_sub(d, v3_scale(n, 2 * v3_dot(d, n)));
             rad_hit hit;
             escaped += !rad_rays_intersect(rays, centre, d, near, INFINITY, &hit);
         }
     }
-    return rays_cast > 0 && escaped * 32 < rays_cast;
-}
-
-/* Direction k of n spread evenly over the sphere (Fibonacci lattice). */
-static rad_vec3 sphere_direction(int k, int n) {
-    double z = 1 - (2 * k + 1.0) / n, r = sqrt(fmax(0.0, 1 - z * z));
-    double phi = k * RAD_PI * (3 - sqrt(5.0));
-    return v3(r * cos(phi), z, r * sin(phi));
+    return cast > 0 && escaped * 32 < cast;
 }
 
 /* The candidate eyes of the automatic camera and their scores. */

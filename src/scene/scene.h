@@ -177,6 +177,8 @@ void rad_scene_warn_bright_materials(rad_context *ctx, const rad_scene *scene, c
 rad_vec3 rad_polygon_normal(const rad_scene *scene, const rad_polygon *polygon);
 double rad_polygon_area(const rad_scene *scene, const rad_polygon *polygon);
 rad_vec3 rad_polygon_vertex(const rad_scene *scene, const rad_polygon *polygon, uint32_t k);
+/* Nonzero when the polygon's material emits (any channel above 0). */
+int rad_polygon_emits(const rad_scene *scene, const rad_polygon *polygon);
 
 /* Bounds of all vertices. */
 void rad_scene_bounds(const rad_scene *scene, rad_vec3 *lo, rad_vec3 *hi);

@@ -179,9 +179,12 @@ int rad_scene_wants_specular_first(const rad_scene *scene) {
 
 int rad_scene_is_lit(const rad_scene *scene) {
     if (scene->light_count || scene->sky.kind != RAD_SKY_OFF) return 1;
-    for (size_t i = 0; i < scene->polygon_count; ++i) {
-        const double *e = scene->materials[scene->surfaces[scene->polygons[i].surface].material].emission;
-        if (e[0] > 0 || e[1] > 0 || e[2] > 0) return 1;
-    }
+    for (size_t i = 0; i < scene->polygon_count; ++i)
+        if (rad_polygon_emits(scene, &scene->polygons[i])) return 1;
     return 0;
+}
+
+int rad_polygon_emits(const rad_scene *scene, const rad_polygon *polygon) {
+    const double *e = scene->materials[scene->surfaces[polygon->surface].material].emission;
+    return e[0] > 0 || e[1] > 0 || e[2] > 0;
 }
