@@ -403,6 +403,9 @@ static rad_status read_layout(rad_context *ctx, const char *path, reader *r, uin
     uint64_t *counts[7] = {&l.nodes, &l.roots, &l.splits, &l.links, &l.runs, &l.hits, &l.elements};
     for (int k = 0; k < 7; ++k) *counts[k] = rad_le_get_u64(bytes + 64 + 8 * k);
     if (l.flags & ~(uint32_t)FLAGS_KNOWN) return corrupted(ctx, path, "unknown flags");
+    /* Unfinished importance rounds need the importance they go on from. */
+    if ((l.flags & FLAG_IMPORTANCE_UNFINISHED) && !(l.flags & FLAG_IMPORTANCE))
+        return corrupted(ctx, path, "unfinished importance without importance");
     l.node_bytes = NODE_BYTES + (l.flags & FLAG_LIGHT ? NODE_LIGHT_BYTES : 0) +
                    (l.flags & FLAG_IMPORTANCE ? NODE_IMPORTANCE_BYTES : 0);
     size_t at = HEADER;
