@@ -669,7 +669,7 @@ static void test_emitter_groups(void) {
                              v3_add(corner[k], v3(0, 0, 1))};
             exact += RAD_PI * rad_ff_point_polygon(x, n, q, 4);
         }
-        rad_emitter_table_finish(&table, RAD_EMITTERS_BY_POWER);
+        CHECK(rad_emitter_table_finish(ctx, &table, RAD_EMITTERS_BY_POWER) == RAD_OK);
         double estimate = 0, worst_pdf = 0;
         int near = 0;
         for (int i = 0; i < 64; ++i)
@@ -694,6 +694,70 @@ static void test_emitter_groups(void) {
     rad_context_destroy(ctx);
 }
 
+/* The light tree (light/emitters.c), for more groups than RAD_EMITTERS_LOCAL_MAX: 24 x 24 unit
+ * lamps 2 apart, 0.5 above the receiver, facing down. The choice's probabilities over the lamps
+ * sum to 1 at the receiver, the irradiance from a 128 x 128 net matches the summed form factors,
+ * every sample's density is rad_emitter_table_pdf's, and the lamp right above takes most
+ * samples (the global choice gives it 1 in 576). */
+static void test_emitter_tree(void) {
+    rad_context *ctx = test_context(1, 1);
+    const double radiance[3] = {1, 1, 1};
+    const int side = 24, lamps = side * side;
+    rad_vec3 x = v3(0.3, 0, 0.2), n = v3(0, 1, 0);
+    rad_emitter_table table = {0};
+    CHECK(rad_emitter_table_reserve(ctx, &table, (size_t)lamps) == RAD_OK);
+    double exact = 0;
+    int above = -1;
+    for (int i = 0; i < side; ++i)
+        for (int j = 0; j < side; ++j) {
+            rad_vec3 corner = v3(2.0 * (i - side / 2) - 0.5, 0.5, 2.0 * (j - side / 2) - 0.5);
+            int32_t k = rad_emitter_table_add_parallelogram(&table, corner, v3(0, 0, 1), v3(1, 0, 0),
+                                                            v3(0, -1, 0), radiance);
+            rad_emitter_table_close_group(&table);
+            if (i == side / 2 && j == side / 2) above = k;
+            rad_vec3 q[4] = {corner, v3_add(corner, v3(1, 0, 0)), v3_add(corner, v3(1, 0, 1)),
+                             v3_add(corner, v3(0, 0, 1))};
+            exact += RAD_PI * rad_ff_point_polygon(x, n, q, 4);
+        }
+    CHECK(rad_emitter_table_finish(ctx, &table, RAD_EMITTERS_BY_POWER) == RAD_OK);
+    CHECK(table.nodes != NULL);
+    double total = 0;
+    for (size_t k = 0; k < table.count; ++k) {
+        const rad_emitter *e = &table.emitters[k];
+        rad_vec3 centre = v3_add(e->p0, v3_scale(v3_add(e->e1, e->e2), 0.5));
+        rad_vec3 d = v3_sub(centre, x);
+        double distance = v3_length(d);
+        rad_vec3 w = v3_scale(d, 1 / distance);
+        double cos_y = -v3_dot(e->normal, w);
+        total += rad_emitter_table_pdf(&table, k, x, w, distance) * e->area * cos_y / (distance * distance);
+    }
+    double estimate = 0, worst_pdf = 0;
+    int near = 0;
+    const int samples = 1 << 16;
+    for (int i = 0; i < samples; ++i) {
+        /* Hammersley points: u0 in every 1 / samples stratum, u1 its radical inverse. */
+        unsigned bits = (unsigned)i, reversed = 0;
+        for (int b = 0; b < 16; ++b, bits >>= 1) reversed = reversed << 1 | (bits & 1);
+        rad_emitter_point point;
+        if (!rad_emitter_table_sample(&table, (i + 0.5) / samples, (reversed + 0.5) / samples, x, &point))
+            continue;
+        near += (int)point.index == above;
+        estimate += v3_dot(n, point.direction) / point.pdf;
+        double pdf = rad_emitter_table_pdf(&table, point.index, x, point.direction,
+                                           sqrt(point.distance2));
+        worst_pdf = fmax(worst_pdf, fabs(pdf / point.pdf - 1));
+    }
+    estimate /= samples;
+    printf("emitter tree: probabilities sum to %.12f; irradiance %.6f against %.6f, %d of %d "
+           "samples on the lamp above\n", total, estimate, exact, near, samples);
+    CHECK_NEAR(total, 1, 1e-9);
+    CHECK_NEAR(estimate / exact, 1, 5e-3);
+    CHECK(worst_pdf < 1e-9);
+    CHECK(near > samples / 4);
+    rad_emitter_table_free(ctx, &table);
+    rad_context_destroy(ctx);
+}
+
 int main(void) {
     test_furnace();
     rad_context *ctx = test_context(0, 7);
@@ -714,6 +778,7 @@ int main(void) {
     test_second_pass();
     test_scan_coverage();
     test_emitter_groups();
+    test_emitter_tree();
     rad_system_destroy(system);
     rad_scene_destroy(cornell);
     rad_context_destroy(ctx);

@@ -2,6 +2,7 @@
 #include "light/emitters.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 rad_status rad_emitter_table_reserve(rad_context *ctx, rad_emitter_table *table, size_t capacity) {
     table->count = 0;
@@ -58,7 +59,15 @@ static rad_vec3 emitter_point(const rad_emitter *light, double u0, double u1) {
                                     v3_scale(light->e2, root * u1)));
 }
 
-void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection selection) {
+static void grow_bounds(struct rad_emitter_group *group, rad_vec3 p) {
+    group->low = v3(fmin(group->low.x, p.x), fmin(group->low.y, p.y), fmin(group->low.z, p.z));
+    group->high = v3(fmax(group->high.x, p.x), fmax(group->high.y, p.y), fmax(group->high.z, p.z));
+}
+
+static rad_status build_tree(rad_context *ctx, rad_emitter_table *table);
+
+rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
+                                    rad_emitter_selection selection) {
     /* Cumulative weights, then normalised: the last entry is exactly 1. */
     double total = 0;
     for (size_t i = 0; i < table->count; ++i) {
@@ -71,7 +80,7 @@ void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection se
     }
     if (!(total > 0)) {
         table->count = 0;
-        return;
+        return RAD_OK;
     }
     for (size_t i = 0; i < table->count; ++i) table->cdf[i] /= total;
     table->cdf[table->count - 1] = 1;
@@ -83,12 +92,16 @@ void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection se
         uint32_t first = table->group_first[g], end = table->group_first[g + 1];
         rad_vec3 weighted = v3(0, 0, 0);
         group->area = 0;
+        group->low = group->high = table->emitters[first].p0;
         for (uint32_t k = first; k < end; ++k) {
             const rad_emitter *e = &table->emitters[k];
             double to_centre = e->parallelogram ? 0.5 : 1.0 / 3;
             rad_vec3 centre = v3_add(e->p0, v3_scale(v3_add(e->e1, e->e2), to_centre));
             weighted = v3_add(weighted, v3_scale(centre, e->area));
             group->area += e->area;
+            const rad_vec3 corner[4] = {e->p0, v3_add(e->p0, e->e1), v3_add(e->p0, e->e2),
+                                        v3_add(e->p0, v3_add(e->e1, e->e2))};
+            for (int c = 0; c < (e->parallelogram ? 4 : 3); ++c) grow_bounds(group, corner[c]);
         }
         group->p0 = table->emitters[first].p0;
         group->normal = table->emitters[first].normal;
@@ -101,6 +114,186 @@ void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection se
         while (first + 1 < table->count && table->cdf[first] <= u) ++first;
         table->guide[b] = (uint32_t)first;
     }
+    return table->group_count > RAD_EMITTERS_LOCAL_MAX ? build_tree(ctx, table) : RAD_OK;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* The light tree (Conty Estevez & Kulla 2018, "Importance sampling of many lights with adaptive
+ * tree splitting"), for tables of more groups than the exact choice below loops over: a binary
+ * tree over the groups, split at the median of their centres along the widest axis. A node
+ * bounds its groups by a sphere (centre, radius) and their fronts by a cone (axis, spread). Its
+ * importance at x is its power times cos(theta') / d^2, theta' the smallest angle any of its
+ * points' fronts can make with the direction to x (the angle to the axis less the spread and
+ * the half-angle the sphere subtends), zero past 90 degrees (no front faces x), and d the
+ * distance to the centre, at least the radius. A receiver descends from the root choosing a
+ * child by the two importances; P_g(x) is the product of its choices. */
+
+typedef struct keyed {
+    double key;
+    uint32_t group;
+} keyed;
+
+static int compare_keyed(const void *a, const void *b) {
+    const keyed *p = a, *q = b;
+    if (p->key != q->key) return p->key < q->key ? -1 : 1;
+    return p->group < q->group ? -1 : p->group > q->group;
+}
+
+/* Node `at` over order[lo .. hi); its children at *next and *next + 1. `scratch` holds hi - lo
+ * keys. Recursion depth is log2 of the group count (median splits). */
+static void build_node(rad_emitter_table *table, uint32_t *order, keyed *scratch, size_t lo,
+                       size_t hi, uint32_t at, uint32_t parent, uint32_t *next) {
+    struct rad_emitter_node *n = &table->nodes[at];
+    const struct rad_emitter_group *first = &table->groups[order[lo]];
+    rad_vec3 low = first->low, high = first->high, clow = first->centre, chigh = first->centre;
+    rad_vec3 axis = v3(0, 0, 0);
+    double power = 0;
+    for (size_t i = lo; i < hi; ++i) {
+        const struct rad_emitter_group *g = &table->groups[order[i]];
+        low = v3(fmin(low.x, g->low.x), fmin(low.y, g->low.y), fmin(low.z, g->low.z));
+        high = v3(fmax(high.x, g->high.x), fmax(high.y, g->high.y), fmax(high.z, g->high.z));
+        clow = v3(fmin(clow.x, g->centre.x), fmin(clow.y, g->centre.y), fmin(clow.z, g->centre.z));
+        chigh = v3(fmax(chigh.x, g->centre.x), fmax(chigh.y, g->centre.y), fmax(chigh.z, g->centre.z));
+        axis = v3_add(axis, v3_scale(g->normal, g->probability));
+        power += g->probability;
+    }
+    n->low = low;
+    n->high = high;
+    n->centre = v3_scale(v3_add(low, high), 0.5);
+    n->radius = 0.5 * v3_length(v3_sub(high, low));
+    n->power = power;
+    n->parent = parent;
+    double length = v3_length(axis);
+    n->cos_spread = -1;
+    n->axis = v3(0, 0, 1);
+    if (length > 1e-9 * power) {
+        n->axis = v3_scale(axis, 1 / length);
+        double lowest = 1;
+        for (size_t i = lo; i < hi; ++i) lowest = fmin(lowest, v3_dot(n->axis, table->groups[order[i]].normal));
+        n->cos_spread = fmax(-1, fmin(1, lowest));
+    }
+    n->sin_spread = sqrt(fmax(0, 1 - n->cos_spread * n->cos_spread));
+    if (hi - lo == 1) {
+        n->leaf = 1;
+        n->child = order[lo];
+        table->leaf_of[order[lo]] = at;
+        return;
+    }
+    n->leaf = 0;
+    rad_vec3 extent = v3_sub(chigh, clow);
+    int widest = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    for (size_t i = lo; i < hi; ++i) {
+        scratch[i - lo].key = v3_get(table->groups[order[i]].centre, widest);
+        scratch[i - lo].group = order[i];
+    }
+    qsort(scratch, hi - lo, sizeof *scratch, compare_keyed);
+    for (size_t i = lo; i < hi; ++i) order[i] = scratch[i - lo].group;
+    size_t middle = lo + (hi - lo) / 2;
+    uint32_t child = *next;
+    *next += 2;
+    n->child = child;
+    build_node(table, order, scratch, lo, middle, child, at, next);
+    build_node(table, order, scratch, middle, hi, child + 1, at, next);
+}
+
+static rad_status build_tree(rad_context *ctx, rad_emitter_table *table) {
+    size_t groups = table->group_count;
+    table->nodes = rad_alloc(ctx, 2 * groups - 1, sizeof *table->nodes);
+    table->leaf_of = rad_alloc(ctx, groups, sizeof *table->leaf_of);
+    uint32_t *order = rad_alloc(ctx, groups, sizeof *order);
+    keyed *scratch = rad_alloc(ctx, groups, sizeof *scratch);
+    rad_status status = RAD_ERROR_NO_MEMORY;
+    if (table->nodes && table->leaf_of && order && scratch) {
+        for (size_t g = 0; g < groups; ++g) order[g] = (uint32_t)g;
+        uint32_t next = 1;
+        build_node(table, order, scratch, 0, groups, 0, UINT32_MAX, &next);
+        status = RAD_OK;
+    } else { /* no tree: no half of one for local_choice to find */
+        rad_free(ctx, table->nodes);
+        rad_free(ctx, table->leaf_of);
+        table->nodes = NULL;
+        table->leaf_of = NULL;
+    }
+    rad_free(ctx, order);
+    rad_free(ctx, scratch);
+    return status;
+}
+
+/* How far v lies outside [low, high]. */
+static inline double outside(double v, double low, double high) {
+    return v < low ? low - v : v > high ? v - high : 0;
+}
+
+/* Node n's importance at x (above). */
+static double node_importance(const struct rad_emitter_node *n, rad_vec3 x) {
+    rad_vec3 d = v3_sub(x, n->centre);
+    double d2 = v3_dot(d, d), r2 = n->radius * n->radius;
+    /* The distance to the bounds, not to the centre: */
+    double near2 = 1e-4 * r2 > 1e-300 ? 1e-4 * r2 : 1e-300;
+    {
+        double ox = outside(x.x, n->low.x, n->high.x), oy = outside(x.y, n->low.y, n->high.y),
+               oz = outside(x.z, n->low.z, n->high.z), o2 = ox * ox + oy * oy + oz * oz;
+        if (o2 > near2) near2 = o2;
+    }
+    /* x within the sphere, or a cone wider than a hemisphere: no angle bound. */
+    if (d2 <= r2 || n->cos_spread <= 0) return n->power / near2;
+    /* theta' = theta - slack, slack = spread + asin(radius / d) in [0, pi), without
+     * trigonometry: theta <= slack when cos(theta) >= cos(slack); else
+     * cos(theta') = cos(theta) cos(slack) + sin(theta) sin(slack). */
+    double distance = sqrt(d2);
+    double cos_angle = v3_dot(n->axis, d) / distance;
+    cos_angle = cos_angle < -1 ? -1 : cos_angle > 1 ? 1 : cos_angle;
+    double sin_angle = sqrt(1 - cos_angle * cos_angle);
+    double sin_u = n->radius / distance, cos_u = sqrt(1 - sin_u * sin_u); /* radius < distance */
+    double cos_slack = n->cos_spread * cos_u - n->sin_spread * sin_u;
+    double sin_slack = n->sin_spread * cos_u + n->cos_spread * sin_u;
+    if (cos_angle >= cos_slack) return n->power / near2;
+    double cos_least = cos_angle * cos_slack + sin_angle * sin_slack;
+    return cos_least > 0 ? n->power * cos_least / near2 : 0;
+}
+
+/* The probability of choosing `child` (one of two siblings at `first`, `first + 1`) at x. */
+static double child_share(const rad_emitter_table *table, uint32_t first, uint32_t child, rad_vec3 x) {
+    const struct rad_emitter_node *a = &table->nodes[first], *b = &table->nodes[first + 1];
+    double ia = node_importance(a, x), ib = node_importance(b, x);
+    double pa = ia + ib > 0                   ? ia / (ia + ib)
+                : a->power + b->power > 0 ? a->power / (a->power + b->power)
+                                          : 0.5;
+    return child == first ? pa : 1 - pa;
+}
+
+/* The tree's P_g(x) for group g: its choices from the root down, multiplied. */
+static double tree_probability(const rad_emitter_table *table, size_t g, rad_vec3 x) {
+    double probability = 1;
+    for (uint32_t at = table->leaf_of[g]; table->nodes[at].parent != UINT32_MAX;) {
+        uint32_t parent = table->nodes[at].parent;
+        probability *= child_share(table, table->nodes[parent].child, at, x);
+        at = parent;
+    }
+    return probability;
+}
+
+/* A group for x down the tree for u in [0, 1), u rescaled inside the group's share; the tree's
+ * P_g(x) in *probability (what tree_probability gives for it). */
+static size_t tree_pick(const rad_emitter_table *table, rad_vec3 x, double *u, double *probability) {
+    uint32_t at = 0;
+    double product = 1;
+    while (!table->nodes[at].leaf) {
+        uint32_t first = table->nodes[at].child;
+        double pa = child_share(table, first, first, x);
+        if (*u < pa) {
+            *u = pa > 0 ? *u / pa : 0;
+            product *= pa;
+            at = first;
+        } else {
+            *u = pa < 1 ? (*u - pa) / (1 - pa) : 0;
+            product *= 1 - pa;
+            at = first + 1;
+        }
+        *u = fmin(fmax(*u, 0), 0x1.fffffffffffffp-1);
+    }
+    *probability = product;
+    return table->nodes[at].child;
 }
 
 void rad_emitter_table_free(rad_context *ctx, rad_emitter_table *table) {
@@ -109,6 +302,8 @@ void rad_emitter_table_free(rad_context *ctx, rad_emitter_table *table) {
     rad_free(ctx, table->guide);
     rad_free(ctx, table->group_first);
     rad_free(ctx, table->groups);
+    rad_free(ctx, table->nodes);
+    rad_free(ctx, table->leaf_of);
     *table = (rad_emitter_table){0};
 }
 
@@ -143,10 +338,10 @@ static size_t pick(const rad_emitter_table *table, double *u) {
 #define LOCAL_GLOBAL_SHARE 0.25
 
 static int local_choice(const rad_emitter_table *table) {
-    return table->group_count > 1 && table->group_count <= RAD_EMITTERS_LOCAL_MAX;
+    return table->group_count > 1 && (table->group_count <= RAD_EMITTERS_LOCAL_MAX || table->nodes);
 }
 
-/* The groups' probabilities P_g(x) into p[0 .. group_count). */
+/* The groups' probabilities P_g(x) into p[0 .. group_count) (at most RAD_EMITTERS_LOCAL_MAX). */
 static void group_probabilities(const rad_emitter_table *table, rad_vec3 x, double *p) {
     double total = 0;
     for (size_t g = 0; g < table->group_count; ++g) {
@@ -163,16 +358,30 @@ static void group_probabilities(const rad_emitter_table *table, rad_vec3 x, doub
     }
 }
 
-/* An entry for receiver x: the group holding u under P_g(x), then the entry in it by the global
- * distribution, u rescaled and reused at each step. Its probability P_k(x) in *probability. */
-static size_t pick_local(const rad_emitter_table *table, rad_vec3 x, double *u,
-                         double *probability) {
-    double p[RAD_EMITTERS_LOCAL_MAX], before = 0;
+/* Group g's P_g(x): from the light tree when the table has one, else from the exact weights. */
+static double group_probability(const rad_emitter_table *table, size_t g, rad_vec3 x) {
+    if (table->nodes)
+        return (1 - LOCAL_GLOBAL_SHARE) * tree_probability(table, g, x) +
+               LOCAL_GLOBAL_SHARE * table->groups[g].probability;
+    double p[RAD_EMITTERS_LOCAL_MAX];
     group_probabilities(table, x, p);
-    size_t g = 0;
-    while (g + 1 < table->group_count && *u >= before + p[g]) before += p[g++];
-    double v = p[g] > 0 ? fmin(fmax(*u - before, 0) / p[g], 0x1.fffffffffffffp-1) : 0;
-    /* Within the group: its span of the cumulative distribution. */
+    return p[g];
+}
+
+/* Entry k's group: the last whose first entry is at most k. */
+static size_t group_of(const rad_emitter_table *table, size_t k) {
+    size_t lo = 0, hi = table->group_count - 1;
+    while (lo < hi) {
+        size_t mid = (lo + hi + 1) / 2;
+        if (table->group_first[mid] <= k) lo = mid;
+        else hi = mid - 1;
+    }
+    return lo;
+}
+
+/* The entry of group g for v in [0, 1) by the global distribution within the group's span; *u
+ * gets v rescaled inside the entry's share. */
+static size_t pick_in_group(const rad_emitter_table *table, size_t g, double v, double *u) {
     uint32_t first = table->group_first[g], last = table->group_first[g + 1] - 1;
     double low = first ? table->cdf[first - 1] : 0;
     double w = low + v * table->groups[g].probability;
@@ -182,7 +391,41 @@ static size_t pick_local(const rad_emitter_table *table, rad_vec3 x, double *u,
         w = v;
     }
     *u = w;
-    *probability = p[g] * rad_emitter_table_probability(table, k) / table->groups[g].probability;
+    return k;
+}
+
+/* An entry for receiver x: the group holding u under P_g(x), then the entry in it by the global
+ * distribution, u rescaled and reused at each step. Its probability P_k(x) in *probability.
+ * With a light tree, P_g(x) mixes two choices: u below LOCAL_GLOBAL_SHARE picks an entry by the
+ * global distribution, above it a group down the tree. */
+static size_t pick_local(const rad_emitter_table *table, rad_vec3 x, double *u,
+                         double *probability) {
+    size_t g, k;
+    double pg;
+    if (table->nodes) {
+        double tree;
+        if (*u < LOCAL_GLOBAL_SHARE) {
+            double w = *u / LOCAL_GLOBAL_SHARE;
+            k = pick(table, &w);
+            g = group_of(table, k);
+            *u = w;
+            tree = tree_probability(table, g, x);
+        } else {
+            double v = fmin((*u - LOCAL_GLOBAL_SHARE) / (1 - LOCAL_GLOBAL_SHARE), 0x1.fffffffffffffp-1);
+            g = tree_pick(table, x, &v, &tree);
+            k = pick_in_group(table, g, v, u);
+        }
+        pg = (1 - LOCAL_GLOBAL_SHARE) * tree + LOCAL_GLOBAL_SHARE * table->groups[g].probability;
+    } else {
+        double p[RAD_EMITTERS_LOCAL_MAX], before = 0;
+        group_probabilities(table, x, p);
+        g = 0;
+        while (g + 1 < table->group_count && *u >= before + p[g]) before += p[g++];
+        double v = p[g] > 0 ? fmin(fmax(*u - before, 0) / p[g], 0x1.fffffffffffffp-1) : 0;
+        k = pick_in_group(table, g, v, u);
+        pg = p[g];
+    }
+    *probability = pg * rad_emitter_table_probability(table, k) / table->groups[g].probability;
     return k;
 }
 
@@ -220,16 +463,8 @@ double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 
     if (cos_y <= 0) return 0;
     double probability = rad_emitter_table_probability(table, k);
     if (local_choice(table)) {
-        /* k's group: the last whose first entry is at most k. */
-        size_t lo = 0, hi = table->group_count - 1;
-        while (lo < hi) {
-            size_t mid = (lo + hi + 1) / 2;
-            if (table->group_first[mid] <= k) lo = mid;
-            else hi = mid - 1;
-        }
-        double p[RAD_EMITTERS_LOCAL_MAX];
-        group_probabilities(table, x, p);
-        probability *= p[lo] / table->groups[lo].probability;
+        size_t g = group_of(table, k);
+        probability *= group_probability(table, g, x) / table->groups[g].probability;
     }
     return probability / light->area * distance * distance / cos_y;
 }

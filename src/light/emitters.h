@@ -15,7 +15,8 @@
  * unoccluded, roughly, mixed with the global choice (emitters.c, group_probabilities). The
  * final gather in a generated office of 169 lamps drew its emitter samples mostly on lamps far
  * from the point, and its walls and floor were speckled. The density is then P_k(x) / A_k
- * turned to solid angle. */
+ * turned to solid angle. With more groups than that, P_g(x) comes from a light tree over the
+ * groups (Conty Estevez & Kulla 2018), in O(log groups) a sample. */
 #ifndef RAD_LIGHT_EMITTERS_H
 #define RAD_LIGHT_EMITTERS_H
 
@@ -58,8 +59,22 @@ typedef struct rad_emitter_table {
     uint32_t *group_first;
     struct rad_emitter_group {
         rad_vec3 p0, normal, centre;
+        rad_vec3 low, high; /* bounds */
         double area, probability;
     } *groups;
+    /* More than RAD_EMITTERS_LOCAL_MAX groups: a light tree over them (2 group_count - 1 nodes,
+     * the root first), and each group's leaf (emitters.c, "The light tree"). */
+    struct rad_emitter_node {
+        rad_vec3 low, high;    /* bounds */
+        rad_vec3 centre, axis; /* of the bounds; of the cone holding the fronts (unit) */
+        double radius;         /* half the bounds' diagonal */
+        double cos_spread, sin_spread; /* the cone's half-angle (cos -1: any direction) */
+        double power;          /* the sum of its groups' probabilities */
+        uint32_t child;        /* inner: the first child (the second follows); leaf: its group */
+        uint32_t parent;       /* the root's is UINT32_MAX */
+        int leaf;
+    } *nodes;
+    uint32_t *leaf_of;
 } rad_emitter_table;
 
 /* A point drawn on the emitters, as seen from a receiver x. */
@@ -90,8 +105,10 @@ int32_t rad_emitter_table_add_parallelogram(rad_emitter_table *table, rad_vec3 p
  * first triangle) the choice stays global. */
 void rad_emitter_table_close_group(rad_emitter_table *table);
 /* The selection distribution over what was added; a table whose triangles carry no power is
- * emptied (count 0: nothing to sample). */
-void rad_emitter_table_finish(rad_emitter_table *table, rad_emitter_selection selection);
+ * emptied (count 0: nothing to sample). A table of more than RAD_EMITTERS_LOCAL_MAX groups gets
+ * its light tree here (RAD_ERROR_NO_MEMORY when it cannot). */
+rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
+                                    rad_emitter_selection selection);
 void rad_emitter_table_free(rad_context *ctx, rad_emitter_table *table);
 
 /* The probability P_k of picking triangle k for emission sampling (no receiver). */

@@ -154,6 +154,5 @@ rad_status rad_emitters_build(rad_renderer *r) {
         rad_emitter_table_close_group(&r->emitters);
     }
     rad_free(r->ctx, members);
-    rad_emitter_table_finish(&r->emitters, RAD_EMITTERS_BY_POWER);
-    return RAD_OK;
+    return rad_emitter_table_finish(r->ctx, &r->emitters, RAD_EMITTERS_BY_POWER);
 }

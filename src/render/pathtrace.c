@@ -85,8 +85,8 @@ rad_status rad_tracer_create(rad_context *ctx, const rad_scene *scene, int max_b
             if (t->polygon_emitter[i] < 0) t->polygon_emitter[i] = index;
         }
     }
-    rad_emitter_table_finish(&t->emitters, RAD_EMITTERS_BY_POWER);
-    status = rad_rays_create(ctx, scene, &t->rays);
+    status = rad_emitter_table_finish(ctx, &t->emitters, RAD_EMITTERS_BY_POWER);
+    if (!status) status = rad_rays_create(ctx, scene, &t->rays);
     if (status) {
         rad_tracer_destroy(t);
         return status;

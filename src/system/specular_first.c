@@ -112,8 +112,7 @@ static rad_status build_emitters(rad_context *ctx, const rad_scene *scene,
             rad_emitter_table_add(table, p0, rad_polygon_vertex(scene, p, k),
                                   rad_polygon_vertex(scene, p, k + 1), normal, emission);
     }
-    rad_emitter_table_finish(table, RAD_EMITTERS_BY_POWER);
-    return RAD_OK;
+    return rad_emitter_table_finish(ctx, table, RAD_EMITTERS_BY_POWER);
 }
 
 /* Traces the photons and sums their flux per element into `flux` (element_count entries). With
@@ -267,8 +266,7 @@ static rad_status build_reflectors(rad_context *ctx, const rad_system *s,
             rad_emitter_table_add(table, mesh->vertices[v[0]], mesh->vertices[v[2]],
                                   mesh->vertices[v[3]], normal, radiance);
     }
-    rad_emitter_table_finish(table, RAD_EMITTERS_BY_POWER);
-    return RAD_OK;
+    return rad_emitter_table_finish(ctx, table, RAD_EMITTERS_BY_POWER);
 }
 
 rad_status rad_system_add_specular_reflection(rad_system *s) {
