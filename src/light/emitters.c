@@ -128,6 +128,9 @@ rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
  * distance to the centre, at least the radius. A receiver descends from the root choosing a
  * child by the two importances; P_g(x) is the product of its choices. */
 
+/* A node of at most this many groups is a leaf: the choice among them is the exact one. */
+#define LEAF_GROUPS 8
+
 typedef struct keyed {
     double key;
     uint32_t group;
@@ -173,10 +176,10 @@ static void build_node(rad_emitter_table *table, uint32_t *order, keyed *scratch
         n->cos_spread = fmax(-1, fmin(1, lowest));
     }
     n->sin_spread = sqrt(fmax(0, 1 - n->cos_spread * n->cos_spread));
-    if (hi - lo == 1) {
-        n->leaf = 1;
-        n->child = order[lo];
-        table->leaf_of[order[lo]] = at;
+    if (hi - lo <= LEAF_GROUPS) {
+        n->leaf = (uint32_t)(hi - lo);
+        n->child = (uint32_t)lo;
+        for (size_t i = lo; i < hi; ++i) table->leaf_of[order[i]] = at;
         return;
     }
     n->leaf = 0;
@@ -200,7 +203,7 @@ static rad_status build_tree(rad_context *ctx, rad_emitter_table *table) {
     size_t groups = table->group_count;
     table->nodes = rad_alloc(ctx, 2 * groups - 1, sizeof *table->nodes);
     table->leaf_of = rad_alloc(ctx, groups, sizeof *table->leaf_of);
-    uint32_t *order = rad_alloc(ctx, groups, sizeof *order);
+    uint32_t *order = table->tree_order = rad_alloc(ctx, groups, sizeof *order);
     keyed *scratch = rad_alloc(ctx, groups, sizeof *scratch);
     rad_status status = RAD_ERROR_NO_MEMORY;
     if (table->nodes && table->leaf_of && order && scratch) {
@@ -211,10 +214,11 @@ static rad_status build_tree(rad_context *ctx, rad_emitter_table *table) {
     } else { /* no tree: no half of one for local_choice to find */
         rad_free(ctx, table->nodes);
         rad_free(ctx, table->leaf_of);
+        rad_free(ctx, table->tree_order);
         table->nodes = NULL;
         table->leaf_of = NULL;
+        table->tree_order = NULL;
     }
-    rad_free(ctx, order);
     rad_free(ctx, scratch);
     return status;
 }
@@ -262,10 +266,39 @@ static double child_share(const rad_emitter_table *table, uint32_t first, uint32
     return child == first ? pa : 1 - pa;
 }
 
+/* Group g's exact weight at x: its power times h / (d^2 + A)^(3/2) (below, "the choice for a
+ * receiver"). */
+static double group_weight(const struct rad_emitter_group *group, rad_vec3 x) {
+    double h = v3_dot(v3_sub(x, group->p0), group->normal);
+    if (!(h > 0)) return 0;
+    rad_vec3 d = v3_sub(x, group->centre);
+    double s = v3_dot(d, d) + group->area;
+    return group->probability * h / (s * sqrt(s));
+}
+
+/* Within leaf `at`: the groups' exact weights at x into w[], their sum returned; all zero (x
+ * behind every one) falls back to their power. */
+static double leaf_weights(const rad_emitter_table *table, uint32_t at, rad_vec3 x, double *w) {
+    const struct rad_emitter_node *n = &table->nodes[at];
+    double total = 0;
+    for (uint32_t i = 0; i < n->leaf; ++i)
+        total += (w[i] = group_weight(&table->groups[table->tree_order[n->child + i]], x));
+    if (total > 0) return total;
+    for (uint32_t i = 0; i < n->leaf; ++i)
+        total += (w[i] = table->groups[table->tree_order[n->child + i]].probability);
+    if (total > 0) return total;
+    for (uint32_t i = 0; i < n->leaf; ++i) w[i] = 1;
+    return n->leaf;
+}
+
 /* The tree's P_g(x) for group g: its choices from the root down, multiplied. */
 static double tree_probability(const rad_emitter_table *table, size_t g, rad_vec3 x) {
-    double probability = 1;
-    for (uint32_t at = table->leaf_of[g]; table->nodes[at].parent != UINT32_MAX;) {
+    uint32_t at = table->leaf_of[g];
+    const struct rad_emitter_node *leaf = &table->nodes[at];
+    double w[LEAF_GROUPS], total = leaf_weights(table, at, x, w), probability = 0;
+    for (uint32_t i = 0; i < leaf->leaf; ++i)
+        if (table->tree_order[leaf->child + i] == g) probability = w[i] / total;
+    while (table->nodes[at].parent != UINT32_MAX) {
         uint32_t parent = table->nodes[at].parent;
         probability *= child_share(table, table->nodes[parent].child, at, x);
         at = parent;
@@ -292,8 +325,13 @@ static size_t tree_pick(const rad_emitter_table *table, rad_vec3 x, double *u, d
         }
         *u = fmin(fmax(*u, 0), 0x1.fffffffffffffp-1);
     }
-    *probability = product;
-    return table->nodes[at].child;
+    const struct rad_emitter_node *leaf = &table->nodes[at];
+    double w[LEAF_GROUPS], total = leaf_weights(table, at, x, w), before = 0;
+    uint32_t i = 0;
+    while (i + 1 < leaf->leaf && *u * total >= before + w[i]) before += w[i++];
+    *u = w[i] > 0 ? fmin(fmax((*u * total - before) / w[i], 0), 0x1.fffffffffffffp-1) : 0;
+    *probability = product * w[i] / total;
+    return table->tree_order[leaf->child + i];
 }
 
 void rad_emitter_table_free(rad_context *ctx, rad_emitter_table *table) {
@@ -304,6 +342,7 @@ void rad_emitter_table_free(rad_context *ctx, rad_emitter_table *table) {
     rad_free(ctx, table->groups);
     rad_free(ctx, table->nodes);
     rad_free(ctx, table->leaf_of);
+    rad_free(ctx, table->tree_order);
     *table = (rad_emitter_table){0};
 }
 
@@ -344,13 +383,7 @@ static int local_choice(const rad_emitter_table *table) {
 /* The groups' probabilities P_g(x) into p[0 .. group_count) (at most RAD_EMITTERS_LOCAL_MAX). */
 static void group_probabilities(const rad_emitter_table *table, rad_vec3 x, double *p) {
     double total = 0;
-    for (size_t g = 0; g < table->group_count; ++g) {
-        const struct rad_emitter_group *group = &table->groups[g];
-        double h = v3_dot(v3_sub(x, group->p0), group->normal);
-        rad_vec3 d = v3_sub(x, group->centre);
-        double s = v3_dot(d, d) + group->area;
-        total += (p[g] = h > 0 ? group->probability * h / (s * sqrt(s)) : 0);
-    }
+    for (size_t g = 0; g < table->group_count; ++g) total += (p[g] = group_weight(&table->groups[g], x));
     for (size_t g = 0; g < table->group_count; ++g) {
         double global = table->groups[g].probability;
         p[g] = total > 0 ? (1 - LOCAL_GLOBAL_SHARE) * p[g] / total + LOCAL_GLOBAL_SHARE * global

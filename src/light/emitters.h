@@ -70,11 +70,13 @@ typedef struct rad_emitter_table {
         double radius;         /* half the bounds' diagonal */
         double cos_spread, sin_spread; /* the cone's half-angle (cos -1: any direction) */
         double power;          /* the sum of its groups' probabilities */
-        uint32_t child;        /* inner: the first child (the second follows); leaf: its group */
+        uint32_t child;        /* inner: the first child (the second follows); leaf: its first
+                                  group's place in tree_order */
         uint32_t parent;       /* the root's is UINT32_MAX */
-        int leaf;
+        uint32_t leaf;         /* a leaf's group count (at most 8); 0: inner */
     } *nodes;
-    uint32_t *leaf_of;
+    uint32_t *leaf_of;    /* per group */
+    uint32_t *tree_order; /* the groups, leaf by leaf */
 } rad_emitter_table;
 
 /* A point drawn on the emitters, as seen from a receiver x. */
