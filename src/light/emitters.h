@@ -100,11 +100,11 @@ int32_t rad_emitter_table_add(rad_emitter_table *table, rad_vec3 a, rad_vec3 b, 
  * only along one direction. Returns its index, or -1 when skipped (no area, no room). */
 int32_t rad_emitter_table_add_parallelogram(rad_emitter_table *table, rad_vec3 p0, rad_vec3 e1,
                                             rad_vec3 e2, rad_vec3 normal, const double radiance[3]);
-/* Ends a group (a lamp): the entries added since the last group ended. Only for tables whose
- * every emitting point maps back to its own entry in rad_emitter_table_pdf (the renderer's: an
- * element piece or a whole lamp each); each group must lie in one plane and face one way (one
- * input polygon's pieces). Without groups (the path tracer's table, which maps a polygon to its
- * first triangle) the choice stays global. */
+/* Ends a group (a lamp): the entries added since the last group ended. Each group must lie in
+ * one plane and face one way (one input polygon's pieces), and rad_emitter_table_pdf must be
+ * asked for the entry a point was drawn from, or one of the same group with the same P_k / A_k
+ * (the path tracer's: a polygon's first triangle for any point of the polygon, its emission
+ * uniform). Without groups the choice stays global. */
 void rad_emitter_table_close_group(rad_emitter_table *table);
 /* The selection distribution over what was added; a table whose triangles carry no power is
  * emptied (count 0: nothing to sample). A table of more than RAD_EMITTERS_LOCAL_MAX groups gets

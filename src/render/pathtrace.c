@@ -58,7 +58,7 @@ rad_status rad_tracer_create(rad_context *ctx, const rad_scene *scene, int max_b
         return RAD_ERROR_NO_MEMORY;
     }
     /* Emitters: every triangle of an emitting polygon, fanned the way Embree sees it, in one
-     * table (light/emitters.h) that picks them by power. */
+     * table (light/emitters.h) that picks them by power, or by receiver among several lamps. */
     size_t light_triangles = 0;
     for (size_t i = 0; i < polygons; ++i) {
         const rad_polygon *p = &scene->polygons[i];
@@ -84,6 +84,10 @@ rad_status rad_tracer_create(rad_context *ctx, const rad_scene *scene, int max_b
                                                   emission);
             if (t->polygon_emitter[i] < 0) t->polygon_emitter[i] = index;
         }
+        /* One group per emitting polygon, for the choice by receiver (light/emitters.h). A hit
+         * anywhere on the polygon maps to its first triangle: right, since the polygon's
+         * emission is uniform, so every triangle of it has the same P_k / A_k, by receiver too. */
+        rad_emitter_table_close_group(&t->emitters);
     }
     status = rad_emitter_table_finish(ctx, &t->emitters, RAD_EMITTERS_BY_POWER);
     if (!status) status = rad_rays_create(ctx, scene, &t->rays);
