@@ -120,13 +120,16 @@ rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
 /* ------------------------------------------------------------------------------------------- */
 /* The light tree (Conty Estevez & Kulla 2018, "Importance sampling of many lights with adaptive
  * tree splitting"), for tables of more groups than the exact choice below loops over: a binary
- * tree over the groups, split at the median of their centres along the widest axis. A node
- * bounds its groups by a sphere (centre, radius) and their fronts by a cone (axis, spread). Its
- * importance at x is its power times cos(theta') / d^2, theta' the smallest angle any of its
- * points' fronts can make with the direction to x (the angle to the axis less the spread and
- * the half-angle the sphere subtends), zero past 90 degrees (no front faces x), and d the
- * distance to the centre, at least the radius. A receiver descends from the root choosing a
- * child by the two importances; P_g(x) is the product of its choices. */
+ * tree over the groups, split at the median of their centres along the widest axis down to
+ * leaves of at most LEAF_GROUPS. A node bounds its groups by a box (and the sphere around it)
+ * and their fronts by a cone (axis, spread). Its importance at x is its power times
+ * cos(theta') / d^2, theta' the smallest angle any of its points' fronts can make with the
+ * direction to x (the angle to the axis less the spread and the half-angle the sphere
+ * subtends), zero past 90 degrees (no front faces x), and d the distance from x to the box (at
+ * least 1% of the radius; the paper's distance to the centre, clamped to the radius, splits
+ * every node around x by power alone). A receiver descends from the root choosing a child by
+ * the two importances, then a group of the leaf by the exact weights (group_weight); P_g(x) is
+ * the product of its choices. */
 
 /* A node of at most this many groups is a leaf: the choice among them is the exact one. */
 #define LEAF_GROUPS 8
