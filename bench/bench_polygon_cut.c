@@ -1,6 +1,7 @@
 /* bench_polygon_cut.c - the cut of non-convex polygons into convex pieces against corner count
  * (src/scene/polygon_cut.c): gears (4 corners a tooth, as scripts/make_gear.py), combs, and
- * star-shaped polygons of random radii. Prints a Markdown table: shape, corners, reflex
+ * star-shaped polygons of random radii, and corners at random (crossing themselves: the
+ * fallback's time). Prints a Markdown table: shape, corners, reflex
  * corners, pieces, the fewest possible where known (teeth + 1), and processor seconds of the
  * cut (best of 3). Timings only: nothing here passes or fails.
  * Usage: bench_polygon_cut [LARGEST (100000)] */
@@ -54,6 +55,12 @@ static void star(double *xy, size_t n) {
     }
 }
 
+/* Corners at random in the unit square: a polygon crossing itself everywhere. */
+static void tangle(double *xy, size_t n) {
+    srand(7);
+    for (size_t k = 0; k < 2 * n; ++k) xy[k] = rand() / (double)RAND_MAX;
+}
+
 static size_t reflex_corners(const double *xy, size_t n) {
     size_t reflex = 0;
     for (size_t k = 0; k < n; ++k) {
@@ -103,6 +110,10 @@ int main(int argc, char **argv) {
     for (size_t n = 1000; n <= largest; n *= 10) {
         star(xy, n);
         row(ctx, "star", xy, n, 0);
+    }
+    for (size_t n = 1000; n <= largest; n *= 10) {
+        tangle(xy, n);
+        row(ctx, "tangle", xy, n, 0);
     }
     free(xy);
     rad_context_destroy(ctx);

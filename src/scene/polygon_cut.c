@@ -1,23 +1,27 @@
 /* polygon_cut.c - a simple polygon cut into a few convex pieces (polygon_cut.h).
  *
- * 1. Triangulate by ear clipping over a doubly linked list of the corners. The search for the
- *    next ear resumes after the last one clipped (it moves two corners on, as mapbox's earcut
- *    does, so a convex run is clipped every other corner rather than as a fan), not from the
- *    first corner. A corner is an ear when it turns left and no other corner lies in its
- *    triangle; only reflex corners can (the others lie on the convex side of both of their
- *    edges: O'Rourke, "Computational Geometry in C", 1998, ch. 1), and a reflex corner only
- *    becomes convex as ears are clipped, never the reverse, so the reflex corners sit in a
- *    uniform grid from which they are taken out as they turn convex, and an ear looks only in
- *    the cells its triangle's bounding box meets. On gears, combs, letters and floor plans the
- *    search makes O(1) failed tries per ear and each try meets O(1) cells: about linear.
- *    Every clip records, for the new edge (a, c), the half-edge on its other side, so the
- *    triangles come out with their neighbours (the diagonals' twins) at no cost.
- * 2. When a whole round finds no ear, the polygon is not simple as seen in its plane (or
- *    rounding made it so): corners that lie on the line through their neighbours (no area) are
- *    dropped; failing that, the first corner that turns left is clipped without the test, as
- *    the old clipper did ("cut anyway, as a fan would"), and after a few such rounds, or when
- *    the tests exceed a budget of work, what is left is clipped without tests at all. The
- *    pieces are then the triangles as they were clipped (`simple` = 0).
+ * 1. Triangulate by ear clipping over a doubly linked list of the corners. Corners wait in a
+ *    queue to be tried as ears; clipping an ear changes whether its two neighbours are ears
+ *    and no other corner's (Eberly, "Triangulation by ear clipping", 2002), so only they are
+ *    queued again: at most 3n tries, where a search that walks the ring from the last ear (as
+ *    mapbox's earcut does) walks a comb's whole bar of collinear corners for every ear. The
+ *    corner after an ear is tried after the others (its entry goes to the back), so a convex
+ *    run is clipped every other corner rather than as a fan. A corner is an ear when it turns
+ *    left and no other corner lies in its triangle; only reflex corners can (the others lie on
+ *    the convex side of both of their edges: O'Rourke, "Computational Geometry in C", 1998,
+ *    ch. 1), and a reflex corner only turns convex as ears are clipped, never the reverse, so
+ *    the reflex corners sit in a uniform grid over their own bounds (about one a cell, the
+ *    cells shaped to the bounds), from which they are taken out as they turn convex; an ear
+ *    looks at the cells its triangle meets, row by row. On gears, combs, letters and floor
+ *    plans that is about linear (bench/bench_polygon_cut.c). Every clip records, for the new
+ *    edge (a, c), the half-edge on its other side, so the triangles come out with their
+ *    neighbours (the diagonals' twins) at no cost.
+ * 2. When the queue runs dry with more than three corners left, the polygon is not simple as
+ *    seen in its plane (or rounding made it so): corners that lie on the line through their
+ *    neighbours (no area) are dropped; failing that, the first corner that turns left is
+ *    clipped without the test, as the old clipper did ("cut anyway, as a fan would"), and
+ *    after a few such rounds what is left is fanned; past a budget of work the tests stop.
+ *    The pieces are then the triangles as they were clipped (`simple` = 0).
  * 3. Hertel and Mehlhorn ("Fast triangulation of simple polygons", FCT 1983): visit the
  *    diagonals in the order they were made and remove each one whose removal leaves both of
  *    its ends convex. The pieces stay convex, and there are at most four times as many as in
@@ -375,7 +379,7 @@ done:
 rad_status rad_polygon_cut(rad_context *ctx, const double *xy, size_t n, double dent,
                            rad_polygon_pieces *out) {
     memset(out, 0, sizeof *out);
-    if (n < 3 || n >= (size_t)1 << 31)
+    if (n < 3 || n >= (size_t)1 << 30) /* half-edges are counted in 32 bits */
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "polygon_cut: %zu corners", n);
     cutter c = {.p = (const double(*)[2])xy};
     c.prev = rad_alloc(ctx, n, sizeof *c.prev);
