@@ -9,7 +9,7 @@
  *    three distinct corners or (near) zero area are dropped and counted in a warning; a corner
  *    with a NaN or infinite coordinate is an error. Faces under a mirroring transform are
  *    turned so that the front stays the front (counter-clockwise). Non-convex faces are cut
- *    into convex quads and triangles (ear clipping, then pairs joined); convex faces of more
+ *    into a few convex pieces (scene/polygon_cut.h); convex faces and pieces of more
  *    than 64 corners into a 64-gon through corners spread along them and the caps between its
  *    corners, cut the same way (cut_convex); two consecutive
  *    coplanar triangles that form a convex quad are joined again, since the mesher cuts quads
@@ -28,6 +28,7 @@
  *    OBJ a note for each `usemtl` that names a material the MTL files lack. */
 #include "scene/gltf_extras.h"
 #include "scene/import_check.h"
+#include "scene/polygon_cut.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
 
@@ -195,14 +196,6 @@ static int convex_within(const rad_vec3 *p, size_t n, double dent) {
 
 static int convex(const rad_vec3 *p, size_t n) { return convex_within(p, n, 0); }
 
-/* Is 2-D point p strictly inside the counter-clockwise triangle abc? */
-static int inside_triangle(const double *a, const double *b, const double *c, const double *p) {
-    double ab = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-    double bc = (c[0] - b[0]) * (p[1] - b[1]) - (c[1] - b[1]) * (p[0] - b[0]);
-    double ca = (a[0] - c[0]) * (p[1] - c[1]) - (a[1] - c[1]) * (p[0] - c[0]);
-    return ab > 0 && bc > 0 && ca > 0;
-}
-
 /* ------------------------------------------------------------------------------------------- */
 
 typedef struct face {
@@ -246,6 +239,7 @@ typedef struct importer {
 
     /* What was done, for the notes at the end. */
     size_t degenerate, points_and_lines, turned, cut, split, joined;
+    size_t tangled; /* non-convex faces that cross themselves in their plane */
     size_t textured_without_uv; /* textured surfaces whose mesh has no texture coordinates */
     uint8_t *texture_lost; /* per scene material: its texture could not be used */
     size_t texture_lost_capacity;
@@ -604,24 +598,6 @@ static int join_triangles(importer *im, const rad_vec3 *t, const uint32_t *tc, r
     return 0;
 }
 
-/* Joins triangles s = (x, y, z) and t sharing the edge x -> y / y -> x into the quad
- * (y, z, x, w), w being t's third corner. Indices are into the face; returns 0 when they do not
- * share an edge or the quad would not be convex. */
-static int join_pieces(const face *f, const uint32_t *s, const uint32_t *t, uint32_t *quad) {
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-            if (s[i] != t[(j + 1) % 3] || s[(i + 1) % 3] != t[j]) continue;
-            quad[0] = s[(i + 1) % 3];
-            quad[1] = s[(i + 2) % 3];
-            quad[2] = s[i];
-            quad[3] = t[(j + 2) % 3];
-            rad_vec3 p[4];
-            for (int k = 0; k < 4; ++k) p[k] = f->points[quad[k]];
-            return convex(p, 4) && !degenerate(p, 4);
-        }
-    return 0;
-}
-
 static rad_status emit_piece(importer *im, const face *f, const uint32_t *piece, size_t n) {
     rad_vec3 points[MAX_POLYGON_CORNERS];
     uint32_t corners[MAX_POLYGON_CORNERS];
@@ -632,68 +608,32 @@ static rad_status emit_piece(importer *im, const face *f, const uint32_t *piece,
     return degenerate(points, n) ? RAD_OK : emit(im, points, corners, n);
 }
 
-/* Cuts a non-convex (or very large) face into convex pieces: triangles by ear clipping in its
- * plane, then pairs of triangles joined into convex quads where they can be (after Hertel and
- * Mehlhorn 1983, stopping at quads since the mesher cuts quads best). */
-static rad_status cut_face(importer *im, const face *f) {
+static rad_status cut_convex(importer *im, const face *f, const uint32_t *run, size_t n,
+                             double straight);
+
+/* Cuts a non-convex face into convex pieces in its plane (scene/polygon_cut.h: ear clipping
+ * through a grid of reflex corners, then Hertel and Mehlhorn's removal of the diagonals that
+ * convexity does not need); corners dented by less than `dent` count as straight, and pieces
+ * of more than MAX_POLYGON_CORNERS corners are cut as convex faces are. A face that crosses
+ * itself in its plane is emitted as the triangles it was clipped into and counted. */
+static rad_status cut_face(importer *im, const face *f, double dent) {
     size_t n = f->count;
-    uint32_t (*pieces)[3] = rad_alloc(im->ctx, n, sizeof *pieces);
-    unsigned char *used = rad_alloc_zero(im->ctx, n, 1);
-    if (!pieces || !used) {
-        rad_free(im->ctx, pieces);
-        rad_free(im->ctx, used);
-        return RAD_ERROR_NO_MEMORY;
-    }
     rad_vec3 normal = v3_normalize(newell_normal(f->points, n)), u, v;
     v3_basis(normal, &u, &v);
     for (size_t k = 0; k < n; ++k) {
         im->plane[k][0] = v3_dot(f->points[k], u);
         im->plane[k][1] = v3_dot(f->points[k], v);
-        im->order[k] = (uint32_t)k;
     }
-    /* Ear clipping: a corner that turns left (strictly) with no other corner inside. */
-    size_t left = n, count = 0;
-    while (left > 3) {
-        size_t ear = left;
-        for (size_t k = 0; k < left && ear == left; ++k) {
-            const double *a = im->plane[im->order[(k + left - 1) % left]];
-            const double *b = im->plane[im->order[k]];
-            const double *c = im->plane[im->order[(k + 1) % left]];
-            double turn = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
-            double scale = hypot(b[0] - a[0], b[1] - a[1]) * hypot(c[0] - b[0], c[1] - b[1]);
-            if (turn <= 1e-12 * scale) continue;
-            int empty = 1;
-            for (size_t q = 0; q < left && empty; ++q) {
-                if (q == k || q == (k + 1) % left || q == (k + left - 1) % left) continue;
-                if (inside_triangle(a, b, c, im->plane[im->order[q]])) empty = 0;
-            }
-            if (empty) ear = k;
-        }
-        if (ear == left) ear = 0; /* self-intersecting: cut anyway, as a fan would */
-        pieces[count][0] = im->order[(ear + left - 1) % left];
-        pieces[count][1] = im->order[ear];
-        pieces[count][2] = im->order[(ear + 1) % left];
-        count++;
-        memmove(im->order + ear, im->order + ear + 1, (left - ear - 1) * sizeof *im->order);
-        --left;
+    rad_polygon_pieces pieces = {0};
+    rad_status status = rad_polygon_cut(im->ctx, &im->plane[0][0], n, dent, &pieces);
+    if (!status && !pieces.simple) im->tangled++;
+    for (size_t k = 0; k < pieces.count && !status; ++k) {
+        const uint32_t *piece = pieces.corners + pieces.first[k];
+        size_t count = pieces.first[k + 1] - pieces.first[k];
+        status = count > MAX_POLYGON_CORNERS ? cut_convex(im, f, piece, count, dent)
+                                             : emit_piece(im, f, piece, count);
     }
-    memcpy(pieces[count++], im->order, 3 * sizeof(uint32_t));
-    /* Pairs into quads, then what is left as triangles. */
-    rad_status status = RAD_OK;
-    for (size_t i = 0; i < count && !status; ++i) {
-        if (used[i]) continue;
-        for (size_t j = i + 1; j < count; ++j) {
-            uint32_t quad[4];
-            if (used[j] || !join_pieces(f, pieces[i], pieces[j], quad)) continue;
-            used[i] = used[j] = 1;
-            status = emit_piece(im, f, quad, 4);
-            break;
-        }
-    }
-    for (size_t i = 0; i < count && !status; ++i)
-        if (!used[i]) status = emit_piece(im, f, pieces[i], 3);
-    rad_free(im->ctx, pieces);
-    rad_free(im->ctx, used);
+    rad_polygon_pieces_free(im->ctx, &pieces);
     return status;
 }
 
@@ -774,7 +714,7 @@ static rad_status add_face(importer *im, face *f) {
     }
     if (f->count <= MAX_POLYGON_CORNERS || !convex_within(f->points, f->count, dent)) {
         im->cut++;
-        return cut_face(im, f);
+        return cut_face(im, f, dent);
     }
     im->split++;
     for (size_t k = 0; k < f->count; ++k) im->order[k] = (uint32_t)k;
@@ -1294,6 +1234,9 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
         rad_info(ctx, "%s: turned %zu faces under mirroring transforms so their fronts stay "
                  "counter-clockwise", path, im.turned);
     if (im.cut) rad_info(ctx, "%s: cut %zu non-convex faces into convex pieces", path, im.cut);
+    if (im.tangled)
+        rad_warn(ctx, "%s: %zu non-convex faces cross or touch themselves; cut into triangles "
+                 "as a fan would, some of them overlapping or turned over", path, im.tangled);
     if (im.split)
         rad_info(ctx, "%s: cut %zu convex faces of more than %d corners into convex pieces", path,
                  im.split, MAX_POLYGON_CORNERS);

@@ -15,10 +15,11 @@
  * white (x = y = 1/3 gives R = G = B, as in Radiance's mgf2rad).
  * Emission: ed is luminous exitance in lm/m^2; radiance L = ed / (pi * 179 lm/W), 179 lm/W
  * being Radiance's white efficacy (docs/units.md). Coordinates are in metres.
- * Faces: counter-clockwise seen from the front, as here; non-convex ones are cut into
- * triangles by ear clipping. Transforms apply to the geometry an entity makes, when it is
+ * Faces: counter-clockwise seen from the front, as here; non-convex ones (and convex ones of
+ * more than 64 corners) are cut into a few convex pieces (scene/polygon_cut.h). Transforms apply to the geometry an entity makes, when it is
  * made. */
 #include "scene/mgf.h"
+#include "scene/polygon_cut.h"
 
 #include "core/hash_index.h"
 
@@ -436,24 +437,28 @@ static rad_status current_surface(mgf_reader *r, uint32_t *out) {
     return status;
 }
 
-/* Is corner i of the polygon (in the plane with normal n) convex, and no other vertex inside
- * the triangle (i-1, i, i+1)? */
-static int is_ear(const rad_vec3 *p, const size_t *index, size_t n, size_t i, rad_vec3 normal) {
-    rad_vec3 a = p[index[(i + n - 1) % n]], b = p[index[i]], c = p[index[(i + 1) % n]];
-    if (v3_dot(v3_cross(v3_sub(b, a), v3_sub(c, b)), normal) <= 0) return 0;
-    for (size_t k = 0; k < n; ++k) {
-        if (k == i || k == (i + 1) % n || k == (i + n - 1) % n) continue;
-        rad_vec3 q = p[index[k]];
-        if (v3_dot(v3_cross(v3_sub(b, a), v3_sub(q, a)), normal) >= 0 &&
-            v3_dot(v3_cross(v3_sub(c, b), v3_sub(q, b)), normal) >= 0 &&
-            v3_dot(v3_cross(v3_sub(a, c), v3_sub(q, c)), normal) >= 0)
-            return 0;
+/* Adds a convex piece of n corners, p[index[0 .. n-1]], unless it has no area; one of more
+ * than 64 corners as 64-gons fanned around its first corner (each is convex, being the hull of
+ * corners of a convex polygon). */
+static rad_status add_piece(mgf_reader *r, uint32_t surface, const rad_vec3 *p,
+                            const uint32_t *index, size_t n, double extent) {
+    rad_vec3 piece[64];
+    for (size_t first = 1; first + 1 < n; first += 62) {
+        size_t count = 1;
+        piece[0] = p[index[0]];
+        for (size_t k = first; k < n && count < 64; ++k) piece[count++] = p[index[k]];
+        if (v3_length(v3_newell_normal(piece, count)) > 1e-12 * extent * extent) {
+            rad_status status = rad_scene_add_polygon_points(r->scene, surface, piece,
+                                                             (uint32_t)count);
+            if (status) return status;
+        }
     }
-    return 1;
+    return RAD_OK;
 }
 
-/* Adds a polygon in world space (already transformed): whole when convex, else in triangles
- * by ear clipping. Degenerate polygons (no area) are dropped. */
+/* Adds a polygon in world space (already transformed): whole when convex (and of at most 64
+ * corners), else in a few convex pieces (scene/polygon_cut.h). Degenerate polygons and pieces
+ * (no area) are dropped. */
 static rad_status add_points(mgf_reader *r, rad_vec3 *p, size_t n) {
     if (n < 3) return RAD_OK;
     /* A mirroring transform turns the winding: turn it back so the front stays the front. */
@@ -488,30 +493,22 @@ static rad_status add_points(mgf_reader *r, rad_vec3 *p, size_t n) {
         rad_vec3 a = p[i], b = p[(i + 1) % n], c = p[(i + 2) % n];
         convex = v3_dot(v3_cross(v3_sub(b, a), v3_sub(c, b)), normal) >= -1e-12 * extent * extent;
     }
-    if (convex) return rad_scene_add_polygon_points(r->scene, surface, p, (uint32_t)n);
-    size_t *index = rad_alloc(r->ctx, n, sizeof *index);
-    if (!index) return RAD_ERROR_NO_MEMORY;
-    for (size_t i = 0; i < n; ++i) index[i] = i;
-    size_t left = n;
-    while (left > 3 && !status) {
-        size_t ear = 0;
-        while (ear < left && !is_ear(p, index, left, ear, normal)) ++ear;
-        if (ear == left) ear = 0; /* self-intersecting: cut anyway, never loop */
-        rad_vec3 triangle[3] = {p[index[(ear + left - 1) % left]], p[index[ear]],
-                                p[index[(ear + 1) % left]]};
-        if (v3_length(v3_cross(v3_sub(triangle[1], triangle[0]), v3_sub(triangle[2], triangle[0]))) >
-            1e-12 * extent * extent)
-            status = rad_scene_add_polygon_points(r->scene, surface, triangle, 3);
-        memmove(index + ear, index + ear + 1, (left - ear - 1) * sizeof *index);
-        --left;
+    if (convex && n <= 64) return rad_scene_add_polygon_points(r->scene, surface, p, (uint32_t)n);
+    double *plane = rad_alloc(r->ctx, n, 2 * sizeof *plane);
+    if (!plane) return RAD_ERROR_NO_MEMORY;
+    rad_vec3 u, v;
+    v3_basis(normal, &u, &v);
+    for (size_t i = 0; i < n; ++i) {
+        plane[2 * i] = v3_dot(p[i], u);
+        plane[2 * i + 1] = v3_dot(p[i], v);
     }
-    if (!status) {
-        rad_vec3 triangle[3] = {p[index[0]], p[index[1]], p[index[2]]};
-        if (v3_length(v3_cross(v3_sub(triangle[1], triangle[0]), v3_sub(triangle[2], triangle[0]))) >
-            1e-12 * extent * extent)
-            status = rad_scene_add_polygon_points(r->scene, surface, triangle, 3);
-    }
-    rad_free(r->ctx, index);
+    rad_polygon_pieces pieces = {0};
+    status = rad_polygon_cut(r->ctx, plane, n, 0, &pieces);
+    for (size_t k = 0; k < pieces.count && !status; ++k)
+        status = add_piece(r, surface, p, pieces.corners + pieces.first[k],
+                           pieces.first[k + 1] - pieces.first[k], extent);
+    rad_polygon_pieces_free(r->ctx, &pieces);
+    rad_free(r->ctx, plane);
     return status;
 }
 
