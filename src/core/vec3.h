@@ -32,6 +32,15 @@ static inline double v3_max_component(rad_vec3 a) {
     double m = a.x > a.y ? a.x : a.y;
     return m > a.z ? m : a.z;
 }
+/* Componentwise smaller and larger, as fmin and fmax (a NaN in b gives a's) but inlined. */
+static inline rad_vec3 v3_min(rad_vec3 a, rad_vec3 b) {
+    return v3(a.x < b.x || b.x != b.x ? a.x : b.x, a.y < b.y || b.y != b.y ? a.y : b.y,
+              a.z < b.z || b.z != b.z ? a.z : b.z);
+}
+static inline rad_vec3 v3_max(rad_vec3 a, rad_vec3 b) {
+    return v3(a.x > b.x || b.x != b.x ? a.x : b.x, a.y > b.y || b.y != b.y ? a.y : b.y,
+              a.z > b.z || b.z != b.z ? a.z : b.z);
+}
 static inline double v3_get(rad_vec3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
 
 /* Newell's normal of a polygon p[0..n-1]: perpendicular to it, by the right-hand rule of its

@@ -607,8 +607,6 @@ static int decide(const rad_hier *h, const rad_hier_link *link, double *relative
 /* ---- Cluster links (Smits, Arvo & Greenberg 1994; Sillion 1995) -------------------------- */
 
 static int is_cluster(const rad_hier_node *n) { return n->corner_count == 0; }
-static rad_vec3 v3_min(rad_vec3 a, rad_vec3 b) { return v3(smaller(a.x, b.x), smaller(a.y, b.y), smaller(a.z, b.z)); }
-static rad_vec3 v3_max(rad_vec3 a, rad_vec3 b) { return v3(larger(a.x, b.x), larger(a.y, b.y), larger(a.z, b.z)); }
 
 /* Whether node `index` is a cluster, from its number alone (the clusters are numbered
  * cluster_first .. + cluster_count, after the roots and before every split node). */

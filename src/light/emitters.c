@@ -59,11 +59,6 @@ static rad_vec3 emitter_point(const rad_emitter *light, double u0, double u1) {
                                     v3_scale(light->e2, root * u1)));
 }
 
-static void grow_bounds(struct rad_emitter_group *group, rad_vec3 p) {
-    group->low = v3(fmin(group->low.x, p.x), fmin(group->low.y, p.y), fmin(group->low.z, p.z));
-    group->high = v3(fmax(group->high.x, p.x), fmax(group->high.y, p.y), fmax(group->high.z, p.z));
-}
-
 static rad_status build_tree(rad_context *ctx, rad_emitter_table *table);
 
 rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
@@ -92,16 +87,12 @@ rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
         uint32_t first = table->group_first[g], end = table->group_first[g + 1];
         rad_vec3 weighted = v3(0, 0, 0);
         group->area = 0;
-        group->low = group->high = table->emitters[first].p0;
         for (uint32_t k = first; k < end; ++k) {
             const rad_emitter *e = &table->emitters[k];
             double to_centre = e->parallelogram ? 0.5 : 1.0 / 3;
             rad_vec3 centre = v3_add(e->p0, v3_scale(v3_add(e->e1, e->e2), to_centre));
             weighted = v3_add(weighted, v3_scale(centre, e->area));
             group->area += e->area;
-            const rad_vec3 corner[4] = {e->p0, v3_add(e->p0, e->e1), v3_add(e->p0, e->e2),
-                                        v3_add(e->p0, v3_add(e->e1, e->e2))};
-            for (int c = 0; c < (e->parallelogram ? 4 : 3); ++c) grow_bounds(group, corner[c]);
         }
         group->p0 = table->emitters[first].p0;
         group->normal = table->emitters[first].normal;
@@ -145,21 +136,36 @@ static int compare_keyed(const void *a, const void *b) {
     return p->group < q->group ? -1 : p->group > q->group;
 }
 
-/* Node `at` over order[lo .. hi); its children at *next and *next + 1. `scratch` holds hi - lo
- * keys. Recursion depth is log2 of the group count (median splits). */
-static void build_node(rad_emitter_table *table, uint32_t *order, keyed *scratch, size_t lo,
-                       size_t hi, uint32_t at, uint32_t parent, uint32_t *next) {
+/* Group g's bounds: the corners of its entries. */
+static void group_bounds(const rad_emitter_table *table, size_t g, rad_vec3 bounds[2]) {
+    bounds[0] = bounds[1] = table->emitters[table->group_first[g]].p0;
+    for (uint32_t k = table->group_first[g]; k < table->group_first[g + 1]; ++k) {
+        const rad_emitter *e = &table->emitters[k];
+        const rad_vec3 corner[4] = {e->p0, v3_add(e->p0, e->e1), v3_add(e->p0, e->e2),
+                                    v3_add(e->p0, v3_add(e->e1, e->e2))};
+        for (int c = 0; c < (e->parallelogram ? 4 : 3); ++c) {
+            bounds[0] = v3_min(bounds[0], corner[c]);
+            bounds[1] = v3_max(bounds[1], corner[c]);
+        }
+    }
+}
+
+/* Node `at` over order[lo .. hi); its children at *next and *next + 1. `bounds` holds each
+ * group's, `scratch` hi - lo keys. Recursion depth is log2 of the group count (median splits). */
+static void build_node(rad_emitter_table *table, const rad_vec3 (*bounds)[2], uint32_t *order,
+                       keyed *scratch, size_t lo, size_t hi, uint32_t at, uint32_t parent,
+                       uint32_t *next) {
     struct rad_emitter_node *n = &table->nodes[at];
-    const struct rad_emitter_group *first = &table->groups[order[lo]];
-    rad_vec3 low = first->low, high = first->high, clow = first->centre, chigh = first->centre;
+    rad_vec3 low = bounds[order[lo]][0], high = bounds[order[lo]][1];
+    rad_vec3 clow = table->groups[order[lo]].centre, chigh = clow;
     rad_vec3 axis = v3(0, 0, 0);
     double power = 0;
     for (size_t i = lo; i < hi; ++i) {
         const struct rad_emitter_group *g = &table->groups[order[i]];
-        low = v3(fmin(low.x, g->low.x), fmin(low.y, g->low.y), fmin(low.z, g->low.z));
-        high = v3(fmax(high.x, g->high.x), fmax(high.y, g->high.y), fmax(high.z, g->high.z));
-        clow = v3(fmin(clow.x, g->centre.x), fmin(clow.y, g->centre.y), fmin(clow.z, g->centre.z));
-        chigh = v3(fmax(chigh.x, g->centre.x), fmax(chigh.y, g->centre.y), fmax(chigh.z, g->centre.z));
+        low = v3_min(low, bounds[order[i]][0]);
+        high = v3_max(high, bounds[order[i]][1]);
+        clow = v3_min(clow, g->centre);
+        chigh = v3_max(chigh, g->centre);
         axis = v3_add(axis, v3_scale(g->normal, g->probability));
         power += g->probability;
     }
@@ -198,8 +204,8 @@ static void build_node(rad_emitter_table *table, uint32_t *order, keyed *scratch
     uint32_t child = *next;
     *next += 2;
     n->child = child;
-    build_node(table, order, scratch, lo, middle, child, at, next);
-    build_node(table, order, scratch, middle, hi, child + 1, at, next);
+    build_node(table, bounds, order, scratch, lo, middle, child, at, next);
+    build_node(table, bounds, order, scratch, middle, hi, child + 1, at, next);
 }
 
 static rad_status build_tree(rad_context *ctx, rad_emitter_table *table) {
@@ -208,11 +214,15 @@ static rad_status build_tree(rad_context *ctx, rad_emitter_table *table) {
     table->leaf_of = rad_alloc(ctx, groups, sizeof *table->leaf_of);
     uint32_t *order = table->tree_order = rad_alloc(ctx, groups, sizeof *order);
     keyed *scratch = rad_alloc(ctx, groups, sizeof *scratch);
+    rad_vec3 (*bounds)[2] = rad_alloc(ctx, groups, sizeof *bounds);
     rad_status status = RAD_ERROR_NO_MEMORY;
-    if (table->nodes && table->leaf_of && order && scratch) {
-        for (size_t g = 0; g < groups; ++g) order[g] = (uint32_t)g;
+    if (table->nodes && table->leaf_of && order && scratch && bounds) {
+        for (size_t g = 0; g < groups; ++g) {
+            order[g] = (uint32_t)g;
+            group_bounds(table, g, bounds[g]);
+        }
         uint32_t next = 1;
-        build_node(table, order, scratch, 0, groups, 0, UINT32_MAX, &next);
+        build_node(table, (const rad_vec3(*)[2])bounds, order, scratch, 0, groups, 0, UINT32_MAX, &next);
         status = RAD_OK;
     } else { /* no tree: no half of one for local_choice to find */
         rad_free(ctx, table->nodes);
@@ -223,6 +233,7 @@ static rad_status build_tree(rad_context *ctx, rad_emitter_table *table) {
         table->tree_order = NULL;
     }
     rad_free(ctx, scratch);
+    rad_free(ctx, bounds);
     return status;
 }
 

@@ -59,7 +59,6 @@ typedef struct rad_emitter_table {
     uint32_t *group_first;
     struct rad_emitter_group {
         rad_vec3 p0, normal, centre;
-        rad_vec3 low, high; /* bounds */
         double area, probability;
     } *groups;
     /* More than RAD_EMITTERS_LOCAL_MAX groups: a light tree over them (2 group_count - 1 nodes,
