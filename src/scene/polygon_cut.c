@@ -382,18 +382,22 @@ rad_status rad_polygon_cut(rad_context *ctx, const double *xy, size_t n, double 
     if (n < 3 || n >= (size_t)1 << 30) /* half-edges are counted in 32 bits */
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "polygon_cut: %zu corners", n);
     cutter c = {.p = (const double(*)[2])xy};
-    c.prev = rad_alloc(ctx, n, sizeof *c.prev);
-    c.next = rad_alloc(ctx, n, sizeof *c.next);
-    c.outside = rad_alloc(ctx, n, sizeof *c.outside);
-    c.slot = rad_alloc(ctx, n, sizeof *c.slot);
-    c.corner = rad_alloc(ctx, 3 * (n - 2), sizeof *c.corner);
-    c.twin = rad_alloc(ctx, 3 * (n - 2), sizeof *c.twin);
-    c.queue = rad_alloc(ctx, 3 * n, sizeof *c.queue);
-    c.queued = rad_alloc_zero(ctx, n, sizeof *c.queued);
-    c.removed = rad_alloc_zero(ctx, n, 1);
+    /* The per-corner and per-triangle arrays, one block: prev, next, outside, slot, queued (n
+     * each), queue (3n), corner and twin (3 (n - 2) each); removed after them. */
+    size_t words = 8 * n + 6 * (n - 2);
+    uint32_t *block = rad_alloc_zero(ctx, words * sizeof(uint32_t) + n, 1);
     rad_status status = RAD_ERROR_NO_MEMORY;
-    if (c.prev && c.next && c.outside && c.slot && c.corner && c.twin && c.queue && c.queued &&
-        c.removed) {
+    if (block) {
+        uint32_t *at = block;
+        c.prev = at, at += n;
+        c.next = at, at += n;
+        c.outside = at, at += n;
+        c.slot = at, at += n;
+        c.queued = at, at += n;
+        c.queue = at, at += 3 * n;
+        c.corner = at, at += 3 * (n - 2);
+        c.twin = at, at += 3 * (n - 2);
+        c.removed = (unsigned char *)at;
         for (size_t v = 0; v < n; ++v) {
             c.prev[v] = (uint32_t)(v ? v - 1 : n - 1);
             c.next[v] = (uint32_t)(v + 1 < n ? v + 1 : 0);
@@ -404,15 +408,7 @@ rad_status rad_polygon_cut(rad_context *ctx, const double *xy, size_t n, double 
             status = merge_pieces(ctx, &c, dent, simple, out);
         }
     }
-    rad_free(ctx, c.prev);
-    rad_free(ctx, c.next);
-    rad_free(ctx, c.outside);
-    rad_free(ctx, c.slot);
-    rad_free(ctx, c.corner);
-    rad_free(ctx, c.twin);
-    rad_free(ctx, c.queue);
-    rad_free(ctx, c.queued);
-    rad_free(ctx, c.removed);
+    rad_free(ctx, block);
     rad_free(ctx, c.start);
     rad_free(ctx, c.count);
     rad_free(ctx, c.entries);
