@@ -222,7 +222,6 @@ typedef struct importer {
     size_t vertex_of_capacity;
     rad_vec3 *points;   /* a face's corners: scratch */
     uint32_t *corners;
-    double (*plane)[2];
     uint32_t *order;
     size_t scratch_capacity;
     /* A triangle waiting for a partner to make a quad with. */
@@ -618,14 +617,9 @@ static rad_status cut_convex(importer *im, const face *f, const uint32_t *run, s
  * itself in its plane is emitted as the triangles it was clipped into and counted. */
 static rad_status cut_face(importer *im, const face *f, double dent) {
     size_t n = f->count;
-    rad_vec3 normal = v3_normalize(newell_normal(f->points, n)), u, v;
-    v3_basis(normal, &u, &v);
-    for (size_t k = 0; k < n; ++k) {
-        im->plane[k][0] = v3_dot(f->points[k], u);
-        im->plane[k][1] = v3_dot(f->points[k], v);
-    }
     rad_polygon_pieces pieces = {0};
-    rad_status status = rad_polygon_cut(im->ctx, &im->plane[0][0], n, dent, &pieces);
+    rad_status status = rad_polygon_cut_in_plane(
+        im->ctx, f->points, n, v3_normalize(newell_normal(f->points, n)), dent, &pieces);
     if (!status && !pieces.simple) im->tangled++;
     for (size_t k = 0; k < pieces.count && !status; ++k) {
         const uint32_t *piece = pieces.corners + pieces.first[k];
@@ -726,14 +720,12 @@ static rad_status grow_scratch(importer *im, size_t corners, size_t vertices) {
     if (corners > im->scratch_capacity) {
         rad_free(ctx, im->points);
         rad_free(ctx, im->corners);
-        rad_free(ctx, im->plane);
         rad_free(ctx, im->order);
         im->points = rad_alloc(ctx, corners, sizeof *im->points);
         im->corners = rad_alloc(ctx, corners, sizeof *im->corners);
-        im->plane = rad_alloc(ctx, corners, sizeof *im->plane);
         im->order = rad_alloc(ctx, corners, sizeof *im->order);
         im->scratch_capacity = corners;
-        if (!im->points || !im->corners || !im->plane || !im->order) {
+        if (!im->points || !im->corners || !im->order) {
             im->scratch_capacity = 0;
             return RAD_ERROR_NO_MEMORY;
         }
@@ -1058,7 +1050,6 @@ static void importer_free(importer *im) {
     rad_free(ctx, im->vertex_of);
     rad_free(ctx, im->points);
     rad_free(ctx, im->corners);
-    rad_free(ctx, im->plane);
     rad_free(ctx, im->order);
     rad_gltf_extras_free(ctx, &im->gltf);
     rad_file_list_free(ctx, &im->opened);

@@ -494,21 +494,12 @@ static rad_status add_points(mgf_reader *r, rad_vec3 *p, size_t n) {
         convex = v3_dot(v3_cross(v3_sub(b, a), v3_sub(c, b)), normal) >= -1e-12 * extent * extent;
     }
     if (convex && n <= 64) return rad_scene_add_polygon_points(r->scene, surface, p, (uint32_t)n);
-    double *plane = rad_alloc(r->ctx, n, 2 * sizeof *plane);
-    if (!plane) return RAD_ERROR_NO_MEMORY;
-    rad_vec3 u, v;
-    v3_basis(normal, &u, &v);
-    for (size_t i = 0; i < n; ++i) {
-        plane[2 * i] = v3_dot(p[i], u);
-        plane[2 * i + 1] = v3_dot(p[i], v);
-    }
     rad_polygon_pieces pieces = {0};
-    status = rad_polygon_cut(r->ctx, plane, n, 0, &pieces);
+    status = rad_polygon_cut_in_plane(r->ctx, p, n, normal, 0, &pieces);
     for (size_t k = 0; k < pieces.count && !status; ++k)
         status = add_piece(r, surface, p, pieces.corners + pieces.first[k],
                            pieces.first[k + 1] - pieces.first[k], extent);
     rad_polygon_pieces_free(r->ctx, &pieces);
-    rad_free(r->ctx, plane);
     return status;
 }
 

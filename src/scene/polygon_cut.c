@@ -416,6 +416,22 @@ rad_status rad_polygon_cut(rad_context *ctx, const double *xy, size_t n, double 
     return status;
 }
 
+rad_status rad_polygon_cut_in_plane(rad_context *ctx, const rad_vec3 *p, size_t n,
+                                    rad_vec3 normal, double dent, rad_polygon_pieces *out) {
+    memset(out, 0, sizeof *out);
+    double (*xy)[2] = rad_alloc(ctx, n ? n : 1, sizeof *xy);
+    if (!xy) return RAD_ERROR_NO_MEMORY;
+    rad_vec3 u, v;
+    v3_basis(normal, &u, &v);
+    for (size_t k = 0; k < n; ++k) {
+        xy[k][0] = v3_dot(p[k], u);
+        xy[k][1] = v3_dot(p[k], v);
+    }
+    rad_status status = rad_polygon_cut(ctx, &xy[0][0], n, dent, out);
+    rad_free(ctx, xy);
+    return status;
+}
+
 void rad_polygon_pieces_free(rad_context *ctx, rad_polygon_pieces *pieces) {
     rad_free(ctx, pieces->corners);
     rad_free(ctx, pieces->first);

@@ -6,6 +6,7 @@
 #define RAD_SCENE_POLYGON_CUT_H
 
 #include "core/context.h"
+#include "core/vec3.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -34,6 +35,11 @@ typedef struct rad_polygon_pieces {
  * budget of work bounds the worst case (the polygon is then cut as if it were not simple). */
 rad_status rad_polygon_cut(rad_context *ctx, const double *xy, size_t n, double dent,
                            rad_polygon_pieces *out);
+
+/* The same for a polygon in 3-D: its corners p[0 .. n) projected on the plane through the
+ * origin with unit `normal`, counter-clockwise seen from its front. */
+rad_status rad_polygon_cut_in_plane(rad_context *ctx, const rad_vec3 *p, size_t n,
+                                    rad_vec3 normal, double dent, rad_polygon_pieces *out);
 
 void rad_polygon_pieces_free(rad_context *ctx, rad_polygon_pieces *pieces);
 
