@@ -700,9 +700,8 @@ static rad_status add_face(importer *im, face *f) {
     if (f->count > MAX_POLYGON_CORNERS) {
         rad_vec3 lo = f->points[0], hi = f->points[0];
         for (size_t k = 1; k < f->count; ++k) {
-            const rad_vec3 q = f->points[k];
-            lo = v3(fmin(lo.x, q.x), fmin(lo.y, q.y), fmin(lo.z, q.z));
-            hi = v3(fmax(hi.x, q.x), fmax(hi.y, q.y), fmax(hi.z, q.z));
+            lo = v3_min(lo, f->points[k]);
+            hi = v3_max(hi, f->points[k]);
         }
         dent = STRAIGHT_DENT * v3_length(v3_sub(hi, lo));
     }
