@@ -7,6 +7,7 @@
  * per polygon, processor seconds of the whole cut, and the growth of the bounds compared from the
  * row above against n log n. Timings only: nothing here passes or fails.
  * Usage: bench_contact [LARGEST (100000)] */
+#include "core/context.h"
 #include "mesh/contact.h"
 #include "radiosity.h"
 #include "scene/scene.h"
@@ -14,13 +15,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
-
-static double processor_seconds(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 /* n triangles, one surface, stacked along z one apart. */
 static rad_scene *stacked(rad_context *ctx, size_t n) {
@@ -49,12 +43,12 @@ static void row(rad_context *ctx, const char *name, const rad_scene *scene, int 
     rad_contact_options options = {.t_points = 1, .quiet = 1};
     if (roots) options = (rad_contact_options){.no_near = 1, .sparing = 1, .quiet = 1};
     rad_contact_cut *cut = NULL;
-    double start = processor_seconds();
+    double start = rad_processor_seconds();
     if (rad_contact_cut_create_with(ctx, scene, &options, &cut)) {
         printf("| %s | %s | failed: %s |\n", name, roots ? "roots" : "mesh", rad_context_error(ctx));
         return;
     }
-    double seconds = processor_seconds() - start;
+    double seconds = rad_processor_seconds() - start;
     size_t n = scene->polygon_count;
     char growth[64] = "";
     if (*last_n && *last_tests > 0)

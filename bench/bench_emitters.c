@@ -7,19 +7,13 @@
  * The timings include the uniform numbers' stream (a few ns). Timings only: nothing here passes
  * or fails.
  * Usage: bench_emitters [SAMPLES PER ROW (1000000)] */
+#include "core/context.h"
 #include "light/emitters.h"
 #include "radiosity.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
-
-static double processor_seconds(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 /* Uniform numbers in [0, 1) from a xorshift64* stream: receivers and samples independent. */
 static double uniform(unsigned long long *state) {
@@ -49,7 +43,7 @@ static void row(rad_context *ctx, int side, int grouped, long samples) {
     }
     /* Receivers uniform over the floor under the lamps, a new one every 16 samples. */
     unsigned long long state = 0x9e3779b97f4a7c15ull;
-    double start = processor_seconds(), sum = 0;
+    double start = rad_processor_seconds(), sum = 0;
     long nearest = 0;
     rad_emitter_point out;
     rad_vec3 x = v3(0, 0, 0);
@@ -62,8 +56,8 @@ static void row(rad_context *ctx, int side, int grouped, long samples) {
             nearest += (long)out.index == (long)i * side + j;
         }
     }
-    double sample_ns = 1e9 * (processor_seconds() - start) / (double)samples;
-    start = processor_seconds();
+    double sample_ns = 1e9 * (rad_processor_seconds() - start) / (double)samples;
+    start = rad_processor_seconds();
     for (long s = 0; s < samples; ++s) {
         rad_vec3 y = v3(uniform(&state) * 2.0 * side, 0, uniform(&state) * 2.0 * side);
         size_t k = (size_t)s % table.count;
@@ -72,7 +66,7 @@ static void row(rad_context *ctx, int side, int grouped, long samples) {
         double distance = v3_length(d);
         sum += rad_emitter_table_pdf(&table, k, y, v3_scale(d, 1 / distance), distance);
     }
-    double pdf_ns = 1e9 * (processor_seconds() - start) / (double)samples;
+    double pdf_ns = 1e9 * (rad_processor_seconds() - start) / (double)samples;
     const char *choice = !grouped ? "global" : lamps > RAD_EMITTERS_LOCAL_MAX ? "light tree" : "exact";
     sink = sum;
     printf("| %zu | %s | %.0f | %.0f | %.1f%% |\n", lamps, choice, sample_ns, pdf_ns,

@@ -9,6 +9,7 @@
  *
  * Usage: bench_formfactors [--quick] [--section N]. Timings on a busy machine are noisy; the
  * numbers in bench/README.md come from a quiet one. */
+#include "core/context.h"
 #include "formfactor/geometric.h"
 #include "scene/scene.h"
 #include "system/system.h"
@@ -19,14 +20,6 @@
 #include <time.h>
 
 static int quick;
-
-/* Processor seconds of this process: steadier than the wall clock on a shared machine. */
-static double cpu_seconds(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 
 static rad_context *context_with(int threads, uint64_t seed) {
     rad_context_options options = {0};
@@ -240,10 +233,10 @@ static void bench_threads(void) {
                 /* Let the idle OpenMP worker of the last two-thread run stop spinning first: it
                  * would count as processor time of the one-thread run, and compete with it. */
                 nanosleep(&(struct timespec){0, 20000000}, NULL);
-                double cpu = cpu_seconds();
+                double cpu = rad_processor_seconds();
                 pair[t] = time_rows(p[t], one.mesh, rows, row);
                 seconds[t] = fmin(seconds[t], pair[t]);
-                processor[t] = fmin(processor[t], cpu_seconds() - cpu);
+                processor[t] = fmin(processor[t], rad_processor_seconds() - cpu);
             }
             ratio[repeat] = pair[0] / pair[1];
         }
@@ -361,9 +354,9 @@ static void bench_accuracy(void) {
             rad_ff_provider *p = provider(&s, method, hemicube ? 0 : setting, hemicube ? setting : 0, 1);
             double error = 0, seconds = 0;
             for (int i = 0; i < rows; ++i) {
-                double start = cpu_seconds();
+                double start = rad_processor_seconds();
                 p->row(p, sample_patch(mesh, i, rows), row);
-                seconds += cpu_seconds() - start;
+                seconds += rad_processor_seconds() - start;
                 double wrong = 0, total = 0;
                 for (size_t e = 0; e < n; ++e) {
                     wrong += fabs((double)row[e] - reference[(size_t)i * n + e]);
@@ -435,9 +428,9 @@ static void shoot(rad_ff_method method, int threads, double patch_factor) {
     options.solver = RAD_SOLVER_SHOOTING;
     options.tolerance = 0.01;
     rad_solve_report report;
-    double cpu = cpu_seconds();
+    double cpu = rad_processor_seconds();
     rad_solve(system, &options, &report);
-    cpu = cpu_seconds() - cpu;
+    cpu = rad_processor_seconds() - cpu;
     rad_ff_stats stats = rad_ff_provider_stats(system->ff);
     printf("| %s%s | %zu / %zu | %d | %.3f | %.3f | %.3f | %d | %llu |\n",
            rad_ff_method_find(method)->info.name, method == RAD_FF_DEFAULT ? " (default)" : "",

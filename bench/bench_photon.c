@@ -10,19 +10,6 @@
 #include <stdio.h>
 #include <math.h>
 #include <stdlib.h>
-#include <time.h>
-
-static double cpu_now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return t.tv_sec + t.tv_nsec * 1e-9;
-}
-
-static double wall_now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return t.tv_sec + t.tv_nsec * 1e-9;
-}
 
 static rad_context *make_context(int threads) {
     rad_context_options options = {0};
@@ -94,34 +81,34 @@ static void map(int threads, size_t count) {
     /* The radius holding 50 photons on average: 50 = n / 6 * pi r^2. */
     double radius = sqrt(50 * 6.0 / (3.14159265358979 * count));
     rad_photon_map m;
-    double wall = wall_now(), cpu = cpu_now();
+    double wall = rad_seconds(), cpu = rad_processor_seconds();
     if (rad_photon_map_build(ctx, copy, count, radius, threads, &m)) {
         fprintf(stderr, "bench_photon: %s\n", rad_context_error(ctx));
         rad_context_destroy(ctx);
         return;
     }
-    double build_wall = wall_now() - wall, build_cpu = cpu_now() - cpu;
+    double build_wall = rad_seconds() - wall, build_cpu = rad_processor_seconds() - cpu;
     /* Queries on one thread: k = 50 nearest, and the box estimate with the radius. */
     int queries = 200000;
     rad_photon_near found[50];
     double sum = 0;
     state = 9;
-    cpu = cpu_now();
+    cpu = rad_processor_seconds();
     for (int q = 0; q < queries; ++q) {
         rad_vec3 x = {uniform(&state), uniform(&state), 0};
         double e[3];
         rad_photon_map_irradiance(&m, x, (rad_vec3){0, 0, 1}, radius, 50, found, e);
         sum += e[0];
     }
-    double knn = cpu_now() - cpu;
-    cpu = cpu_now();
+    double knn = rad_processor_seconds() - cpu;
+    cpu = rad_processor_seconds();
     for (int q = 0; q < queries; ++q) {
         rad_vec3 x = {uniform(&state), uniform(&state), 0};
         double e[3];
         rad_photon_map_irradiance(&m, x, (rad_vec3){0, 0, 1}, radius, 0, NULL, e);
         sum += e[0];
     }
-    double box = cpu_now() - cpu;
+    double box = rad_processor_seconds() - cpu;
     printf("| %9zu | %7d | %8.3f | %11.3f | %15.2f | %14.2f | %8.3g |\n", count, threads,
            build_wall, build_cpu, queries / knn * 1e-6, queries / box * 1e-6, sum / (2 * queries));
     rad_photon_map_free(ctx, &m);

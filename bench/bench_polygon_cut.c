@@ -5,6 +5,7 @@
  * corners, pieces, the fewest possible where known (teeth + 1), and processor seconds of the
  * cut (best of 3). Timings only: nothing here passes or fails.
  * Usage: bench_polygon_cut [LARGEST (100000)] */
+#include "core/context.h"
 #include "core/vec3.h"
 #include "radiosity.h"
 #include "scene/polygon_cut.h"
@@ -12,13 +13,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
-
-static double processor_seconds(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static void gear(double *xy, size_t teeth) {
     double pitch = 2 * RAD_PI / (double)teeth;
@@ -75,12 +69,12 @@ static void row(rad_context *ctx, const char *shape, const double *xy, size_t n,
     rad_polygon_pieces pieces = {0};
     for (int trial = 0; trial < 3; ++trial) {
         rad_polygon_pieces_free(ctx, &pieces);
-        double start = processor_seconds();
+        double start = rad_processor_seconds();
         if (rad_polygon_cut(ctx, xy, n, 0, &pieces)) {
             printf("| %s | %zu | failed: %s |\n", shape, n, rad_context_error(ctx));
             return;
         }
-        best = fmin(best, processor_seconds() - start);
+        best = fmin(best, rad_processor_seconds() - start);
     }
     char few[32] = "";
     if (fewest) snprintf(few, sizeof few, "%zu", fewest);

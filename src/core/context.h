@@ -69,5 +69,8 @@ int rad_thread_count(const rad_context *ctx);
 
 /* Wall-clock seconds from an arbitrary origin. */
 double rad_seconds(void);
+/* Processor seconds of this process (every thread's): steadier than the wall clock on a shared
+ * machine. */
+double rad_processor_seconds(void);
 
 #endif

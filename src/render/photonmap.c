@@ -24,6 +24,7 @@
  * Every random number is an Owen-scrambled Sobol' point (core/sampler.h) indexed by the photon
  * or the pixel sample; photons are traced in fixed blocks whose stores are joined in block
  * order, so the maps and the image do not depend on the thread count. */
+#include "core/context.h"
 #include "render/lights_next_event.h"
 #include "render/pathtrace.h"
 #include "render/photon_map.h"
@@ -35,7 +36,6 @@
 #include <math.h>
 #include <omp.h>
 #include <string.h>
-#include <time.h>
 
 #define DEFAULT_SIZE 512
 #define DEFAULT_SPP 4
@@ -58,12 +58,6 @@
 #define SEEN_SPLITS MAX_SPECULAR_CHAIN /* glass splits of a path that only looks for sources */
 #define SEEN_ROULETTE 0.05 /* its branches below this throughput play Russian roulette */
 #define GATHER_DIM 256 /* the gather samplers' first dimension, past the camera path's */
-
-static double cpu_seconds(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return t.tv_sec + t.tv_nsec * 1e-9;
-}
 
 /* The next surface along origin + t direction: its material, the hit and the point; NULL when the
  * ray leaves the scene (*left set: it sees the sky) or meets the back of a one-sided surface
@@ -580,7 +574,7 @@ static rad_status build_pass(const rad_tracer *t, const rad_light_emission *sour
     photon_runs runs;
     memset(&runs, 0, sizeof runs);
     uint64_t rays = 0;
-    double start = rad_seconds(), cpu = cpu_seconds();
+    double start = rad_seconds(), cpu = rad_processor_seconds();
     /* Each stored photon's flux over the photons that could have fed its map. */
     photon_source source = {t, sources, seed, 1.0 / (double)photons,
                             1.0 / ((double)photons + (double)caustic_photons)};
@@ -588,7 +582,7 @@ static rad_status build_pass(const rad_tracer *t, const rad_light_emission *sour
     if (!status && caustic_photons)
         status = trace_photons(&source, photons, caustic_photons, 1, threads, &runs, &rays);
     stats->trace_seconds += rad_seconds() - start;
-    stats->trace_cpu_seconds += cpu_seconds() - cpu;
+    stats->trace_cpu_seconds += rad_processor_seconds() - cpu;
     stats->photons_emitted += photons + caustic_photons;
     if (status) {
         runs_free(ctx, &runs);
