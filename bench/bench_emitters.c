@@ -50,7 +50,7 @@ static void row(rad_context *ctx, int side, int grouped, long samples) {
     for (long s = 0; s < samples; ++s) {
         if (s % 16 == 0) x = v3(uniform(&state) * 2.0 * side, 0, uniform(&state) * 2.0 * side);
         double u0 = uniform(&state), u1 = uniform(&state);
-        if (rad_emitter_table_sample(&table, u0, u1, x, &out)) {
+        if (rad_emitter_table_sample(&table, u0, u1, x, v3(0, 1, 0), &out)) {
             sum += out.pdf;
             int i = (int)floor(x.x / 2), j = (int)floor(x.z / 2);
             nearest += (long)out.index == (long)i * side + j;
@@ -64,7 +64,7 @@ static void row(rad_context *ctx, int side, int grouped, long samples) {
         const rad_emitter *e = &table.emitters[k];
         rad_vec3 d = v3_sub(v3_add(e->p0, v3(0.5, 0, 0.5)), y);
         double distance = v3_length(d);
-        sum += rad_emitter_table_pdf(&table, k, y, v3_scale(d, 1 / distance), distance);
+        sum += rad_emitter_table_pdf(&table, k, y, v3(0, 1, 0), v3_scale(d, 1 / distance), distance);
     }
     double pdf_ns = 1e9 * (rad_processor_seconds() - start) / (double)samples;
     const char *choice = !grouped ? "global" : lamps > RAD_EMITTERS_LOCAL_MAX ? "light tree" : "exact";

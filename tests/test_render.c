@@ -302,7 +302,7 @@ static void test_lamp_sampling(const rad_scene *scene, const rad_system *system)
         for (int i = 0; i < 32; ++i)
             for (int j = 0; j < 32; ++j) {
                 rad_emitter_point point;
-                if (rad_emitter_table_sample(&r->emitters, (i + 0.5) / 32, (j + 0.5) / 32, x, &point))
+                if (rad_emitter_table_sample(&r->emitters, (i + 0.5) / 32, (j + 0.5) / 32, x, n, &point))
                     estimate += v3_dot(n, point.direction) / point.pdf;
             }
         estimate /= 32 * 32;
@@ -675,10 +675,10 @@ static void test_emitter_groups(void) {
         for (int i = 0; i < 64; ++i)
             for (int j = 0; j < 64; ++j) {
                 rad_emitter_point point;
-                if (!rad_emitter_table_sample(&table, (i + 0.5) / 64, (j + 0.5) / 64, x, &point)) continue;
+                if (!rad_emitter_table_sample(&table, (i + 0.5) / 64, (j + 0.5) / 64, x, n, &point)) continue;
                 near += point.index == 0;
                 estimate += v3_dot(n, point.direction) / point.pdf;
-                double pdf = rad_emitter_table_pdf(&table, point.index, x, point.direction,
+                double pdf = rad_emitter_table_pdf(&table, point.index, x, n, point.direction,
                                                    sqrt(point.distance2));
                 worst_pdf = fmax(worst_pdf, fabs(pdf / point.pdf - 1));
             }
@@ -695,18 +695,20 @@ static void test_emitter_groups(void) {
 }
 
 /* The light tree (light/emitters.c), for more groups than RAD_EMITTERS_LOCAL_MAX: 24 x 24 unit
- * lamps 2 apart, 0.5 above the receiver, facing down. The choice's probabilities over the lamps
- * sum to 1 at the receiver, the irradiance from a 128 x 128 net matches the summed form factors,
- * every sample's density is rad_emitter_table_pdf's, and the lamp right above takes over a quarter
- * of the samples (40%; the exact choice 31%, the global one 1 in 576). */
+ * lamps 2 apart, 0.5 above the floor, facing down, seen from a point of the floor and from a
+ * point of a wall facing +x, 0.25 above the floor and 0.1 in front of a lamp's edge. At each receiver the choice's probabilities
+ * over the lamps sum to 1, the irradiance from a 256 x 256 net matches the summed form factors
+ * (clipped to the receiver's hemisphere), and every sample's density is rad_emitter_table_pdf's.
+ * On the floor the lamp right above takes over a quarter of the samples (40%; the exact choice
+ * 31%, the global one 1 in 576); on the wall the lamps wholly behind its plane, half of them,
+ * get only the global share (a quarter of half: 12.5%; without the receiver's front, 82%). */
 static void test_emitter_tree(void) {
     rad_context *ctx = test_context(1, 1);
     const double radiance[3] = {1, 1, 1};
     const int side = 24, lamps = side * side;
-    rad_vec3 x = v3(0.3, 0, 0.2), n = v3(0, 1, 0);
+    const rad_vec3 receiver[2][2] = {{v3(0.3, 0, 0.2), v3(0, 1, 0)}, {v3(-1.4, 0.25, 0.2), v3(1, 0, 0)}};
     rad_emitter_table table = {0};
     CHECK(rad_emitter_table_reserve(ctx, &table, (size_t)lamps) == RAD_OK);
-    double exact = 0;
     int above = -1;
     for (int i = 0; i < side; ++i)
         for (int j = 0; j < side; ++j) {
@@ -715,45 +717,53 @@ static void test_emitter_tree(void) {
                                                             v3(0, -1, 0), radiance);
             rad_emitter_table_close_group(&table);
             if (i == side / 2 && j == side / 2) above = k;
-            rad_vec3 q[4] = {corner, v3_add(corner, v3(1, 0, 0)), v3_add(corner, v3(1, 0, 1)),
-                             v3_add(corner, v3(0, 0, 1))};
-            exact += RAD_PI * rad_ff_point_polygon(x, n, q, 4);
         }
     CHECK(rad_emitter_table_finish(ctx, &table, RAD_EMITTERS_BY_POWER) == RAD_OK);
     CHECK(table.nodes != NULL);
-    double total = 0;
-    for (size_t k = 0; k < table.count; ++k) {
-        const rad_emitter *e = &table.emitters[k];
-        rad_vec3 centre = v3_add(e->p0, v3_scale(v3_add(e->e1, e->e2), 0.5));
-        rad_vec3 d = v3_sub(centre, x);
-        double distance = v3_length(d);
-        rad_vec3 w = v3_scale(d, 1 / distance);
-        double cos_y = -v3_dot(e->normal, w);
-        total += rad_emitter_table_pdf(&table, k, x, w, distance) * e->area * cos_y / (distance * distance);
+    for (int wall = 0; wall < 2; ++wall) {
+        rad_vec3 x = receiver[wall][0], n = receiver[wall][1];
+        double total = 0, exact = 0;
+        for (size_t k = 0; k < table.count; ++k) {
+            const rad_emitter *e = &table.emitters[k];
+            rad_vec3 q[4] = {e->p0, v3_add(e->p0, e->e2), v3_add(e->p0, v3_add(e->e1, e->e2)),
+                             v3_add(e->p0, e->e1)};
+            exact += RAD_PI * rad_ff_point_polygon(x, n, q, 4);
+            rad_vec3 centre = v3_add(e->p0, v3_scale(v3_add(e->e1, e->e2), 0.5));
+            rad_vec3 d = v3_sub(centre, x);
+            double distance = v3_length(d);
+            rad_vec3 w = v3_scale(d, 1 / distance);
+            double cos_y = -v3_dot(e->normal, w);
+            total += rad_emitter_table_pdf(&table, k, x, n, w, distance) * e->area * cos_y /
+                     (distance * distance);
+        }
+        double estimate = 0, worst_pdf = 0;
+        int near = 0, behind = 0;
+        const int samples = 1 << 16;
+        for (int i = 0; i < samples; ++i) {
+            /* Hammersley points: u0 in every 1 / samples stratum, u1 its radical inverse. */
+            unsigned bits = (unsigned)i, reversed = 0;
+            for (int b = 0; b < 16; ++b, bits >>= 1) reversed = reversed << 1 | (bits & 1);
+            rad_emitter_point point;
+            if (!rad_emitter_table_sample(&table, (i + 0.5) / samples, (reversed + 0.5) / samples, x,
+                                          n, &point))
+                continue;
+            near += (int)point.index == above;
+            behind += table.emitters[point.index].p0.x + 1 < x.x;
+            estimate += fmax(0, v3_dot(n, point.direction)) / point.pdf;
+            double pdf = rad_emitter_table_pdf(&table, point.index, x, n, point.direction,
+                                               sqrt(point.distance2));
+            worst_pdf = fmax(worst_pdf, fabs(pdf / point.pdf - 1));
+        }
+        estimate /= samples;
+        printf("emitter tree, %s: probabilities sum to %.12f; irradiance %.6f against %.6f, %d of "
+               "%d samples on the lamp above, %d on lamps wholly at lower x (behind the wall)\n",
+               wall ? "wall" : "floor", total, estimate, exact, near, samples, behind);
+        CHECK_NEAR(total, 1, 1e-9);
+        CHECK_NEAR(estimate / exact, 1, 5e-3);
+        CHECK(worst_pdf < 1e-9);
+        if (wall) CHECK(behind < samples * 0.13);
+        else CHECK(near > samples / 4);
     }
-    double estimate = 0, worst_pdf = 0;
-    int near = 0;
-    const int samples = 1 << 16;
-    for (int i = 0; i < samples; ++i) {
-        /* Hammersley points: u0 in every 1 / samples stratum, u1 its radical inverse. */
-        unsigned bits = (unsigned)i, reversed = 0;
-        for (int b = 0; b < 16; ++b, bits >>= 1) reversed = reversed << 1 | (bits & 1);
-        rad_emitter_point point;
-        if (!rad_emitter_table_sample(&table, (i + 0.5) / samples, (reversed + 0.5) / samples, x, &point))
-            continue;
-        near += (int)point.index == above;
-        estimate += v3_dot(n, point.direction) / point.pdf;
-        double pdf = rad_emitter_table_pdf(&table, point.index, x, point.direction,
-                                           sqrt(point.distance2));
-        worst_pdf = fmax(worst_pdf, fabs(pdf / point.pdf - 1));
-    }
-    estimate /= samples;
-    printf("emitter tree: probabilities sum to %.12f; irradiance %.6f against %.6f, %d of %d "
-           "samples on the lamp above\n", total, estimate, exact, near, samples);
-    CHECK_NEAR(total, 1, 1e-9);
-    CHECK_NEAR(estimate / exact, 1, 5e-3);
-    CHECK(worst_pdf < 1e-9);
-    CHECK(near > samples / 4);
     rad_emitter_table_free(ctx, &table);
     rad_context_destroy(ctx);
 }

@@ -61,6 +61,30 @@ static rad_vec3 emitter_point(const rad_emitter *light, double u0, double u1) {
 
 static rad_status build_tree(rad_context *ctx, rad_emitter_table *table);
 
+/* table->group_fields: field f of group g at [f * group_count + g]. */
+enum { FIELD_CX, FIELD_CY, FIELD_CZ, FIELD_NX, FIELD_NY, FIELD_NZ, FIELD_OFFSET, FIELD_AREA,
+       FIELD_RADIUS, FIELD_POWER, GROUP_FIELDS };
+
+static rad_status fill_group_fields(rad_context *ctx, rad_emitter_table *table) {
+    size_t n = table->group_count;
+    double *f = table->group_fields = rad_alloc(ctx, n * GROUP_FIELDS, sizeof *f);
+    if (!f) return RAD_ERROR_NO_MEMORY;
+    for (size_t g = 0; g < n; ++g) {
+        const struct rad_emitter_group *group = &table->groups[g];
+        f[FIELD_CX * n + g] = group->centre.x;
+        f[FIELD_CY * n + g] = group->centre.y;
+        f[FIELD_CZ * n + g] = group->centre.z;
+        f[FIELD_NX * n + g] = group->normal.x;
+        f[FIELD_NY * n + g] = group->normal.y;
+        f[FIELD_NZ * n + g] = group->normal.z;
+        f[FIELD_OFFSET * n + g] = v3_dot(group->p0, group->normal);
+        f[FIELD_AREA * n + g] = group->area;
+        f[FIELD_RADIUS * n + g] = group->radius;
+        f[FIELD_POWER * n + g] = group->probability;
+    }
+    return RAD_OK;
+}
+
 rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
                                     rad_emitter_selection selection) {
     /* Cumulative weights, then normalised: the last entry is exactly 1. */
@@ -97,6 +121,14 @@ rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
         group->p0 = table->emitters[first].p0;
         group->normal = table->emitters[first].normal;
         group->centre = v3_scale(weighted, 1 / group->area);
+        group->radius = 0;
+        for (uint32_t k = first; k < end; ++k) {
+            const rad_emitter *e = &table->emitters[k];
+            const rad_vec3 corner[4] = {e->p0, v3_add(e->p0, e->e1), v3_add(e->p0, e->e2),
+                                        v3_add(e->p0, v3_add(e->e1, e->e2))};
+            for (int c = 0; c < (e->parallelogram ? 4 : 3); ++c)
+                group->radius = fmax(group->radius, v3_length(v3_sub(corner[c], group->centre)));
+        }
         group->probability = table->cdf[end - 1] - (first ? table->cdf[first - 1] : 0);
     }
     size_t first = 0;
@@ -105,7 +137,10 @@ rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
         while (first + 1 < table->count && table->cdf[first] <= u) ++first;
         table->guide[b] = (uint32_t)first;
     }
-    return table->group_count > RAD_EMITTERS_LOCAL_MAX ? build_tree(ctx, table) : RAD_OK;
+    if (table->group_count < 2) return RAD_OK;
+    rad_status status = fill_group_fields(ctx, table);
+    if (status == RAD_OK && table->group_count > RAD_EMITTERS_LOCAL_MAX) status = build_tree(ctx, table);
+    return status;
 }
 
 /* ------------------------------------------------------------------------------------------- */
@@ -242,19 +277,40 @@ static inline double outside(double v, double low, double high) {
     return v < low ? low - v : v > high ? v - high : 0;
 }
 
-/* Node n's importance at x (above). */
-static double node_importance(const struct rad_emitter_node *n, rad_vec3 x) {
+/* A receiver: the point x and its front (unit; zero: light from every direction counts). */
+typedef struct receiver {
+    rad_vec3 x, normal;
+} receiver;
+
+static int any_direction(const receiver *r) {
+    return r->normal.x == 0 && r->normal.y == 0 && r->normal.z == 0;
+}
+
+/* Node n's importance at x (above), times a bound on the receiver's cosine over its box: every
+ * point p of the box has n . (p - x) <= rise (the box's highest corner over the receiver's
+ * plane) and |p - x| >= the distance to the box, so cos <= rise / distance (1 inside the box
+ * or for a receiver without a front; 0 when the box lies wholly behind the plane, from where x
+ * reflects nothing). */
+static double node_importance(const struct rad_emitter_node *n, const receiver *r) {
+    rad_vec3 x = r->x;
     rad_vec3 d = v3_sub(x, n->centre);
     double d2 = v3_dot(d, d), r2 = n->radius * n->radius;
+    double ox = outside(x.x, n->low.x, n->high.x), oy = outside(x.y, n->low.y, n->high.y),
+           oz = outside(x.z, n->low.z, n->high.z), o2 = ox * ox + oy * oy + oz * oz;
+    double facing = 1;
+    if (!any_direction(r)) {
+        rad_vec3 half = v3_scale(v3_sub(n->high, n->low), 0.5);
+        double rise = fabs(r->normal.x) * half.x + fabs(r->normal.y) * half.y +
+                      fabs(r->normal.z) * half.z - v3_dot(r->normal, d);
+        if (rise < 0) return 0;
+        if (rise * rise < o2) facing = rise / sqrt(o2);
+    }
     /* The distance to the bounds, not to the centre: */
     double near2 = 1e-4 * r2 > 1e-300 ? 1e-4 * r2 : 1e-300;
-    {
-        double ox = outside(x.x, n->low.x, n->high.x), oy = outside(x.y, n->low.y, n->high.y),
-               oz = outside(x.z, n->low.z, n->high.z), o2 = ox * ox + oy * oy + oz * oz;
-        if (o2 > near2) near2 = o2;
-    }
+    if (o2 > near2) near2 = o2;
+    double power = n->power * facing;
     /* x within the sphere, or a cone wider than a hemisphere: no angle bound. */
-    if (d2 <= r2 || n->cos_spread <= 0) return n->power / near2;
+    if (d2 <= r2 || n->cos_spread <= 0) return power / near2;
     /* theta' = theta - slack, slack = spread + asin(radius / d) in [0, pi), without
      * trigonometry: theta <= slack when cos(theta) >= cos(slack); else
      * cos(theta') = cos(theta) cos(slack) + sin(theta) sin(slack). */
@@ -265,13 +321,13 @@ static double node_importance(const struct rad_emitter_node *n, rad_vec3 x) {
     double sin_u = n->radius / distance, cos_u = sqrt(1 - sin_u * sin_u); /* radius < distance */
     double cos_slack = n->cos_spread * cos_u - n->sin_spread * sin_u;
     double sin_slack = n->sin_spread * cos_u + n->cos_spread * sin_u;
-    if (cos_angle >= cos_slack) return n->power / near2;
+    if (cos_angle >= cos_slack) return power / near2;
     double cos_least = cos_angle * cos_slack + sin_angle * sin_slack;
-    return cos_least > 0 ? n->power * cos_least / near2 : 0;
+    return cos_least > 0 ? power * cos_least / near2 : 0;
 }
 
 /* The probability of choosing `child` (one of two siblings at `first`, `first + 1`) at x. */
-static double child_share(const rad_emitter_table *table, uint32_t first, uint32_t child, rad_vec3 x) {
+static double child_share(const rad_emitter_table *table, uint32_t first, uint32_t child, const receiver *x) {
     const struct rad_emitter_node *a = &table->nodes[first], *b = &table->nodes[first + 1];
     double ia = node_importance(a, x), ib = node_importance(b, x);
     double pa = ia + ib > 0                   ? ia / (ia + ib)
@@ -281,22 +337,36 @@ static double child_share(const rad_emitter_table *table, uint32_t first, uint32
 }
 
 /* Group g's exact weight at x: its power times h / (d^2 + A)^(3/2) (below, "the choice for a
- * receiver"). */
-static double group_weight(const struct rad_emitter_group *group, rad_vec3 x) {
-    double h = v3_dot(v3_sub(x, group->p0), group->normal);
-    if (!(h > 0)) return 0;
-    rad_vec3 d = v3_sub(x, group->centre);
-    double s = v3_dot(d, d) + group->area;
-    return group->probability * h / (s * sqrt(s));
+ * receiver"), times an estimate of the receiver's cosine: (h_x + R) / sqrt(d^2 + A) within
+ * [0, 1], h_x the height of the group's centre above the receiver's plane and R the group's
+ * radius (the height of the sphere's highest point over the softened distance the weight
+ * uses: not a bound, but zero exactly when the sphere lies wholly behind the plane). Together: power * clamp(h_x + R, 0, sqrt(s)) * h / s^2, s = d^2 + A; a receiver without a
+ * front (`any`) takes the clamp's top. From the fields of table->group_fields (n groups). */
+static inline double weight_of(const double *f, size_t n, size_t g, const receiver *r, int any) {
+    double dx = r->x.x - f[FIELD_CX * n + g], dy = r->x.y - f[FIELD_CY * n + g],
+           dz = r->x.z - f[FIELD_CZ * n + g];
+    double h = r->x.x * f[FIELD_NX * n + g] + r->x.y * f[FIELD_NY * n + g] +
+               r->x.z * f[FIELD_NZ * n + g] - f[FIELD_OFFSET * n + g];
+    double s = dx * dx + dy * dy + dz * dz + f[FIELD_AREA * n + g], root = sqrt(s);
+    double rise = any ? root : f[FIELD_RADIUS * n + g] -
+                                   (r->normal.x * dx + r->normal.y * dy + r->normal.z * dz);
+    rise = rise > 0 ? rise : 0;
+    rise = rise < root ? rise : root;
+    double w = f[FIELD_POWER * n + g] * rise * h / (s * s);
+    return h > 0 ? w : 0;
+}
+
+static double group_weight(const rad_emitter_table *table, size_t g, const receiver *r) {
+    return weight_of(table->group_fields, table->group_count, g, r, any_direction(r));
 }
 
 /* Within leaf `at`: the groups' exact weights at x into w[], their sum returned; all zero (x
  * behind every one) falls back to their power. */
-static double leaf_weights(const rad_emitter_table *table, uint32_t at, rad_vec3 x, double *w) {
+static double leaf_weights(const rad_emitter_table *table, uint32_t at, const receiver *x, double *w) {
     const struct rad_emitter_node *n = &table->nodes[at];
     double total = 0;
     for (uint32_t i = 0; i < n->leaf; ++i)
-        total += (w[i] = group_weight(&table->groups[table->tree_order[n->child + i]], x));
+        total += (w[i] = group_weight(table, table->tree_order[n->child + i], x));
     if (total > 0) return total;
     for (uint32_t i = 0; i < n->leaf; ++i)
         total += (w[i] = table->groups[table->tree_order[n->child + i]].probability);
@@ -306,7 +376,7 @@ static double leaf_weights(const rad_emitter_table *table, uint32_t at, rad_vec3
 }
 
 /* The tree's P_g(x) for group g: its choices from the root down, multiplied. */
-static double tree_probability(const rad_emitter_table *table, size_t g, rad_vec3 x) {
+static double tree_probability(const rad_emitter_table *table, size_t g, const receiver *x) {
     uint32_t at = table->leaf_of[g];
     const struct rad_emitter_node *leaf = &table->nodes[at];
     double w[LEAF_GROUPS], total = leaf_weights(table, at, x, w), probability = 0;
@@ -322,7 +392,7 @@ static double tree_probability(const rad_emitter_table *table, size_t g, rad_vec
 
 /* A group for x down the tree for u in [0, 1), u rescaled inside the group's share; the tree's
  * P_g(x) in *probability (what tree_probability gives for it). */
-static size_t tree_pick(const rad_emitter_table *table, rad_vec3 x, double *u, double *probability) {
+static size_t tree_pick(const rad_emitter_table *table, const receiver *x, double *u, double *probability) {
     uint32_t at = 0;
     double product = 1;
     while (!table->nodes[at].leaf) {
@@ -354,6 +424,7 @@ void rad_emitter_table_free(rad_context *ctx, rad_emitter_table *table) {
     rad_free(ctx, table->guide);
     rad_free(ctx, table->group_first);
     rad_free(ctx, table->groups);
+    rad_free(ctx, table->group_fields);
     rad_free(ctx, table->nodes);
     rad_free(ctx, table->leaf_of);
     rad_free(ctx, table->tree_order);
@@ -395,18 +466,25 @@ static int local_choice(const rad_emitter_table *table) {
 }
 
 /* The groups' probabilities P_g(x) into p[0 .. group_count) (at most RAD_EMITTERS_LOCAL_MAX). */
-static void group_probabilities(const rad_emitter_table *table, rad_vec3 x, double *p) {
+static void group_probabilities(const rad_emitter_table *table, const receiver *x, double *p) {
     double total = 0;
-    for (size_t g = 0; g < table->group_count; ++g) total += (p[g] = group_weight(&table->groups[g], x));
-    for (size_t g = 0; g < table->group_count; ++g) {
-        double global = table->groups[g].probability;
-        p[g] = total > 0 ? (1 - LOCAL_GLOBAL_SHARE) * p[g] / total + LOCAL_GLOBAL_SHARE * global
-                         : global;
-    }
+    const double *f = table->group_fields;
+    size_t n = table->group_count;
+    if (any_direction(x))
+        for (size_t g = 0; g < n; ++g) p[g] = weight_of(f, n, g, x, 1);
+    else
+        for (size_t g = 0; g < n; ++g) p[g] = weight_of(f, n, g, x, 0);
+    for (size_t g = 0; g < n; ++g) total += p[g];
+    const double *global = f + FIELD_POWER * n;
+    if (total > 0) {
+        double scale = (1 - LOCAL_GLOBAL_SHARE) / total;
+        for (size_t g = 0; g < n; ++g) p[g] = scale * p[g] + LOCAL_GLOBAL_SHARE * global[g];
+    } else
+        for (size_t g = 0; g < n; ++g) p[g] = global[g];
 }
 
 /* Group g's P_g(x): from the light tree when the table has one, else from the exact weights. */
-static double group_probability(const rad_emitter_table *table, size_t g, rad_vec3 x) {
+static double group_probability(const rad_emitter_table *table, size_t g, const receiver *x) {
     if (table->nodes)
         return (1 - LOCAL_GLOBAL_SHARE) * tree_probability(table, g, x) +
                LOCAL_GLOBAL_SHARE * table->groups[g].probability;
@@ -445,7 +523,7 @@ static size_t pick_in_group(const rad_emitter_table *table, size_t g, double v, 
  * distribution, u rescaled and reused at each step. Its probability P_k(x) in *probability.
  * With a light tree, P_g(x) mixes two choices: u below LOCAL_GLOBAL_SHARE picks an entry by the
  * global distribution, above it a group down the tree. */
-static size_t pick_local(const rad_emitter_table *table, rad_vec3 x, double *u,
+static size_t pick_local(const rad_emitter_table *table, const receiver *x, double *u,
                          double *probability) {
     size_t g, k;
     double pg;
@@ -477,12 +555,13 @@ static size_t pick_local(const rad_emitter_table *table, rad_vec3 x, double *u,
 }
 
 int rad_emitter_table_sample(const rad_emitter_table *table, double u0, double u1, rad_vec3 x,
-                             rad_emitter_point *out) {
+                             rad_vec3 normal, rad_emitter_point *out) {
     if (table->count == 0) return 0;
     size_t k;
     double probability;
     if (local_choice(table)) {
-        k = pick_local(table, x, &u0, &probability);
+        receiver r = {x, normal};
+        k = pick_local(table, &r, &u0, &probability);
     } else {
         k = pick(table, &u0);
         probability = rad_emitter_table_probability(table, k);
@@ -503,7 +582,7 @@ int rad_emitter_table_sample(const rad_emitter_table *table, double u0, double u
 }
 
 double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 x,
-                             rad_vec3 direction, double distance) {
+                             rad_vec3 normal, rad_vec3 direction, double distance) {
     if (k >= table->count) return 0;
     const rad_emitter *light = &table->emitters[k];
     double cos_y = -v3_dot(light->normal, direction);
@@ -511,7 +590,8 @@ double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 
     double probability = rad_emitter_table_probability(table, k);
     if (local_choice(table)) {
         size_t g = group_of(table, k);
-        probability *= group_probability(table, g, x) / table->groups[g].probability;
+        receiver r = {x, normal};
+        probability *= group_probability(table, g, &r) / table->groups[g].probability;
     }
     return probability / light->area * distance * distance / cos_y;
 }

@@ -59,8 +59,12 @@ typedef struct rad_emitter_table {
     uint32_t *group_first;
     struct rad_emitter_group {
         rad_vec3 p0, normal, centre;
-        double area, probability;
+        double area, radius, probability; /* radius: the farthest corner from the centre */
     } *groups;
+    /* The same numbers the choice by receiver reads, one array of group_count values each
+     * (emitters.c, GROUP_FIELDS of them), so that its loop over the groups runs in vector
+     * registers; with 2 or more groups only. */
+    double *group_fields;
     /* More than RAD_EMITTERS_LOCAL_MAX groups: a light tree over them (2 group_count - 1 nodes,
      * the root first), and each group's leaf (emitters.c, "The light tree"). */
     struct rad_emitter_node {
@@ -117,15 +121,19 @@ static inline double rad_emitter_table_probability(const rad_emitter_table *tabl
     return table->cdf[k] - (k ? table->cdf[k - 1] : 0);
 }
 
-/* A point on the emitters for two uniform numbers in [0, 1); zero when the table is empty, the
- * point is x itself or the triangle faces away from x. */
+/* A point on the emitters for two uniform numbers in [0, 1), as seen from receiver x whose
+ * front is `normal` (unit: lamps wholly behind it are chosen only by the global share, since x
+ * reflects nothing from there; the zero vector: a receiver of every direction, such as a
+ * transmitting surface). Zero when the table is empty, the point is x itself or the triangle
+ * faces away from x. */
 int rad_emitter_table_sample(const rad_emitter_table *table, double u0, double u1, rad_vec3 x,
-                             rad_emitter_point *out);
+                             rad_vec3 normal, rad_emitter_point *out);
 
-/* The solid-angle density rad_emitter_table_sample has at receiver x for the point on triangle
- * k that the ray from x along unit `direction` meets at `distance`; zero from behind. */
+/* The solid-angle density rad_emitter_table_sample has at receiver x (front `normal`, the same
+ * as given to the sample) for the point on triangle k that the ray from x along unit `direction`
+ * meets at `distance`; zero from behind. */
 double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 x,
-                             rad_vec3 direction, double distance);
+                             rad_vec3 normal, rad_vec3 direction, double distance);
 
 /* Emission sampling for light paths (photons, light tracing): a triangle k by the table's
  * distribution and a point uniform on it for two uniform numbers (the same mapping as

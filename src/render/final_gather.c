@@ -100,14 +100,14 @@
 /* ------------------------------------------------------------------------------------------- */
 /* Direct light                                                                                 */
 
-double rad_emitter_pdf(const rad_renderer *r, rad_vec3 origin, rad_vec3 direction,
+double rad_emitter_pdf(const rad_renderer *r, rad_vec3 origin, rad_vec3 normal, rad_vec3 direction,
                        const rad_element_hit *hit) {
     if (r->emitters.count == 0) return 0;
     /* Embree's split of a quad: (v0, v1, v3) below the diagonal u + v = 1, (v2, v3, v1) above. */
     int piece = rad_mesh_corner_count(r->mesh, hit->element) == 4 && hit->u + hit->v > 1;
     int32_t k = r->element_emitter[hit->element][piece];
     if (k < 0) return 0;
-    return rad_emitter_table_pdf(&r->emitters, (size_t)k, origin, direction, hit->t);
+    return rad_emitter_table_pdf(&r->emitters, (size_t)k, origin, normal, direction, hit->t);
 }
 
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
@@ -132,7 +132,7 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
         rad_sample_2d_run(sample, total, first + (uint32_t)start, lanes, dimension, u_all);
         for (int i = 0; i < lanes; ++i) {
             const double *u = u_all[i];
-            live[i] = rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light[i]) &&
+            live[i] = rad_emitter_table_sample(&r->emitters, u[0], u[1], x, n, &light[i]) &&
                       (cosine[i] = v3_dot(n, light[i].direction)) > 0;
             if (live[i]) position[traced++] = light[i].position;
         }
@@ -234,7 +234,7 @@ static void cosine_directions(rad_vec3 t, rad_vec3 b, rad_vec3 n, const double (
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
                                   rad_vec3 origin, rad_vec3 direction, const rad_element_hit *hit) {
     if (!from || from->light_samples <= 0) return 1;
-    double pdf_light = rad_emitter_pdf(r, origin, direction, hit);
+    double pdf_light = rad_emitter_pdf(r, origin, from->normal, direction, hit);
     double cos_x = v3_dot(from->normal, direction);
     if (!(pdf_light > 0) || cos_x <= 0) return 1;
     return rad_power_heuristic(from->gather_rays * cos_x / RAD_PI, from->light_samples * pdf_light);

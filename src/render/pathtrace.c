@@ -130,6 +130,10 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
     double throughput[3] = {1, 1, 1};
     double previous_pdf = 0; /* solid-angle pdf of the BSDF sample that made this ray */
     int previous_delta = 1;  /* the camera ray counts as a delta: emitters seen fully */
+    /* The front of the vertex this ray left, as its emitter sample saw it (the choice of lamp
+     * depends on it): the hit's normal turned towards the outgoing direction, since the lobes
+     * light is sampled for (diffuse, glossy) only reflect. */
+    rad_vec3 previous_front = v3(0, 0, 0);
     double next_light[2] = {0, 0}; /* the emitter point of the next bounce */
     ++counts->paths;
     for (int bounce = 0;; ++bounce) {
@@ -155,13 +159,15 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
         rad_material textured;
         m = rad_scene_material_at(t->scene, m, hit.polygon, x, &textured);
         rad_vec3 wo = v3_scale(direction, -1);
+        rad_vec3 front = v3_dot(hit.normal, wo) >= 0 ? hit.normal : v3_scale(hit.normal, -1);
 
         /* Emission seen along the path (front sides only). */
         if (hit.front && t->polygon_emitter[hit.polygon] >= 0) {
             double weight = 1;
             if (!previous_delta && t->next_event) {
                 double light_pdf = rad_emitter_table_pdf(
-                    &t->emitters, (size_t)t->polygon_emitter[hit.polygon], origin, direction, hit.t);
+                    &t->emitters, (size_t)t->polygon_emitter[hit.polygon], origin, previous_front,
+                    direction, hit.t);
                 weight = power_heuristic(previous_pdf, light_pdf);
             }
             double add[3];
@@ -197,7 +203,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
         if (t->next_event && t->emitters.count && rad_bsdf_has_smooth_lobe(m)) {
             rad_emitter_point light;
             double f[3], bsdf_pdf;
-            if (rad_emitter_table_sample(&t->emitters, u_light[0], u_light[1], x, &light) &&
+            if (rad_emitter_table_sample(&t->emitters, u_light[0], u_light[1], x, front, &light) &&
                 rad_bsdf_eval(m, hit.normal, wo, light.direction, f, &bsdf_pdf)) {
                 ++counts->rays;
                 if (!rad_rays_occluded(rays, x, light.position)) {
@@ -232,6 +238,7 @@ void rad_tracer_radiance(const rad_tracer *t, rad_sampler *sampler, rad_vec3 ori
         for (int c = 0; c < 3; ++c) throughput[c] *= s.weight[c];
         previous_pdf = s.pdf;
         previous_delta = s.delta;
+        previous_front = front;
 
         /* Russian roulette, only on paths that carry little: continue with probability
          * throughput / ROULETTE_WEIGHT where that is below 1. Cutting paths of larger weight

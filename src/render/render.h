@@ -274,9 +274,10 @@ static inline double rad_power_heuristic(double a, double b) {
 }
 
 /* final_gather.c: the solid-angle density rad_emitter_table_sample has (on r->emitters, for the
- * receiver `origin`) for the point a ray from `origin` along `direction` meets at `hit`; zero
- * when that is not the front of an emitter. */
-double rad_emitter_pdf(const rad_renderer *r, rad_vec3 origin, rad_vec3 direction,
+ * receiver `origin` of front `normal`, or the zero vector as the sample had) for the point a ray
+ * from `origin` along `direction` meets at `hit`; zero when that is not the front of an
+ * emitter. */
+double rad_emitter_pdf(const rad_renderer *r, rad_vec3 origin, rad_vec3 normal, rad_vec3 direction,
                        const rad_element_hit *hit);
 
 /* final_gather.c: the weight (power heuristic, Veach 1997) of the emitted radiance a gather ray

@@ -69,7 +69,9 @@ static void glossy_direct(const rad_renderer *r, const double u[2], const rad_ma
                           double out[3]) {
     out[0] = out[1] = out[2] = 0;
     rad_emitter_point light;
-    if (!rad_emitter_table_sample(&r->emitters, u[0], u[1], x, &light)) return;
+    /* No receiver front: the weight below against rad_emitter_pdf at the next hit, which does
+     * not carry this point's normal, needs the same density. */
+    if (!rad_emitter_table_sample(&r->emitters, u[0], u[1], x, v3(0, 0, 0), &light)) return;
     double f[3], pdf_bsdf;
     if (!rad_bsdf_eval(material, normal, wo, light.direction, f, &pdf_bsdf)) return;
     counts->shadow++;
@@ -158,7 +160,7 @@ void rad_trace_radiance_hit(const rad_renderer *r, rad_sample *sample, rad_vec3 
             } else solution_radiance(r, &hit, gather, depth, origin, direction, x, radiance);
             const float *emitted = r->element_emission[hit.element];
             if (glossy_pdf > 0 && (emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) {
-                double weight = rad_power_heuristic(glossy_pdf, rad_emitter_pdf(r, origin, direction, &hit));
+                double weight = rad_power_heuristic(glossy_pdf, rad_emitter_pdf(r, origin, v3(0, 0, 0), direction, &hit));
                 for (int c = 0; c < 3; ++c) radiance[c] -= (1 - weight) * emitted[c];
             }
             for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
