@@ -96,8 +96,8 @@ int cmd_render(int argc, char **argv) {
          "N  direct light sampled + N gather rays per sample into the solution (4; 0: the "
          "interpolated solution alone)"},
         {"--light-samples", CLI_INT, &a.light_samples,
-         "N  final gather: emitter samples per sample (half of --final-gather; a quarter with "
-         "--no-gather-filter)"},
+         "N  final gather: emitter samples per sample (half of --final-gather, a quarter with "
+         "--no-gather-filter; twice that with more than 256 lamps)"},
         {"--no-gather-filter", CLI_FLAG, &a.no_filter,
          "final gather: each pixel keeps its own gathered light (default: filtered over its "
          "neighbours on the same surface)"},

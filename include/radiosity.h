@@ -603,7 +603,8 @@ typedef struct rad_render_options {
                            the solution at the first diffuse hit; zero: off (the solution,
                            interpolated, alone) */
     int light_samples;  /* final gather: emitter samples per sample; zero: final_gather / 2
-                           (final_gather / 4 with no_gather_filter), at least 1 */
+                           (final_gather / 4 with no_gather_filter), at least 1, twice that
+                           in scenes of more than 256 emitting surfaces */
     int max_depth;      /* specular bounces (mirrors, glass) per path; zero: 16 */
     int ambient;        /* add the ambient term of progressive refinement */
     int no_gather_filter; /* final gather: keep each pixel's own gathered light instead of

@@ -28,6 +28,8 @@ typedef struct rad_render_settings {
     int width, height, samples_per_pixel;
     rad_shading shading;
     int final_gather, light_samples, max_depth, ambient;
+    int light_samples_default; /* light_samples when the options left it to the renderer (0:
+                                  they gave it), before the emitters double it (render.c) */
     int gather_filter; /* the final gather's irradiance filter (gather_filter.c) on */
 } rad_render_settings;
 
