@@ -768,6 +768,80 @@ static void test_emitter_tree(void) {
     rad_context_destroy(ctx);
 }
 
+/* The smooth bare picture (render/collocate.c) under more lamps than its ray budget evaluates
+ * one by one: a 4 x 4 floor under 30 x 30 small lamps (2 cm, 2 above it, facing down). The
+ * floor's light is smooth, so the picture of its middle must be: the lamps past the budget keep
+ * their light in the elements' average, where counting it in the corners' few gather rays made
+ * blotches (each ray that found a lamp added its whole radiance to one corner; 841 lamps of a
+ * generated office drew bright and dark patches of a metre or more). Measured: the middle's
+ * pixels vary by 0.50% (relative standard deviation) against 9.98% before; the mean within
+ * 0.02% of the flat picture's (0.07% before). */
+static void test_bare_many_lamps(void) {
+    rad_context *ctx = test_context(0, 7);
+    rad_scene *scene = NULL;
+    CHECK(rad_scene_new(ctx, 1, "lamps", &scene) == RAD_OK);
+    if (!scene) return;
+    rad_material floor_material = {0}, lamp_material = {0};
+    floor_material.name = "floor";
+    lamp_material.name = "lamp";
+    for (int c = 0; c < 3; ++c) {
+        floor_material.reflectance[c] = 0.5;
+        lamp_material.emission[c] = 1000;
+    }
+    uint32_t floor_id, lamp_id, floor_surface, lamp_surface;
+    rad_status status = rad_scene_add_material(scene, &floor_material, &floor_id);
+    if (!status) status = rad_scene_add_material(scene, &lamp_material, &lamp_id);
+    if (!status) status = rad_scene_add_surface(scene, "floor", floor_id, &floor_surface);
+    if (!status) status = rad_scene_add_surface(scene, "lamps", lamp_id, &lamp_surface);
+    rad_vec3 floor[4] = {v3(-2, 0, -2), v3(-2, 0, 2), v3(2, 0, 2), v3(2, 0, -2)};
+    if (!status) status = rad_scene_add_polygon_points(scene, floor_surface, floor, 4);
+    for (int i = 0; i < 30 && !status; ++i)
+        for (int j = 0; j < 30 && !status; ++j) {
+            double x = -2 + (i + 0.5) * 4.0 / 30, z = -2 + (j + 0.5) * 4.0 / 30;
+            rad_vec3 lamp[4] = {v3(x - 0.01, 2, z - 0.01), v3(x + 0.01, 2, z - 0.01),
+                                v3(x + 0.01, 2, z + 0.01), v3(x - 0.01, 2, z + 0.01)};
+            status = rad_scene_add_polygon_points(scene, lamp_surface, lamp, 4);
+        }
+    CHECK(status == RAD_OK);
+    rad_system *system = status ? NULL : solved(ctx, scene, 4000, RAD_SOLVER_SHOOTING);
+    CHECK(system != NULL);
+    if (system) {
+        rad_camera_desc view = camera(0, 1.9, 0.001, 0, 0, 0, 40);
+        double mean[2] = {0, 0}, spread = 0;
+        for (int flat = 0; flat < 2; ++flat) {
+            rad_render_options options = {0};
+            options.width = options.height = 64;
+            options.samples_per_pixel = 1;
+            options.final_gather = 0;
+            options.shading = flat ? RAD_SHADING_FLAT : RAD_SHADING_SMOOTH;
+            options.camera = &view;
+            rad_image *image = NULL;
+            CHECK(rad_render(scene, system, &options, &image) == RAD_OK);
+            if (!image) continue;
+            const float *p = rad_image_pixels(image);
+            double sum = 0, squares = 0;
+            int count = 0;
+            for (int y = 16; y < 48; ++y)
+                for (int x = 16; x < 48; ++x) {
+                    double v = p[3 * (y * 64 + x) + 1];
+                    sum += v;
+                    squares += v * v;
+                    ++count;
+                }
+            mean[flat] = sum / count;
+            if (!flat) spread = sqrt(fmax(0, squares / count - mean[0] * mean[0])) / mean[0];
+            rad_image_destroy(image);
+        }
+        printf("bare picture under 900 lamps: the middle's mean %.4f (flat %.4f), relative "
+               "spread %.2f%%\n", mean[0], mean[1], 100 * spread);
+        CHECK(spread < 0.02);
+        CHECK_NEAR(mean[0] / mean[1], 1, 0.01);
+    }
+    rad_system_destroy(system);
+    rad_scene_destroy(scene);
+    rad_context_destroy(ctx);
+}
+
 int main(void) {
     test_furnace();
     rad_context *ctx = test_context(0, 7);
@@ -789,6 +863,7 @@ int main(void) {
     test_scan_coverage();
     test_emitter_groups();
     test_emitter_tree();
+    test_bare_many_lamps();
     rad_system_destroy(system);
     rad_scene_destroy(cornell);
     rad_context_destroy(ctx);

@@ -44,6 +44,9 @@
 #define COLLOCATE_GATHER 16
 /* A corner's point lies this far from the corner towards the element's centroid. */
 #define COLLOCATE_INSET 1e-3
+/* An emitter past the budget keeps its light in the gather (gather_at) where the gather rays
+ * are expected to hit its lamp at least this often from the point. */
+#define GATHER_HITS 2.0
 
 typedef struct emitter_leaf {
     uint32_t element;
@@ -60,6 +63,7 @@ typedef struct collocation {
     rad_vec3 *points;     /* emitter_count * per_emitter visibility points */
     int per_emitter;
     uint8_t *used;        /* per leaf: an emitter whose light direct_at gives */
+    float *lamp_area;     /* per emitting leaf: the area of the emitting polygon it is part of */
     int gather_grid;      /* gather rays: a gather_grid x gather_grid stratified set */
     double ambient[3];    /* the display's ambient radiosity / pi (zero unless asked for) */
 } collocation;
@@ -113,9 +117,16 @@ static void direct_at(const collocation *c, rad_vec3 x, rad_vec3 n, double out[3
 }
 
 /* The light reflected onto x once more: the solution's radiance B / pi where cosine-distributed
- * rays (the same stratified set at every point, in the frame of the normal) meet it, without
- * the emission of the emitters direct_at counts, or the sky where they leave the scene; the
- * mean over the rays is irradiance / pi. */
+ * rays (the same stratified set at every point, in the frame of the normal) meet it, or the sky
+ * where they leave the scene; the mean over the rays is irradiance / pi. Without the emission of
+ * the emitters direct_at counts, and of those past the ray budget whose lamp the rays would
+ * rarely find from x (GATHER_HITS): that light stays in the average (step 2). Counted here
+ * it was their direct light estimated by a few dozen rays per corner, each corner its own: the
+ * 841 lamps of office 100000 (44 of them within the budget, 36 gather rays a corner) drew
+ * bright and dark blotches of a metre or more over its bare walls and floor. A lamp the rays
+ * find often (Sponza's sky, one polygon cut into many leaves) keeps its light here: in the
+ * average its shadows were lost (16x16 blocks 6.6% -> 7.6%). The choice is made per point and
+ * lamp (not per ray), so step 2 takes back exactly what is counted. */
 static void gather_at(const collocation *c, rad_vec3 x, rad_vec3 n, double out[3]) {
     const rad_renderer *r = c->r;
     rad_vec3 t, b;
@@ -137,7 +148,12 @@ static void gather_at(const collocation *c, rad_vec3 x, rad_vec3 n, double out[3
                 /* The back of a surface shows what its front reflects, as in the final gather
                  * (only fronts emit). */
                 rad_reconstruct_gather_radiance(r, hit.element, hit.u, hit.v, l);
-                if (c->used[hit.element] || !hit.front) {
+                /* The rays' expected hits on the hit leaf's lamp from x, g^2 times its
+                 * projected solid angle over pi. */
+                double hits = (double)(g * g) * c->lamp_area[hit.element] *
+                              fabs(v3_dot(r->mesh->element_normal[hit.element], d)) *
+                              sqrt(fmax(0, 1 - su)) / (RAD_PI * hit.t * hit.t);
+                if (c->used[hit.element] || !hit.front || !(hits >= GATHER_HITS)) {
                     const double *own = rad_renderer_material(r, hit.element)->emission;
                     for (int k = 0; k < 3; ++k)
                         l[k] = fmax(0, l[k] - fmin(own[k], r->element_emission[hit.element][k]));
@@ -170,6 +186,25 @@ static rad_status collocation_make(const rad_renderer *r, size_t points, colloca
         if (!(power > 0) || !isfinite(power)) continue;
         leaves[count++] = (emitter_leaf){(uint32_t)e, power};
     }
+    /* Each emitting leaf's lamp area: the leaves grouped by input polygon (the polygon's
+     * index in the key), their areas summed. */
+    c->lamp_area = rad_alloc_zero(ctx, mesh->element_count + 1, sizeof *c->lamp_area);
+    emitter_leaf *by_polygon = rad_alloc(ctx, count + 1, sizeof *by_polygon);
+    if (!c->lamp_area || !by_polygon) {
+        rad_free(ctx, by_polygon);
+        rad_free(ctx, leaves);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    for (size_t j = 0; j < count; ++j)
+        by_polygon[j] = (emitter_leaf){leaves[j].element, (double)mesh->element_polygon[leaves[j].element]};
+    qsort(by_polygon, count, sizeof *by_polygon, by_power);
+    for (size_t first = 0, end; first < count; first = end) {
+        double area = 0;
+        for (end = first; end < count && by_polygon[end].power == by_polygon[first].power; ++end)
+            area += mesh->element_area[by_polygon[end].element];
+        for (size_t j = first; j < end; ++j) c->lamp_area[by_polygon[j].element] = (float)area;
+    }
+    rad_free(ctx, by_polygon);
     qsort(leaves, count, sizeof *leaves, by_power);
     /* Points per emitter: a g x g grid, COLLOCATE_SAMPLES over all of them; fewer emitters
      * (the brightest) when even one point each is over the budget. */
@@ -183,12 +218,12 @@ static rad_status collocation_make(const rad_renderer *r, size_t points, colloca
     while (grid > 1 && (double)(count * (size_t)grid * (size_t)grid) > budget) grid--;
     c->per_emitter = grid * grid;
     c->emitter_count = count;
+    c->used = rad_alloc_zero(ctx, mesh->element_count + 1, 1);
     c->emitter = rad_alloc(ctx, count + 1, sizeof *c->emitter);
     c->corners = rad_alloc(ctx, count + 1, sizeof *c->corners);
     c->corner_count = rad_alloc(ctx, count + 1, sizeof *c->corner_count);
     c->radiance = rad_alloc(ctx, count + 1, sizeof *c->radiance);
     c->points = rad_alloc(ctx, count * (size_t)c->per_emitter + 1, sizeof *c->points);
-    c->used = rad_alloc_zero(ctx, mesh->element_count + 1, 1);
     if (r->settings.ambient) {
         r->solution->ops->ambient(r->solution, c->ambient);
         for (int k = 0; k < 3; ++k) c->ambient[k] /= RAD_PI;
@@ -230,6 +265,7 @@ static void collocation_free(rad_context *ctx, collocation *c) {
     rad_free(ctx, c->radiance);
     rad_free(ctx, c->points);
     rad_free(ctx, c->used);
+    rad_free(ctx, c->lamp_area);
 }
 
 int rad_collocate_wanted(const rad_renderer *r) {
