@@ -20,6 +20,7 @@ int cmd_bake(int argc, char **argv) {
     const char *output = NULL, *tonemap = "clamp";
     const char *solution = NULL;
     double exposure = 0, scale = 0, aspect = 0, time_budget = 0;
+    int final_gather = 0;
     cli_light_args lights = {0};
     const cli_option own[] = {
         {"-o", CLI_STRING, &output, "FILE  .glb, .gltf (writes FILE.bin beside it), .ply or .obj"},
@@ -29,6 +30,9 @@ int cmd_bake(int argc, char **argv) {
          "CURVE  PLY and OBJ display colours: none|clamp|reinhard|aces (clamp)"},
         {"--scale", CLI_DOUBLE, &scale, "S  multiply positions, e.g. 0.001 for mm to m (1)"},
         {"--aspect", CLI_DOUBLE, &aspect, "A  glTF camera aspect ratio, width / height (1)"},
+        {"--final-gather", CLI_INT, &final_gather,
+         "N  each vertex gathered again: direct light sampled + N rays into the solution (0: "
+         "the mean of the elements around it; at 256 about 2% noise a vertex)"},
         {"--time-budget", CLI_DOUBLE, &time_budget,
          "S  stop the solve after S seconds and bake the solution so far"},
         {"--solution", CLI_STRING, &solution,
@@ -75,6 +79,7 @@ int cmd_bake(int argc, char **argv) {
     bake.scale = scale;
     bake.aspect = aspect;
     bake.ambient = p.ambient;
+    bake.final_gather = final_gather;
     /* Refuse a bad name or an unwritable place before the work, not after it. */
     rad_status rs = rad_bake_check(ctx, output, &bake);
     if (rs) {

@@ -513,6 +513,9 @@ typedef struct rad_bake_options {
     const char *tonemap;     /* "clamp" (NULL), "none", "reinhard", "aces": display colours */
     double aspect;           /* glTF camera aspect ratio, width / height; zero: 1 */
     int ambient;             /* add the ambient term of progressive refinement */
+    int final_gather;        /* > 0: each vertex's radiance gathered again at the vertex with
+                                this many rays into the solution, and direct light sampled
+                                (needs `scene`); zero: the mean of the elements around it */
 } rad_bake_options;
 
 /* The format a path's extension names (.glb, .gltf, .ply, .obj in any case), or RAD_BAKE_AUTO
@@ -526,8 +529,8 @@ rad_status rad_bake_check(rad_context *context, const char *path,
 
 /* Writes the solution of a geometric system as a mesh with vertex colours: one mesh per surface,
  * each vertex carrying the linear radiance B / pi averaged over the elements around it on its
- * own surface and side of a crease (never across a corner), and its display colour (exposure
- * and tone curve). The file, and the .bin of a .gltf, appear whole or not at all. A patch
+ * own surface and side of a crease (never across a corner), or with final_gather the radiance
+ * gathered at it, and its display colour (exposure and tone curve). The file, and the .bin of a .gltf, appear whole or not at all. A patch
  * system (.ffm) has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
 rad_status rad_bake(const rad_system *system, const char *path, const rad_bake_options *options);
 

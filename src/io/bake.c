@@ -4,6 +4,7 @@
 
 #include "core/atomic_file.h"
 #include "mesh/mesh.h"
+#include "render/render.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 #include "system/system.h"
@@ -94,6 +95,9 @@ rad_bake_format rad_bake_format_of(const char *path) {
 
 static const rad_bake_options no_options;
 
+/* Gather rays per vertex, at most (the renderer's own bound). */
+#define BAKE_MAX_GATHER (1 << 20)
+
 static rad_status check_options(rad_context *ctx, const char *path, const rad_bake_options *o,
                                 rad_bake_format *format, int *tonemap) {
     *format = RAD_BAKE_AUTO;
@@ -114,6 +118,10 @@ static rad_status check_options(rad_context *ctx, const char *path, const rad_ba
                         "bake: exposure must be finite, scale and aspect positive");
     if (*format == RAD_BAKE_GLTF && strlen(path) > 4096)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "bake: output path too long");
+    if (o->final_gather < 0 || o->final_gather > BAKE_MAX_GATHER)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "bake: final gather rays must be 0 to %d, not %d", BAKE_MAX_GATHER,
+                        o->final_gather);
     return RAD_OK;
 }
 
@@ -256,8 +264,18 @@ static rad_status build(const rad_system *s, const rad_bake_options *o, int tone
         goto done;
     }
 
-    /* The solution at the vertices: area-weighted over the elements around each one. */
-    status = rad_solution_vertex_radiosity(solution, ctx, o->ambient, vertex_radiosity);
+    /* The solution at the vertices: area-weighted over the elements around each one, or
+     * gathered again at each (the renderer's final gather, render.c). */
+    if (o->final_gather > 0) {
+        rad_render_options render = {0};
+        render.final_gather = o->final_gather;
+        render.ambient = o->ambient;
+        rad_renderer *r = NULL;
+        status = rad_renderer_create_for_points(o->scene, s, &render, &r);
+        if (!status) status = rad_renderer_vertex_radiosity(r, o->final_gather, vertex_radiosity);
+        rad_renderer_destroy(r);
+    } else
+        status = rad_solution_vertex_radiosity(solution, ctx, o->ambient, vertex_radiosity);
     if (status) goto done;
 
     /* Vertices and faces grouped by surface, in system order. Each element uses only vertices
@@ -360,6 +378,9 @@ rad_status rad_bake(const rad_system *system, const char *path, const rad_bake_o
                         "bake: a patch system (.ffm) has no geometry to bake");
     if (leaves->vertex_count > UINT32_MAX - 1)
         return rad_fail(ctx, RAD_ERROR_UNSUPPORTED, "bake: more than 2^32 - 2 vertices");
+    if (o->final_gather > 0 && !o->scene)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
+                        "bake: the final gather needs the scene (rad_bake_options.scene)");
 
     rad_baked_mesh baked;
     status = build(system, o, tonemap, &baked);

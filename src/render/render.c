@@ -177,8 +177,9 @@ static rad_status probe_camera(const rad_renderer *r) {
     return rad_view_check(r->ctx, &r->view, renderer_see, r);
 }
 
-rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
-                               const rad_render_options *options, rad_renderer **out) {
+static rad_status renderer_create(const rad_scene *scene, const rad_system *system,
+                                  const rad_render_options *options, int for_pictures,
+                                  rad_renderer **out) {
     if (!out) return RAD_ERROR_INVALID_ARGUMENT;
     *out = NULL;
     if (!scene || !system) return RAD_ERROR_INVALID_ARGUMENT;
@@ -225,13 +226,23 @@ rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
     if (!status) r->light_count = scene->light_count;
     if (!status) status = leaves_build(r);
     if (!status) status = rad_caustics_build(r);
-    if (!status) status = probe_camera(r);
+    if (!status && for_pictures) status = probe_camera(r);
     if (status) {
         rad_renderer_destroy(r);
         return status;
     }
     *out = r;
     return RAD_OK;
+}
+
+rad_status rad_renderer_create(const rad_scene *scene, const rad_system *system,
+                               const rad_render_options *options, rad_renderer **out) {
+    return renderer_create(scene, system, options, 1, out);
+}
+
+rad_status rad_renderer_create_for_points(const rad_scene *scene, const rad_system *system,
+                                          const rad_render_options *options, rad_renderer **out) {
+    return renderer_create(scene, system, options, 0, out);
 }
 
 /* Pixels on an edge between input polygons (a wall against the black outside, the light against
@@ -854,6 +865,107 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
         stats->specular_rays = total.specular;
     }
     *out = image;
+    return RAD_OK;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+/* The final gather at the vertices (bake --final-gather)                                       */
+
+/* A vertex's point lies this far from it towards the centroid of its element (as in
+ * collocate.c). */
+#define VERTEX_INSET 1e-3
+
+rad_status rad_renderer_vertex_radiosity(rad_renderer *r, int rays, rad_rgb *out) {
+    if (!r || !out || rays <= 0 || rays > MAX_GATHER) return RAD_ERROR_INVALID_ARGUMENT;
+    rad_context *ctx = r->ctx;
+    rad_status status = r->leaves_ready && r->generation == rad_solution_generation(r->solution)
+                            ? RAD_OK
+                            : leaves_build(r);
+    if (!status) status = rad_reconstruct_prepare(r);
+    if (!status) status = rad_texture_shading_prepare(r);
+    if (status) return status;
+    const rad_mesh *mesh = r->mesh;
+    size_t nv = mesh->vertex_count;
+    /* Each vertex is gathered once, just inside the largest element around it (the inset
+     * collocate.c uses, so that the point is on that element and not on its neighbours). */
+    uint32_t *element = rad_alloc(ctx, nv + 1, sizeof *element);
+    uint8_t *corner = rad_alloc(ctx, nv + 1, sizeof *corner);
+    if (!element || !corner) {
+        rad_free(ctx, element);
+        rad_free(ctx, corner);
+        return RAD_ERROR_NO_MEMORY;
+    }
+    for (size_t v = 0; v < nv; ++v) element[v] = RAD_NO_ELEMENT;
+    for (size_t e = 0; e < mesh->element_count; ++e)
+        for (int k = 0; k < rad_mesh_corner_count(mesh, e); ++k) {
+            uint32_t v = mesh->element_vertices[e][k];
+            if (element[v] == RAD_NO_ELEMENT || mesh->element_area[e] > mesh->element_area[element[v]]) {
+                element[v] = (uint32_t)e;
+                corner[v] = (uint8_t)k;
+            }
+        }
+    r->dark_radiance = 0; /* no picture's dark pixels to gather farther for */
+    const long long count = (long long)nv;
+    int cancelled = 0;
+    long long done = 0;
+    if (rad_progress(ctx, "gathering at the vertices", 0, (double)count)) cancelled = 1;
+#pragma omp parallel num_threads(rad_thread_count(ctx))
+    {
+        rad_ray_counts counts = {0, 0, 0, 0};
+#pragma omp for schedule(dynamic, 64)
+        for (long long i = 0; i < count; ++i) {
+            int stop;
+#pragma omp atomic read
+            stop = cancelled;
+            if (stop) continue;
+            size_t v = (size_t)i;
+            for (int c = 0; c < 3; ++c) out[v][c] = 0;
+            uint32_t e = element[v];
+            if (e == RAD_NO_ELEMENT) continue;
+            /* The corner's parameters and the centroid's (rad_element_hit's convention). */
+            int quad = rad_mesh_corner_count(mesh, e) == 4;
+            static const double quad_uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+            static const double triangle_uv[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+            const double *at = quad ? quad_uv[corner[v]] : triangle_uv[corner[v]];
+            double middle = quad ? 0.5 : 1.0 / 3;
+            rad_element_hit hit;
+            hit.element = e;
+            hit.u = at[0] + VERTEX_INSET * (middle - at[0]);
+            hit.v = at[1] + VERTEX_INSET * (middle - at[1]);
+            hit.t = 0;
+            hit.front = 1;
+            rad_vec3 x = v3_lerp(mesh->vertices[v], mesh->element_centroid[e], VERTEX_INSET);
+            rad_sample sample;
+            memset(&sample, 0, sizeof sample);
+            sample.seed = r->seed;
+            sample.x = (uint32_t)(v & 0xffff);
+            sample.y = (uint32_t)(v >> 16);
+            sample.count = 1;
+            sample.counts = &counts;
+            sample.first_polygon = RAD_RENDER_NO_POLYGON;
+            sample.gather_rays = rays;
+            sample.light_samples = rays / 2 > 0 ? rays / 2 : 1;
+            double radiance[3] = {0, 0, 0};
+            rad_final_gather(r, &sample, &hit, x, mesh->element_normal[e], 0, radiance);
+            for (int c = 0; c < 3; ++c) out[v][c] = RAD_PI * radiance[c];
+#pragma omp atomic update
+            ++done;
+            if (omp_get_thread_num() == 0) {
+                long long now;
+#pragma omp atomic read
+                now = done;
+                if (rad_progress(ctx, "gathering at the vertices", (double)now, (double)count)) {
+#pragma omp atomic write
+                    cancelled = 1;
+                }
+            }
+        }
+        (void)counts;
+    }
+    rad_free(ctx, element);
+    rad_free(ctx, corner);
+    if (cancelled)
+        return rad_fail(ctx, RAD_ERROR_CANCELLED, "gathering at the vertices cancelled");
     return RAD_OK;
 }
 

@@ -347,6 +347,17 @@ rad_status rad_texture_shading_prepare(rad_renderer *r);
 int rad_texture_shading_radiance(const rad_renderer *r, const rad_element_hit *hit, rad_vec3 x,
                                  double out[3]);
 
+/* render.c: a renderer for rad_renderer_vertex_radiosity only: its camera is not asked to see
+ * anything (a bake's scene need not have a camera that does). */
+rad_status rad_renderer_create_for_points(const rad_scene *scene, const rad_system *system,
+                                          const rad_render_options *options, rad_renderer **out);
+/* render.c: the final-gathered radiosity at every vertex of the leaves (pi times the radiance
+ * leaving the front there, emission included), for bake --final-gather (io/bake.c): one point
+ * per vertex just inside the largest element around it, `rays` gather rays and rays / 2
+ * emitter samples, no irradiance filter. The same for any thread count; cancellable through
+ * the context's progress callback. */
+rad_status rad_renderer_vertex_radiosity(rad_renderer *r, int rays, rad_rgb *out);
+
 /* caustics.c: the caustic map from the specular-first pass's landings (system.h), at renderer
  * creation; nothing when the pass landed none. */
 rad_status rad_caustics_build(rad_renderer *r);
