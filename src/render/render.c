@@ -950,7 +950,7 @@ rad_status rad_renderer_vertex_radiosity(rad_renderer *r, int rays, rad_rgb *out
             for (int c = 0; c < 3; ++c) out[v][c] = RAD_PI * radiance[c];
 #pragma omp atomic update
             ++done;
-            if (omp_get_thread_num() == 0) {
+            if (omp_get_thread_num() == 0 && (i & 255) == 0) { /* now and then, one thread */
                 long long now;
 #pragma omp atomic read
                 now = done;
