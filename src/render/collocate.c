@@ -125,8 +125,9 @@ static void direct_at(const collocation *c, rad_vec3 x, rad_vec3 n, double out[3
  * 841 lamps of office 100000 (44 of them within the budget, 36 gather rays a corner) drew
  * bright and dark blotches of a metre or more over its bare walls and floor. A lamp the rays
  * find often (Sponza's sky, one polygon cut into many leaves) keeps its light here: in the
- * average its shadows were lost (16x16 blocks 6.6% -> 7.6%). The choice is made per point and
- * lamp (not per ray), so step 2 takes back exactly what is counted. */
+ * average its shadows were lost (16x16 blocks 6.6% -> 7.6%). Whatever the rule counts, step 2
+ * takes its mean over the element's corners back out of the element's value, so the element
+ * keeps its light either way; the rule only decides where that light is drawn sharp. */
 static void gather_at(const collocation *c, rad_vec3 x, rad_vec3 n, double out[3]) {
     const rad_renderer *r = c->r;
     rad_vec3 t, b;

@@ -960,7 +960,6 @@ rad_status rad_renderer_vertex_radiosity(rad_renderer *r, int rays, rad_rgb *out
                 }
             }
         }
-        (void)counts;
     }
     rad_free(ctx, element);
     rad_free(ctx, corner);
