@@ -100,14 +100,27 @@
 /* ------------------------------------------------------------------------------------------- */
 /* Direct light                                                                                 */
 
-double rad_emitter_pdf(const rad_renderer *r, rad_vec3 origin, rad_vec3 normal, rad_vec3 direction,
-                       const rad_element_hit *hit) {
-    if (r->emitters.count == 0) return 0;
+/* The emitter table's entry for the point `hit` is on; -1 when it does not emit. */
+static int32_t hit_emitter(const rad_renderer *r, const rad_element_hit *hit) {
+    if (r->emitters.count == 0) return -1;
     /* Embree's split of a quad: (v0, v1, v3) below the diagonal u + v = 1, (v2, v3, v1) above. */
     int piece = rad_mesh_corner_count(r->mesh, hit->element) == 4 && hit->u + hit->v > 1;
-    int32_t k = r->element_emitter[hit->element][piece];
+    return r->element_emitter[hit->element][piece];
+}
+
+double rad_emitter_pdf(const rad_renderer *r, rad_vec3 origin, rad_vec3 normal, rad_vec3 direction,
+                       const rad_element_hit *hit) {
+    int32_t k = hit_emitter(r, hit);
     if (k < 0) return 0;
     return rad_emitter_table_pdf(&r->emitters, (size_t)k, origin, normal, direction, hit->t);
+}
+
+/* rad_emitter_pdf from the point's emitter choice. */
+static double choice_hit_pdf(const rad_renderer *r, const rad_emitter_choice *choice,
+                                         rad_vec3 direction, const rad_element_hit *hit) {
+    int32_t k = hit_emitter(r, hit);
+    if (k < 0) return 0;
+    return rad_emitter_choice_pdf(choice, (size_t)k, direction, hit->t);
 }
 
 /* Radiance reflected at x (normal n, reflectance rho) of the light straight from the emitters,
@@ -132,7 +145,8 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
         rad_sample_2d_run(sample, total, first + (uint32_t)start, lanes, dimension, u_all);
         for (int i = 0; i < lanes; ++i) {
             const double *u = u_all[i];
-            live[i] = rad_emitter_table_sample(&r->emitters, u[0], u[1], x, n, &light[i]) &&
+            live[i] = (from->choice ? rad_emitter_choice_sample(from->choice, u[0], u[1], &light[i])
+                                    : rad_emitter_table_sample(&r->emitters, u[0], u[1], x, n, &light[i])) &&
                       (cosine[i] = v3_dot(n, light[i].direction)) > 0;
             if (live[i]) position[traced++] = light[i].position;
         }
@@ -234,7 +248,8 @@ static void cosine_directions(rad_vec3 t, rad_vec3 b, rad_vec3 n, const double (
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
                                   rad_vec3 origin, rad_vec3 direction, const rad_element_hit *hit) {
     if (!from || from->light_samples <= 0) return 1;
-    double pdf_light = rad_emitter_pdf(r, origin, from->normal, direction, hit);
+    double pdf_light = from->choice ? choice_hit_pdf(r, from->choice, direction, hit)
+                                    : rad_emitter_pdf(r, origin, from->normal, direction, hit);
     double cos_x = v3_dot(from->normal, direction);
     if (!(pdf_light > 0) || cos_x <= 0) return 1;
     return rad_power_heuristic(from->gather_rays * cos_x / RAD_PI, from->light_samples * pdf_light);
@@ -265,7 +280,12 @@ void rad_final_gather(const rad_renderer *r, rad_sample *sample, const rad_eleme
     const float *own = r->element_radiance[element];
     double range = (own[0] + own[1] + own[2]) / 3 < r->dark_radiance ? DARK_SHORT_RANGE : SHORT_RANGE;
     if (r->regather.leaves == RAD_LEAVES_COARSE) range = INFINITY;
-    rad_gather_origin from = {n, light_samples, rays, 0, 0, total, tally, range};
+    rad_gather_origin from = {n, light_samples, rays, 0, 0, total, tally, range, NULL};
+    rad_emitter_choice choice;
+    if (r->emitters.count && light_samples > 0) {
+        rad_emitter_choice_init(&choice, &r->emitters, x, n);
+        from.choice = &choice;
+    }
 
     /* Direct light. */
     double direct[3];
@@ -355,7 +375,12 @@ void rad_gather_short(const rad_renderer *r, rad_sample *sample, const rad_gathe
                    : r->regather.leaves == RAD_LEAVES_UNIFORM ? NEAR_RANGE
                                                                      : from->short_range;
     rad_gather_origin next = {n, r->emitters.count ? 1 : 0, rays, point, from->level + 1, run, NULL,
-                              range};
+                              range, NULL};
+    rad_emitter_choice choice;
+    if (r->emitters.count) {
+        rad_emitter_choice_init(&choice, &r->emitters, y, n);
+        next.choice = &choice;
+    }
     double direct[3], gathered[3] = {0, 0, 0};
     direct_light(r, sample, &next, run, point, dimension, y, rho, direct);
     lights_direct(r, sample, y, n, rho, direct); /* point, spot, directional: exact at y */

@@ -267,6 +267,9 @@ typedef struct rad_gather_origin {
     /* Gather rays nearer than this many element sizes of what they hit are gathered again
      * (final_gather.c, rad_gather_is_short). */
     double short_range;
+    /* The emitter choice at this point (light/emitters.h), made once for its emitter samples
+     * and the emitted light its rays find; NULL: asked of the table each time. */
+    const rad_emitter_choice *choice;
 } rad_gather_origin;
 
 /* The power heuristic (Veach & Guibas 1995) for a sample of the strategy with (count times
