@@ -70,7 +70,7 @@ static void row(rad_context *ctx, const char *shape, const double *xy, size_t n,
     for (int trial = 0; trial < 3; ++trial) {
         rad_polygon_pieces_free(ctx, &pieces);
         double start = rad_processor_seconds();
-        if (rad_polygon_cut(ctx, xy, n, 0, &pieces)) {
+        if (rad_polygon_cut(ctx, xy, n, 0, 0, &pieces)) {
             printf("| %s | %zu | failed: %s |\n", shape, n, rad_context_error(ctx));
             return;
         }
