@@ -373,7 +373,7 @@ static void test_large_circle(void) {
  * fanned 64-gons around corner 0 and the importer spread its core by index. */
 static void test_split_through_both_readers(void) {
     rad_context *ctx = make_context();
-    enum { CORNERS = 500 }; /* an MGF entity has at most 511 words */
+    enum { CORNERS = 500 }; /* an MGF entity has at most 512 words */
     char *obj = malloc(128 * (size_t)CORNERS), *mgf = malloc(128 * (size_t)CORNERS);
     CHECK(obj && mgf);
     if (!obj || !mgf) return;
