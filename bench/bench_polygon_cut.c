@@ -1,7 +1,8 @@
 /* bench_polygon_cut.c - the cut of non-convex polygons into convex pieces against corner count
  * (src/scene/polygon_cut.c): gears (4 corners a tooth, as scripts/make_gear.py), combs, and
  * star-shaped polygons of random radii, and corners at random (crossing themselves: the
- * fallback's time). Prints a Markdown table: shape, corners, reflex
+ * fallback's time); and circles split into pieces of at most 64 corners, by rad_polygon_split
+ * and by rad_polygon_cut with that limit (the readers' two paths). Prints a Markdown table: shape, corners, reflex
  * corners, pieces, the fewest possible where known (teeth + 1), and processor seconds of the
  * cut (best of 3). Timings only: nothing here passes or fails.
  * Usage: bench_polygon_cut [LARGEST (100000)] */
@@ -64,13 +65,21 @@ static size_t reflex_corners(const double *xy, size_t n) {
     return reflex;
 }
 
-static void row(rad_context *ctx, const char *shape, const double *xy, size_t n, size_t fewest) {
+/* The way a row is cut: rad_polygon_cut with no limit or with 64 corners, or rad_polygon_split. */
+enum { CUT, CUT_64, SPLIT_64 };
+
+static void row(rad_context *ctx, const char *shape, const double *xy, size_t n, size_t fewest,
+                int how) {
     double best = INFINITY;
     rad_polygon_pieces pieces = {0};
     for (int trial = 0; trial < 3; ++trial) {
         rad_polygon_pieces_free(ctx, &pieces);
         double start = rad_processor_seconds();
-        if (rad_polygon_cut(ctx, xy, n, 0, &pieces)) {
+        rad_status status = how == SPLIT_64
+                                ? rad_polygon_split(ctx, xy, n, RAD_POLYGON_CORNERS_MAX, 0, &pieces)
+                                : rad_polygon_cut(ctx, xy, n, 0, how == CUT_64 ? RAD_POLYGON_CORNERS_MAX : 0,
+                                                  &pieces);
+        if (status) {
             printf("| %s | %zu | failed: %s |\n", shape, n, rad_context_error(ctx));
             return;
         }
@@ -94,20 +103,28 @@ int main(int argc, char **argv) {
     const size_t sizes[] = {1000, 10000, 40000, 100000, 400000, 1000000};
     for (size_t i = 0; i < sizeof sizes / sizeof *sizes && sizes[i] <= largest; ++i) {
         gear(xy, sizes[i] / 4);
-        row(ctx, "gear", xy, sizes[i] / 4 * 4, sizes[i] / 4 + 1);
+        row(ctx, "gear", xy, sizes[i] / 4 * 4, sizes[i] / 4 + 1, CUT);
     }
     for (size_t n = 1000; n <= largest; n *= 10) {
         size_t teeth = (n - 2) / 4;
         comb(xy, teeth);
-        row(ctx, "comb", xy, 2 + 4 * teeth, teeth + 1);
+        row(ctx, "comb", xy, 2 + 4 * teeth, teeth + 1, CUT);
     }
     for (size_t n = 1000; n <= largest; n *= 10) {
         star(xy, n);
-        row(ctx, "star", xy, n, 0);
+        row(ctx, "star", xy, n, 0, CUT);
     }
     for (size_t n = 1000; n <= largest; n *= 10) {
         tangle(xy, n);
-        row(ctx, "tangle", xy, n, 0);
+        row(ctx, "tangle", xy, n, 0, CUT);
+    }
+    for (size_t n = 1000; n <= largest; n *= 10) {
+        for (size_t k = 0; k < n; ++k) {
+            xy[2 * k] = cos(2 * RAD_PI * (double)k / (double)n);
+            xy[2 * k + 1] = sin(2 * RAD_PI * (double)k / (double)n);
+        }
+        row(ctx, "circle, split to 64", xy, n, 0, SPLIT_64);
+        row(ctx, "circle, cut to 64", xy, n, 0, CUT_64);
     }
     free(xy);
     rad_context_destroy(ctx);

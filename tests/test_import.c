@@ -1,6 +1,7 @@
 /* test_import.c - scene files: the sample scenes in scenes/ (OBJ/MTL, glTF, GLB, PLY) imported
  * with their names, transforms, materials and cameras; bad input refused with a clear message;
  * OBJ export and re-import of the built-in scenes giving the same surfaces and solution. */
+#include "scene/polygon_cut.h"
 #include "scene/scene.h"
 #include "test.h"
 
@@ -366,6 +367,62 @@ static void test_large_circle(void) {
     rad_context_destroy(ctx);
 }
 
+/* A convex 500-gon read from an OBJ file (through assimp, in 32-bit floats) and from an MGF
+ * file (by the project's own reader, in doubles), its corners exact in both: the same pieces,
+ * corner for corner (scene/polygon_cut.h's split, shared by both readers), where the MGF reader
+ * fanned 64-gons around corner 0 and the importer spread its core by index. */
+static void test_split_through_both_readers(void) {
+    rad_context *ctx = make_context();
+    enum { CORNERS = 500 }; /* an MGF entity has at most 512 words */
+    char *obj = malloc(128 * (size_t)CORNERS), *mgf = malloc(128 * (size_t)CORNERS);
+    CHECK(obj && mgf);
+    if (!obj || !mgf) return;
+    size_t o = (size_t)sprintf(obj, "o disk\n"), m = (size_t)sprintf(mgf, "o disk\n");
+    for (int k = 0; k < CORNERS; ++k) {
+        /* On a grid of 2^-24, exact in a float. */
+        double x = ldexp(round(ldexp(cos(2 * RAD_PI * k / CORNERS), 24)), -24);
+        double y = ldexp(round(ldexp(sin(2 * RAD_PI * k / CORNERS), 24)), -24);
+        o += (size_t)sprintf(obj + o, "v %.17g %.17g 0\n", x, y);
+        m += (size_t)sprintf(mgf + m, "v c%d =\n\tp %.17g %.17g 0\n", k, x, y);
+    }
+    o += (size_t)sprintf(obj + o, "f");
+    m += (size_t)sprintf(mgf + m, "f");
+    for (int k = 0; k < CORNERS; ++k) {
+        o += (size_t)sprintf(obj + o, " %d", k + 1);
+        m += (size_t)sprintf(mgf + m, " c%d", k);
+    }
+    sprintf(obj + o, "\n");
+    sprintf(mgf + m, "\no\n");
+    write_text(temp_path("disk500.obj"), obj);
+    write_text(temp_path("disk500.mgf"), mgf);
+    free(obj);
+    free(mgf);
+    rad_scene *a = NULL, *b = NULL;
+    CHECK(rad_scene_load(ctx, temp_path("disk500.obj"), &a) == RAD_OK);
+    CHECK(rad_scene_load(ctx, temp_path("disk500.mgf"), &b) == RAD_OK);
+    if (a && b) {
+        printf("a 500-gon: %zu pieces from the OBJ file, %zu from the MGF file\n",
+               a->polygon_count, b->polygon_count);
+        CHECK(a->polygon_count == b->polygon_count && a->polygon_count > 1);
+        size_t same = 0;
+        for (size_t i = 0; i < a->polygon_count && i < b->polygon_count; ++i) {
+            const rad_polygon *p = &a->polygons[i], *q = &b->polygons[i];
+            int equal = p->count == q->count && p->count <= RAD_POLYGON_CORNERS_MAX;
+            for (uint32_t k = 0; k < p->count && equal; ++k) {
+                rad_vec3 u = rad_polygon_vertex(a, p, k), v = rad_polygon_vertex(b, q, k);
+                equal = u.x == v.x && u.y == v.y && u.z == v.z;
+            }
+            same += equal;
+        }
+        CHECK(same == a->polygon_count);
+        CHECK_NEAR(surface_area(a, find_surface(a, "disk")), surface_area(b, 0), 1e-12);
+        CHECK_NEAR(surface_area(a, find_surface(a, "disk")), 0.5 * CORNERS * sin(2 * RAD_PI / CORNERS), 1e-6);
+    }
+    rad_scene_destroy(a);
+    rad_scene_destroy(b);
+    rad_context_destroy(ctx);
+}
+
 /* ------------------------------------------------------------------------------------------- */
 /* Bad input: each one a clear message and the right status, never a crash.                     */
 
@@ -688,6 +745,7 @@ int main(void) {
     test_ply();
     test_faces();
     test_large_circle();
+    test_split_through_both_readers();
     test_bad_input();
     test_round_trip("cornell", 1);
     test_round_trip("two-squares", 1);

@@ -11,7 +11,7 @@
  *    turned so that the front stays the front (counter-clockwise). Non-convex faces are cut
  *    into a few convex pieces (scene/polygon_cut.h); convex faces and pieces of more
  *    than 64 corners into a 64-gon through corners spread along them and the caps between its
- *    corners, cut the same way (cut_convex); two consecutive
+ *    corners, split the same way (rad_polygon_split); two consecutive
  *    coplanar triangles that form a convex quad are joined again, since the mesher cuts quads
  *    into better elements than triangles.
  * 4. Materials: diffuse reflectance and emitted radiance, plus mirror/glass hints for the
@@ -52,8 +52,6 @@
 #define DEGENERATE_RELATIVE_AREA 1e-7
 /* Two triangles are joined into a quad only when their normals agree to this (cosine). */
 #define COPLANAR_COSINE (1.0 - 1e-9)
-/* The mesher takes polygons of up to 64 corners; larger faces are cut into triangles. */
-#define MAX_POLYGON_CORNERS 64
 /* The reflectance of faces without a material of their own (assimp's default material). */
 #define DEFAULT_REFLECTANCE 0.5
 
@@ -173,9 +171,9 @@ static int degenerate(const rad_vec3 *p, size_t n) {
  * across that normal (so slightly non-planar quads count), every corner turns left or goes
  * straight, and the turns add up to one full turn. A corner that turns right but lies less than
  * `dent` inside the line through its neighbours goes straight. Faces of more than
- * MAX_POLYGON_CORNERS corners are judged with a dent of STRAIGHT_DENT times their extent: a
+ * RAD_POLYGON_CORNERS_MAX corners are judged with a dent of STRAIGHT_DENT times their extent: a
  * circle of many corners written with six decimals has such dents everywhere, and cut as
- * non-convex it became a fan of slivers meeting in one corner (cut_convex). */
+ * non-convex it became a fan of slivers meeting in one corner (split_face). */
 #define STRAIGHT_DENT 1e-6
 static int convex_within(const rad_vec3 *p, size_t n, double dent) {
     rad_vec3 normal = v3_normalize(newell_normal(p, n)), u, v;
@@ -222,7 +220,6 @@ typedef struct importer {
     size_t vertex_of_capacity;
     rad_vec3 *points;   /* a face's corners: scratch */
     uint32_t *corners;
-    uint32_t *order;
     size_t scratch_capacity;
     /* A triangle waiting for a partner to make a quad with. */
     int pending;
@@ -547,7 +544,7 @@ static rad_status current_surface(importer *im, uint32_t *out) {
 
 /* Adds a polygon (already checked: convex, not degenerate) to the current surface. */
 static rad_status emit(importer *im, const rad_vec3 *points, const uint32_t *corners, size_t n) {
-    uint32_t surface, indices[MAX_POLYGON_CORNERS];
+    uint32_t surface, indices[RAD_POLYGON_CORNERS_MAX];
     rad_status status = current_surface(im, &surface);
     for (size_t k = 0; k < n && !status; ++k) {
         uint32_t *mapped = &im->vertex_of[corners[k]];
@@ -558,7 +555,7 @@ static rad_status emit(importer *im, const rad_vec3 *points, const uint32_t *cor
     /* Texture coordinates, for textured materials (channel 0). */
     if (!status && im->scene->materials[im->scene->surfaces[surface].material].texture &&
         im->mesh->mTextureCoords[0]) {
-        float uv[MAX_POLYGON_CORNERS][2];
+        float uv[RAD_POLYGON_CORNERS_MAX][2];
         for (size_t k = 0; k < n; ++k) {
             const struct aiVector3D *t = &im->mesh->mTextureCoords[0][corners[k]];
             uv[k][0] = (float)t->x;
@@ -598,8 +595,8 @@ static int join_triangles(importer *im, const rad_vec3 *t, const uint32_t *tc, r
 }
 
 static rad_status emit_piece(importer *im, const face *f, const uint32_t *piece, size_t n) {
-    rad_vec3 points[MAX_POLYGON_CORNERS];
-    uint32_t corners[MAX_POLYGON_CORNERS];
+    rad_vec3 points[RAD_POLYGON_CORNERS_MAX];
+    uint32_t corners[RAD_POLYGON_CORNERS_MAX];
     for (size_t k = 0; k < n; ++k) {
         points[k] = f->points[piece[k]];
         corners[k] = f->corners[piece[k]];
@@ -607,70 +604,42 @@ static rad_status emit_piece(importer *im, const face *f, const uint32_t *piece,
     return degenerate(points, n) ? RAD_OK : emit(im, points, corners, n);
 }
 
-static rad_status cut_convex(importer *im, const face *f, const uint32_t *run, size_t n,
-                             double straight);
+/* Emits the pieces a face was cut or split into (scene/polygon_cut.h), each of at most
+ * RAD_POLYGON_CORNERS_MAX corners; pieces with no area are dropped. */
+static rad_status emit_pieces(importer *im, const face *f, rad_polygon_pieces *pieces,
+                              rad_status status) {
+    for (size_t k = 0; k < pieces->count && !status; ++k)
+        status = emit_piece(im, f, pieces->corners + pieces->first[k],
+                            pieces->first[k + 1] - pieces->first[k]);
+    rad_polygon_pieces_free(im->ctx, pieces);
+    return status;
+}
 
 /* Cuts a non-convex face into convex pieces in its plane (scene/polygon_cut.h: ear clipping
  * through a grid of reflex corners, then Hertel and Mehlhorn's removal of the diagonals that
  * convexity does not need); corners dented by less than `dent` count as straight, and pieces
- * of more than MAX_POLYGON_CORNERS corners are cut as convex faces are. A face that crosses
- * itself in its plane is emitted as the triangles it was clipped into and counted. */
+ * of more than RAD_POLYGON_CORNERS_MAX corners are split as convex faces are. A face that
+ * crosses itself in its plane is emitted as the triangles it was clipped into and counted. */
 static rad_status cut_face(importer *im, const face *f, double dent) {
-    size_t n = f->count;
     rad_polygon_pieces pieces = {0};
-    rad_status status = rad_polygon_cut_in_plane(
-        im->ctx, f->points, n, v3_normalize(newell_normal(f->points, n)), dent, &pieces);
+    rad_status status = rad_polygon_cut_in_plane(im->ctx, f->points, f->count,
+                                                 v3_normalize(newell_normal(f->points, f->count)),
+                                                 dent, RAD_POLYGON_CORNERS_MAX, 0, &pieces);
     if (!status && !pieces.simple) im->tangled++;
-    for (size_t k = 0; k < pieces.count && !status; ++k) {
-        const uint32_t *piece = pieces.corners + pieces.first[k];
-        size_t count = pieces.first[k + 1] - pieces.first[k];
-        status = count > MAX_POLYGON_CORNERS ? cut_convex(im, f, piece, count, dent)
-                                             : emit_piece(im, f, piece, count);
-    }
-    rad_polygon_pieces_free(im->ctx, &pieces);
-    return status;
+    return emit_pieces(im, f, &pieces, status);
 }
 
-/* How far the corners run[1 .. n-2] lie from the line through run[0] and run[n-1], at most. */
-static double off_chord(const face *f, const uint32_t *run, size_t n) {
-    rad_vec3 a = f->points[run[0]], chord = v3_sub(f->points[run[n - 1]], a);
-    double length = v3_length(chord), most = 0;
-    for (size_t k = 1; k + 1 < n; ++k) {
-        rad_vec3 d = v3_sub(f->points[run[k]], a);
-        most = fmax(most, length > 0 ? v3_length(v3_cross(d, chord)) / length : v3_length(d));
-    }
-    return most;
-}
-
-/* A convex face of more than MAX_POLYGON_CORNERS corners, given as the indices `run[0 .. n-1]`
- * of its corners in f, cut into convex pieces of at most that many: the polygon through
- * MAX_POLYGON_CORNERS corners spread evenly along it, then each run of corners between two of
- * those (a cap, convex too) the same way. Every corner is in a few pieces at most, where ear
- * clipping made a fan of n - 2 slivers meeting in one corner (the contact search then met every
- * pair, the smooth shading's neighbours every sliver). A cap whose corners all lie within
- * `straight` of its chord is dropped: it is the rounding's dents (turned inside out, as likely
- * as not), not a piece of the face. */
-static rad_status cut_convex(importer *im, const face *f, const uint32_t *run, size_t n,
-                             double straight) {
-    if (n <= MAX_POLYGON_CORNERS) return emit_piece(im, f, run, n);
-    uint32_t core[MAX_POLYGON_CORNERS];
-    size_t at[MAX_POLYGON_CORNERS + 1];
-    for (size_t i = 0; i < MAX_POLYGON_CORNERS; ++i) {
-        at[i] = i * n / MAX_POLYGON_CORNERS;
-        core[i] = run[at[i]];
-    }
-    at[MAX_POLYGON_CORNERS] = n;
-    rad_status status = emit_piece(im, f, core, MAX_POLYGON_CORNERS);
-    uint32_t *cap = rad_alloc(im->ctx, n / MAX_POLYGON_CORNERS + 2, sizeof *cap);
-    if (!cap) return RAD_ERROR_NO_MEMORY;
-    for (size_t i = 0; i < MAX_POLYGON_CORNERS && !status; ++i) {
-        size_t count = 0;
-        for (size_t k = at[i]; k <= at[i + 1]; ++k) cap[count++] = run[k % n];
-        if (count >= 3 && off_chord(f, cap, count) > straight)
-            status = cut_convex(im, f, cap, count, straight);
-    }
-    rad_free(im->ctx, cap);
-    return status;
+/* A convex face of more than RAD_POLYGON_CORNERS_MAX corners, split into a core polygon and
+ * caps (rad_polygon_split): every corner is in a few pieces, where ear clipping made a fan of
+ * n - 2 slivers meeting in one corner (the contact search then met every pair, the smooth
+ * shading's neighbours every sliver). A cap whose corners all lie within `straight` of its
+ * chord is dropped: it is the rounding's dents (turned inside out, as likely as not). */
+static rad_status split_face(importer *im, const face *f, double straight) {
+    rad_polygon_pieces pieces = {0};
+    rad_status status = rad_polygon_cut_in_plane(im->ctx, f->points, f->count,
+                                                 v3_normalize(newell_normal(f->points, f->count)),
+                                                 straight, RAD_POLYGON_CORNERS_MAX, 1, &pieces);
+    return emit_pieces(im, f, &pieces, status);
 }
 
 static rad_status add_face(importer *im, face *f) {
@@ -694,10 +663,10 @@ static rad_status add_face(importer *im, face *f) {
     }
     rad_status status = flush_pending(im);
     if (status) return status;
-    if (f->count <= MAX_POLYGON_CORNERS && convex(f->points, f->count))
+    if (f->count <= RAD_POLYGON_CORNERS_MAX && convex(f->points, f->count))
         return emit(im, f->points, f->corners, f->count);
     double dent = 0;
-    if (f->count > MAX_POLYGON_CORNERS) {
+    if (f->count > RAD_POLYGON_CORNERS_MAX) {
         rad_vec3 lo = f->points[0], hi = f->points[0];
         for (size_t k = 1; k < f->count; ++k) {
             lo = v3_min(lo, f->points[k]);
@@ -705,13 +674,12 @@ static rad_status add_face(importer *im, face *f) {
         }
         dent = STRAIGHT_DENT * v3_length(v3_sub(hi, lo));
     }
-    if (f->count <= MAX_POLYGON_CORNERS || !convex_within(f->points, f->count, dent)) {
+    if (f->count <= RAD_POLYGON_CORNERS_MAX || !convex_within(f->points, f->count, dent)) {
         im->cut++;
         return cut_face(im, f, dent);
     }
     im->split++;
-    for (size_t k = 0; k < f->count; ++k) im->order[k] = (uint32_t)k;
-    return cut_convex(im, f, im->order, f->count, dent);
+    return split_face(im, f, dent);
 }
 
 static rad_status grow_scratch(importer *im, size_t corners, size_t vertices) {
@@ -719,12 +687,10 @@ static rad_status grow_scratch(importer *im, size_t corners, size_t vertices) {
     if (corners > im->scratch_capacity) {
         rad_free(ctx, im->points);
         rad_free(ctx, im->corners);
-        rad_free(ctx, im->order);
         im->points = rad_alloc(ctx, corners, sizeof *im->points);
         im->corners = rad_alloc(ctx, corners, sizeof *im->corners);
-        im->order = rad_alloc(ctx, corners, sizeof *im->order);
         im->scratch_capacity = corners;
-        if (!im->points || !im->corners || !im->order) {
+        if (!im->points || !im->corners) {
             im->scratch_capacity = 0;
             return RAD_ERROR_NO_MEMORY;
         }
@@ -1049,7 +1015,6 @@ static void importer_free(importer *im) {
     rad_free(ctx, im->vertex_of);
     rad_free(ctx, im->points);
     rad_free(ctx, im->corners);
-    rad_free(ctx, im->order);
     rad_gltf_extras_free(ctx, &im->gltf);
     rad_file_list_free(ctx, &im->opened);
     if (im->ai) aiReleaseImport(im->ai);
@@ -1229,7 +1194,7 @@ rad_status rad_scene_import_here(rad_context *ctx, const char *path, rad_scene *
                  "as a fan would, some of them overlapping or turned over", path, im.tangled);
     if (im.split)
         rad_info(ctx, "%s: cut %zu convex faces of more than %d corners into convex pieces", path,
-                 im.split, MAX_POLYGON_CORNERS);
+                 im.split, RAD_POLYGON_CORNERS_MAX);
     if (im.joined)
         rad_info(ctx, "%s: joined %zu pairs of triangles into quads", path, im.joined);
     rad_scene_warn_bright_materials(im.ctx, im.scene, im.path, im.texture_lost,

@@ -15,9 +15,10 @@
  * white (x = y = 1/3 gives R = G = B, as in Radiance's mgf2rad).
  * Emission: ed is luminous exitance in lm/m^2; radiance L = ed / (pi * 179 lm/W), 179 lm/W
  * being Radiance's white efficacy (docs/units.md). Coordinates are in metres.
- * Faces: counter-clockwise seen from the front, as here; non-convex ones (and convex ones of
- * more than 64 corners) are cut into a few convex pieces (scene/polygon_cut.h). Transforms apply to the geometry an entity makes, when it is
- * made. */
+ * Faces: counter-clockwise seen from the front, as here; non-convex ones are cut into a few
+ * convex pieces and convex ones of more than 64 corners split into a core and caps
+ * (scene/polygon_cut.h), as the OBJ importer does. Transforms apply to the geometry an entity
+ * makes, when it is made. */
 #include "scene/mgf.h"
 #include "scene/polygon_cut.h"
 
@@ -437,28 +438,21 @@ static rad_status current_surface(mgf_reader *r, uint32_t *out) {
     return status;
 }
 
-/* Adds a convex piece of n corners, p[index[0 .. n-1]], unless it has no area; one of more
- * than 64 corners as 64-gons fanned around its first corner (each is convex, being the hull of
- * corners of a convex polygon). */
+/* Adds a convex piece of n corners (at most RAD_POLYGON_CORNERS_MAX), p[index[0 .. n-1]],
+ * unless it has no area. */
 static rad_status add_piece(mgf_reader *r, uint32_t surface, const rad_vec3 *p,
                             const uint32_t *index, size_t n, double extent) {
-    rad_vec3 piece[64];
-    for (size_t first = 1; first + 1 < n; first += 62) {
-        size_t count = 1;
-        piece[0] = p[index[0]];
-        for (size_t k = first; k < n && count < 64; ++k) piece[count++] = p[index[k]];
-        if (v3_length(v3_newell_normal(piece, count)) > 1e-12 * extent * extent) {
-            rad_status status = rad_scene_add_polygon_points(r->scene, surface, piece,
-                                                             (uint32_t)count);
-            if (status) return status;
-        }
-    }
-    return RAD_OK;
+    rad_vec3 piece[RAD_POLYGON_CORNERS_MAX];
+    if (n > RAD_POLYGON_CORNERS_MAX) return RAD_ERROR_INTERNAL;
+    for (size_t k = 0; k < n; ++k) piece[k] = p[index[k]];
+    if (!(v3_length(v3_newell_normal(piece, n)) > 1e-12 * extent * extent)) return RAD_OK;
+    return rad_scene_add_polygon_points(r->scene, surface, piece, (uint32_t)n);
 }
 
-/* Adds a polygon in world space (already transformed): whole when convex (and of at most 64
- * corners), else in a few convex pieces (scene/polygon_cut.h). Degenerate polygons and pieces
- * (no area) are dropped. */
+/* Adds a polygon in world space (already transformed): whole when convex and of at most
+ * RAD_POLYGON_CORNERS_MAX corners; a larger convex one split into a core and caps, a
+ * non-convex one cut into a few convex pieces (scene/polygon_cut.h, as the OBJ importer does).
+ * Degenerate polygons and pieces (no area) are dropped. */
 static rad_status add_points(mgf_reader *r, rad_vec3 *p, size_t n) {
     if (n < 3) return RAD_OK;
     /* A mirroring transform turns the winding: turn it back so the front stays the front. */
@@ -493,9 +487,11 @@ static rad_status add_points(mgf_reader *r, rad_vec3 *p, size_t n) {
         rad_vec3 a = p[i], b = p[(i + 1) % n], c = p[(i + 2) % n];
         convex = v3_dot(v3_cross(v3_sub(b, a), v3_sub(c, b)), normal) >= -1e-12 * extent * extent;
     }
-    if (convex && n <= 64) return rad_scene_add_polygon_points(r->scene, surface, p, (uint32_t)n);
+    if (convex && n <= RAD_POLYGON_CORNERS_MAX)
+        return rad_scene_add_polygon_points(r->scene, surface, p, (uint32_t)n);
     rad_polygon_pieces pieces = {0};
-    status = rad_polygon_cut_in_plane(r->ctx, p, n, normal, 0, &pieces);
+    status = rad_polygon_cut_in_plane(r->ctx, p, n, normal, 0, RAD_POLYGON_CORNERS_MAX, convex,
+                                      &pieces);
     for (size_t k = 0; k < pieces.count && !status; ++k)
         status = add_piece(r, surface, p, pieces.corners + pieces.first[k],
                            pieces.first[k + 1] - pieces.first[k], extent);

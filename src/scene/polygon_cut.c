@@ -26,7 +26,16 @@
  *    diagonals in the order they were made and remove each one whose removal leaves both of
  *    its ends convex. The pieces stay convex, and there are at most four times as many as in
  *    the fewest convex pieces without new corners (every diagonal left is essential at one of
- *    its ends, a reflex corner having at most two essential diagonals). */
+ *    its ends, a reflex corner having at most two essential diagonals).
+ * 4. A piece of more corners than the caller's limit (and a convex polygon given to
+ *    rad_polygon_split) is split into a core and caps: the core goes through `max_corners`
+ *    corners spread by length along the boundary, from one end of the longest edge round to
+ *    the other, so that edge (a cap's chord, one level down) is the core's too; each run of
+ *    corners between two consecutive core corners, closed by its chord, is a cap, split the
+ *    same way while it has too many. Chords between roughly opposite corners (halving the
+ *    polygon at each level) make rounder pieces, but the mesher peels only round polygons of
+ *    even edges into rings and fans the rest from its centroid: half-disks and circular
+ *    segments of many short edges became fans of needles (docs/meshing.md, "ngon"). */
 #include "scene/polygon_cut.h"
 
 #include <math.h>
@@ -376,11 +385,164 @@ done:
     return status;
 }
 
-rad_status rad_polygon_cut(rad_context *ctx, const double *xy, size_t n, double dent,
-                           rad_polygon_pieces *out) {
+/* Step 4: pieces of at most `max` corners, appended to out (which has room for `piece_room`
+ * pieces and `corner_room` corners). */
+typedef struct splitter {
+    rad_context *ctx;
+    const double (*p)[2];
+    size_t max;
+    double dent;
+    rad_polygon_pieces *out;
+    size_t piece_room, corner_room;
+} splitter;
+
+static rad_status put_piece(splitter *s, const uint32_t *run, size_t m) {
+    rad_polygon_pieces *out = s->out;
+    size_t used = out->count ? out->first[out->count] : 0;
+    if (out->count + 2 > s->piece_room) {
+        size_t room = 2 * s->piece_room + 16;
+        size_t *first = rad_realloc(s->ctx, out->first, room, sizeof *first);
+        if (!first) return RAD_ERROR_NO_MEMORY;
+        out->first = first;
+        s->piece_room = room;
+    }
+    if (used + m > s->corner_room) {
+        size_t room = 2 * s->corner_room + m + 64;
+        uint32_t *corners = rad_realloc(s->ctx, out->corners, room, sizeof *corners);
+        if (!corners) return RAD_ERROR_NO_MEMORY;
+        out->corners = corners;
+        s->corner_room = room;
+    }
+    memcpy(out->corners + used, run, m * sizeof *run);
+    out->first[out->count] = used;
+    out->first[++out->count] = used + m;
+    return RAD_OK;
+}
+
+/* Do the corners run[1 .. m-2] all lie within `dent` of the chord run[m-1] -> run[0] (with
+ * dent 0: on it)? */
+static int flat_cap(const splitter *s, const uint32_t *run, size_t m) {
+    const double *a = s->p[run[0]], *b = s->p[run[m - 1]];
+    double length = hypot(b[0] - a[0], b[1] - a[1]);
+    for (size_t k = 1; k + 1 < m; ++k) {
+        double off = fabs(turn(a, b, s->p[run[k]]));
+        if (length > 0 ? off > s->dent * length : hypot(s->p[run[k]][0] - a[0],
+                                                        s->p[run[k]][1] - a[1]) > s->dent)
+            return 0;
+    }
+    return 1;
+}
+
+static rad_status split_run(splitter *s, const uint32_t *run, size_t m) {
+    if (m <= s->max) return put_piece(s, run, m);
+    size_t K = s->max;
+    uint32_t *path = rad_alloc(s->ctx, m + 1 + K, sizeof *path);
+    double *along = rad_alloc(s->ctx, m + 1, sizeof *along);
+    size_t *at = rad_alloc(s->ctx, K + 1, sizeof *at);
+    rad_status status = RAD_ERROR_NO_MEMORY;
+    if (!path || !along || !at) goto done;
+    size_t longest = 0;
+    double most = -1, perimeter = 0;
+    for (size_t k = 0; k < m; ++k) {
+        const double *a = s->p[run[k]], *b = s->p[run[(k + 1) % m]];
+        double length = hypot(b[0] - a[0], b[1] - a[1]);
+        perimeter += length;
+        if (length > most) most = length, longest = k;
+    }
+    /* An edge longer than the core's share of the boundary (a cap's chord) is one of the
+     * core's edges: the boundary is walked from its far end round to its near end, and the
+     * other K - 1 core edges share the rest. Else (a round polygon) the K core edges share the
+     * whole boundary from corner 0, and each is about as long as the others: the mesher peels
+     * round polygons of even edges into rings, where one short edge among long ones makes it
+     * fan the polygon from its centroid. */
+    int chord = most * (double)K >= perimeter;
+    size_t start = chord ? longest + 1 : 0;
+    for (size_t j = 0; j <= m; ++j) path[j] = run[(start + j) % m];
+    along[0] = 0;
+    for (size_t j = 1; j <= m; ++j) {
+        const double *a = s->p[path[j - 1]], *b = s->p[path[j]];
+        along[j] = along[j - 1] + hypot(b[0] - a[0], b[1] - a[1]);
+    }
+    /* The core's corners: path[0], then each the nearest to its share of the length along
+     * path[0 .. end], kept in order with room for those after it; by count when the length is
+     * none (corners all in one place) or not a number. No cap takes more than 8 times its
+     * share of the corners, so each level divides them by about K / 8 at least (corners
+     * bunched in one place cannot make the recursion deep). */
+    size_t end = chord ? m - 1 : m, gaps = chord ? K - 1 : K, j = 0;
+    size_t widest = 8 * ((end + gaps - 1) / gaps);
+    int by_length = along[end] > 0 && along[end] < INFINITY;
+    at[0] = 0;
+    for (size_t k = 1; k < gaps; ++k) {
+        double target = along[end] * (double)k / (double)gaps;
+        while (j + 1 < end && along[j + 1] <= target) ++j;
+        size_t pick = j + 1 < end && along[j + 1] - target < target - along[j] ? j + 1 : j;
+        if (!by_length) pick = k * end / gaps;
+        if (pick > at[k - 1] + widest) pick = at[k - 1] + widest;
+        if (pick + (gaps - k) * widest < end) pick = end - (gaps - k) * widest;
+        if (pick <= at[k - 1]) pick = at[k - 1] + 1;
+        if (pick > end - gaps + k) pick = end - gaps + k;
+        at[k] = pick;
+    }
+    at[gaps] = end;
+    at[K] = m;
+    uint32_t *core = path + m + 1;
+    for (size_t k = 0; k < K; ++k) core[k] = path[at[k]];
+    status = put_piece(s, core, K);
+    /* The caps, each the run between two consecutive core corners, closed by its chord. */
+    for (size_t k = 0; k < K && !status; ++k) {
+        size_t count = at[k + 1] - at[k] + 1;
+        if (count >= 3 && !flat_cap(s, path + at[k], count))
+            status = split_run(s, path + at[k], count);
+    }
+done:
+    rad_free(s->ctx, path);
+    rad_free(s->ctx, along);
+    rad_free(s->ctx, at);
+    return status;
+}
+
+/* Replaces every piece of more than `max` corners in *pieces by its split. */
+static rad_status split_large(rad_context *ctx, const double (*p)[2], size_t max, double dent,
+                              rad_polygon_pieces *pieces) {
+    size_t k = 0;
+    while (k < pieces->count && pieces->first[k + 1] - pieces->first[k] <= max) ++k;
+    if (k == pieces->count) return RAD_OK;
+    rad_polygon_pieces split = {0};
+    splitter s = {ctx, p, max, dent, &split, 0, 0};
+    rad_status status = RAD_OK;
+    for (k = 0; k < pieces->count && !status; ++k)
+        status = split_run(&s, pieces->corners + pieces->first[k],
+                           pieces->first[k + 1] - pieces->first[k]);
+    split.simple = pieces->simple;
+    rad_polygon_pieces_free(ctx, pieces);
+    if (status) rad_polygon_pieces_free(ctx, &split);
+    else *pieces = split;
+    return status;
+}
+
+rad_status rad_polygon_split(rad_context *ctx, const double *xy, size_t n, size_t max_corners,
+                             double dent, rad_polygon_pieces *out) {
     memset(out, 0, sizeof *out);
-    if (n < 3 || n >= (size_t)1 << 30) /* half-edges are counted in 32 bits */
-        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "polygon_cut: %zu corners", n);
+    if (n < 3 || n >= (size_t)1 << 30 || max_corners < 3)
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "polygon_split: %zu corners, at most %zu",
+                        n, max_corners);
+    uint32_t *all = rad_alloc(ctx, n, sizeof *all);
+    if (!all) return RAD_ERROR_NO_MEMORY;
+    for (size_t k = 0; k < n; ++k) all[k] = (uint32_t)k;
+    splitter s = {ctx, (const double(*)[2])xy, max_corners, dent, out, 0, 0};
+    rad_status status = split_run(&s, all, n);
+    rad_free(ctx, all);
+    out->simple = 1;
+    if (status) rad_polygon_pieces_free(ctx, out);
+    return status;
+}
+
+rad_status rad_polygon_cut(rad_context *ctx, const double *xy, size_t n, double dent,
+                           size_t max_corners, rad_polygon_pieces *out) {
+    memset(out, 0, sizeof *out);
+    if (n < 3 || n >= (size_t)1 << 30 || (max_corners && max_corners < 3)) /* half-edges: 32 bits */
+        return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "polygon_cut: %zu corners, at most %zu",
+                        n, max_corners);
     cutter c = {.p = (const double(*)[2])xy};
     /* The per-corner and per-triangle arrays, one block: prev, next, outside, slot, queued (n
      * each), queue (3n), corner and twin (3 (n - 2) each); removed after them. */
@@ -412,22 +574,32 @@ rad_status rad_polygon_cut(rad_context *ctx, const double *xy, size_t n, double 
     rad_free(ctx, c.start);
     rad_free(ctx, c.count);
     rad_free(ctx, c.entries);
+    if (!status && max_corners) status = split_large(ctx, c.p, max_corners, dent, out);
     if (status) rad_polygon_pieces_free(ctx, out);
     return status;
 }
 
-rad_status rad_polygon_cut_in_plane(rad_context *ctx, const rad_vec3 *p, size_t n,
-                                    rad_vec3 normal, double dent, rad_polygon_pieces *out) {
-    memset(out, 0, sizeof *out);
+/* The corners p[0 .. n) projected on the plane across `normal`, or NULL (no memory). */
+static double *project(rad_context *ctx, const rad_vec3 *p, size_t n, rad_vec3 normal) {
     double (*xy)[2] = rad_alloc(ctx, n ? n : 1, sizeof *xy);
-    if (!xy) return RAD_ERROR_NO_MEMORY;
+    if (!xy) return NULL;
     rad_vec3 u, v;
     v3_basis(normal, &u, &v);
     for (size_t k = 0; k < n; ++k) {
         xy[k][0] = v3_dot(p[k], u);
         xy[k][1] = v3_dot(p[k], v);
     }
-    rad_status status = rad_polygon_cut(ctx, &xy[0][0], n, dent, out);
+    return &xy[0][0];
+}
+
+rad_status rad_polygon_cut_in_plane(rad_context *ctx, const rad_vec3 *p, size_t n,
+                                    rad_vec3 normal, double dent, size_t max_corners, int convex,
+                                    rad_polygon_pieces *out) {
+    memset(out, 0, sizeof *out);
+    double *xy = project(ctx, p, n, normal);
+    if (!xy) return RAD_ERROR_NO_MEMORY;
+    rad_status status = convex ? rad_polygon_split(ctx, xy, n, max_corners, dent, out)
+                               : rad_polygon_cut(ctx, xy, n, dent, max_corners, out);
     rad_free(ctx, xy);
     return status;
 }
