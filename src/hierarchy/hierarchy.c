@@ -1,6 +1,7 @@
 /* hierarchy.c - quadtrees over the input polygons, links between their nodes, the refinement
  * oracle and the gather/push-pull solve of hierarchical radiosity (Hanrahan, Salzman &
  * Aupperle 1991). See hierarchy.h for the method and docs/hierarchical.md for the parameters. */
+#define _DEFAULT_SOURCE /* madvise's MADV_HUGEPAGE (below), beside the build's _POSIX_C_SOURCE */
 #include "hierarchy/hierarchy.h"
 #include "hierarchy/source_kernel.h"
 
@@ -16,6 +17,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #define DEFAULT_LINK_ERROR RAD_HIER_DEFAULT_LINK_ERROR
 #define DEFAULT_MIN_AREA 1e-6
@@ -169,6 +173,46 @@ struct rad_hier {
     int importance_unfinished;
 };
 
+/* ---- Large arrays ------------------------------------------------------------------------
+ * Every array of the hierarchy of HUGE_FROM bytes or more asks the kernel for transparent huge
+ * pages (madvise MADV_HUGEPAGE, over the 2 MB-aligned part of the block) before it is first
+ * written. At 10^6 triangles the links, samples and nodes fill about 3 GB; on this project's
+ * virtual machines a fresh 4 kB page costs about 10 us to fault in (hspeed15 counted 946,368
+ * faults in one solve), and the oracle, the link making and the gather read the nodes and
+ * the cluster tables at random over hundreds of megabytes, a TLB miss at nearly every read.
+ * A 2 MB page is one fault and one TLB entry. The values are the same bits: only where the
+ * memory comes from changes. Memory already written (a block the heap hands out again) keeps
+ * its pages. */
+enum { HUGE_PAGE = 2 << 20, HUGE_FROM = 4 << 20 };
+
+static void *with_huge_pages(void *pointer, size_t count, size_t size) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    /* count * size did not overflow: the allocator refuses that. */
+    if (pointer && count * size >= HUGE_FROM) {
+        uintptr_t first = ((uintptr_t)pointer + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1);
+        uintptr_t last = ((uintptr_t)pointer + count * size) & ~(uintptr_t)(HUGE_PAGE - 1);
+        if (last > first) madvise((void *)first, last - first, MADV_HUGEPAGE); /* only advice */
+    }
+#else
+    (void)count, (void)size;
+#endif
+    return pointer;
+}
+
+static void *large_alloc(rad_context *ctx, size_t count, size_t size) {
+    return with_huge_pages(rad_alloc(ctx, count, size), count, size);
+}
+
+static void *large_alloc_zero(rad_context *ctx, size_t count, size_t size) {
+    void *pointer = large_alloc(ctx, count, size);
+    if (pointer) memset(pointer, 0, count * size);
+    return pointer;
+}
+
+static void *large_realloc(rad_context *ctx, void *pointer, size_t count, size_t size) {
+    return with_huge_pages(rad_realloc(ctx, pointer, count, size), count, size);
+}
+
 static int threads(const rad_hier *h) { return rad_thread_count(h->ctx); }
 static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds);
 static uint32_t leaf_at(const rad_hier *h, uint32_t polygon, rad_vec3 x);
@@ -184,13 +228,13 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
     if (h->node_count + extra <= h->node_capacity) return RAD_OK;
     size_t wanted = h->node_capacity ? h->node_capacity : 64;
     while (wanted < h->node_count + extra) wanted *= 2;
-    rad_hier_node *grown = rad_realloc(h->ctx, h->nodes, wanted, sizeof *grown);
+    rad_hier_node *grown = large_realloc(h->ctx, h->nodes, wanted, sizeof *grown);
     if (!grown) return RAD_ERROR_NO_MEMORY;
     h->nodes = grown;
     /* The per-node arrays the hierarchy keeps (only those it has) grow with the nodes. */
 #define GROW_PER_NODE(array)                                                   \
     if (h->array) {                                                            \
-        void *more = rad_realloc(h->ctx, h->array, wanted, sizeof *h->array);  \
+        void *more = large_realloc(h->ctx, h->array, wanted, sizeof *h->array);  \
         if (!more) return RAD_ERROR_NO_MEMORY;                                 \
         h->array = more;                                                       \
     }
@@ -1250,7 +1294,7 @@ static rad_status sort_by_receiver(rad_hier *h, const rad_hier_link *links, size
     const size_t nodes = h->node_count;
     const int parts = count >= 4096 ? threads(h) : 1;
     const size_t part = (count + (size_t)parts - 1) / (size_t)parts;
-    size_t *start = rad_alloc_zero(h->ctx, (size_t)parts * nodes + 1, sizeof *start);
+    size_t *start = large_alloc_zero(h->ctx, (size_t)parts * nodes + 1, sizeof *start);
     if (!start) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(static, 1) num_threads(parts)
     for (int p = 0; p < parts; ++p) {
@@ -1293,7 +1337,7 @@ static rad_status take_sorted_links(rad_hier *h, rad_hier_link *links, size_t co
     }
     at[0] = 0;
     size_t group_count = block_starts(at);
-    size_t *groups = rad_alloc(h->ctx, group_count + 1, sizeof *groups);
+    size_t *groups = large_alloc(h->ctx, group_count + 1, sizeof *groups);
     if (!groups) {
         rad_free(h->ctx, links);
         return RAD_ERROR_NO_MEMORY;
@@ -1320,7 +1364,7 @@ static rad_status take_sorted_links(rad_hier *h, rad_hier_link *links, size_t co
 /* Sorts `links` by receiver (stable) into h->links and rebuilds the receiver groups. Takes
  * ownership of `links`. */
 static rad_status adopt_links(rad_hier *h, rad_hier_link *links, size_t count) {
-    rad_hier_link *sorted = rad_alloc(h->ctx, count ? count : 1, sizeof *sorted);
+    rad_hier_link *sorted = large_alloc(h->ctx, count ? count : 1, sizeof *sorted);
     rad_status status = sorted ? sort_by_receiver(h, links, count, sorted) : RAD_ERROR_NO_MEMORY;
     rad_free(h->ctx, links);
     if (status) {
@@ -1369,7 +1413,7 @@ static rad_status merge_in_place(rad_hier *h, rad_hier_link *links, size_t sorte
     }
     rad_hier_link *aside = NULL;
     if (aside_at[parts]) {
-        aside = rad_alloc(h->ctx, aside_at[parts], sizeof *aside);
+        aside = large_alloc(h->ctx, aside_at[parts], sizeof *aside);
         if (!aside) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(static, 1) num_threads(parts)
         for (int p = 0; p < parts; ++p)
@@ -1404,7 +1448,7 @@ static rad_status merge_in_place(rad_hier *h, rad_hier_link *links, size_t sorte
 static rad_status merge_links(rad_hier *h, rad_hier_link *links, size_t sorted, size_t count) {
     const size_t tail = count - sorted;
     if (tail) {
-        rad_hier_link *apart = rad_alloc(h->ctx, tail, sizeof *apart);
+        rad_hier_link *apart = large_alloc(h->ctx, tail, sizeof *apart);
         rad_status status = apart ? sort_by_receiver(h, links + sorted, tail, apart) : RAD_ERROR_NO_MEMORY;
         if (status) {
             rad_free(h->ctx, apart);
@@ -1439,7 +1483,7 @@ static rad_status check_memory(rad_hier *h, size_t links, size_t nodes) {
 rad_status rad_hier_link_roots(rad_hier *h) {
     if (!h->no_clusters) {
         /* One self-link on the top cluster: the oracle opens it where the light asks. */
-        rad_hier_link *top = rad_alloc(h->ctx, 1, sizeof *top);
+        rad_hier_link *top = large_alloc(h->ctx, 1, sizeof *top);
         if (!top) return RAD_ERROR_NO_MEMORY;
         make_cluster_link(h, rad_hier_top(h), rad_hier_top(h), top, 0, NULL);
         return adopt_links(h, top, 1);
@@ -1448,8 +1492,8 @@ rad_status rad_hier_link_roots(rad_hier *h) {
     rad_status status = check_memory(h, n * n, h->node_count);
     if (status) return status;
     size_t pairs = n * n > 0 ? n * n : 1;
-    rad_hier_link *all = rad_alloc(h->ctx, pairs, sizeof *all);
-    uint8_t *made = rad_alloc_zero(h->ctx, pairs, 1);
+    rad_hier_link *all = large_alloc(h->ctx, pairs, sizeof *all);
+    uint8_t *made = large_alloc_zero(h->ctx, pairs, 1);
     if (!all || !made) {
         rad_free(h->ctx, all);
         rad_free(h->ctx, made);
@@ -1516,11 +1560,11 @@ static rad_status refine_light(rad_hier *h, size_t *splits, double *largest) {
 static rad_status brightest_members(rad_hier *h) {
     const long count = (long)h->cluster_count;
     if (!h->sends) {
-        h->sends = rad_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *h->sends);
+        h->sends = large_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *h->sends);
         if (!h->sends) return RAD_ERROR_NO_MEMORY;
     }
     if (!h->shape) { /* split_into keeps it from here on */
-        node_shape *shape = rad_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *shape);
+        node_shape *shape = large_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *shape);
         if (!shape) return RAD_ERROR_NO_MEMORY;
         const long nodes = (long)h->node_count;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (nodes >= 4096)
@@ -1588,8 +1632,8 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
         return rad_fail(h->ctx, RAD_ERROR_MEMORY_BUDGET, "more than 2^32 cluster links");
     if (needed > h->sample_capacity) {
         size_t capacity = needed + needed / 4;
-        link_sample *grown = rad_realloc(h->ctx, h->samples, capacity, sizeof *grown);
-        uint32_t *slots = rad_realloc(h->ctx, h->free_samples, capacity, sizeof *slots);
+        link_sample *grown = large_realloc(h->ctx, h->samples, capacity, sizeof *grown);
+        uint32_t *slots = large_realloc(h->ctx, h->free_samples, capacity, sizeof *slots);
         if (grown) h->samples = grown;
         if (slots) h->free_samples = slots;
         if (!grown || !slots) return RAD_ERROR_NO_MEMORY;
@@ -1639,7 +1683,7 @@ static rad_status order_samples(rad_hier *h) {
     }
     at[0] = 0;
     const size_t used = block_starts(at);
-    link_sample *ordered = rad_alloc(h->ctx, used ? used : 1, sizeof *ordered);
+    link_sample *ordered = large_alloc(h->ctx, used ? used : 1, sizeof *ordered);
     if (!ordered) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
     for (long k = 0; k < BLOCKS; ++k) {
@@ -1657,7 +1701,7 @@ static rad_status order_samples(rad_hier *h) {
     h->sample_count = used;
     h->free_count = 0;
     h->sample_capacity = used; /* the free list holds at least as many slots (keep_samples) */
-    uint32_t *free_fit = used ? rad_realloc(h->ctx, h->free_samples, used, sizeof *free_fit) : NULL;
+    uint32_t *free_fit = used ? large_realloc(h->ctx, h->free_samples, used, sizeof *free_fit) : NULL;
     if (free_fit) h->free_samples = free_fit;
     return RAD_OK;
 }
@@ -1681,7 +1725,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     if (h->refining) {
         /* Going on with a refinement stopped between two passes, from its next pass. */
         pending_count = h->link_count - h->refine_kept;
-        pending = rad_alloc(ctx, pending_count ? pending_count : 1, sizeof *pending);
+        pending = large_alloc(ctx, pending_count ? pending_count : 1, sizeof *pending);
         if (!pending) return RAD_ERROR_NO_MEMORY;
         memcpy(pending, h->links + h->refine_kept, pending_count * sizeof *pending);
         kept = h->links;
@@ -1707,8 +1751,8 @@ rad_status rad_hier_refine(rad_hier *h) {
         }
         rad_free(ctx, decision);
         rad_free(ctx, leaf_end);
-        decision = rad_alloc(ctx, pending_count, 1);
-        leaf_end = rad_alloc(ctx, pending_count, 1);
+        decision = large_alloc(ctx, pending_count, 1);
+        leaf_end = large_alloc(ctx, pending_count, 1);
         if (!decision || !leaf_end) {
             status = RAD_ERROR_NO_MEMORY;
             break;
@@ -1752,9 +1796,9 @@ rad_status rad_hier_refine(rad_hier *h) {
          * numbered the same for any thread count. */
         size_t split_count = 0;
         if (splits) {
-            uint8_t *marked = rad_alloc_zero(ctx, h->node_count, 1);
+            uint8_t *marked = large_alloc_zero(ctx, h->node_count, 1);
             rad_free(ctx, to_split);
-            to_split = rad_alloc(ctx, splits, sizeof *to_split);
+            to_split = large_alloc(ctx, splits, sizeof *to_split);
             if (!marked || !to_split) {
                 rad_free(ctx, marked);
                 status = RAD_ERROR_NO_MEMORY;
@@ -1785,7 +1829,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         }
         /* Links made without their estimate that the oracle keeps after all (the budget
          * stopped refinement): estimated now. */
-        link_sample *estimated = budget ? rad_alloc(ctx, pending_count, sizeof *estimated) : NULL;
+        link_sample *estimated = budget ? large_alloc(ctx, pending_count, sizeof *estimated) : NULL;
         if (budget && !estimated) {
             status = RAD_ERROR_NO_MEMORY;
             break;
@@ -1835,11 +1879,11 @@ rad_status rad_hier_refine(rad_hier *h) {
          * after the children are written. */
         size_t count = 0, keep = pending_count - splits;
         const int in_place = first_pass && !kept;
-        fresh = splits ? rad_alloc(ctx, candidates, sizeof *fresh) : NULL;
-        made = splits ? rad_alloc(ctx, candidates, 1) : NULL;
+        fresh = splits ? large_alloc(ctx, candidates, sizeof *fresh) : NULL;
+        made = splits ? large_alloc(ctx, candidates, 1) : NULL;
         if (splits && (!fresh || !made)) status = RAD_ERROR_NO_MEMORY;
         if (!status && keep && !in_place) {
-            rad_hier_link *grown = rad_realloc(ctx, kept, kept_count + keep, sizeof *grown);
+            rad_hier_link *grown = large_realloc(ctx, kept, kept_count + keep, sizeof *grown);
             if (grown) kept = grown;
             else status = RAD_ERROR_NO_MEMORY;
         }
@@ -1893,7 +1937,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         pending_count = 0;
         if (status || !splits) break;
         /* The new links' form factors, in parallel (each writes its own slot). */
-        link_sample *seen = rad_alloc(ctx, count ? count : 1, sizeof *seen);
+        link_sample *seen = large_alloc(ctx, count ? count : 1, sizeof *seen);
         if (!seen) {
             status = RAD_ERROR_NO_MEMORY;
             break;
@@ -1924,7 +1968,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     h->stats.unknown_error = unknown_error;
     if (cancelled && !status) {
         /* The links passed, then the ones still to ask about, in one array. */
-        rad_hier_link *all = rad_realloc(ctx, kept, kept_count + pending_count, sizeof *all);
+        rad_hier_link *all = large_realloc(ctx, kept, kept_count + pending_count, sizeof *all);
         if (!all) status = RAD_ERROR_NO_MEMORY;
         else {
             memcpy(all + kept_count, pending, pending_count * sizeof *all);
@@ -1949,7 +1993,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     }
     if (h->links) return RAD_OK; /* nothing refined: the links were not touched */
     if (!kept) {
-        kept = rad_alloc(ctx, 1, sizeof *kept);
+        kept = large_alloc(ctx, 1, sizeof *kept);
         if (!kept) return RAD_ERROR_NO_MEMORY;
     }
     status = merge_links(h, kept, sorted_count, kept_count);
@@ -2255,8 +2299,8 @@ static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds
 rad_status rad_hier_set_view(rad_hier *h, const rad_view *view) {
     rad_context *ctx = h->ctx;
     size_t pixels = (size_t)view->width * (size_t)view->height;
-    uint32_t *polygon = rad_alloc(ctx, pixels ? pixels : 1, sizeof *polygon);
-    rad_vec3 *point = rad_alloc(ctx, pixels ? pixels : 1, sizeof *point);
+    uint32_t *polygon = large_alloc(ctx, pixels ? pixels : 1, sizeof *polygon);
+    rad_vec3 *point = large_alloc(ctx, pixels ? pixels : 1, sizeof *point);
     if (!polygon || !point) {
         rad_free(ctx, polygon);
         rad_free(ctx, point);
@@ -2317,12 +2361,12 @@ static double component(rad_vec3 v, int axis) { return axis == 0 ? v.x : axis ==
 static rad_status build_clusters(rad_hier *h) {
     rad_context *ctx = h->ctx;
     size_t n = h->root_count;
-    uint32_t *order = rad_alloc(ctx, n, sizeof *order);
-    rad_vec3 *centroid = rad_alloc(ctx, n, sizeof *centroid);
-    cluster_range *ranges = rad_alloc(ctx, 2 * n, sizeof *ranges);
-    rad_hier_node *roots = rad_alloc(ctx, n, sizeof *roots);
-    h->polygon_roots = rad_alloc(ctx, n, sizeof *h->polygon_roots);
-    h->root_parent = rad_alloc(ctx, n, sizeof *h->root_parent);
+    uint32_t *order = large_alloc(ctx, n, sizeof *order);
+    rad_vec3 *centroid = large_alloc(ctx, n, sizeof *centroid);
+    cluster_range *ranges = large_alloc(ctx, 2 * n, sizeof *ranges);
+    rad_hier_node *roots = large_alloc(ctx, n, sizeof *roots);
+    h->polygon_roots = large_alloc(ctx, n, sizeof *h->polygon_roots);
+    h->root_parent = large_alloc(ctx, n, sizeof *h->root_parent);
     rad_status status = RAD_OK;
     if (!order || !centroid || !ranges || !roots || !h->polygon_roots || !h->root_parent)
         status = RAD_ERROR_NO_MEMORY;
@@ -2369,10 +2413,10 @@ static rad_status build_clusters(rad_hier *h) {
             h->nodes[k].root = (uint32_t)k;
             h->polygon_roots[order[k]] = (uint32_t)k;
         }
-        h->walk_memory = rad_alloc(ctx, count + 4, sizeof *h->walk);
-        h->root_walk = rad_alloc(ctx, n, sizeof *h->root_walk);
-        h->clusters = rad_alloc_zero(ctx, count, sizeof *h->clusters);
-        h->cluster_down = rad_alloc_zero(ctx, count, sizeof *h->cluster_down);
+        h->walk_memory = large_alloc(ctx, count + 4, sizeof *h->walk);
+        h->root_walk = large_alloc(ctx, n, sizeof *h->root_walk);
+        h->clusters = large_alloc_zero(ctx, count, sizeof *h->clusters);
+        h->cluster_down = large_alloc_zero(ctx, count, sizeof *h->cluster_down);
         if (!h->clusters || !h->cluster_down || !h->walk_memory || !h->root_walk)
             status = RAD_ERROR_NO_MEMORY;
     }
@@ -2465,7 +2509,7 @@ static rad_status build_clusters(rad_hier *h) {
  * spread over whatever leaves the links made. */
 static rad_status split_by_light(rad_hier *h) {
     size_t count = h->root_count, capacity = count + 64;
-    uint32_t *stack = rad_alloc(h->ctx, capacity, sizeof *stack);
+    uint32_t *stack = large_alloc(h->ctx, capacity, sizeof *stack);
     if (!stack) return RAD_ERROR_NO_MEMORY;
     for (size_t i = 0; i < count; ++i) stack[i] = (uint32_t)(count - 1 - i);
     rad_status status = RAD_OK;
@@ -2494,7 +2538,7 @@ static rad_status split_by_light(rad_hier *h) {
         }
         if (count + 4 > capacity) {
             capacity *= 2;
-            uint32_t *grown = rad_realloc(h->ctx, stack, capacity, sizeof *stack);
+            uint32_t *grown = large_realloc(h->ctx, stack, capacity, sizeof *stack);
             if (!grown) {
                 status = RAD_ERROR_NO_MEMORY;
                 break;
@@ -2526,7 +2570,7 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     if (!(o.min_area >= 0) || !isfinite(o.min_area))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "bad minimum node area %g", o.min_area);
     if (o.min_area == 0) o.min_area = DEFAULT_MIN_AREA;
-    rad_hier *h = rad_alloc_zero(ctx, 1, sizeof *h);
+    rad_hier *h = large_alloc_zero(ctx, 1, sizeof *h);
     if (!h) return RAD_ERROR_NO_MEMORY;
     h->ctx = ctx;
     h->salt = ctx->seed ? (uint32_t)(rad_mix64(ctx->seed) >> 32) : 0;
@@ -2535,11 +2579,11 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     h->light_fn = o.light;
     h->light_user = o.light_user;
     size_t np = scene->polygon_count;
-    h->polygon_root_first = rad_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_first);
-    h->polygon_root_count = rad_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_count);
-    h->reflectance = rad_alloc_zero(ctx, np + 1, sizeof *h->reflectance);
-    h->emission = rad_alloc_zero(ctx, np + 1, sizeof *h->emission);
-    h->normal = rad_alloc_zero(ctx, np + 1, sizeof *h->normal);
+    h->polygon_root_first = large_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_first);
+    h->polygon_root_count = large_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_count);
+    h->reflectance = large_alloc_zero(ctx, np + 1, sizeof *h->reflectance);
+    h->emission = large_alloc_zero(ctx, np + 1, sizeof *h->emission);
+    h->normal = large_alloc_zero(ctx, np + 1, sizeof *h->normal);
     rad_status status = RAD_OK;
     if (!h->polygon_root_first || !h->polygon_root_count || !h->reflectance || !h->emission ||
         !h->normal)
@@ -2589,13 +2633,13 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
                           "%s: no polygon with a nonzero area", scene->source);
     if (!status) status = build_clusters(h);
     if (!status) {
-        h->root_radiosity = rad_alloc_zero(ctx, h->root_count, sizeof *h->root_radiosity);
+        h->root_radiosity = large_alloc_zero(ctx, h->root_count, sizeof *h->root_radiosity);
         if (!h->root_radiosity) status = RAD_ERROR_NO_MEMORY;
     }
     if (!status && h->light_fn) {
         /* The roots' light (after build_clusters renumbered them), counted as emitted. */
-        h->light = rad_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light);
-        h->light_spread = rad_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light_spread);
+        h->light = large_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light);
+        h->light_spread = large_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light_spread);
         if (!h->light || !h->light_spread) status = RAD_ERROR_NO_MEMORY;
         if (!status) light_nodes(h, 0);
         for (size_t i = 0; i < h->root_count && !status; ++i) {
@@ -2810,12 +2854,12 @@ rad_status rad_hier_restore_view(rad_hier *h, uint32_t *polygon, rad_vec3 *point
     h->hit_count = count;
     h->hit_share = share;
     if (!h->importance) {
-        h->importance = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance);
-        h->importance_emitted = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_emitted);
-        h->importance_gathered = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_gathered);
-        h->cluster_axis_importance = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_axis_importance);
-        h->cluster_down_importance = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_down_importance);
-        h->cluster_z = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_z);
+        h->importance = large_alloc_zero(ctx, h->node_capacity, sizeof *h->importance);
+        h->importance_emitted = large_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_emitted);
+        h->importance_gathered = large_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_gathered);
+        h->cluster_axis_importance = large_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_axis_importance);
+        h->cluster_down_importance = large_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_down_importance);
+        h->cluster_z = large_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_z);
         if (!h->importance || !h->importance_emitted || !h->importance_gathered ||
             !h->cluster_axis_importance || !h->cluster_down_importance || !h->cluster_z)
             return RAD_ERROR_NO_MEMORY;
@@ -2838,7 +2882,7 @@ void rad_hier_restore_node(rad_hier *h, uint32_t node, const double radiosity[3]
 static rad_status resample_links(rad_hier *h) {
     const size_t count = h->link_count;
     for (size_t l = 0; l < count; ++l) h->links[l].sample = RAD_HIER_NO_NODE;
-    link_sample *seen = rad_alloc(h->ctx, count ? count : 1, sizeof *seen);
+    link_sample *seen = large_alloc(h->ctx, count ? count : 1, sizeof *seen);
     if (!seen) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (count >= 64)
     for (long l = 0; l < (long)count; ++l) {
