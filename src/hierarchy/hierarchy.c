@@ -174,43 +174,39 @@ struct rad_hier {
 };
 
 /* ---- Large arrays ------------------------------------------------------------------------
- * Every array of the hierarchy of HUGE_FROM bytes or more asks the kernel for transparent huge
- * pages (madvise MADV_HUGEPAGE, over the 2 MB-aligned part of the block) before it is first
- * written. At 10^6 triangles the links, samples and nodes fill about 3 GB; on this project's
- * virtual machines a fresh 4 kB page costs about 10 us to fault in (hspeed15 counted 946,368
- * faults in one solve), and the oracle, the link making and the gather read the nodes and
- * the cluster tables at random over hundreds of megabytes, a TLB miss at nearly every read.
- * A 2 MB page is one fault and one TLB entry. The values are the same bits: only where the
- * memory comes from changes. Memory already written (a block the heap hands out again) keeps
- * its pages. */
+ * The arrays of HUGE_FROM bytes or more that are never grown (the refinement's per-pass
+ * arrays: decisions, the new links, their samples, the sort's and merge's scratch; the cluster
+ * tables) ask the kernel for transparent huge pages (madvise MADV_HUGEPAGE over the block's
+ * 2 MB-aligned part) before they are first written. On this project's virtual machines a
+ * fresh 4 kB page costs about 10 us to fault in (hspeed15 counted 946,368 faults in one 10^6
+ * solve); a 2 MB page is one fault and one TLB entry. The values are the same bits: only
+ * where the memory comes from changes. Memory already written (a block the heap hands out
+ * again) keeps its pages.
+ *
+ * Not the arrays that are grown with rad_realloc (the nodes and their per-node arrays, the
+ * link samples, the links a refinement keeps): the advice splits a mapped block's one mapping
+ * into three, glibc's realloc can then no longer move it with mremap and copies it instead,
+ * into fresh 4 kB pages. Advised, those made the 10^6 solve fault 7.2 M times instead of 0.9 M
+ * (docs/hierarchical.md, "hspeed16"). */
 enum { HUGE_PAGE = 2 << 20, HUGE_FROM = 4 << 20 };
 
-static void *with_huge_pages(void *pointer, size_t count, size_t size) {
+static void *large_alloc(rad_context *ctx, size_t count, size_t size) {
+    void *pointer = rad_alloc(ctx, count, size);
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    /* count * size did not overflow: the allocator refuses that. */
+    /* count * size did not overflow: rad_alloc refuses that. */
     if (pointer && count * size >= HUGE_FROM) {
         uintptr_t first = ((uintptr_t)pointer + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1);
         uintptr_t last = ((uintptr_t)pointer + count * size) & ~(uintptr_t)(HUGE_PAGE - 1);
         if (last > first) madvise((void *)first, last - first, MADV_HUGEPAGE); /* only advice */
     }
-#else
-    (void)count, (void)size;
 #endif
     return pointer;
-}
-
-static void *large_alloc(rad_context *ctx, size_t count, size_t size) {
-    return with_huge_pages(rad_alloc(ctx, count, size), count, size);
 }
 
 static void *large_alloc_zero(rad_context *ctx, size_t count, size_t size) {
     void *pointer = large_alloc(ctx, count, size);
     if (pointer) memset(pointer, 0, count * size);
     return pointer;
-}
-
-static void *large_realloc(rad_context *ctx, void *pointer, size_t count, size_t size) {
-    return with_huge_pages(rad_realloc(ctx, pointer, count, size), count, size);
 }
 
 static int threads(const rad_hier *h) { return rad_thread_count(h->ctx); }
@@ -228,13 +224,13 @@ static rad_status reserve_nodes(rad_hier *h, size_t extra) {
     if (h->node_count + extra <= h->node_capacity) return RAD_OK;
     size_t wanted = h->node_capacity ? h->node_capacity : 64;
     while (wanted < h->node_count + extra) wanted *= 2;
-    rad_hier_node *grown = large_realloc(h->ctx, h->nodes, wanted, sizeof *grown);
+    rad_hier_node *grown = rad_realloc(h->ctx, h->nodes, wanted, sizeof *grown);
     if (!grown) return RAD_ERROR_NO_MEMORY;
     h->nodes = grown;
     /* The per-node arrays the hierarchy keeps (only those it has) grow with the nodes. */
 #define GROW_PER_NODE(array)                                                   \
     if (h->array) {                                                            \
-        void *more = large_realloc(h->ctx, h->array, wanted, sizeof *h->array);  \
+        void *more = rad_realloc(h->ctx, h->array, wanted, sizeof *h->array);  \
         if (!more) return RAD_ERROR_NO_MEMORY;                                 \
         h->array = more;                                                       \
     }
@@ -1364,7 +1360,7 @@ static rad_status take_sorted_links(rad_hier *h, rad_hier_link *links, size_t co
 /* Sorts `links` by receiver (stable) into h->links and rebuilds the receiver groups. Takes
  * ownership of `links`. */
 static rad_status adopt_links(rad_hier *h, rad_hier_link *links, size_t count) {
-    rad_hier_link *sorted = large_alloc(h->ctx, count ? count : 1, sizeof *sorted);
+    rad_hier_link *sorted = rad_alloc(h->ctx, count ? count : 1, sizeof *sorted);
     rad_status status = sorted ? sort_by_receiver(h, links, count, sorted) : RAD_ERROR_NO_MEMORY;
     rad_free(h->ctx, links);
     if (status) {
@@ -1560,11 +1556,11 @@ static rad_status refine_light(rad_hier *h, size_t *splits, double *largest) {
 static rad_status brightest_members(rad_hier *h) {
     const long count = (long)h->cluster_count;
     if (!h->sends) {
-        h->sends = large_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *h->sends);
+        h->sends = rad_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *h->sends);
         if (!h->sends) return RAD_ERROR_NO_MEMORY;
     }
     if (!h->shape) { /* split_into keeps it from here on */
-        node_shape *shape = large_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *shape);
+        node_shape *shape = rad_alloc(h->ctx, h->node_capacity ? h->node_capacity : 1, sizeof *shape);
         if (!shape) return RAD_ERROR_NO_MEMORY;
         const long nodes = (long)h->node_count;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (nodes >= 4096)
@@ -1632,8 +1628,8 @@ static rad_status keep_samples(rad_hier *h, rad_hier_link *links, const link_sam
         return rad_fail(h->ctx, RAD_ERROR_MEMORY_BUDGET, "more than 2^32 cluster links");
     if (needed > h->sample_capacity) {
         size_t capacity = needed + needed / 4;
-        link_sample *grown = large_realloc(h->ctx, h->samples, capacity, sizeof *grown);
-        uint32_t *slots = large_realloc(h->ctx, h->free_samples, capacity, sizeof *slots);
+        link_sample *grown = rad_realloc(h->ctx, h->samples, capacity, sizeof *grown);
+        uint32_t *slots = rad_realloc(h->ctx, h->free_samples, capacity, sizeof *slots);
         if (grown) h->samples = grown;
         if (slots) h->free_samples = slots;
         if (!grown || !slots) return RAD_ERROR_NO_MEMORY;
@@ -1683,7 +1679,7 @@ static rad_status order_samples(rad_hier *h) {
     }
     at[0] = 0;
     const size_t used = block_starts(at);
-    link_sample *ordered = large_alloc(h->ctx, used ? used : 1, sizeof *ordered);
+    link_sample *ordered = rad_alloc(h->ctx, used ? used : 1, sizeof *ordered);
     if (!ordered) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(static) num_threads(threads(h)) if (count >= 4096)
     for (long k = 0; k < BLOCKS; ++k) {
@@ -1701,7 +1697,7 @@ static rad_status order_samples(rad_hier *h) {
     h->sample_count = used;
     h->free_count = 0;
     h->sample_capacity = used; /* the free list holds at least as many slots (keep_samples) */
-    uint32_t *free_fit = used ? large_realloc(h->ctx, h->free_samples, used, sizeof *free_fit) : NULL;
+    uint32_t *free_fit = used ? rad_realloc(h->ctx, h->free_samples, used, sizeof *free_fit) : NULL;
     if (free_fit) h->free_samples = free_fit;
     return RAD_OK;
 }
@@ -1725,7 +1721,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     if (h->refining) {
         /* Going on with a refinement stopped between two passes, from its next pass. */
         pending_count = h->link_count - h->refine_kept;
-        pending = large_alloc(ctx, pending_count ? pending_count : 1, sizeof *pending);
+        pending = rad_alloc(ctx, pending_count ? pending_count : 1, sizeof *pending);
         if (!pending) return RAD_ERROR_NO_MEMORY;
         memcpy(pending, h->links + h->refine_kept, pending_count * sizeof *pending);
         kept = h->links;
@@ -1883,7 +1879,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         made = splits ? large_alloc(ctx, candidates, 1) : NULL;
         if (splits && (!fresh || !made)) status = RAD_ERROR_NO_MEMORY;
         if (!status && keep && !in_place) {
-            rad_hier_link *grown = large_realloc(ctx, kept, kept_count + keep, sizeof *grown);
+            rad_hier_link *grown = rad_realloc(ctx, kept, kept_count + keep, sizeof *grown);
             if (grown) kept = grown;
             else status = RAD_ERROR_NO_MEMORY;
         }
@@ -1968,7 +1964,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     h->stats.unknown_error = unknown_error;
     if (cancelled && !status) {
         /* The links passed, then the ones still to ask about, in one array. */
-        rad_hier_link *all = large_realloc(ctx, kept, kept_count + pending_count, sizeof *all);
+        rad_hier_link *all = rad_realloc(ctx, kept, kept_count + pending_count, sizeof *all);
         if (!all) status = RAD_ERROR_NO_MEMORY;
         else {
             memcpy(all + kept_count, pending, pending_count * sizeof *all);
@@ -1993,7 +1989,7 @@ rad_status rad_hier_refine(rad_hier *h) {
     }
     if (h->links) return RAD_OK; /* nothing refined: the links were not touched */
     if (!kept) {
-        kept = large_alloc(ctx, 1, sizeof *kept);
+        kept = rad_alloc(ctx, 1, sizeof *kept);
         if (!kept) return RAD_ERROR_NO_MEMORY;
     }
     status = merge_links(h, kept, sorted_count, kept_count);
@@ -2299,8 +2295,8 @@ static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds
 rad_status rad_hier_set_view(rad_hier *h, const rad_view *view) {
     rad_context *ctx = h->ctx;
     size_t pixels = (size_t)view->width * (size_t)view->height;
-    uint32_t *polygon = large_alloc(ctx, pixels ? pixels : 1, sizeof *polygon);
-    rad_vec3 *point = large_alloc(ctx, pixels ? pixels : 1, sizeof *point);
+    uint32_t *polygon = rad_alloc(ctx, pixels ? pixels : 1, sizeof *polygon);
+    rad_vec3 *point = rad_alloc(ctx, pixels ? pixels : 1, sizeof *point);
     if (!polygon || !point) {
         rad_free(ctx, polygon);
         rad_free(ctx, point);
@@ -2509,7 +2505,7 @@ static rad_status build_clusters(rad_hier *h) {
  * spread over whatever leaves the links made. */
 static rad_status split_by_light(rad_hier *h) {
     size_t count = h->root_count, capacity = count + 64;
-    uint32_t *stack = large_alloc(h->ctx, capacity, sizeof *stack);
+    uint32_t *stack = rad_alloc(h->ctx, capacity, sizeof *stack);
     if (!stack) return RAD_ERROR_NO_MEMORY;
     for (size_t i = 0; i < count; ++i) stack[i] = (uint32_t)(count - 1 - i);
     rad_status status = RAD_OK;
@@ -2538,7 +2534,7 @@ static rad_status split_by_light(rad_hier *h) {
         }
         if (count + 4 > capacity) {
             capacity *= 2;
-            uint32_t *grown = large_realloc(h->ctx, stack, capacity, sizeof *stack);
+            uint32_t *grown = rad_realloc(h->ctx, stack, capacity, sizeof *stack);
             if (!grown) {
                 status = RAD_ERROR_NO_MEMORY;
                 break;
@@ -2570,7 +2566,7 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     if (!(o.min_area >= 0) || !isfinite(o.min_area))
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "bad minimum node area %g", o.min_area);
     if (o.min_area == 0) o.min_area = DEFAULT_MIN_AREA;
-    rad_hier *h = large_alloc_zero(ctx, 1, sizeof *h);
+    rad_hier *h = rad_alloc_zero(ctx, 1, sizeof *h);
     if (!h) return RAD_ERROR_NO_MEMORY;
     h->ctx = ctx;
     h->salt = ctx->seed ? (uint32_t)(rad_mix64(ctx->seed) >> 32) : 0;
@@ -2638,8 +2634,8 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     }
     if (!status && h->light_fn) {
         /* The roots' light (after build_clusters renumbered them), counted as emitted. */
-        h->light = large_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light);
-        h->light_spread = large_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light_spread);
+        h->light = rad_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light);
+        h->light_spread = rad_alloc_zero(h->ctx, h->node_capacity, sizeof *h->light_spread);
         if (!h->light || !h->light_spread) status = RAD_ERROR_NO_MEMORY;
         if (!status) light_nodes(h, 0);
         for (size_t i = 0; i < h->root_count && !status; ++i) {
@@ -2854,9 +2850,9 @@ rad_status rad_hier_restore_view(rad_hier *h, uint32_t *polygon, rad_vec3 *point
     h->hit_count = count;
     h->hit_share = share;
     if (!h->importance) {
-        h->importance = large_alloc_zero(ctx, h->node_capacity, sizeof *h->importance);
-        h->importance_emitted = large_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_emitted);
-        h->importance_gathered = large_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_gathered);
+        h->importance = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance);
+        h->importance_emitted = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_emitted);
+        h->importance_gathered = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_gathered);
         h->cluster_axis_importance = large_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_axis_importance);
         h->cluster_down_importance = large_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_down_importance);
         h->cluster_z = large_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_z);
