@@ -1,7 +1,6 @@
 /* hierarchy.c - quadtrees over the input polygons, links between their nodes, the refinement
  * oracle and the gather/push-pull solve of hierarchical radiosity (Hanrahan, Salzman &
  * Aupperle 1991). See hierarchy.h for the method and docs/hierarchical.md for the parameters. */
-#define _DEFAULT_SOURCE /* madvise's MADV_HUGEPAGE (below), beside the build's _POSIX_C_SOURCE */
 #include "hierarchy/hierarchy.h"
 #include "hierarchy/source_kernel.h"
 
@@ -17,9 +16,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
 
 #define DEFAULT_LINK_ERROR RAD_HIER_DEFAULT_LINK_ERROR
 #define DEFAULT_MIN_AREA 1e-6
@@ -172,42 +168,6 @@ struct rad_hier {
      * converged: the next solve goes on with importance only. */
     int importance_unfinished;
 };
-
-/* ---- Large arrays ------------------------------------------------------------------------
- * The arrays of HUGE_FROM bytes or more that are never grown (the refinement's per-pass
- * arrays: decisions, the new links, their samples, the sort's and merge's scratch; the cluster
- * tables) ask the kernel for transparent huge pages (madvise MADV_HUGEPAGE over the block's
- * 2 MB-aligned part) before they are first written. On this project's virtual machines a
- * fresh 4 kB page costs about 10 us to fault in (hspeed15 counted 946,368 faults in one 10^6
- * solve); a 2 MB page is one fault and one TLB entry. The values are the same bits: only
- * where the memory comes from changes. Memory already written (a block the heap hands out
- * again) keeps its pages.
- *
- * Not the arrays that are grown with rad_realloc (the nodes and their per-node arrays, the
- * link samples, the links a refinement keeps): the advice splits a mapped block's one mapping
- * into three, glibc's realloc can then no longer move it with mremap and copies it instead,
- * into fresh 4 kB pages. Advised, those made the 10^6 solve fault 7.2 M times instead of 0.9 M
- * (docs/hierarchical.md, "hspeed16"). */
-enum { HUGE_PAGE = 2 << 20, HUGE_FROM = 4 << 20 };
-
-static void *large_alloc(rad_context *ctx, size_t count, size_t size) {
-    void *pointer = rad_alloc(ctx, count, size);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    /* count * size did not overflow: rad_alloc refuses that. */
-    if (pointer && count * size >= HUGE_FROM) {
-        uintptr_t first = ((uintptr_t)pointer + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1);
-        uintptr_t last = ((uintptr_t)pointer + count * size) & ~(uintptr_t)(HUGE_PAGE - 1);
-        if (last > first) madvise((void *)first, last - first, MADV_HUGEPAGE); /* only advice */
-    }
-#endif
-    return pointer;
-}
-
-static void *large_alloc_zero(rad_context *ctx, size_t count, size_t size) {
-    void *pointer = large_alloc(ctx, count, size);
-    if (pointer) memset(pointer, 0, count * size);
-    return pointer;
-}
 
 static int threads(const rad_hier *h) { return rad_thread_count(h->ctx); }
 static rad_status solve_importance(rad_hier *h, double tolerance, int max_rounds);
@@ -1290,7 +1250,7 @@ static rad_status sort_by_receiver(rad_hier *h, const rad_hier_link *links, size
     const size_t nodes = h->node_count;
     const int parts = count >= 4096 ? threads(h) : 1;
     const size_t part = (count + (size_t)parts - 1) / (size_t)parts;
-    size_t *start = large_alloc_zero(h->ctx, (size_t)parts * nodes + 1, sizeof *start);
+    size_t *start = rad_alloc_zero(h->ctx, (size_t)parts * nodes + 1, sizeof *start);
     if (!start) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(static, 1) num_threads(parts)
     for (int p = 0; p < parts; ++p) {
@@ -1333,7 +1293,7 @@ static rad_status take_sorted_links(rad_hier *h, rad_hier_link *links, size_t co
     }
     at[0] = 0;
     size_t group_count = block_starts(at);
-    size_t *groups = large_alloc(h->ctx, group_count + 1, sizeof *groups);
+    size_t *groups = rad_alloc(h->ctx, group_count + 1, sizeof *groups);
     if (!groups) {
         rad_free(h->ctx, links);
         return RAD_ERROR_NO_MEMORY;
@@ -1409,7 +1369,7 @@ static rad_status merge_in_place(rad_hier *h, rad_hier_link *links, size_t sorte
     }
     rad_hier_link *aside = NULL;
     if (aside_at[parts]) {
-        aside = large_alloc(h->ctx, aside_at[parts], sizeof *aside);
+        aside = rad_alloc(h->ctx, aside_at[parts], sizeof *aside);
         if (!aside) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(static, 1) num_threads(parts)
         for (int p = 0; p < parts; ++p)
@@ -1444,7 +1404,7 @@ static rad_status merge_in_place(rad_hier *h, rad_hier_link *links, size_t sorte
 static rad_status merge_links(rad_hier *h, rad_hier_link *links, size_t sorted, size_t count) {
     const size_t tail = count - sorted;
     if (tail) {
-        rad_hier_link *apart = large_alloc(h->ctx, tail, sizeof *apart);
+        rad_hier_link *apart = rad_alloc(h->ctx, tail, sizeof *apart);
         rad_status status = apart ? sort_by_receiver(h, links + sorted, tail, apart) : RAD_ERROR_NO_MEMORY;
         if (status) {
             rad_free(h->ctx, apart);
@@ -1479,7 +1439,7 @@ static rad_status check_memory(rad_hier *h, size_t links, size_t nodes) {
 rad_status rad_hier_link_roots(rad_hier *h) {
     if (!h->no_clusters) {
         /* One self-link on the top cluster: the oracle opens it where the light asks. */
-        rad_hier_link *top = large_alloc(h->ctx, 1, sizeof *top);
+        rad_hier_link *top = rad_alloc(h->ctx, 1, sizeof *top);
         if (!top) return RAD_ERROR_NO_MEMORY;
         make_cluster_link(h, rad_hier_top(h), rad_hier_top(h), top, 0, NULL);
         return adopt_links(h, top, 1);
@@ -1488,8 +1448,8 @@ rad_status rad_hier_link_roots(rad_hier *h) {
     rad_status status = check_memory(h, n * n, h->node_count);
     if (status) return status;
     size_t pairs = n * n > 0 ? n * n : 1;
-    rad_hier_link *all = large_alloc(h->ctx, pairs, sizeof *all);
-    uint8_t *made = large_alloc_zero(h->ctx, pairs, 1);
+    rad_hier_link *all = rad_alloc(h->ctx, pairs, sizeof *all);
+    uint8_t *made = rad_alloc_zero(h->ctx, pairs, 1);
     if (!all || !made) {
         rad_free(h->ctx, all);
         rad_free(h->ctx, made);
@@ -1747,8 +1707,8 @@ rad_status rad_hier_refine(rad_hier *h) {
         }
         rad_free(ctx, decision);
         rad_free(ctx, leaf_end);
-        decision = large_alloc(ctx, pending_count, 1);
-        leaf_end = large_alloc(ctx, pending_count, 1);
+        decision = rad_alloc(ctx, pending_count, 1);
+        leaf_end = rad_alloc(ctx, pending_count, 1);
         if (!decision || !leaf_end) {
             status = RAD_ERROR_NO_MEMORY;
             break;
@@ -1792,9 +1752,9 @@ rad_status rad_hier_refine(rad_hier *h) {
          * numbered the same for any thread count. */
         size_t split_count = 0;
         if (splits) {
-            uint8_t *marked = large_alloc_zero(ctx, h->node_count, 1);
+            uint8_t *marked = rad_alloc_zero(ctx, h->node_count, 1);
             rad_free(ctx, to_split);
-            to_split = large_alloc(ctx, splits, sizeof *to_split);
+            to_split = rad_alloc(ctx, splits, sizeof *to_split);
             if (!marked || !to_split) {
                 rad_free(ctx, marked);
                 status = RAD_ERROR_NO_MEMORY;
@@ -1825,7 +1785,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         }
         /* Links made without their estimate that the oracle keeps after all (the budget
          * stopped refinement): estimated now. */
-        link_sample *estimated = budget ? large_alloc(ctx, pending_count, sizeof *estimated) : NULL;
+        link_sample *estimated = budget ? rad_alloc(ctx, pending_count, sizeof *estimated) : NULL;
         if (budget && !estimated) {
             status = RAD_ERROR_NO_MEMORY;
             break;
@@ -1875,8 +1835,8 @@ rad_status rad_hier_refine(rad_hier *h) {
          * after the children are written. */
         size_t count = 0, keep = pending_count - splits;
         const int in_place = first_pass && !kept;
-        fresh = splits ? large_alloc(ctx, candidates, sizeof *fresh) : NULL;
-        made = splits ? large_alloc(ctx, candidates, 1) : NULL;
+        fresh = splits ? rad_alloc(ctx, candidates, sizeof *fresh) : NULL;
+        made = splits ? rad_alloc(ctx, candidates, 1) : NULL;
         if (splits && (!fresh || !made)) status = RAD_ERROR_NO_MEMORY;
         if (!status && keep && !in_place) {
             rad_hier_link *grown = rad_realloc(ctx, kept, kept_count + keep, sizeof *grown);
@@ -1933,7 +1893,7 @@ rad_status rad_hier_refine(rad_hier *h) {
         pending_count = 0;
         if (status || !splits) break;
         /* The new links' form factors, in parallel (each writes its own slot). */
-        link_sample *seen = large_alloc(ctx, count ? count : 1, sizeof *seen);
+        link_sample *seen = rad_alloc(ctx, count ? count : 1, sizeof *seen);
         if (!seen) {
             status = RAD_ERROR_NO_MEMORY;
             break;
@@ -2357,12 +2317,12 @@ static double component(rad_vec3 v, int axis) { return axis == 0 ? v.x : axis ==
 static rad_status build_clusters(rad_hier *h) {
     rad_context *ctx = h->ctx;
     size_t n = h->root_count;
-    uint32_t *order = large_alloc(ctx, n, sizeof *order);
-    rad_vec3 *centroid = large_alloc(ctx, n, sizeof *centroid);
-    cluster_range *ranges = large_alloc(ctx, 2 * n, sizeof *ranges);
-    rad_hier_node *roots = large_alloc(ctx, n, sizeof *roots);
-    h->polygon_roots = large_alloc(ctx, n, sizeof *h->polygon_roots);
-    h->root_parent = large_alloc(ctx, n, sizeof *h->root_parent);
+    uint32_t *order = rad_alloc(ctx, n, sizeof *order);
+    rad_vec3 *centroid = rad_alloc(ctx, n, sizeof *centroid);
+    cluster_range *ranges = rad_alloc(ctx, 2 * n, sizeof *ranges);
+    rad_hier_node *roots = rad_alloc(ctx, n, sizeof *roots);
+    h->polygon_roots = rad_alloc(ctx, n, sizeof *h->polygon_roots);
+    h->root_parent = rad_alloc(ctx, n, sizeof *h->root_parent);
     rad_status status = RAD_OK;
     if (!order || !centroid || !ranges || !roots || !h->polygon_roots || !h->root_parent)
         status = RAD_ERROR_NO_MEMORY;
@@ -2409,10 +2369,10 @@ static rad_status build_clusters(rad_hier *h) {
             h->nodes[k].root = (uint32_t)k;
             h->polygon_roots[order[k]] = (uint32_t)k;
         }
-        h->walk_memory = large_alloc(ctx, count + 4, sizeof *h->walk);
-        h->root_walk = large_alloc(ctx, n, sizeof *h->root_walk);
-        h->clusters = large_alloc_zero(ctx, count, sizeof *h->clusters);
-        h->cluster_down = large_alloc_zero(ctx, count, sizeof *h->cluster_down);
+        h->walk_memory = rad_alloc(ctx, count + 4, sizeof *h->walk);
+        h->root_walk = rad_alloc(ctx, n, sizeof *h->root_walk);
+        h->clusters = rad_alloc_zero(ctx, count, sizeof *h->clusters);
+        h->cluster_down = rad_alloc_zero(ctx, count, sizeof *h->cluster_down);
         if (!h->clusters || !h->cluster_down || !h->walk_memory || !h->root_walk)
             status = RAD_ERROR_NO_MEMORY;
     }
@@ -2575,11 +2535,11 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     h->light_fn = o.light;
     h->light_user = o.light_user;
     size_t np = scene->polygon_count;
-    h->polygon_root_first = large_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_first);
-    h->polygon_root_count = large_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_count);
-    h->reflectance = large_alloc_zero(ctx, np + 1, sizeof *h->reflectance);
-    h->emission = large_alloc_zero(ctx, np + 1, sizeof *h->emission);
-    h->normal = large_alloc_zero(ctx, np + 1, sizeof *h->normal);
+    h->polygon_root_first = rad_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_first);
+    h->polygon_root_count = rad_alloc_zero(ctx, np + 1, sizeof *h->polygon_root_count);
+    h->reflectance = rad_alloc_zero(ctx, np + 1, sizeof *h->reflectance);
+    h->emission = rad_alloc_zero(ctx, np + 1, sizeof *h->emission);
+    h->normal = rad_alloc_zero(ctx, np + 1, sizeof *h->normal);
     rad_status status = RAD_OK;
     if (!h->polygon_root_first || !h->polygon_root_count || !h->reflectance || !h->emission ||
         !h->normal)
@@ -2629,7 +2589,7 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
                           "%s: no polygon with a nonzero area", scene->source);
     if (!status) status = build_clusters(h);
     if (!status) {
-        h->root_radiosity = large_alloc_zero(ctx, h->root_count, sizeof *h->root_radiosity);
+        h->root_radiosity = rad_alloc_zero(ctx, h->root_count, sizeof *h->root_radiosity);
         if (!h->root_radiosity) status = RAD_ERROR_NO_MEMORY;
     }
     if (!status && h->light_fn) {
@@ -2853,9 +2813,9 @@ rad_status rad_hier_restore_view(rad_hier *h, uint32_t *polygon, rad_vec3 *point
         h->importance = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance);
         h->importance_emitted = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_emitted);
         h->importance_gathered = rad_alloc_zero(ctx, h->node_capacity, sizeof *h->importance_gathered);
-        h->cluster_axis_importance = large_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_axis_importance);
-        h->cluster_down_importance = large_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_down_importance);
-        h->cluster_z = large_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_z);
+        h->cluster_axis_importance = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_axis_importance);
+        h->cluster_down_importance = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_down_importance);
+        h->cluster_z = rad_alloc_zero(ctx, h->cluster_count + 1, sizeof *h->cluster_z);
         if (!h->importance || !h->importance_emitted || !h->importance_gathered ||
             !h->cluster_axis_importance || !h->cluster_down_importance || !h->cluster_z)
             return RAD_ERROR_NO_MEMORY;
@@ -2878,7 +2838,7 @@ void rad_hier_restore_node(rad_hier *h, uint32_t node, const double radiosity[3]
 static rad_status resample_links(rad_hier *h) {
     const size_t count = h->link_count;
     for (size_t l = 0; l < count; ++l) h->links[l].sample = RAD_HIER_NO_NODE;
-    link_sample *seen = large_alloc(h->ctx, count ? count : 1, sizeof *seen);
+    link_sample *seen = rad_alloc(h->ctx, count ? count : 1, sizeof *seen);
     if (!seen) return RAD_ERROR_NO_MEMORY;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads(h)) if (count >= 64)
     for (long l = 0; l < (long)count; ++l) {
