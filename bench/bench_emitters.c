@@ -64,7 +64,8 @@ static void row(rad_context *ctx, int side, int grouped, long samples) {
         const rad_emitter *e = &table.emitters[k];
         rad_vec3 d = v3_sub(v3_add(e->p0, v3(0.5, 0, 0.5)), y);
         double distance = v3_length(d);
-        sum += rad_emitter_table_pdf(&table, k, y, v3(0, 1, 0), v3_scale(d, 1 / distance), distance);
+        sum += rad_emitter_table_pdf(&table, k, y, v3(0, 1, 0), v3_scale(d, 1 / distance),
+                                     distance);
     }
     double pdf_ns = 1e9 * (rad_processor_seconds() - start) / (double)samples;
     const char *choice = !grouped ? "global" : lamps > RAD_EMITTERS_LOCAL_MAX ? "light tree" : "exact";

@@ -2,9 +2,9 @@
  * (src/scene/polygon_cut.c): gears (4 corners a tooth, as scripts/make_gear.py), combs, and
  * star-shaped polygons of random radii, and corners at random (crossing themselves: the
  * fallback's time); and circles split into pieces of at most 64 corners, by rad_polygon_split
- * and by rad_polygon_cut with that limit (the readers' two paths). Prints a Markdown table: shape, corners, reflex
- * corners, pieces, the fewest possible where known (teeth + 1), and processor seconds of the
- * cut (best of 3). Timings only: nothing here passes or fails.
+ * and by rad_polygon_cut with that limit (the readers' two paths). Prints a Markdown table:
+ * shape, corners, reflex corners, pieces, the fewest possible where known (teeth + 1), and
+ * processor seconds of the cut (best of 3). Timings only: nothing here passes or fails.
  * Usage: bench_polygon_cut [LARGEST (100000)] */
 #include "core/context.h"
 #include "core/vec3.h"
@@ -75,10 +75,10 @@ static void row(rad_context *ctx, const char *shape, const double *xy, size_t n,
     for (int trial = 0; trial < 3; ++trial) {
         rad_polygon_pieces_free(ctx, &pieces);
         double start = rad_processor_seconds();
+        size_t limit = how == CUT_64 ? RAD_POLYGON_CORNERS_MAX : 0;
         rad_status status = how == SPLIT_64
                                 ? rad_polygon_split(ctx, xy, n, RAD_POLYGON_CORNERS_MAX, 0, &pieces)
-                                : rad_polygon_cut(ctx, xy, n, 0, how == CUT_64 ? RAD_POLYGON_CORNERS_MAX : 0,
-                                                  &pieces);
+                                : rad_polygon_cut(ctx, xy, n, 0, limit, &pieces);
         if (status) {
             printf("| %s | %zu | failed: %s |\n", shape, n, rad_context_error(ctx));
             return;

@@ -530,8 +530,9 @@ rad_status rad_bake_check(rad_context *context, const char *path,
 /* Writes the solution of a geometric system as a mesh with vertex colours: one mesh per surface,
  * each vertex carrying the linear radiance B / pi averaged over the elements around it on its
  * own surface and side of a crease (never across a corner), or with final_gather the radiance
- * gathered at it, and its display colour (exposure and tone curve). The file, and the .bin of a .gltf, appear whole or not at all. A patch
- * system (.ffm) has no geometry: RAD_ERROR_INVALID_ARGUMENT. */
+ * gathered at it, and its display colour (exposure and tone curve). The file, and the .bin of
+ * a .gltf, appear whole or not at all. A patch system (.ffm) has no geometry:
+ * RAD_ERROR_INVALID_ARGUMENT. */
 rad_status rad_bake(const rad_system *system, const char *path, const rad_bake_options *options);
 
 /* ---------------------------------------------------------------------------------------------

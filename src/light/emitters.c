@@ -140,7 +140,8 @@ rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
     }
     if (table->group_count < 2) return RAD_OK;
     rad_status status = fill_group_fields(ctx, table);
-    if (status == RAD_OK && table->group_count > RAD_EMITTERS_LOCAL_MAX) status = build_tree(ctx, table);
+    if (status == RAD_OK && table->group_count > RAD_EMITTERS_LOCAL_MAX)
+        status = build_tree(ctx, table);
     return status;
 }
 
@@ -328,7 +329,8 @@ static double node_importance(const struct rad_emitter_node *n, const receiver *
 }
 
 /* The probability of choosing `child` (one of two siblings at `first`, `first + 1`) at x. */
-static double child_share(const rad_emitter_table *table, uint32_t first, uint32_t child, const receiver *x) {
+static double child_share(const rad_emitter_table *table, uint32_t first, uint32_t child,
+                          const receiver *x) {
     const struct rad_emitter_node *a = &table->nodes[first], *b = &table->nodes[first + 1];
     double ia = node_importance(a, x), ib = node_importance(b, x);
     double pa = ia + ib > 0                   ? ia / (ia + ib)
@@ -351,7 +353,8 @@ static inline float weight_of(const float *f, size_t n, size_t g, const float x[
           dz = x[2] - f[FIELD_CZ * n + g];
     float h = dx * f[FIELD_NX * n + g] + dy * f[FIELD_NY * n + g] + dz * f[FIELD_NZ * n + g];
     float s = dx * dx + dy * dy + dz * dz + f[FIELD_AREA * n + g], root = sqrtf(s);
-    float rise = any ? root : f[FIELD_RADIUS * n + g] - (normal[0] * dx + normal[1] * dy + normal[2] * dz);
+    float rise = any ? root
+                     : f[FIELD_RADIUS * n + g] - (normal[0] * dx + normal[1] * dy + normal[2] * dz);
     rise = rise > 0 ? rise : 0;
     rise = rise < root ? rise : root;
     float w = f[FIELD_POWER * n + g] * rise * h / (s * s);
@@ -366,7 +369,8 @@ static double group_weight(const rad_emitter_table *table, size_t g, const recei
 
 /* Within leaf `at`: the groups' exact weights at x into w[], their sum returned; all zero (x
  * behind every one) falls back to their power. */
-static double leaf_weights(const rad_emitter_table *table, uint32_t at, const receiver *x, double *w) {
+static double leaf_weights(const rad_emitter_table *table, uint32_t at, const receiver *x,
+                           double *w) {
     const struct rad_emitter_node *n = &table->nodes[at];
     double total = 0;
     for (uint32_t i = 0; i < n->leaf; ++i)
@@ -396,7 +400,8 @@ static double tree_probability(const rad_emitter_table *table, size_t g, const r
 
 /* A group for x down the tree for u in [0, 1), u rescaled inside the group's share; the tree's
  * P_g(x) in *probability (what tree_probability gives for it). */
-static size_t tree_pick(const rad_emitter_table *table, const receiver *x, double *u, double *probability) {
+static size_t tree_pick(const rad_emitter_table *table, const receiver *x, double *u,
+                        double *probability) {
     uint32_t at = 0;
     double product = 1;
     while (!table->nodes[at].leaf) {
@@ -637,7 +642,8 @@ void rad_emitter_choice_init(rad_emitter_choice *choice, const rad_emitter_table
 int rad_emitter_choice_sample(const rad_emitter_choice *choice, double u0, double u1,
                               rad_emitter_point *out) {
     const rad_emitter_table *table = choice->table;
-    if (!choice->cached) return rad_emitter_table_sample(table, u0, u1, choice->x, choice->normal, out);
+    if (!choice->cached)
+        return rad_emitter_table_sample(table, u0, u1, choice->x, choice->normal, out);
     receiver r = {choice->x, choice->normal};
     double probability;
     size_t k = pick_local(table, &r, choice->probability, &u0, &probability);

@@ -117,7 +117,7 @@ double rad_emitter_pdf(const rad_renderer *r, rad_vec3 origin, rad_vec3 normal, 
 
 /* rad_emitter_pdf from the point's emitter choice. */
 static double choice_hit_pdf(const rad_renderer *r, const rad_emitter_choice *choice,
-                                         rad_vec3 direction, const rad_element_hit *hit) {
+                             rad_vec3 direction, const rad_element_hit *hit) {
     int32_t k = hit_emitter(r, hit);
     if (k < 0) return 0;
     return rad_emitter_choice_pdf(choice, (size_t)k, direction, hit->t);
@@ -145,8 +145,9 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
         rad_sample_2d_run(sample, total, first + (uint32_t)start, lanes, dimension, u_all);
         for (int i = 0; i < lanes; ++i) {
             const double *u = u_all[i];
-            live[i] = (from->choice ? rad_emitter_choice_sample(from->choice, u[0], u[1], &light[i])
-                                    : rad_emitter_table_sample(&r->emitters, u[0], u[1], x, n, &light[i])) &&
+            live[i] = (from->choice
+                           ? rad_emitter_choice_sample(from->choice, u[0], u[1], &light[i])
+                           : rad_emitter_table_sample(&r->emitters, u[0], u[1], x, n, &light[i])) &&
                       (cosine[i] = v3_dot(n, light[i].direction)) > 0;
             if (live[i]) position[traced++] = light[i].position;
         }

@@ -461,7 +461,8 @@ static void camera_path(const render_state *r, const camera_sample *cs, rad_vec3
             /* Direct light: one point on the emitters (next-event estimation). */
             rad_emitter_point light;
             double f[3], pdf;
-            if (t->emitters.count && rad_emitter_table_sample(&t->emitters, u[0], u[1], x, hit.normal, &light) &&
+            if (t->emitters.count &&
+                rad_emitter_table_sample(&t->emitters, u[0], u[1], x, hit.normal, &light) &&
                 rad_bsdf_eval(m, hit.normal, wo, light.direction, f, &pdf)) {
                 ++*rays;
                 if (!rad_rays_occluded(t->rays, x, light.position)) {
