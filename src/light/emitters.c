@@ -59,6 +59,15 @@ static rad_vec3 emitter_point(const rad_emitter *light, double u0, double u1) {
                                     v3_scale(light->e2, root * u1)));
 }
 
+/* Entry e's corners into corner[]; their count (4 for a parallelogram, 3 for a triangle). */
+static int emitter_corners(const rad_emitter *e, rad_vec3 corner[4]) {
+    corner[0] = e->p0;
+    corner[1] = v3_add(e->p0, e->e1);
+    corner[2] = v3_add(e->p0, e->e2);
+    corner[3] = v3_add(corner[1], e->e2);
+    return e->parallelogram ? 4 : 3;
+}
+
 static rad_status build_tree(rad_context *ctx, rad_emitter_table *table);
 
 /* table->group_fields: field f of group g at [f * group_count + g], in single precision (the
@@ -119,15 +128,12 @@ rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
             weighted = v3_add(weighted, v3_scale(centre, e->area));
             group->area += e->area;
         }
-        group->p0 = table->emitters[first].p0;
         group->normal = table->emitters[first].normal;
         group->centre = v3_scale(weighted, 1 / group->area);
         group->radius = 0;
         for (uint32_t k = first; k < end; ++k) {
-            const rad_emitter *e = &table->emitters[k];
-            const rad_vec3 corner[4] = {e->p0, v3_add(e->p0, e->e1), v3_add(e->p0, e->e2),
-                                        v3_add(e->p0, v3_add(e->e1, e->e2))};
-            for (int c = 0; c < (e->parallelogram ? 4 : 3); ++c)
+            rad_vec3 corner[4];
+            for (int c = 0, n = emitter_corners(&table->emitters[k], corner); c < n; ++c)
                 group->radius = fmax(group->radius, v3_length(v3_sub(corner[c], group->centre)));
         }
         group->probability = table->cdf[end - 1] - (first ? table->cdf[first - 1] : 0);
@@ -156,7 +162,7 @@ rad_status rad_emitter_table_finish(rad_context *ctx, rad_emitter_table *table,
  * subtends), zero past 90 degrees (no front faces x), and d the distance from x to the box (at
  * least 1% of the radius; the paper's distance to the centre, clamped to the radius, splits
  * every node around x by power alone). A receiver descends from the root choosing a child by
- * the two importances, then a group of the leaf by the exact weights (group_weight); P_g(x) is
+ * the two importances, then a group of the leaf by the exact weights (weight_of); P_g(x) is
  * the product of its choices. */
 
 /* A node of at most this many groups is a leaf: the choice among them is the exact one. */
@@ -177,10 +183,8 @@ static int compare_keyed(const void *a, const void *b) {
 static void group_bounds(const rad_emitter_table *table, size_t g, rad_vec3 bounds[2]) {
     bounds[0] = bounds[1] = table->emitters[table->group_first[g]].p0;
     for (uint32_t k = table->group_first[g]; k < table->group_first[g + 1]; ++k) {
-        const rad_emitter *e = &table->emitters[k];
-        const rad_vec3 corner[4] = {e->p0, v3_add(e->p0, e->e1), v3_add(e->p0, e->e2),
-                                    v3_add(e->p0, v3_add(e->e1, e->e2))};
-        for (int c = 0; c < (e->parallelogram ? 4 : 3); ++c) {
+        rad_vec3 corner[4];
+        for (int c = 0, n = emitter_corners(&table->emitters[k], corner); c < n; ++c) {
             bounds[0] = v3_min(bounds[0], corner[c]);
             bounds[1] = v3_max(bounds[1], corner[c]);
         }
@@ -361,10 +365,10 @@ static inline float weight_of(const float *f, size_t n, size_t g, const float x[
     return h > 0 ? w : 0;
 }
 
-static double group_weight(const rad_emitter_table *table, size_t g, const receiver *r) {
-    const float x[3] = {(float)r->x.x, (float)r->x.y, (float)r->x.z};
-    const float normal[3] = {(float)r->normal.x, (float)r->normal.y, (float)r->normal.z};
-    return weight_of(table->group_fields, table->group_count, g, x, normal, any_direction(r));
+/* The receiver in single precision, as weight_of reads it. */
+static void receiver_floats(const receiver *r, float x[3], float normal[3]) {
+    x[0] = (float)r->x.x, x[1] = (float)r->x.y, x[2] = (float)r->x.z;
+    normal[0] = (float)r->normal.x, normal[1] = (float)r->normal.y, normal[2] = (float)r->normal.z;
 }
 
 /* Within leaf `at`: the groups' exact weights at x into w[], their sum returned; all zero (x
@@ -372,9 +376,13 @@ static double group_weight(const rad_emitter_table *table, size_t g, const recei
 static double leaf_weights(const rad_emitter_table *table, uint32_t at, const receiver *x,
                            double *w) {
     const struct rad_emitter_node *n = &table->nodes[at];
+    float point[3], normal[3];
+    receiver_floats(x, point, normal);
+    int any = any_direction(x);
     double total = 0;
     for (uint32_t i = 0; i < n->leaf; ++i)
-        total += (w[i] = group_weight(table, table->tree_order[n->child + i], x));
+        total += (w[i] = weight_of(table->group_fields, table->group_count,
+                                   table->tree_order[n->child + i], point, normal, any));
     if (total > 0) return total;
     for (uint32_t i = 0; i < n->leaf; ++i)
         total += (w[i] = table->groups[table->tree_order[n->child + i]].probability);
@@ -479,9 +487,8 @@ static void group_probabilities(const rad_emitter_table *table, const receiver *
     double total = 0;
     const float *f = table->group_fields;
     size_t n = table->group_count;
-    const float at[3] = {(float)x->x.x, (float)x->x.y, (float)x->x.z};
-    const float normal[3] = {(float)x->normal.x, (float)x->normal.y, (float)x->normal.z};
-    float w[RAD_EMITTERS_LOCAL_MAX];
+    float at[3], normal[3], w[RAD_EMITTERS_LOCAL_MAX];
+    receiver_floats(x, at, normal);
     if (any_direction(x))
         for (size_t g = 0; g < n; ++g) w[g] = weight_of(f, n, g, at, normal, 1);
     else
@@ -493,16 +500,6 @@ static void group_probabilities(const rad_emitter_table *table, const receiver *
             p[g] = scale * w[g] + LOCAL_GLOBAL_SHARE * table->groups[g].probability;
     } else
         for (size_t g = 0; g < n; ++g) p[g] = table->groups[g].probability;
-}
-
-/* Group g's P_g(x): from the light tree when the table has one, else from the exact weights. */
-static double group_probability(const rad_emitter_table *table, size_t g, const receiver *x) {
-    if (table->nodes)
-        return (1 - LOCAL_GLOBAL_SHARE) * tree_probability(table, g, x) +
-               LOCAL_GLOBAL_SHARE * table->groups[g].probability;
-    double p[RAD_EMITTERS_LOCAL_MAX];
-    group_probabilities(table, x, p);
-    return p[g];
 }
 
 /* Entry k's group: the last whose first entry is at most k. */
@@ -534,8 +531,9 @@ static size_t pick_in_group(const rad_emitter_table *table, size_t g, double v, 
 /* An entry for receiver x: the group holding u under P_g(x), then the entry in it by the global
  * distribution, u rescaled and reused at each step. Its probability P_k(x) in *probability.
  * With a light tree, P_g(x) mixes two choices: u below LOCAL_GLOBAL_SHARE picks an entry by the
- * global distribution, above it a group down the tree. */
-static size_t pick_local(const rad_emitter_table *table, const receiver *x, const double *cached,
+ * global distribution, above it a group down the tree; without one, p holds every P_g(x)
+ * (group_probabilities). */
+static size_t pick_local(const rad_emitter_table *table, const receiver *x, const double *p,
                          double *u, double *probability) {
     size_t g, k;
     double pg;
@@ -554,12 +552,7 @@ static size_t pick_local(const rad_emitter_table *table, const receiver *x, cons
         }
         pg = (1 - LOCAL_GLOBAL_SHARE) * tree + LOCAL_GLOBAL_SHARE * table->groups[g].probability;
     } else {
-        double own[RAD_EMITTERS_LOCAL_MAX], before = 0;
-        const double *p = cached;
-        if (!p) {
-            group_probabilities(table, x, own);
-            p = own;
-        }
+        double before = 0;
         g = 0;
         while (g + 1 < table->group_count && *u >= before + p[g]) before += p[g++];
         double v = p[g] > 0 ? fmin(fmax(*u - before, 0) / p[g], 0x1.fffffffffffffp-1) : 0;
@@ -589,51 +582,12 @@ static int place(const rad_emitter_table *table, size_t k, double probability, d
     return 1;
 }
 
-/* The solid-angle density for entry k seen along `direction` at `distance`, the group's P_g(x)
- * from `cached` when given (the exact choice's probabilities at that receiver). */
-static double density(const rad_emitter_table *table, size_t k, const receiver *r,
-                      const double *cached, rad_vec3 direction, double distance) {
-    if (k >= table->count) return 0;
-    const rad_emitter *light = &table->emitters[k];
-    double cos_y = -v3_dot(light->normal, direction);
-    if (cos_y <= 0) return 0;
-    double probability = rad_emitter_table_probability(table, k);
-    if (local_choice(table)) {
-        size_t g = group_of(table, k);
-        double pg = cached ? cached[g] : group_probability(table, g, r);
-        probability *= pg / table->groups[g].probability;
-    }
-    return probability / light->area * distance * distance / cos_y;
-}
-
-int rad_emitter_table_sample(const rad_emitter_table *table, double u0, double u1, rad_vec3 x,
-                             rad_vec3 normal, rad_emitter_point *out) {
-    if (table->count == 0) return 0;
-    size_t k;
-    double probability;
-    if (local_choice(table)) {
-        receiver r = {x, normal};
-        k = pick_local(table, &r, NULL, &u0, &probability);
-    } else {
-        k = pick(table, &u0);
-        probability = rad_emitter_table_probability(table, k);
-    }
-    return place(table, k, probability, u0, u1, x, out);
-}
-
-double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 x,
-                             rad_vec3 normal, rad_vec3 direction, double distance) {
-    receiver r = {x, normal};
-    return density(table, k, &r, NULL, direction, distance);
-}
-
 void rad_emitter_choice_init(rad_emitter_choice *choice, const rad_emitter_table *table,
                              rad_vec3 x, rad_vec3 normal) {
     choice->table = table;
     choice->x = x;
     choice->normal = normal;
-    choice->cached = table->count && local_choice(table) && !table->nodes;
-    if (choice->cached) {
+    if (table->count && local_choice(table) && !table->nodes) {
         receiver r = {x, normal};
         group_probabilities(table, &r, choice->probability);
     }
@@ -642,19 +596,50 @@ void rad_emitter_choice_init(rad_emitter_choice *choice, const rad_emitter_table
 int rad_emitter_choice_sample(const rad_emitter_choice *choice, double u0, double u1,
                               rad_emitter_point *out) {
     const rad_emitter_table *table = choice->table;
-    if (!choice->cached)
-        return rad_emitter_table_sample(table, u0, u1, choice->x, choice->normal, out);
-    receiver r = {choice->x, choice->normal};
+    if (table->count == 0) return 0;
+    size_t k;
     double probability;
-    size_t k = pick_local(table, &r, choice->probability, &u0, &probability);
+    if (local_choice(table)) {
+        receiver r = {choice->x, choice->normal};
+        k = pick_local(table, &r, choice->probability, &u0, &probability);
+    } else {
+        k = pick(table, &u0);
+        probability = rad_emitter_table_probability(table, k);
+    }
     return place(table, k, probability, u0, u1, choice->x, out);
 }
 
 double rad_emitter_choice_pdf(const rad_emitter_choice *choice, size_t k, rad_vec3 direction,
                               double distance) {
-    receiver r = {choice->x, choice->normal};
-    return density(choice->table, k, &r, choice->cached ? choice->probability : NULL, direction,
-                   distance);
+    const rad_emitter_table *table = choice->table;
+    if (k >= table->count) return 0;
+    const rad_emitter *light = &table->emitters[k];
+    double cos_y = -v3_dot(light->normal, direction);
+    if (cos_y <= 0) return 0;
+    double probability = rad_emitter_table_probability(table, k);
+    if (local_choice(table)) {
+        size_t g = group_of(table, k);
+        receiver r = {choice->x, choice->normal};
+        double pg = table->nodes ? (1 - LOCAL_GLOBAL_SHARE) * tree_probability(table, g, &r) +
+                                       LOCAL_GLOBAL_SHARE * table->groups[g].probability
+                                 : choice->probability[g];
+        probability *= pg / table->groups[g].probability;
+    }
+    return probability / light->area * distance * distance / cos_y;
+}
+
+int rad_emitter_table_sample(const rad_emitter_table *table, double u0, double u1, rad_vec3 x,
+                             rad_vec3 normal, rad_emitter_point *out) {
+    rad_emitter_choice choice;
+    rad_emitter_choice_init(&choice, table, x, normal);
+    return rad_emitter_choice_sample(&choice, u0, u1, out);
+}
+
+double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 x,
+                             rad_vec3 normal, rad_vec3 direction, double distance) {
+    rad_emitter_choice choice;
+    rad_emitter_choice_init(&choice, table, x, normal);
+    return rad_emitter_choice_pdf(&choice, k, direction, distance);
 }
 
 size_t rad_emitter_table_sample_point(const rad_emitter_table *table, double u0, double u1,

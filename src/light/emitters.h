@@ -53,12 +53,12 @@ typedef struct rad_emitter_table {
     uint32_t *guide;
     /* Groups of consecutive entries (one lamp each), for the choice by receiver: group_first[g]
      * .. group_first[g + 1] - 1 are group g's entries (group_count + 1 values); each group's
-     * own: a point of its plane, its front (unit), centre, area and global probability (filled
-     * by rad_emitter_table_finish). */
+     * own: its front (unit), centre (in its plane), area, radius and global probability
+     * (filled by rad_emitter_table_finish). */
     size_t group_count;
     uint32_t *group_first;
     struct rad_emitter_group {
-        rad_vec3 p0, normal, centre;
+        rad_vec3 normal, centre;
         double area, radius, probability; /* radius: the farthest corner from the centre */
     } *groups;
     /* The same numbers the choice by receiver reads, one array of group_count values each
@@ -139,12 +139,12 @@ double rad_emitter_table_pdf(const rad_emitter_table *table, size_t k, rad_vec3 
  * gather's emitter samples and the emitted light its rays find): with the exact choice (2 to
  * RAD_EMITTERS_LOCAL_MAX groups) the groups' probabilities at the receiver are computed once
  * instead of at every call, the loop over every group that made most of a render's or a bake's
- * time in scenes of a hundred lamps. The same numbers, to the bit, as the table's own calls. */
+ * time in scenes of a hundred lamps. rad_emitter_table_sample and rad_emitter_table_pdf are a
+ * choice made for one call. */
 typedef struct rad_emitter_choice {
     const rad_emitter_table *table;
     rad_vec3 x, normal;
-    int cached; /* probability[] holds P_g(x) */
-    double probability[RAD_EMITTERS_LOCAL_MAX];
+    double probability[RAD_EMITTERS_LOCAL_MAX]; /* P_g(x) under the exact choice */
 } rad_emitter_choice;
 
 void rad_emitter_choice_init(rad_emitter_choice *choice, const rad_emitter_table *table,
