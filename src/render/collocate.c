@@ -42,8 +42,6 @@
 #define COLLOCATE_RAYS 16000000.0
 /* Gather rays per point: a COLLOCATE_GATHER x COLLOCATE_GATHER stratified set, at most. */
 #define COLLOCATE_GATHER 16
-/* A corner's point lies this far from the corner towards the element's centroid. */
-#define COLLOCATE_INSET 1e-3
 /* An emitter past the budget keeps its light in the gather (gather_at) where the gather rays
  * are expected to hit its lamp at least this often from the point. */
 #define GATHER_HITS 2.0
@@ -67,6 +65,17 @@ typedef struct collocation {
     int gather_grid;      /* gather rays: a gather_grid x gather_grid stratified set */
     double ambient[3];    /* the display's ambient radiosity / pi (zero unless asked for) */
 } collocation;
+
+/* An emitting leaf and the input polygon it was cut from (collocation_make's lamp areas). */
+typedef struct polygon_leaf {
+    uint32_t polygon, element;
+} polygon_leaf;
+
+static int by_polygon(const void *x, const void *y) {
+    const polygon_leaf *a = x, *b = y;
+    if (a->polygon != b->polygon) return a->polygon < b->polygon ? -1 : 1;
+    return a->element < b->element ? -1 : a->element > b->element;
+}
 
 static int by_power(const void *x, const void *y) {
     const emitter_leaf *a = x, *b = y;
@@ -187,25 +196,24 @@ static rad_status collocation_make(const rad_renderer *r, size_t points, colloca
         if (!(power > 0) || !isfinite(power)) continue;
         leaves[count++] = (emitter_leaf){(uint32_t)e, power};
     }
-    /* Each emitting leaf's lamp area: the leaves grouped by input polygon (the polygon's
-     * index in the key), their areas summed. */
+    /* Each emitting leaf's lamp area: the leaves grouped by input polygon, their areas summed. */
     c->lamp_area = rad_alloc_zero(ctx, mesh->element_count + 1, sizeof *c->lamp_area);
-    emitter_leaf *by_polygon = rad_alloc(ctx, count + 1, sizeof *by_polygon);
-    if (!c->lamp_area || !by_polygon) {
-        rad_free(ctx, by_polygon);
+    polygon_leaf *grouped = rad_alloc(ctx, count + 1, sizeof *grouped);
+    if (!c->lamp_area || !grouped) {
+        rad_free(ctx, grouped);
         rad_free(ctx, leaves);
         return RAD_ERROR_NO_MEMORY;
     }
     for (size_t j = 0; j < count; ++j)
-        by_polygon[j] = (emitter_leaf){leaves[j].element, (double)mesh->element_polygon[leaves[j].element]};
-    qsort(by_polygon, count, sizeof *by_polygon, by_power);
+        grouped[j] = (polygon_leaf){mesh->element_polygon[leaves[j].element], leaves[j].element};
+    qsort(grouped, count, sizeof *grouped, by_polygon);
     for (size_t first = 0, end; first < count; first = end) {
         double area = 0;
-        for (end = first; end < count && by_polygon[end].power == by_polygon[first].power; ++end)
-            area += mesh->element_area[by_polygon[end].element];
-        for (size_t j = first; j < end; ++j) c->lamp_area[by_polygon[j].element] = (float)area;
+        for (end = first; end < count && grouped[end].polygon == grouped[first].polygon; ++end)
+            area += mesh->element_area[grouped[end].element];
+        for (size_t j = first; j < end; ++j) c->lamp_area[grouped[j].element] = (float)area;
     }
-    rad_free(ctx, by_polygon);
+    rad_free(ctx, grouped);
     qsort(leaves, count, sizeof *leaves, by_power);
     /* Points per emitter: a g x g grid, COLLOCATE_SAMPLES over all of them; fewer emitters
      * (the brightest) when even one point each is over the budget. */
@@ -293,7 +301,8 @@ rad_status rad_collocate_light(rad_renderer *r, float (*corner)[4][3]) {
         const float *rho = r->element_reflectance[e];
         int corners = rad_mesh_corner_count(mesh, e);
         for (int k = 0; k < corners; ++k) {
-            rad_vec3 at = v3_lerp(mesh->vertices[mesh->element_vertices[e][k]], centre, COLLOCATE_INSET);
+            rad_vec3 vertex = mesh->vertices[mesh->element_vertices[e][k]];
+            rad_vec3 at = v3_lerp(vertex, centre, RAD_CORNER_INSET);
             double direct[3], reflected[3];
             direct_at(&c, at, normal, direct);
             gather_at(&c, at, normal, reflected);

@@ -772,18 +772,24 @@ static void render_pixel(const rad_renderer *r, const pixel_corner *corner_polyg
     for (int c = 0; c < 3; ++c) out[c] = (float)(sum[c] / samples);
 }
 
-rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stats *stats) {
-    if (!r || !out) return RAD_ERROR_INVALID_ARGUMENT;
-    *out = NULL;
-    rad_context *ctx = r->ctx;
-    double start = rad_seconds();
-    /* Leaves that appeared or vanished since the last picture (a hierarchy refining): rebuild
-     * what was made from them. */
+/* What a picture or the vertices' gather reads, made ready for the current solution: leaves
+ * that appeared or vanished since the last use (a hierarchy refining) rebuild what was made
+ * from them; then the smooth values and the textures' irradiance. */
+static rad_status prepare_solution(rad_renderer *r) {
     rad_status status = r->leaves_ready && r->generation == rad_solution_generation(r->solution)
                             ? RAD_OK
                             : leaves_build(r);
     if (!status) status = rad_reconstruct_prepare(r);
     if (!status) status = rad_texture_shading_prepare(r);
+    return status;
+}
+
+rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stats *stats) {
+    if (!r || !out) return RAD_ERROR_INVALID_ARGUMENT;
+    *out = NULL;
+    rad_context *ctx = r->ctx;
+    double start = rad_seconds();
+    rad_status status = prepare_solution(r);
     rad_image *image = NULL;
     pixel_corner *corner_polygons = NULL;
     rad_gather_pixel *records = NULL; /* the irradiance filter's (gather_filter.c) */
@@ -871,18 +877,10 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
 /* ------------------------------------------------------------------------------------------- */
 /* The final gather at the vertices (bake --final-gather)                                       */
 
-/* A vertex's point lies this far from it towards the centroid of its element (as in
- * collocate.c). */
-#define VERTEX_INSET 1e-3
-
 rad_status rad_renderer_vertex_radiosity(rad_renderer *r, int rays, rad_rgb *out) {
     if (!r || !out || rays <= 0 || rays > MAX_GATHER) return RAD_ERROR_INVALID_ARGUMENT;
     rad_context *ctx = r->ctx;
-    rad_status status = r->leaves_ready && r->generation == rad_solution_generation(r->solution)
-                            ? RAD_OK
-                            : leaves_build(r);
-    if (!status) status = rad_reconstruct_prepare(r);
-    if (!status) status = rad_texture_shading_prepare(r);
+    rad_status status = prepare_solution(r);
     if (status) return status;
     const rad_mesh *mesh = r->mesh;
     size_t nv = mesh->vertex_count;
@@ -930,11 +928,11 @@ rad_status rad_renderer_vertex_radiosity(rad_renderer *r, int rays, rad_rgb *out
             double middle = quad ? 0.5 : 1.0 / 3;
             rad_element_hit hit;
             hit.element = e;
-            hit.u = at[0] + VERTEX_INSET * (middle - at[0]);
-            hit.v = at[1] + VERTEX_INSET * (middle - at[1]);
+            hit.u = at[0] + RAD_CORNER_INSET * (middle - at[0]);
+            hit.v = at[1] + RAD_CORNER_INSET * (middle - at[1]);
             hit.t = 0;
             hit.front = 1;
-            rad_vec3 x = v3_lerp(mesh->vertices[v], mesh->element_centroid[e], VERTEX_INSET);
+            rad_vec3 x = v3_lerp(mesh->vertices[v], mesh->element_centroid[e], RAD_CORNER_INSET);
             rad_sample sample;
             memset(&sample, 0, sizeof sample);
             sample.seed = r->seed;

@@ -350,6 +350,11 @@ rad_status rad_texture_shading_prepare(rad_renderer *r);
 int rad_texture_shading_radiance(const rad_renderer *r, const rad_element_hit *hit, rad_vec3 x,
                                  double out[3]);
 
+/* A point evaluated "at" an element's corner lies this far from the corner towards the
+ * element's centroid (collocate.c, rad_renderer_vertex_radiosity): on that element, not on the
+ * neighbours that share the corner. */
+#define RAD_CORNER_INSET 1e-3
+
 /* render.c: a renderer for rad_renderer_vertex_radiosity only: its camera is not asked to see
  * anything (a bake's scene need not have a camera that does). */
 rad_status rad_renderer_create_for_points(const rad_scene *scene, const rad_system *system,
