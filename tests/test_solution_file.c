@@ -265,10 +265,24 @@ static void test_hierarchy_refusals(void) {
     }
     write_file(bad, bytes, size + 1);
     check_refused(target, bad, RAD_ERROR_PARSE, "checksum mismatch");
-    bytes[link_at + 20] ^= 0x10;
+    /* A bit of the first link's factor (its run's 8 bytes, its source's 4, then the factor). */
+    bytes[link_at + 13] ^= 0x10;
     write_file(bad, bytes, size);
     check_refused(target, bad, RAD_ERROR_PARSE, "checksum mismatch");
-    bytes[link_at + 20] ^= 0x10;
+    bytes[link_at + 13] ^= 0x10;
+    /* Every link carries a mark (flag 256), and a marked one its sample after it: the first
+     * marked link's mark, run after run (a receiver and a count, then the links). */
+    CHECK(flags & 256);
+    size_t mark_at = 0, at = link_at;
+    for (uint64_t run = 0; run < rad_le_get_u64(bytes + 96) && !mark_at && at + 8 < size; ++run) {
+        uint32_t count = rad_le_get_u32(bytes + at + 4);
+        at += 8;
+        for (uint32_t k = 0; k < count && !mark_at && at + 13 < size; ++k) {
+            if (bytes[at + 12]) mark_at = at + 12;
+            at += 13 + (bytes[at + 12] ? 24 : 0);
+        }
+    }
+    CHECK(mark_at > 0);
     /* Forged, the checksum made to match: a negative radiosity and a link to no receiver are
      * found by the first pass, a split of a node that does not exist only by the rebuild. */
     const struct {
@@ -277,7 +291,9 @@ static void test_hierarchy_refusals(void) {
         const char *message;
     } forgeries[] = {{node_at + 4, 0xbff00000u, "a negative radiosity"},
                      {link_at, 0xfffffff0u, "a link's receiver"},
-                     {160, (uint32_t)nodes + 7, "the refinement tree"}};
+                     {160, (uint32_t)nodes + 7, "the refinement tree"},
+                     {link_at + 20, (rad_le_get_u32(bytes + link_at + 20) & ~0xffu) | 2u, "a link"},
+                     {mark_at + 1, (uint32_t)roots, "a link's sample"}};
     for (size_t k = 0; k < sizeof forgeries / sizeof forgeries[0]; ++k) {
         unsigned char *forged = malloc(size);
         memcpy(forged, bytes, size);
@@ -300,6 +316,78 @@ static void test_hierarchy_refusals(void) {
     unlink(good);
     rad_system_destroy(system);
     rad_system_destroy(target);
+}
+
+/* A hierarchy file written before the links kept their samples (no flag 256): `bytes` without
+ * the links' marks and samples, the flag cleared, the checksum made again. */
+static unsigned char *without_samples(const unsigned char *bytes, size_t size, size_t *out_size) {
+    uint32_t flags = rad_le_get_u32(bytes + 56);
+    uint64_t nodes = rad_le_get_u64(bytes + 64), roots = rad_le_get_u64(bytes + 72),
+             splits = rad_le_get_u64(bytes + 80), runs = rad_le_get_u64(bytes + 96);
+    size_t node_bytes = 24 + (flags & 2 ? 28 : 0) + (flags & 1 ? 8 : 0);
+    size_t link_at = 160 + 8 * splits + nodes * node_bytes + 48 * roots;
+    unsigned char *old = malloc(size);
+    memcpy(old, bytes, link_at);
+    rad_le_put_u32(old + 56, flags & ~256u);
+    size_t at = link_at, put = link_at;
+    for (uint64_t run = 0; run < runs; ++run) {
+        uint32_t count = rad_le_get_u32(bytes + at + 4);
+        memcpy(old + put, bytes + at, 8);
+        at += 8;
+        put += 8;
+        for (uint32_t k = 0; k < count; ++k) {
+            memcpy(old + put, bytes + at, 12);
+            put += 12;
+            at += 13 + (bytes[at + 12] ? 24 : 0);
+        }
+    }
+    memcpy(old + put, bytes + at, size - at); /* the tail and the checksum's place */
+    *out_size = put + (size - at);
+    forge_checksum(old, *out_size);
+    return old;
+}
+
+/* A generated office of 2,000 triangles solved by `steps` hierarchical steps: its cluster links
+ * keep samples that matter (the Cornell box's gather reads none that a change of its weights
+ * would show). */
+static rad_system *office_system(int steps) {
+    rad_scene *scene = NULL;
+    rad_system *system = NULL;
+    rad_mesh_options mesh = {0};
+    mesh.polygons_only = 1;
+    CHECK(rad_scene_generate_office(ctx, 2000, &scene) == RAD_OK);
+    CHECK(rad_system_create(ctx, scene, &mesh, NULL, &system) == RAD_OK);
+    rad_scene_destroy(scene);
+    rad_solve_options o = {.solver = RAD_SOLVER_HIERARCHICAL, .max_iterations = steps};
+    CHECK(rad_solve(system, &o, NULL) == RAD_OK);
+    return system;
+}
+
+/* Such a file still loads (the cluster links' samples drawn again from their own rays) and
+ * goes on exactly as the same solution saved with its samples. */
+static void test_hierarchy_without_samples(void) {
+    rad_system *system = office_system(1); /* one step: the rest is left to do */
+    const char *with = path_of("good.sol"), *without = path_of("bad.sol");
+    CHECK(rad_system_save_solution(system, with, NULL) == RAD_OK);
+    size_t size = 0, old_size = 0;
+    unsigned char *bytes = read_file(with, &size);
+    unsigned char *old = without_samples(bytes, size, &old_size);
+    CHECK(old_size < size);
+    write_file(without, old, old_size);
+    rad_system *a = office_system(1), *b = office_system(1);
+    CHECK(rad_system_load_solution(a, with, NULL) == RAD_OK);
+    CHECK(rad_system_load_solution(b, without, NULL) == RAD_OK);
+    rad_solve_options o = {.solver = RAD_SOLVER_HIERARCHICAL, .max_iterations = 3, .resume = 1};
+    CHECK(rad_solve(a, &o, NULL) == RAD_OK);
+    CHECK(rad_solve(b, &o, NULL) == RAD_OK);
+    CHECK(same(a, b));
+    free(bytes);
+    free(old);
+    unlink(with);
+    unlink(without);
+    rad_system_destroy(system);
+    rad_system_destroy(a);
+    rad_system_destroy(b);
 }
 
 /* The fingerprints: meshing-independent for the scene, exact for the mesh. */
@@ -325,6 +413,7 @@ int main(void) {
     test_round_trip_and_resume();
     test_refusals();
     test_hierarchy_refusals();
+    test_hierarchy_without_samples();
     test_fingerprints();
     /* Clean up the scratch directory. */
     const char *names[] = {"cornell.sol", "walls.sol", "good.sol", "bad.sol"};

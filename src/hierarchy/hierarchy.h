@@ -66,6 +66,16 @@ typedef struct rad_hier_link {
                           index the hierarchy keeps); RAD_HIER_NO_NODE without */
 } rad_hier_link;
 
+/* What a cluster link's own rays saw of its source cluster: the members (roots) its visible pairs
+ * ended on, each weighed by what it added to the link's factor, in units of 1/65534 (summing to
+ * about 65534; 0 for an unused slot); weight[0] RAD_HIER_NO_SAMPLE when the rays saw nothing.
+ * The link sends the weighed mean of those members' radiosities. */
+typedef struct rad_hier_link_sample {
+    uint32_t member[4];
+    uint16_t weight[4];
+} rad_hier_link_sample;
+#define RAD_HIER_NO_SAMPLE UINT16_MAX
+
 typedef struct rad_hier_options {
     double link_error; /* threshold on rho B dF, relative to the brightest emitter; zero: 1e-3 */
     double min_area;   /* nodes this small (relative to the scene's area) are not split; zero: 1e-6 */
@@ -225,11 +235,20 @@ rad_status rad_hier_restore_view(rad_hier *hier, uint32_t *polygon, rad_vec3 *po
                                  double share);
 void rad_hier_restore_node(rad_hier *hier, uint32_t node, const double radiosity[3],
                            const rad_hier_node_state *state);
-/* The links (taken over, also on failure), every end below the node count. */
-rad_status rad_hier_restore_links(rad_hier *hier, rad_hier_link *links, size_t count);
+/* The sample a link keeps (what its rays saw of a cluster source), NULL when it keeps none. */
+const rad_hier_link_sample *rad_hier_link_sample_of(const rad_hier *hier,
+                                                    const rad_hier_link *link);
+/* The links (taken over, also on failure), every end below the node count, with their samples
+ * (`samples[i]` link i's, taken over too; RAD_ERROR_PARSE when one names a member that is not a
+ * root or belongs to a link whose source is not a cluster). Without samples (NULL: files
+ * written before they were kept) each cluster link's rays are cast again to draw them. */
+rad_status rad_hier_restore_links(rad_hier *hier, rad_hier_link *links,
+                                  rad_hier_link_sample *samples, size_t count);
 /* A stopped refinement's links as rad_hier_refining described them (taken over, also on
- * failure): the first `kept` passed, the rest to ask about; RAD_ERROR_PARSE when kept > count. */
-rad_status rad_hier_restore_refining(rad_hier *hier, rad_hier_link *links, size_t count, size_t kept);
+ * failure): the first `kept` passed, the rest to ask about; RAD_ERROR_PARSE when kept > count.
+ * Samples as for rad_hier_restore_links. */
+rad_status rad_hier_restore_refining(rad_hier *hier, rad_hier_link *links,
+                                     rad_hier_link_sample *samples, size_t count, size_t kept);
 void rad_hier_restore_importance_unfinished(rad_hier *hier, int unfinished);
 /* largest_error, refined, solve_rounds, budget_reached and seen_share of `stats`. */
 void rad_hier_restore_stats(rad_hier *hier, const rad_hier_stats *stats, double importance_mean);

@@ -38,6 +38,10 @@ static inline void rad_le_put_u64(unsigned char *p, uint64_t v) {
 static inline void rad_le_put_u32(unsigned char *p, uint32_t v) {
     for (int k = 0; k < 4; ++k) p[k] = (unsigned char)(v >> (8 * k));
 }
+static inline void rad_le_put_u16(unsigned char *p, uint16_t v) {
+    p[0] = (unsigned char)v;
+    p[1] = (unsigned char)(v >> 8);
+}
 static inline void rad_le_put_f64(unsigned char *p, double v) {
     uint64_t bits;
     memcpy(&bits, &v, sizeof bits);
@@ -52,6 +56,9 @@ static inline uint32_t rad_le_get_u32(const unsigned char *p) {
     uint32_t v = 0;
     for (int k = 0; k < 4; ++k) v |= (uint32_t)p[k] << (8 * k);
     return v;
+}
+static inline uint16_t rad_le_get_u16(const unsigned char *p) {
+    return (uint16_t)(p[0] | p[1] << 8);
 }
 static inline double rad_le_get_f64(const unsigned char *p) {
     uint64_t bits = rad_le_get_u64(p);
