@@ -35,10 +35,10 @@
  *          source (uint32), form factor and error bound (float32); with flag 256 then whether
  *          it keeps a sample (uint8, 0 or 1) and if so the sample (rad_hier_link_sample: what a
  *          cluster link's rays saw of its source): members[4] (uint32, roots), weights[4]
- *          (uint16, in 1/65534); the file's length follows from the marks. Without flag 256 a load casts every cluster link's rays again to draw the
- *          samples, which took as long as making the links (the 10^5 office: 5.5 s of wall to
- *          load and draw a small picture, 3.1 s with the samples kept; 38% of its links keep
- *          one)
+ *          (uint16, in 1/65534); the file's length follows from the marks. Without flag
+ *          256 a load casts every cluster link's rays again to draw the samples, which took
+ *          as long as making the links (the 10^5 office: 5.5 s of wall to load and draw a
+ *          small picture, 2.9 s with the samples kept; 38% of its links keep one)
  *          with flag 1, hits: polygon (uint32), point[3] float64
  *          with flag 4, per element: the second specular pass's light[3] float64
  *          with flag 64: how many of the links, first, the refinement had passed (uint64)
@@ -464,7 +464,8 @@ static void tail_free(rad_context *ctx, tail *t) {
  * (the hierarchy checks that the link's source is a cluster). */
 static int sample_ok(const unsigned char *p, uint64_t roots) {
     for (int k = 0; k < 4; ++k)
-        if (rad_le_get_u32(p + 4 * k) >= roots || rad_le_get_u16(p + 16 + 2 * k) == RAD_HIER_NO_SAMPLE)
+        if (rad_le_get_u32(p + 4 * k) >= roots ||
+            rad_le_get_u16(p + 16 + 2 * k) == RAD_HIER_NO_SAMPLE)
             return 0;
     return 1;
 }
@@ -548,7 +549,8 @@ static rad_status check_values(rad_context *ctx, const char *path, reader *r, la
             /* The link's sample (p is not read past here: take() may move the buffer). */
             samples++;
             if (!(p = take(r, SAMPLE_BYTES)))
-                return truncated(ctx, path, r->offset + r->have, l->end + 8 + SAMPLE_BYTES * samples);
+                return truncated(ctx, path, r->offset + r->have,
+                                 l->end + 8 + SAMPLE_BYTES * samples);
             if (!sample_ok(p, l->roots)) return corrupted(ctx, path, "a link's sample");
         }
         seen += count;
