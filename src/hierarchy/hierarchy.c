@@ -2901,7 +2901,12 @@ rad_status rad_hier_restore_links(rad_hier *h, rad_hier_link *links, rad_hier_li
             return status;
         }
     }
-    rad_status status = adopt_links(h, links, count);
+    /* A file's links come grouped by increasing receiver (its reader checks it): sorting them
+     * again (a copy of 0.76 GB and its page faults at 10^6) was 7% of the processor time of
+     * resuming the 10^6 office from its second step, by a profile. */
+    int sorted = 1;
+    for (size_t i = 1; i < count && sorted; ++i) sorted = links[i - 1].receiver <= links[i].receiver;
+    rad_status status = sorted ? take_sorted_links(h, links, count) : adopt_links(h, links, count);
     return status || samples ? status : resample_links(h);
 }
 
