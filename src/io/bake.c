@@ -95,9 +95,6 @@ rad_bake_format rad_bake_format_of(const char *path) {
 
 static const rad_bake_options no_options;
 
-/* Gather rays per vertex, at most (the renderer's own bound). */
-#define BAKE_MAX_GATHER (1 << 20)
-
 static rad_status check_options(rad_context *ctx, const char *path, const rad_bake_options *o,
                                 rad_bake_format *format, int *tonemap) {
     *format = RAD_BAKE_AUTO;
@@ -118,9 +115,9 @@ static rad_status check_options(rad_context *ctx, const char *path, const rad_ba
                         "bake: exposure must be finite, scale and aspect positive");
     if (*format == RAD_BAKE_GLTF && strlen(path) > 4096)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT, "bake: output path too long");
-    if (o->final_gather < 0 || o->final_gather > BAKE_MAX_GATHER)
+    if (o->final_gather < 0 || o->final_gather > RAD_RENDER_MAX_GATHER)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
-                        "bake: final gather rays must be 0 to %d, not %d", BAKE_MAX_GATHER,
+                        "bake: final gather rays must be 0 to %d, not %d", RAD_RENDER_MAX_GATHER,
                         o->final_gather);
     return RAD_OK;
 }

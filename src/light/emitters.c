@@ -489,10 +489,8 @@ static void group_probabilities(const rad_emitter_table *table, const receiver *
     size_t n = table->group_count;
     float at[3], normal[3], w[RAD_EMITTERS_LOCAL_MAX];
     receiver_floats(x, at, normal);
-    if (any_direction(x))
-        for (size_t g = 0; g < n; ++g) w[g] = weight_of(f, n, g, at, normal, 1);
-    else
-        for (size_t g = 0; g < n; ++g) w[g] = weight_of(f, n, g, at, normal, 0);
+    const int any = any_direction(x);
+    for (size_t g = 0; g < n; ++g) w[g] = weight_of(f, n, g, at, normal, any);
     for (size_t g = 0; g < n; ++g) total += w[g];
     if (total > 0) {
         double scale = (1 - LOCAL_GLOBAL_SHARE) / total;

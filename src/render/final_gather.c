@@ -133,7 +133,7 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
                          const float rho[3], double out[3]) {
     out[0] = out[1] = out[2] = 0;
     int count = from->light_samples;
-    if (r->emitters.count == 0 || count <= 0) return;
+    if (!from->choice) return; /* no emitter samples */
     rad_vec3 n = from->normal;
     for (int start = 0; start < count; start += 16) {
         int lanes = count - start < 16 ? count - start : 16;
@@ -145,9 +145,7 @@ static void direct_light(const rad_renderer *r, rad_sample *sample, const rad_ga
         rad_sample_2d_run(sample, total, first + (uint32_t)start, lanes, dimension, u_all);
         for (int i = 0; i < lanes; ++i) {
             const double *u = u_all[i];
-            live[i] = (from->choice
-                           ? rad_emitter_choice_sample(from->choice, u[0], u[1], &light[i])
-                           : rad_emitter_table_sample(&r->emitters, u[0], u[1], x, n, &light[i])) &&
+            live[i] = rad_emitter_choice_sample(from->choice, u[0], u[1], &light[i]) &&
                       (cosine[i] = v3_dot(n, light[i].direction)) > 0;
             if (live[i]) position[traced++] = light[i].position;
         }
@@ -247,10 +245,9 @@ static void cosine_directions(rad_vec3 t, rad_vec3 b, rad_vec3 n, const double (
 #define PACKET 16 /* gather rays traced together (rad_element_rays_intersect16) */
 
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
-                                  rad_vec3 origin, rad_vec3 direction, const rad_element_hit *hit) {
-    if (!from || from->light_samples <= 0) return 1;
-    double pdf_light = from->choice ? choice_hit_pdf(r, from->choice, direction, hit)
-                                    : rad_emitter_pdf(r, origin, from->normal, direction, hit);
+                                  rad_vec3 direction, const rad_element_hit *hit) {
+    if (!from || !from->choice) return 1;
+    double pdf_light = choice_hit_pdf(r, from->choice, direction, hit);
     double cos_x = v3_dot(from->normal, direction);
     if (!(pdf_light > 0) || cos_x <= 0) return 1;
     return rad_power_heuristic(from->gather_rays * cos_x / RAD_PI, from->light_samples * pdf_light);

@@ -18,7 +18,6 @@
 #define DEFAULT_SAMPLES 4
 #define DEFAULT_MAX_DEPTH 16
 #define MAX_SAMPLES (1 << 20)
-#define MAX_GATHER (1 << 20)
 /* Camera probe: rays per side of the grid that checks the camera sees something. */
 #define PROBE_SIDE 64
 
@@ -129,10 +128,11 @@ static rad_status settings_from(rad_context *ctx, const rad_render_options *o,
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "samples per pixel must be 1 to %d, not %d", MAX_SAMPLES,
                         o->samples_per_pixel);
-    if (o->final_gather < 0 || o->final_gather > MAX_GATHER || o->light_samples < 0 ||
-        o->light_samples > MAX_GATHER)
+    if (o->final_gather < 0 || o->final_gather > RAD_RENDER_MAX_GATHER || o->light_samples < 0 ||
+        o->light_samples > RAD_RENDER_MAX_GATHER)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
-                        "final gather: rays and light samples must be 0 to %d", MAX_GATHER);
+                        "final gather: rays and light samples must be 0 to %d",
+                        RAD_RENDER_MAX_GATHER);
     if (o->max_depth < 0 || o->max_depth > 1000)
         return rad_fail(ctx, RAD_ERROR_INVALID_ARGUMENT,
                         "max depth must be 0 to 1000, not %d", o->max_depth);
@@ -878,7 +878,7 @@ rad_status rad_renderer_render(rad_renderer *r, rad_image **out, rad_render_stat
 /* The final gather at the vertices (bake --final-gather)                                       */
 
 rad_status rad_renderer_vertex_radiosity(rad_renderer *r, int rays, rad_rgb *out) {
-    if (!r || !out || rays <= 0 || rays > MAX_GATHER) return RAD_ERROR_INVALID_ARGUMENT;
+    if (!r || !out || rays <= 0 || rays > RAD_RENDER_MAX_GATHER) return RAD_ERROR_INVALID_ARGUMENT;
     rad_context *ctx = r->ctx;
     rad_status status = prepare_solution(r);
     if (status) return status;

@@ -268,7 +268,8 @@ typedef struct rad_gather_origin {
      * (final_gather.c, rad_gather_is_short). */
     double short_range;
     /* The emitter choice at this point (light/emitters.h), made once for its emitter samples
-     * and the emitted light its rays find; NULL: asked of the table each time. */
+     * and the emitted light its rays find; NULL exactly when it takes no emitter samples (none
+     * asked for, or no emitters). */
     const rad_emitter_choice *choice;
 } rad_gather_origin;
 
@@ -286,9 +287,9 @@ double rad_emitter_pdf(const rad_renderer *r, rad_vec3 origin, rad_vec3 normal, 
                        const rad_element_hit *hit);
 
 /* final_gather.c: the weight (power heuristic, Veach 1997) of the emitted radiance a gather ray
- * from `from` meets straight away at distance t on the front of emitting `element`. */
+ * from `from` (its own point) along `direction` meets straight away at `hit`. */
 double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin *from,
-                                  rad_vec3 origin, rad_vec3 direction, const rad_element_hit *hit);
+                                  rad_vec3 direction, const rad_element_hit *hit);
 
 /* final_gather.c: whether a gather ray from `from` that hits `hit` is short: nearer than a few
  * element sizes, where the solution's piecewise values are too coarse to be seen (the floor
@@ -354,6 +355,9 @@ int rad_texture_shading_radiance(const rad_renderer *r, const rad_element_hit *h
  * element's centroid (collocate.c, rad_renderer_vertex_radiosity): on that element, not on the
  * neighbours that share the corner. */
 #define RAD_CORNER_INSET 1e-3
+
+/* Final gather rays and emitter samples per point, at most (render options, bake). */
+#define RAD_RENDER_MAX_GATHER (1 << 20)
 
 /* render.c: a renderer for rad_renderer_vertex_radiosity only: its camera is not asked to see
  * anything (a bake's scene need not have a camera that does). */

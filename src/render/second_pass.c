@@ -38,8 +38,8 @@ static double largest3(const double c[3]) { return fmax(c[0], fmax(c[1], c[2]));
  * samples of the final gather; a lamp's light a gather ray finds behind a mirror or through
  * glass is a caustic, which the first pass carries (see above), and is left out. */
 static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
-                              const rad_gather_origin *gather, int depth, rad_vec3 origin,
-                              rad_vec3 direction, rad_vec3 x, double out[3]) {
+                              const rad_gather_origin *gather, int depth, rad_vec3 direction,
+                              rad_vec3 x, double out[3]) {
     /* Camera paths on textured surfaces: the texture times the irradiance (texture_shading.c). */
     if (!gather && rad_texture_shading_radiance(r, hit, x, out)) return;
     if (gather) rad_reconstruct_gather_radiance(r, hit->element, hit->u, hit->v, out);
@@ -54,7 +54,7 @@ static void solution_radiance(const rad_renderer *r, const rad_element_hit *hit,
         for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - fmin(lamp[c], emitted[c]));
         return;
     }
-    double weight = rad_gather_emission_weight(r, gather, origin, direction, hit);
+    double weight = rad_gather_emission_weight(r, gather, direction, hit);
     for (int c = 0; c < 3; ++c) out[c] = fmax(0.0, out[c] - emitted[c]) + weight * emitted[c];
     if (gather->tally)
         for (int c = 0; c < 3; ++c) gather->tally->ray_emitted[c] = weight * emitted[c];
@@ -153,11 +153,11 @@ void rad_trace_radiance_hit(const rad_renderer *r, rad_sample *sample, rad_vec3 
                  * weighted as solution_radiance weighs it. */
                 rad_gather_short(r, sample, gather, &hit, x, normal, radiance);
                 const float *emitted = r->element_emission[hit.element];
-                double weight = rad_gather_emission_weight(r, gather, origin, direction, &hit);
+                double weight = rad_gather_emission_weight(r, gather, direction, &hit);
                 for (int c = 0; c < 3; ++c) radiance[c] += weight * emitted[c];
                 if (gather->tally)
                     for (int c = 0; c < 3; ++c) gather->tally->ray_emitted[c] = weight * emitted[c];
-            } else solution_radiance(r, &hit, gather, depth, origin, direction, x, radiance);
+            } else solution_radiance(r, &hit, gather, depth, direction, x, radiance);
             const float *emitted = r->element_emission[hit.element];
             if (glossy_pdf > 0 && (emitted[0] > 0 || emitted[1] > 0 || emitted[2] > 0)) {
                 double weight = rad_power_heuristic(glossy_pdf, rad_emitter_pdf(r, origin, v3(0, 0, 0), direction, &hit));
@@ -173,7 +173,7 @@ void rad_trace_radiance_hit(const rad_renderer *r, rad_sample *sample, rad_vec3 
             /* The diffuse part from the solution, the mirror part traced. */
             if (largest3(material->reflectance) > 0) {
                 double radiance[3];
-                solution_radiance(r, &hit, gather, depth, origin, direction, x, radiance);
+                solution_radiance(r, &hit, gather, depth, direction, x, radiance);
                 for (int c = 0; c < 3; ++c) out[c] += throughput[c] * radiance[c];
             }
             for (int c = 0; c < 3; ++c) throughput[c] *= fmax(0.0, material->specular[c]);
