@@ -642,6 +642,10 @@ static void cut_quad(mesher *m, rad_mesh *mesh, const cell *c, uint32_t k, uint3
             }
             GRID(i, j) = v;
         }
+    if (mesh->grids)
+        mesh->grids[mesh->grid_count++] =
+            (rad_mesh_grid){{GRID(0, 0), GRID(nu, 0), GRID(nu, nv), GRID(0, nv)},
+                            (uint32_t)mesh->element_count, nu, nv, k};
     for (uint32_t pj = 0; pj < nv; pj += k)
         for (uint32_t pi = 0; pi < nu; pi += k) {
             for (uint32_t j = pj; j < pj + k && j < nv; ++j)
@@ -725,6 +729,7 @@ void rad_mesh_destroy(rad_mesh *mesh) {
     rad_free(ctx, mesh->element_surface);
     rad_free(ctx, mesh->element_patch);
     rad_free(ctx, mesh->patch_first);
+    rad_free(ctx, mesh->grids);
     rad_free(ctx, mesh);
 }
 
@@ -921,7 +926,10 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
     rad_mesh *mesh = rad_mesh_alloc(ctx, (size_t)vertices, ne);
     uint32_t *scratch = rad_alloc(ctx, (size_t)grid, sizeof *scratch);
     m.corner_vertex = rad_alloc(ctx, m.corner_count + 1, sizeof *m.corner_vertex);
-    if (!mesh || !scratch || !m.corner_vertex) {
+    size_t quads = 0;
+    for (size_t i = 0; i < m.cell_count; ++i) quads += cell_corners(&m.cells[i]) == 4;
+    if (mesh && quads) mesh->grids = rad_alloc(ctx, quads, sizeof *mesh->grids);
+    if (!mesh || !scratch || !m.corner_vertex || (quads && !mesh->grids)) {
         rad_free(ctx, scratch);
         rad_mesh_destroy(mesh);
         mesher_free(&m);

@@ -22,6 +22,15 @@
 
 struct rad_scene;
 
+/* A quad cell of the mesher cut into a grid (rad_mesh_create, step 4): elements first .. first +
+ * nu nv - 1, element (i, j) (i < nu along corner 0 -> 1, j < nv along corner 0 -> 3) spanning
+ * [i / nu, (i + 1) / nu] x [j / nv, (j + 1) / nv] of the bilinear map of its corners, numbered in
+ * blocks of k x k (its patches): rows of blocks, blocks along a row, then rows within a block. */
+typedef struct rad_mesh_grid {
+    uint32_t corner[4]; /* mesh vertices at (0, 0), (nu, 0), (nu, nv), (0, nv) */
+    uint32_t first, nu, nv, k;
+} rad_mesh_grid;
+
 typedef struct rad_mesh {
     rad_context *ctx;
     size_t vertex_count;
@@ -41,7 +50,21 @@ typedef struct rad_mesh {
     size_t *patch_first; /* patch_count + 1 */
 
     double element_size, patch_size; /* what was used */
+
+    /* The quad cells' grids (rad_mesh_create only; other meshes have none): what lets ray
+     * queries trace a cell as one quad and find the element inside (element_rays.h). */
+    size_t grid_count;
+    rad_mesh_grid *grids;
 } rad_mesh;
+
+/* The element of grid g at cell (i, j), i < nu, j < nv. */
+static inline uint32_t rad_mesh_grid_element(const rad_mesh_grid *g, uint32_t i, uint32_t j) {
+    uint32_t row = j / g->k, column = i / g->k;
+    uint32_t height = g->nv - row * g->k < g->k ? g->nv - row * g->k : g->k;
+    uint32_t width = g->nu - column * g->k < g->k ? g->nu - column * g->k : g->k;
+    return g->first + row * g->k * g->nu + column * g->k * height + (j - row * g->k) * width +
+           (i - column * g->k);
+}
 
 /* Meshes a geometric scene. Zero options pick defaults (docs/meshing.md). Degenerate (zero-area)
  * polygons are skipped and counted in a warning. */

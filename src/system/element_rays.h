@@ -1,7 +1,10 @@
 /* element_rays.h - ray queries against the ELEMENT mesh (Embree 3): the surfaces the radiosity
  * solution lives on. A hit names the element and where on it (Embree's u, v), so the renderer can
  * interpolate the radiosity at the hit. Every element goes into one RTC_GEOMETRY_TYPE_QUAD
- * geometry, its primitive ID being the element (triangles as quads with the last corner twice).
+ * geometry (triangles as quads with the last corner twice), except that a flat grid of elements
+ * (a quad cell of the mesher, mesh.h) goes in as one quad and a hit on it finds its element and
+ * the element's u, v by inverting the grid's bilinear map: Embree traverses a tree of a few
+ * cells rather than of every element.
  *
  * The renderer traces every ray (camera, gather, shadow, specular) against this one geometry, so
  * a point found by one query is exactly on the surface the next query starts from; the input
@@ -15,6 +18,15 @@
 
 #include <embree3/rtcore.h>
 
+/* A flat convex grid of the mesh (mesh.h) traced as one quad: its bilinear map in a frame of
+ * its plane with corner 0 at the origin, h = s e + t f + s t g (e, f, c2 corners 1, 3, 2). */
+typedef struct rad_grid_quad {
+    double e[2], f[2], g[2], c2[2];
+    double ef, gf; /* cross(e, f), cross(g, f) */
+    int affine;    /* a parallelogram: g is 0 */
+    const rad_mesh_grid *grid;
+} rad_grid_quad;
+
 typedef struct rad_element_rays {
     rad_context *ctx;
     const rad_mesh *mesh;
@@ -22,6 +34,12 @@ typedef struct rad_element_rays {
     RTCScene scene;
     double epsilon;             /* scene-scaled offset that keeps rays off their start surface */
     rad_ray_frame frame;        /* world -> Embree coordinates (scene/rays.h) */
+    /* Primitives 0 .. quad_count - 1 are grids (a hit finds its element inside), the others
+     * the elements of no such grid: primitive quad_count + i is element loose[i] (loose NULL:
+     * no grids, primitive i is element i). */
+    size_t quad_count;
+    rad_grid_quad *quads;
+    uint32_t *loose;
 } rad_element_rays;
 
 /* Builds the Embree scene of the mesh's elements. The mesh must outlive the result. */
