@@ -2,6 +2,7 @@
  * factors summed over the links against closed forms, a furnace, energy balance, refinement at
  * shadow edges, determinism across thread counts, and the solver's refusal of patch systems. */
 #include "test.h"
+#include "test_rays.h"
 
 #include "formfactor/pair.h"
 #include "hierarchy/hierarchy.h"
@@ -688,6 +689,9 @@ static rad_rgb *leaf_view_cornell(int threads, size_t *vertex_count, size_t *dra
         }
         CHECK(inside == 0);
         free(vertex_normal);
+        /* Rays find the drawn leaves through the roots' trees as through the leaves. */
+        CHECK(m->tree_count >= system->element_count);
+        check_shape_hits(ctx, "the Cornell box's leaves", m, m->tree_count / 2, m->tree_count);
         /* Without form factors, another solver is refused (and the leaves stay drawable). */
         rad_solve_options shooting = {0};
         shooting.solver = RAD_SOLVER_SHOOTING;

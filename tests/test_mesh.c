@@ -21,9 +21,8 @@
 #include "mesh/mesh.h"
 #include "mesh/ngon.h"
 #include "scene/scene.h"
-#include "system/element_rays.h"
-#include "core/rng.h"
 #include "test.h"
+#include "test_rays.h"
 #include "test_scene.h"
 
 #include <stdlib.h>
@@ -1141,76 +1140,9 @@ static void test_coaxial_disks(void) {
     rad_scene_destroy(scene);
 }
 
-/* Flat grids traced as one quad each (element_rays.h) hit what the elements would: rays from
- * random points in random directions against the mesh with its grids and against a copy without
- * them (every element a primitive). Both hit or both miss, at the same distance; the element
- * found is the same one (away from the elements' shared edges, where either may be hit); and
- * the element's bilinear map at the u, v given is the point hit. On the Cornell box (flat quads
- * that are not parallelograms) and on a trapezoid, a triangle and a warped quad, which keeps
- * its elements. */
-static void check_grid_hits(const char *name, const rad_mesh *mesh, size_t quads_wanted) {
-    rad_mesh plain = *mesh;
-    plain.grid_count = 0;
-    rad_element_rays *grids = NULL, *elements = NULL;
-    CHECK(rad_element_rays_create_with(ctx, mesh, 0, &grids) == RAD_OK);
-    CHECK(rad_element_rays_create_with(ctx, &plain, 0, &elements) == RAD_OK);
-    if (!grids || !elements) goto done;
-    CHECK(grids->quad_count == quads_wanted);
-    CHECK(elements->quad_count == 0);
-    rad_vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
-    for (size_t i = 0; i < mesh->vertex_count; ++i) {
-        rad_vec3 p = mesh->vertices[i];
-        lo = v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-        hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
-    }
-    double diagonal = v3_length(v3_sub(hi, lo));
-    rad_rng rng = rad_rng_make(7, 0);
-    int hits = 0, same_hit = 1, other_element = 0, far = 0, off = 0;
-    const int rays = 20000;
-    for (int n = 0; n < rays; ++n) {
-        rad_vec3 o = v3(lo.x + (hi.x - lo.x) * rad_rng_uniform(&rng),
-                        lo.y + (hi.y - lo.y) * rad_rng_uniform(&rng),
-                        lo.z + (hi.z - lo.z) * rad_rng_uniform(&rng));
-        rad_vec3 d = v3_normalize(v3(rad_rng_uniform(&rng) - 0.5, rad_rng_uniform(&rng) - 0.5,
-                                     rad_rng_uniform(&rng) - 0.5));
-        rad_element_hit a, b;
-        int ha = rad_element_rays_intersect(elements, o, d, 0, INFINITY, &a);
-        int hb = rad_element_rays_intersect(grids, o, d, 0, INFINITY, &b);
-        if (ha != hb) {
-            same_hit = 0;
-            continue;
-        }
-        if (!ha) continue;
-        ++hits;
-        if (fabs(a.t - b.t) > 1e-5 * diagonal) ++far;
-        /* The point at u, v: the element's bilinear map on a grid, Embree's two triangles
-         * (rad_element_point) on the other elements, as before. */
-        rad_vec3 x = v3_add(o, v3_scale(d, b.t)), at = rad_element_point(mesh, b.element, b.u, b.v);
-        for (size_t q = 0; q < grids->quad_count; ++q) {
-            const rad_mesh_grid *g = grids->quads[q].grid;
-            if (b.element < g->first || b.element >= g->first + g->nu * g->nv) continue;
-            double weight[4];
-            int corners = rad_element_weights(mesh, b.element, b.u, b.v, weight);
-            at = v3(0, 0, 0);
-            for (int k = 0; k < corners; ++k)
-                at = v3_add(at, v3_scale(mesh->vertices[mesh->element_vertices[b.element][k]],
-                                         weight[k]));
-        }
-        if (v3_length(v3_sub(at, x)) > 1e-5 * diagonal) ++off;
-        other_element += a.element != b.element;
-    }
-    printf("%s: %zu grids as quads, %d of %d rays hit, %d on another element\n", name,
-           grids->quad_count, hits, rays, other_element);
-    CHECK(hits > rays / 10);
-    CHECK(same_hit);
-    CHECK(far == 0);
-    CHECK(off == 0);
-    CHECK(other_element <= hits / 500);
-done:
-    rad_element_rays_destroy(grids);
-    rad_element_rays_destroy(elements);
-}
-
+/* Flat grids traced as one quad each (element_rays.h) hit what the elements would
+ * (check_shape_hits): on the Cornell box (flat quads that are not parallelograms) and on a
+ * trapezoid, a triangle and a warped quad, which keeps its elements. */
 static void test_grid_hits(void) {
     rad_scene *cornell = NULL;
     CHECK(rad_scene_builtin(ctx, "cornell", &cornell) == RAD_OK);
@@ -1220,7 +1152,7 @@ static void test_grid_hits(void) {
         for (size_t g = 0; g < mesh->grid_count; ++g)
             taken += mesh->grids[g].nu * mesh->grids[g].nv > 1;
         CHECK(taken > 10);
-        check_grid_hits("cornell", mesh, taken);
+        check_shape_hits(ctx, "cornell", mesh, taken, taken);
     }
     rad_mesh_destroy(mesh);
     rad_scene_destroy(cornell);
@@ -1233,7 +1165,7 @@ static void test_grid_hits(void) {
     add_polygon(shapes, add_surface(shapes, "triangle"), 3, triangle);
     add_polygon(shapes, add_surface(shapes, "warped"), 4, warped);
     mesh = mesh_of(shapes, 0, 0, 300);
-    if (mesh) check_grid_hits("shapes", mesh, 1);
+    if (mesh) check_shape_hits(ctx, "shapes", mesh, 1, 1);
     rad_mesh_destroy(mesh);
     rad_scene_destroy(shapes);
 }

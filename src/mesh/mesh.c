@@ -730,6 +730,8 @@ void rad_mesh_destroy(rad_mesh *mesh) {
     rad_free(ctx, mesh->element_patch);
     rad_free(ctx, mesh->patch_first);
     rad_free(ctx, mesh->grids);
+    rad_free(ctx, mesh->trees);
+    rad_free(ctx, mesh->tree_nodes);
     rad_free(ctx, mesh);
 }
 

@@ -31,6 +31,23 @@ typedef struct rad_mesh_grid {
     uint32_t first, nu, nv, k;
 } rad_mesh_grid;
 
+/* A quadtree of drawn elements (a hierarchy's, solve/hierarchical_view.c): node i of
+ * rad_mesh.tree_nodes is split (count 0) into the four nodes first .. first + 3, made as
+ * rad_hier's split makes them (a quad at its edge midpoints and centre: children at (s, t) in
+ * [0, 1/2]^2, then s, then both, then t in the upper half of its bilinear map; a triangle at
+ * its edge midpoints: the corners 0, 1 and 2's children, then the middle one, whose corners
+ * are the midpoints of edges 1-2, 2-0 and 0-1), or a leaf drawn as the elements first .. first
+ * + count - 1 (one: the leaf itself, corners in its own order; more: a fan of triangles about
+ * its centre, each (centre, a, b) with a, b along its outline). */
+typedef struct rad_mesh_tree_node {
+    uint32_t first, count;
+} rad_mesh_tree_node;
+/* A tree's root: its corners (counter-clockwise) and its node. */
+typedef struct rad_mesh_tree {
+    rad_vec3 corner[4];
+    uint32_t corner_count, node;
+} rad_mesh_tree;
+
 typedef struct rad_mesh {
     rad_context *ctx;
     size_t vertex_count;
@@ -55,6 +72,11 @@ typedef struct rad_mesh {
      * queries trace a cell as one quad and find the element inside (element_rays.h). */
     size_t grid_count;
     rad_mesh_grid *grids;
+    /* Quadtrees over the elements (a hierarchy's drawn leaves; other meshes have none), for the
+     * same use. */
+    size_t tree_count;
+    rad_mesh_tree *trees;
+    rad_mesh_tree_node *tree_nodes;
 } rad_mesh;
 
 /* The element of grid g at cell (i, j), i < nu, j < nv. */

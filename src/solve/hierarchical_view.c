@@ -225,11 +225,17 @@ static rad_status build_mesh(hier_view *v) {
         }
         ++leaf;
     }
-    /* The drawn polygons: a leaf as it is, or a fan about its centre through its T-vertices. */
+    /* The drawn polygons: a leaf as it is, or a fan about its centre through its T-vertices;
+     * and the trees over them (mesh.h), which let ray queries trace a root as one polygon. */
+    rad_mesh_tree_node *tree = rad_alloc_zero(ctx, node_count ? node_count : 1, sizeof *tree);
+    if (!tree) status = RAD_ERROR_NO_MEMORY;
     leaf = 0;
     for (size_t i = 0; i < node_count && !status; ++i) {
         const rad_hier_node *n = &nodes[i];
+        if (n->corner_count > 0 && n->first_child != RAD_HIER_NO_NODE)
+            tree[i] = (rad_mesh_tree_node){n->first_child, 0};
         if (!is_leaf(n)) continue;
+        tree[i] = (rad_mesh_tree_node){(uint32_t)b.mesh->element_count, 0};
         const rad_polygon *polygon = &scene->polygons[n->polygon];
         rad_vec3 normal = rad_polygon_normal(scene, polygon);
         uint32_t ring[4 * (MAX_EDGE_POINTS + 1)];
@@ -258,8 +264,28 @@ static rad_status build_mesh(hier_view *v) {
                 add_element(&b, triangle, 3, (uint32_t)i, n->polygon, polygon->surface, normal);
             }
         }
+        tree[i].count = (uint32_t)(b.mesh->element_count - tree[i].first);
         ++leaf;
     }
+    size_t roots = 0;
+    for (size_t i = 0; i < node_count; ++i)
+        roots += nodes[i].corner_count > 0 && nodes[i].depth == 0;
+    rad_mesh_tree *trees = status ? NULL : rad_alloc(ctx, roots ? roots : 1, sizeof *trees);
+    if (!status && !trees) status = RAD_ERROR_NO_MEMORY;
+    if (!status) {
+        b.mesh->trees = trees;
+        b.mesh->tree_nodes = tree;
+        tree = NULL;
+        for (size_t i = 0; i < node_count; ++i) {
+            const rad_hier_node *n = &nodes[i];
+            if (n->corner_count == 0 || n->depth != 0) continue;
+            rad_mesh_tree *t = &trees[b.mesh->tree_count++];
+            memcpy(t->corner, n->corner, sizeof t->corner);
+            t->corner_count = n->corner_count;
+            t->node = (uint32_t)i;
+        }
+    }
+    rad_free(ctx, tree);
     rad_free(ctx, map.keys);
     rad_free(ctx, map.ids);
     rad_free(ctx, corner_id);

@@ -5,6 +5,7 @@
 
 #include <float.h>
 #include <stdio.h>
+#include <string.h>
 
 void rad_element_rays_destroy(rad_element_rays *rays) {
     if (!rays) return;
@@ -21,36 +22,41 @@ void rad_element_rays_destroy(rad_element_rays *rays) {
  * a quad and a triangle geometry: one BVH to traverse (less processor time on the Cornell render
  * and on Sponza, the same hits on the Cornell box: docs/rendering.md, "One element geometry").
  *
- * Flat convex grids go in as one quad each, before the other elements (rad_grid_quad): the
- * fewer primitives, the shallower the tree and the fewer boxes a ray enters. A grid is taken
- * when its corners lie within GRID_FLAT epsilons of one plane (its elements then lie in it too:
- * a bilinear map of a flat quad is flat), it turns the same way at every corner, and it holds
- * more than one element. */
-#define GRID_FLAT 1e-3
+ * Flat convex grids and trees go in as one quad (or triangle) each, before the other elements
+ * (rad_grid_quad): the fewer primitives, the shallower Embree's tree and the fewer boxes a ray
+ * enters. A shape is taken when its corners lie within SHAPE_FLAT epsilons of one plane (its
+ * elements then lie in it too: a bilinear map of a flat quad is flat, and so are its
+ * subdivisions), it turns the same way at every corner, and (a grid) it holds more than one
+ * element. */
+#define SHAPE_FLAT 1e-3
 
 static double cross2(const double a[2], const double b[2]) { return a[0] * b[1] - a[1] * b[0]; }
 
-/* The grid's quad, or 0 when it is not flat and convex (or holds one element). */
-static int grid_quad_make(const rad_mesh *mesh, const rad_mesh_grid *grid, double epsilon,
-                          rad_grid_quad *out) {
-    if ((uint64_t)grid->nu * grid->nv < 2) return 0;
-    rad_vec3 c[4];
-    for (int k = 0; k < 4; ++k) c[k] = mesh->vertices[grid->corner[k]];
-    rad_vec3 normal = v3_cross(v3_sub(c[2], c[0]), v3_sub(c[3], c[1]));
+/* The shape with corners c (3 or 4, counter-clockwise) as a quad, or 0 when it is not flat and
+ * convex. */
+static int shape_make(const rad_vec3 *c, int count, double epsilon, rad_grid_quad *out) {
+    rad_vec3 normal = count == 4 ? v3_cross(v3_sub(c[2], c[0]), v3_sub(c[3], c[1]))
+                                 : v3_cross(v3_sub(c[1], c[0]), v3_sub(c[2], c[0]));
     if (!(v3_length(normal) > 0)) return 0;
     normal = v3_normalize(normal);
-    rad_vec3 centre = v3_scale(v3_add(v3_add(c[0], c[1]), v3_add(c[2], c[3])), 0.25);
-    for (int k = 0; k < 4; ++k) {
-        if (!(fabs(v3_dot(normal, v3_sub(c[k], centre))) <= GRID_FLAT * epsilon)) return 0;
-        rad_vec3 in = v3_sub(c[k], c[(k + 3) % 4]), next = v3_sub(c[(k + 1) % 4], c[k]);
+    rad_vec3 centre = v3(0, 0, 0);
+    for (int k = 0; k < count; ++k) centre = v3_add(centre, v3_scale(c[k], 1.0 / count));
+    for (int k = 0; k < count; ++k) {
+        if (!(fabs(v3_dot(normal, v3_sub(c[k], centre))) <= SHAPE_FLAT * epsilon)) return 0;
+        rad_vec3 in = v3_sub(c[k], c[(k + count - 1) % count]);
+        rad_vec3 next = v3_sub(c[(k + 1) % count], c[k]);
         if (!(v3_dot(v3_cross(in, next), normal) > 0)) return 0;
     }
     rad_vec3 axis_x = v3_normalize(v3_sub(c[1], c[0])), axis_y = v3_cross(normal, axis_x);
     double p[4][2];
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < count; ++k) {
         rad_vec3 d = v3_sub(c[k], c[0]);
         p[k][0] = v3_dot(d, axis_x);
         p[k][1] = v3_dot(d, axis_y);
+    }
+    if (count == 3) { /* Embree's quad (c0, c1, c2, c2): u, v the triangle's own */
+        p[3][0] = p[2][0];
+        p[3][1] = p[2][1];
     }
     for (int a = 0; a < 2; ++a) {
         out->e[a] = p[1][a];
@@ -60,12 +66,55 @@ static int grid_quad_make(const rad_mesh *mesh, const rad_mesh_grid *grid, doubl
     }
     out->ef = cross2(out->e, out->f);
     out->gf = cross2(out->g, out->f);
-    /* A parallelogram, to rounding: Embree's u, v on the quad are the grid's own s, t. */
+    /* A parallelogram, to rounding: Embree's u, v on the quad are its own bilinear s, t. */
     double size = fabs(out->e[0]) + fabs(out->e[1]) + fabs(out->f[0]) + fabs(out->f[1]);
     out->affine = fabs(out->g[0]) + fabs(out->g[1]) <= 1e-9 * size;
-    out->grid = grid;
+    out->triangle = count == 3;
+    out->origin = c[0];
+    out->axis_x = axis_x;
+    out->axis_y = axis_y;
+    out->grid = NULL;
+    out->node = 0;
     return 1;
 }
+
+/* The point of Embree's hit at (u, v) of the quad, in its plane's frame: Embree's triangles
+ * (0, 1, 3) and (2, 3, 1) of the quad (for a triangle the first only). */
+static void shape_point(const rad_grid_quad *q, double u, double v, double h[2]) {
+    for (int a = 0; a < 2; ++a)
+        h[a] = q->triangle || u + v <= 1
+                   ? u * q->e[a] + v * q->f[a]
+                   : q->c2[a] + (1 - u) * (q->f[a] - q->c2[a]) + (1 - v) * (q->e[a] - q->c2[a]);
+}
+
+/* The coordinates s, t of Embree's hit at (u, v) in the quad's bilinear map; on a triangle, the
+ * barycentric coordinates (Embree's own). */
+static void shape_coordinates(const rad_grid_quad *q, double u, double v, double *s_out,
+                              double *t_out) {
+    if (q->affine || q->triangle) {
+        *s_out = u;
+        *t_out = v;
+        return;
+    }
+    double h[2];
+    shape_point(q, u, v, h);
+    /* h = s e + t f + s t g: h - t f is parallel to e + t g, so
+     * cross(h, e) + t (cross(h, g) + cross(e, f)) + t^2 cross(g, f) = 0. */
+    double k0 = cross2(h, q->e), k1 = cross2(h, q->g) + q->ef, k2 = q->gf;
+    /* The root in [0, 1] (the other lies outside a convex quad), from the stable pair. */
+    double w = k1 * k1 - 4 * k0 * k2;
+    w = sqrt(w > 0 ? w : 0);
+    double r = -0.5 * (k1 + (k1 < 0 ? -w : w));
+    double t1 = r / k2, t2 = k0 / r;
+    double off1 = t1 < 0 ? -t1 : t1 > 1 ? t1 - 1 : 0, off2 = t2 < 0 ? -t2 : t2 > 1 ? t2 - 1 : 0;
+    double t = off1 <= off2 ? t1 : t2;
+    double along[2] = {q->e[0] + t * q->g[0], q->e[1] + t * q->g[1]};
+    *s_out = ((h[0] - t * q->f[0]) * along[0] + (h[1] - t * q->f[1]) * along[1]) /
+             (along[0] * along[0] + along[1] * along[1]);
+    *t_out = t;
+}
+
+static double unit_clamp(double x) { return !(x > 0) ? 0 : x > 1 ? 1 : x; }
 
 /* Where on a grid's element Embree's hit of the grid's quad at (u, v) is: the element, and the
  * point's coordinates in the element's own bilinear map (the grid's cell (s nu - i, t nv - j),
@@ -75,44 +124,91 @@ static int grid_quad_make(const rad_mesh *mesh, const rad_mesh_grid *grid, doubl
  * parametrisation as good for interpolating the element's corners, continuous from one element
  * to the next. Rounding (or a degenerate quad's NaN) is clamped into the grid. */
 static void grid_locate(const rad_grid_quad *q, double u, double v, rad_element_hit *hit) {
-    double s = u, t = v;
-    if (!q->affine) {
-        /* The point in the plane: Embree's triangles (0, 1, 3) and (2, 3, 1) of the quad. */
-        double h[2];
-        for (int a = 0; a < 2; ++a)
-            h[a] = u + v <= 1 ? u * q->e[a] + v * q->f[a]
-                              : q->c2[a] + (1 - u) * (q->f[a] - q->c2[a]) +
-                                    (1 - v) * (q->e[a] - q->c2[a]);
-        /* h = s e + t f + s t g: h - t f is parallel to e + t g, so
-         * cross(h, e) + t (cross(h, g) + cross(e, f)) + t^2 cross(g, f) = 0. */
-        double k0 = cross2(h, q->e), k1 = cross2(h, q->g) + q->ef, k2 = q->gf;
-        /* The root in [0, 1] (the other lies outside a convex quad), from the stable pair. */
-        double w = k1 * k1 - 4 * k0 * k2;
-        w = sqrt(w > 0 ? w : 0);
-        double r = -0.5 * (k1 + (k1 < 0 ? -w : w));
-        double t1 = r / k2, t2 = k0 / r;
-        double off1 = t1 < 0 ? -t1 : t1 > 1 ? t1 - 1 : 0, off2 = t2 < 0 ? -t2 : t2 > 1 ? t2 - 1 : 0;
-        t = off1 <= off2 ? t1 : t2;
-        double along[2] = {q->e[0] + t * q->g[0], q->e[1] + t * q->g[1]};
-        s = ((h[0] - t * q->f[0]) * along[0] + (h[1] - t * q->f[1]) * along[1]) /
-            (along[0] * along[0] + along[1] * along[1]);
-    }
+    double s, t;
+    shape_coordinates(q, u, v, &s, &t);
     const rad_mesh_grid *g = q->grid;
     double si = s * g->nu, tj = t * g->nv;
     uint32_t i = !(si > 0) ? 0 : si >= g->nu - 1 ? g->nu - 1 : (uint32_t)si;
     uint32_t j = !(tj > 0) ? 0 : tj >= g->nv - 1 ? g->nv - 1 : (uint32_t)tj;
     hit->element = rad_mesh_grid_element(g, i, j);
-    si -= i;
-    tj -= j;
-    hit->u = !(si > 0) ? 0 : si > 1 ? 1 : si;
-    hit->v = !(tj > 0) ? 0 : tj > 1 ? 1 : tj;
+    hit->u = unit_clamp(si - i);
+    hit->v = unit_clamp(tj - j);
+}
+
+/* The same on a tree (mesh.h): down from the root by the point's coordinates, halved at each
+ * split; at a leaf drawn as itself its coordinates are the element's (bilinear on a quad,
+ * barycentric on a triangle), on a fan the triangle about the leaf's centre that holds the
+ * point (the most inside, against rounding) and the point's barycentric coordinates there. */
+static void tree_locate(const rad_mesh *mesh, const rad_grid_quad *q, double u, double v,
+                        rad_element_hit *hit) {
+    const rad_mesh_tree_node *nodes = mesh->tree_nodes;
+    double s, t;
+    shape_coordinates(q, u, v, &s, &t);
+    uint32_t node = q->node;
+    for (int depth = 0; nodes[node].count == 0 && depth < 256; ++depth) {
+        uint32_t first = nodes[node].first;
+        if (!q->triangle) {
+            int a = s >= 0.5, b = t >= 0.5;
+            node = first + (uint32_t)(b ? 3 - a : a);
+            s = 2 * s - a;
+            t = 2 * t - b;
+        } else if (s >= 0.5) {
+            node = first + 1;
+            s = 2 * s - 1;
+            t = 2 * t;
+        } else if (t >= 0.5) {
+            node = first + 2;
+            s = 2 * s;
+            t = 2 * t - 1;
+        } else if (s + t <= 0.5) {
+            node = first;
+            s = 2 * s;
+            t = 2 * t;
+        } else {
+            node = first + 3;
+            s = 1 - 2 * s;
+            t = 1 - 2 * t;
+        }
+    }
+    const rad_mesh_tree_node *leaf = &nodes[node];
+    hit->element = leaf->first;
+    hit->u = unit_clamp(s);
+    hit->v = unit_clamp(t);
+    if (leaf->count <= 1) return;
+    double h[2], best = -INFINITY;
+    shape_point(q, u, v, h);
+    for (uint32_t k = 0; k < leaf->count; ++k) {
+        const uint32_t *c = mesh->element_vertices[leaf->first + k];
+        double p[3][2];
+        for (int i = 0; i < 3; ++i) {
+            rad_vec3 d = v3_sub(mesh->vertices[c[i]], q->origin);
+            p[i][0] = v3_dot(d, q->axis_x) - h[0];
+            p[i][1] = v3_dot(d, q->axis_y) - h[1];
+        }
+        /* 0 = p0 + a (p1 - p0) + b (p2 - p0), the p less the point. */
+        double e1[2] = {p[1][0] - p[0][0], p[1][1] - p[0][1]};
+        double e2[2] = {p[2][0] - p[0][0], p[2][1] - p[0][1]};
+        double det = cross2(e1, e2);
+        if (!(det != 0)) continue;
+        double a = cross2(e2, p[0]) / det, b = cross2(p[0], e1) / det;
+        double inside = a < b ? a : b;
+        inside = inside < 1 - a - b ? inside : 1 - a - b;
+        if (inside > best) {
+            best = inside;
+            hit->element = leaf->first + k;
+            hit->u = unit_clamp(a);
+            hit->v = unit_clamp(b);
+        }
+    }
 }
 
 /* The element and u, v of Embree's hit of primitive `primitive` at (u, v). */
 static inline void hit_element(const rad_element_rays *rays, unsigned primitive, float u, float v,
                                rad_element_hit *hit) {
     if (primitive < rays->quad_count) {
-        grid_locate(&rays->quads[primitive], u, v, hit);
+        const rad_grid_quad *q = &rays->quads[primitive];
+        if (q->grid) grid_locate(q, u, v, hit);
+        else tree_locate(rays->mesh, q, u, v, hit);
         return;
     }
     hit->element = rays->loose ? rays->loose[primitive - rays->quad_count] : primitive;
@@ -120,61 +216,111 @@ static inline void hit_element(const rad_element_rays *rays, unsigned primitive,
     hit->v = v;
 }
 
+/* Marks the elements under tree node `node`. */
+static void mark_tree(const rad_mesh *mesh, uint32_t node, int depth, uint8_t *covered) {
+    const rad_mesh_tree_node *n = &mesh->tree_nodes[node];
+    if (n->count == 0) {
+        if (depth < 256)
+            for (uint32_t k = 0; k < 4; ++k) mark_tree(mesh, n->first + k, depth + 1, covered);
+        return;
+    }
+    for (uint32_t k = 0; k < n->count; ++k) covered[n->first + k] = 1;
+}
+
+/* The shapes Embree traces whole (the flat grids and trees), and which elements they cover. */
+static rad_status shapes_make(rad_element_rays *rays, uint8_t **covered_out) {
+    const rad_mesh *mesh = rays->mesh;
+    size_t shapes = mesh->grid_count + mesh->tree_count;
+    *covered_out = NULL;
+    if (!shapes) return RAD_OK;
+    rays->quads = rad_alloc(rays->ctx, shapes, sizeof *rays->quads);
+    uint8_t *covered = rad_alloc_zero(rays->ctx, mesh->element_count, sizeof *covered);
+    if (!rays->quads || !covered) {
+        rad_free(rays->ctx, covered);
+        return rad_fail(rays->ctx, RAD_ERROR_NO_MEMORY, "out of memory for %zu shapes", shapes);
+    }
+    for (size_t g = 0; g < mesh->grid_count; ++g) {
+        const rad_mesh_grid *grid = &mesh->grids[g];
+        rad_grid_quad *quad = &rays->quads[rays->quad_count];
+        rad_vec3 c[4];
+        for (int k = 0; k < 4; ++k) c[k] = mesh->vertices[grid->corner[k]];
+        if ((uint64_t)grid->nu * grid->nv < 2 || !shape_make(c, 4, rays->epsilon, quad)) continue;
+        quad->grid = grid;
+        rays->quad_count++;
+        memset(covered + grid->first, 1, (size_t)grid->nu * grid->nv);
+    }
+    for (size_t i = 0; i < mesh->tree_count; ++i) {
+        const rad_mesh_tree *tree = &mesh->trees[i];
+        rad_grid_quad *quad = &rays->quads[rays->quad_count];
+        if (!shape_make(tree->corner, (int)tree->corner_count, rays->epsilon, quad)) continue;
+        quad->node = tree->node;
+        quad->tree = tree;
+        rays->quad_count++;
+        mark_tree(mesh, tree->node, 0, covered);
+    }
+    *covered_out = covered;
+    return RAD_OK;
+}
+
 static rad_status add_elements(rad_element_rays *rays) {
     const rad_mesh *mesh = rays->mesh;
     if (mesh->element_count == 0) return RAD_OK;
-    size_t in_grids = 0;
-    if (mesh->grid_count) {
-        rays->quads = rad_alloc(rays->ctx, mesh->grid_count, sizeof *rays->quads);
-        if (!rays->quads)
-            return rad_fail(rays->ctx, RAD_ERROR_NO_MEMORY, "out of memory for %zu grids",
-                            mesh->grid_count);
-        for (size_t g = 0; g < mesh->grid_count; ++g) {
-            rad_grid_quad *quad = &rays->quads[rays->quad_count];
-            if (grid_quad_make(mesh, &mesh->grids[g], rays->epsilon, quad)) {
-                rays->quad_count++;
-                in_grids += (size_t)mesh->grids[g].nu * mesh->grids[g].nv;
-            }
-        }
-    }
-    size_t loose = mesh->element_count - in_grids, primitives = rays->quad_count + loose;
+    uint8_t *covered = NULL;
+    rad_status status = shapes_make(rays, &covered);
+    if (status) return status;
+    size_t loose = 0;
+    for (size_t e = 0; e < mesh->element_count; ++e) loose += !covered || !covered[e];
+    size_t primitives = rays->quad_count + loose, trees = 0;
+    rays->loose_count = loose;
+    for (size_t q = 0; q < rays->quad_count; ++q) trees += rays->quads[q].grid == NULL;
     if (rays->quad_count) {
         rays->loose = rad_alloc(rays->ctx, loose + 1, sizeof *rays->loose);
-        if (!rays->loose)
+        if (!rays->loose) {
+            rad_free(rays->ctx, covered);
             return rad_fail(rays->ctx, RAD_ERROR_NO_MEMORY, "out of memory for %zu elements",
                             mesh->element_count);
+        }
     }
     RTCGeometry geometry = rtcNewGeometry(rays->device, RTC_GEOMETRY_TYPE_QUAD);
+    /* The mesh's vertices, then each tree's corners (a tree's root is no element). */
     float *positions = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
                                                RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                               mesh->vertex_count);
+                                               mesh->vertex_count + 4 * trees);
     unsigned *indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
                                                 RTC_FORMAT_UINT4, 4 * sizeof(unsigned),
                                                 primitives);
     if (!positions || !indices) {
         rtcReleaseGeometry(geometry);
+        rad_free(rays->ctx, covered);
         return rad_fail(rays->ctx, RAD_ERROR_NO_MEMORY, "Embree: out of memory for %zu elements",
                         mesh->element_count);
     }
     for (size_t i = 0; i < mesh->vertex_count; ++i)
         rad_ray_frame_point(&rays->frame, mesh->vertices[i], positions + 3 * i);
-    size_t at = 0;
-    for (size_t g = 0; g < rays->quad_count; ++g, ++at)
-        for (int k = 0; k < 4; ++k) indices[4 * at + k] = rays->quads[g].grid->corner[k];
-    /* The other elements, in order: the grids' elements are runs, grids in mesh order. */
-    size_t next = 0;
-    for (size_t e = 0; e < mesh->element_count; ++e) {
-        if (next < rays->quad_count && e == rays->quads[next].grid->first) {
-            e += (size_t)rays->quads[next].grid->nu * rays->quads[next].grid->nv - 1;
-            ++next;
+    size_t at = 0, extra = mesh->vertex_count;
+    for (size_t q = 0; q < rays->quad_count; ++q, ++at) {
+        const rad_grid_quad *quad = &rays->quads[q];
+        if (quad->grid) {
+            for (int k = 0; k < 4; ++k) indices[4 * at + k] = quad->grid->corner[k];
             continue;
         }
+        int count = (int)quad->tree->corner_count;
+        for (int k = 0; k < 4; ++k) {
+            rad_ray_frame_point(&rays->frame, quad->tree->corner[k < count ? k : count - 1],
+                                positions + 3 * (extra + (size_t)k));
+            indices[4 * at + k] = (unsigned)(extra + (size_t)k);
+        }
+        extra += 4;
+    }
+    for (size_t e = 0; e < mesh->element_count; ++e) {
+        if (covered && covered[e]) continue;
         if (rays->loose) rays->loose[at - rays->quad_count] = (uint32_t)e;
         const uint32_t *c = mesh->element_vertices[e];
         int corners = rad_mesh_corner_count(mesh, e);
         for (int k = 0; k < 4; ++k) indices[4 * at + k] = c[k < corners ? k : corners - 1];
         ++at;
     }
+    rad_free(rays->ctx, covered);
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(rays->scene, geometry);
     rtcReleaseGeometry(geometry);

@@ -2,9 +2,9 @@
  * solution lives on. A hit names the element and where on it (Embree's u, v), so the renderer can
  * interpolate the radiosity at the hit. Every element goes into one RTC_GEOMETRY_TYPE_QUAD
  * geometry (triangles as quads with the last corner twice), except that a flat grid of elements
- * (a quad cell of the mesher, mesh.h) goes in as one quad and a hit on it finds its element and
- * the element's u, v by inverting the grid's bilinear map: Embree traverses a tree of a few
- * cells rather than of every element.
+ * (a quad cell of the mesher, mesh.h) or a flat tree of them (a hierarchy root's leaves) goes in
+ * as one quad and a hit on it finds its element and the element's u, v by inverting the shape's
+ * bilinear map: Embree traverses a tree of a few cells or roots rather than of every element.
  *
  * The renderer traces every ray (camera, gather, shadow, specular) against this one geometry, so
  * a point found by one query is exactly on the surface the next query starts from; the input
@@ -18,13 +18,18 @@
 
 #include <embree3/rtcore.h>
 
-/* A flat convex grid of the mesh (mesh.h) traced as one quad: its bilinear map in a frame of
- * its plane with corner 0 at the origin, h = s e + t f + s t g (e, f, c2 corners 1, 3, 2). */
+/* A flat convex grid or tree of the mesh (mesh.h) traced as one quad (a tree's triangle as
+ * Embree's quad (c0, c1, c2, c2)): its bilinear map in a frame of its plane with corner 0 at the
+ * origin, h = s e + t f + s t g (e, f, c2 corners 1, 3, 2; for a triangle f is corner 2). */
 typedef struct rad_grid_quad {
     double e[2], f[2], g[2], c2[2];
-    double ef, gf; /* cross(e, f), cross(g, f) */
-    int affine;    /* a parallelogram: g is 0 */
-    const rad_mesh_grid *grid;
+    double ef, gf;     /* cross(e, f), cross(g, f) */
+    int affine;        /* a parallelogram: g is 0 */
+    int triangle;      /* a tree's triangle root: Embree's u, v are its barycentric coordinates */
+    rad_vec3 origin, axis_x, axis_y; /* the plane's frame: corner 0 and two axes */
+    const rad_mesh_grid *grid;       /* the grid, or NULL for a tree */
+    const rad_mesh_tree *tree;
+    uint32_t node;                   /* a tree's root node */
 } rad_grid_quad;
 
 typedef struct rad_element_rays {
@@ -34,10 +39,11 @@ typedef struct rad_element_rays {
     RTCScene scene;
     double epsilon;             /* scene-scaled offset that keeps rays off their start surface */
     rad_ray_frame frame;        /* world -> Embree coordinates (scene/rays.h) */
-    /* Primitives 0 .. quad_count - 1 are grids (a hit finds its element inside), the others
-     * the elements of no such grid: primitive quad_count + i is element loose[i] (loose NULL:
-     * no grids, primitive i is element i). */
-    size_t quad_count;
+    /* Primitives 0 .. quad_count - 1 are grids and trees (a hit finds its element inside), the
+     * others the elements of no such shape: primitive quad_count + i is element loose[i]
+     * (loose NULL: no shapes, primitive i is element i); loose_count elements are traced as
+     * themselves. */
+    size_t quad_count, loose_count;
     rad_grid_quad *quads;
     uint32_t *loose;
 } rad_element_rays;
