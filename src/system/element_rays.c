@@ -69,6 +69,8 @@ static int shape_make(const rad_vec3 *c, int count, double epsilon, rad_grid_qua
     /* A parallelogram, to rounding: Embree's u, v on the quad are its own bilinear s, t. */
     double size = fabs(out->e[0]) + fabs(out->e[1]) + fabs(out->f[0]) + fabs(out->f[1]);
     out->affine = fabs(out->g[0]) + fabs(out->g[1]) <= 1e-9 * size;
+    out->nearly_affine = fabs(out->gf) <= 1e-4 * fabs(out->ef);
+    out->half_inverse_gf = out->gf != 0 ? 0.5 / out->gf : 0;
     out->triangle = count == 3;
     out->origin = c[0];
     out->axis_x = axis_x;
@@ -100,14 +102,22 @@ static void shape_coordinates(const rad_grid_quad *q, double u, double v, double
     shape_point(q, u, v, h);
     /* h = s e + t f + s t g: h - t f is parallel to e + t g, so
      * cross(h, e) + t (cross(h, g) + cross(e, f)) + t^2 cross(g, f) = 0. */
-    double k0 = cross2(h, q->e), k1 = cross2(h, q->g) + q->ef, k2 = q->gf;
-    /* The root in [0, 1] (the other lies outside a convex quad), from the stable pair. */
-    double w = k1 * k1 - 4 * k0 * k2;
-    w = sqrt(w > 0 ? w : 0);
-    double r = -0.5 * (k1 + (k1 < 0 ? -w : w));
-    double t1 = r / k2, t2 = k0 / r;
-    double off1 = t1 < 0 ? -t1 : t1 > 1 ? t1 - 1 : 0, off2 = t2 < 0 ? -t2 : t2 > 1 ? t2 - 1 : 0;
-    double t = off1 <= off2 ? t1 : t2;
+    double k0 = cross2(h, q->e), k1 = cross2(h, q->g) + q->ef, k2 = q->gf, t;
+    if (q->nearly_affine) {
+        /* k2 small against k1: the linear root and two corrections, error O((k2 / k1)^3). */
+        double inverse = 1 / k1;
+        t = -k0 * inverse;
+        t = -(k0 + k2 * t * t) * inverse;
+        t = -(k0 + k2 * t * t) * inverse;
+    } else {
+        /* The root in [0, 1] (the other lies outside a convex quad). */
+        double w = k1 * k1 - 4 * k0 * k2;
+        w = sqrt(w > 0 ? w : 0);
+        double t1 = (-k1 - w) * q->half_inverse_gf, t2 = (-k1 + w) * q->half_inverse_gf;
+        double off1 = t1 < 0 ? -t1 : t1 > 1 ? t1 - 1 : 0;
+        double off2 = t2 < 0 ? -t2 : t2 > 1 ? t2 - 1 : 0;
+        t = off1 <= off2 ? t1 : t2;
+    }
     double along[2] = {q->e[0] + t * q->g[0], q->e[1] + t * q->g[1]};
     *s_out = ((h[0] - t * q->f[0]) * along[0] + (h[1] - t * q->f[1]) * along[1]) /
              (along[0] * along[0] + along[1] * along[1]);

@@ -24,7 +24,9 @@
 typedef struct rad_grid_quad {
     double e[2], f[2], g[2], c2[2];
     double ef, gf;     /* cross(e, f), cross(g, f) */
+    double half_inverse_gf;
     int affine;        /* a parallelogram: g is 0 */
+    int nearly_affine; /* |gf| under 10^-4 |ef|: the quadratic for t is nearly linear */
     int triangle;      /* a tree's triangle root: Embree's u, v are its barycentric coordinates */
     rad_vec3 origin, axis_x, axis_y; /* the plane's frame: corner 0 and two axes */
     const rad_mesh_grid *grid;       /* the grid, or NULL for a tree */
