@@ -731,6 +731,75 @@ static void test_leaf_view(void) {
     }
 }
 
+/* Rays find a hierarchy's drawn leaves through its roots' trees (element_rays.h) as through the
+ * leaves themselves: on a room, a lamp and a block made of triangles, and on a generated office
+ * (quads, many roots: the trees' tables), each solved to link error 1e-4. */
+static void add_triangles(rad_scene *scene, uint32_t surface, rad_vec3 a, rad_vec3 b, rad_vec3 c,
+                          rad_vec3 d) {
+    rad_vec3 first[3] = {a, b, c}, second[3] = {a, c, d};
+    CHECK(rad_scene_add_polygon_points(scene, surface, first, 3) == RAD_OK);
+    CHECK(rad_scene_add_polygon_points(scene, surface, second, 3) == RAD_OK);
+}
+
+static void check_leaf_rays(rad_context *ctx, rad_scene *scene, const char *name, int triangles) {
+    rad_mesh_options mesh_options = {0};
+    mesh_options.polygons_only = 1;
+    rad_system *system = NULL;
+    CHECK(rad_system_create(ctx, scene, &mesh_options, NULL, &system) == RAD_OK);
+    if (!system) return;
+    rad_solve_options options = {0};
+    options.solver = RAD_SOLVER_HIERARCHICAL;
+    options.link_error = 1e-4;
+    CHECK(rad_solve(system, &options, NULL) == RAD_OK);
+    const rad_mesh *m = rad_solution_leaves(rad_system_view(system));
+    CHECK(m != NULL);
+    if (m) {
+        size_t three = 0, split = 0;
+        for (size_t i = 0; i < m->tree_count; ++i) {
+            three += m->trees[i].corner_count == 3;
+            split += m->tree_nodes[m->trees[i].node].count == 0;
+        }
+        printf("%s: %zu roots (%zu triangles, %zu split), %zu drawn\n", name, m->tree_count,
+               three, split, m->element_count);
+        CHECK(triangles ? three * 2 > m->tree_count : three == 0);
+        CHECK(split * 4 > m->tree_count);
+        check_shape_hits(ctx, name, m, m->tree_count * 9 / 10, m->tree_count);
+    }
+    rad_system_destroy(system);
+}
+
+static void test_leaf_rays(void) {
+    rad_context *ctx = context(2);
+    rad_scene *room = NULL;
+    CHECK(rad_scene_new(ctx, 1, "a room of triangles", &room) == RAD_OK);
+    if (room) {
+        uint32_t wall = add_surface(room, "walls", 0.6, 0), lamp = add_surface(room, "lamp", 0, 10);
+        uint32_t block = add_surface(room, "block", 0.5, 0);
+#define P(x, y, z) v3(x, y, z)
+        add_triangles(room, wall, P(0, 0, 0), P(0, 0, 4), P(4, 0, 4), P(4, 0, 0));
+        add_triangles(room, wall, P(0, 3, 0), P(4, 3, 0), P(4, 3, 4), P(0, 3, 4));
+        add_triangles(room, wall, P(0, 0, 0), P(0, 3, 0), P(0, 3, 4), P(0, 0, 4));
+        add_triangles(room, wall, P(4, 0, 0), P(4, 0, 4), P(4, 3, 4), P(4, 3, 0));
+        add_triangles(room, wall, P(0, 0, 0), P(4, 0, 0), P(4, 3, 0), P(0, 3, 0));
+        add_triangles(room, wall, P(0, 0, 4), P(0, 3, 4), P(4, 3, 4), P(4, 0, 4));
+        add_triangles(room, lamp, P(1.5, 2.9, 1.5), P(2.5, 2.9, 1.5), P(2.5, 2.9, 2.5),
+                      P(1.5, 2.9, 2.5));
+        add_triangles(room, block, P(1, 1, 1), P(1, 1, 2), P(2, 1, 2), P(2, 1, 1));
+        add_triangles(room, block, P(1, 0, 1), P(1, 0, 2), P(1, 1, 2), P(1, 1, 1));
+        add_triangles(room, block, P(2, 0, 1), P(2, 1, 1), P(2, 1, 2), P(2, 0, 2));
+        add_triangles(room, block, P(1, 0, 1), P(1, 1, 1), P(2, 1, 1), P(2, 0, 1));
+        add_triangles(room, block, P(1, 0, 2), P(2, 0, 2), P(2, 1, 2), P(1, 1, 2));
+#undef P
+        check_leaf_rays(ctx, room, "a room of triangles' leaves", 1);
+    }
+    rad_scene_destroy(room);
+    rad_scene *office = NULL;
+    CHECK(rad_scene_generate_office(ctx, 2000, &office) == RAD_OK);
+    if (office) check_leaf_rays(ctx, office, "the office's leaves", 0);
+    rad_scene_destroy(office);
+    rad_context_destroy(ctx);
+}
+
 /* ---- Importance (Smits, Arvo & Salesin 1992) ---------------------------------------------- */
 
 /* An inward-facing rectangle origin, origin + u, origin + u + v, origin + v (normal u x v). */
@@ -1464,6 +1533,7 @@ int main(void) {
     test_solver();
     test_clusters();
     test_leaf_view();
+    test_leaf_rays();
     test_importance();
     test_interrupted_refinement();
     return test_finish();

@@ -13,6 +13,7 @@ void rad_element_rays_destroy(rad_element_rays *rays) {
     if (rays->device) rtcReleaseDevice(rays->device);
     rad_free(rays->ctx, rays->quads);
     rad_free(rays->ctx, rays->loose);
+    rad_free(rays->ctx, rays->cells);
     rad_free(rays->ctx, rays);
 }
 
@@ -76,7 +77,10 @@ static int shape_make(const rad_vec3 *c, int count, double epsilon, rad_grid_qua
     out->axis_x = axis_x;
     out->axis_y = axis_y;
     out->grid = NULL;
+    out->tree = NULL;
     out->node = 0;
+    out->table_depth = 0;
+    out->table = 0;
     return 1;
 }
 
@@ -145,71 +149,131 @@ static void grid_locate(const rad_grid_quad *q, double u, double v, rad_element_
     hit->v = unit_clamp(tj - j);
 }
 
-/* The same on a tree (mesh.h): down from the root by the point's coordinates, halved at each
- * split; at a leaf drawn as itself its coordinates are the element's (bilinear on a quad,
- * barycentric on a triangle), on a fan the triangle about the leaf's centre that holds the
- * point (the most inside, against rounding) and the point's barycentric coordinates there. */
-static void tree_locate(const rad_mesh *mesh, const rad_grid_quad *q, double u, double v,
+/* Point x in the shape's plane frame, less h. */
+static inline void project(rad_vec3 x, const rad_grid_quad *q, const double h[2], double out[2]) {
+    rad_vec3 d = v3_sub(x, q->origin);
+    out[0] = v3_dot(d, q->axis_x) - h[0];
+    out[1] = v3_dot(d, q->axis_y) - h[1];
+}
+
+/* One level down a tree from `node` (split) at coordinates (s, t) in it: the child that holds
+ * the point (mesh.h's order), and (s, t) made the child's own. */
+static inline uint32_t descend(const rad_mesh_tree_node *nodes, uint32_t node, int triangle,
+                               double *s_io, double *t_io) {
+    uint32_t first = nodes[node].first;
+    double s = *s_io, t = *t_io;
+    if (!triangle) {
+        int a = s >= 0.5, b = t >= 0.5;
+        *s_io = 2 * s - a;
+        *t_io = 2 * t - b;
+        return first + (uint32_t)(b ? 3 - a : a);
+    }
+    if (s >= 0.5) {
+        *s_io = 2 * s - 1;
+        *t_io = 2 * t;
+        return first + 1;
+    }
+    if (t >= 0.5) {
+        *s_io = 2 * s;
+        *t_io = 2 * t - 1;
+        return first + 2;
+    }
+    if (s + t <= 0.5) {
+        *s_io = 2 * s;
+        *t_io = 2 * t;
+        return first;
+    }
+    *s_io = 1 - 2 * s;
+    *t_io = 1 - 2 * t;
+    return first + 3;
+}
+
+/* The cell at depth `depth` below a root that holds the point (s, t) of the root (bilinear on a
+ * quad, barycentric on a triangle), its index in the root's table, and the point's coordinates
+ * in it. A quad's cells are the 4^depth squares of side 2^-depth, row by row; a triangle's are
+ * the regular grid's triangles, two to a square (i, j), the second (i + j < n - 1) the upper,
+ * inverted one, whose corners 0, 1, 2 lie at (i + 1, j + 1), (i, j + 1), (i + 1, j): every
+ * node at that depth is one of them, so made (mesh.h). Rounding is clamped into the root. */
+static size_t tree_cell(int triangle, int depth, double s, double t, double *s_out,
+                        double *t_out) {
+    int64_t n = (int64_t)1 << depth;
+    double x = s * (double)n, y = t * (double)n;
+    int64_t i = !(x > 0) ? 0 : x >= (double)(n - 1) ? n - 1 : (int64_t)x;
+    int64_t j = !(y > 0) ? 0 : y >= (double)(n - 1) ? n - 1 : (int64_t)y;
+    if (!triangle) {
+        *s_out = unit_clamp(x - (double)i);
+        *t_out = unit_clamp(y - (double)j);
+        return (size_t)(j * n + i);
+    }
+    if (i + j > n - 1) i = n - 1 - j;
+    int up = (x - (double)i) + (y - (double)j) > 1 && i + j < n - 1;
+    *s_out = unit_clamp(up ? (double)(i + 1) - x : x - (double)i);
+    *t_out = unit_clamp(up ? (double)(j + 1) - y : y - (double)j);
+    return (size_t)((j * n + i) * 2 + up);
+}
+
+/* The same on a tree (mesh.h): the root's table gives the node at its depth that holds the
+ * point (or the leaf above it), then down by the point's coordinates, halved at each split; at
+ * a leaf drawn as itself its coordinates are the element's (bilinear on a quad, barycentric on
+ * a triangle), on a fan the triangle about the leaf's centre that holds the point. */
+static void tree_locate(const rad_element_rays *rays, const rad_grid_quad *q, double u, double v,
                         rad_element_hit *hit) {
+    const rad_mesh *mesh = rays->mesh;
     const rad_mesh_tree_node *nodes = mesh->tree_nodes;
     double s, t;
     shape_coordinates(q, u, v, &s, &t);
     uint32_t node = q->node;
-    for (int depth = 0; nodes[node].count == 0 && depth < 256; ++depth) {
-        uint32_t first = nodes[node].first;
-        if (!q->triangle) {
-            int a = s >= 0.5, b = t >= 0.5;
-            node = first + (uint32_t)(b ? 3 - a : a);
-            s = 2 * s - a;
-            t = 2 * t - b;
-        } else if (s >= 0.5) {
-            node = first + 1;
-            s = 2 * s - 1;
-            t = 2 * t;
-        } else if (t >= 0.5) {
-            node = first + 2;
-            s = 2 * s;
-            t = 2 * t - 1;
-        } else if (s + t <= 0.5) {
-            node = first;
-            s = 2 * s;
-            t = 2 * t;
-        } else {
-            node = first + 3;
-            s = 1 - 2 * s;
-            t = 1 - 2 * t;
-        }
+    if (q->table_depth > 0) {
+        double s0 = s, t0 = t;
+        const rad_tree_cell *cell =
+            &rays->cells[q->table + tree_cell(q->triangle, q->table_depth, s0, t0, &s, &t)];
+        node = cell->node;
+        if (cell->depth < (uint32_t)q->table_depth)
+            tree_cell(q->triangle, (int)cell->depth, s0, t0, &s, &t);
     }
+    for (int depth = 0; nodes[node].count == 0 && depth < 256; ++depth)
+        node = descend(nodes, node, q->triangle, &s, &t);
     const rad_mesh_tree_node *leaf = &nodes[node];
     hit->element = leaf->first;
     hit->u = unit_clamp(s);
     hit->v = unit_clamp(t);
     if (leaf->count <= 1) return;
-    double h[2], best = -INFINITY;
+    /* A fan: triangle k is (centre, a_k, a_k+1) with a_k along the outline in order, so the
+     * point lies in the sector between centre -> a_k and centre -> a_k+1: one projection a
+     * triangle, the barycentric coordinates only for the triangle taken (the first sector that
+     * holds the point, or against rounding the one it is least outside). */
+    double h[2];
     shape_point(q, u, v, h);
+    const uint32_t *first = mesh->element_vertices[leaf->first];
+    double centre[2], a[2], b[2];
+    project(mesh->vertices[first[0]], q, h, centre);
+    project(mesh->vertices[first[1]], q, h, a);
+    a[0] -= centre[0], a[1] -= centre[1];
+    /* The point less the centre is -centre. */
+    double x[2] = {-centre[0], -centre[1]}, best = -INFINITY;
+    uint32_t take = 0;
     for (uint32_t k = 0; k < leaf->count; ++k) {
-        const uint32_t *c = mesh->element_vertices[leaf->first + k];
-        double p[3][2];
-        for (int i = 0; i < 3; ++i) {
-            rad_vec3 d = v3_sub(mesh->vertices[c[i]], q->origin);
-            p[i][0] = v3_dot(d, q->axis_x) - h[0];
-            p[i][1] = v3_dot(d, q->axis_y) - h[1];
+        project(mesh->vertices[mesh->element_vertices[leaf->first + k][2]], q, h, b);
+        b[0] -= centre[0], b[1] -= centre[1];
+        double from = cross2(a, x), to = cross2(x, b);
+        double inside = from < to ? from : to;
+        if (inside >= 0) {
+            take = k;
+            break;
         }
-        /* 0 = p0 + a (p1 - p0) + b (p2 - p0), the p less the point. */
-        double e1[2] = {p[1][0] - p[0][0], p[1][1] - p[0][1]};
-        double e2[2] = {p[2][0] - p[0][0], p[2][1] - p[0][1]};
-        double det = cross2(e1, e2);
-        if (!(det != 0)) continue;
-        double a = cross2(e2, p[0]) / det, b = cross2(p[0], e1) / det;
-        double inside = a < b ? a : b;
-        inside = inside < 1 - a - b ? inside : 1 - a - b;
-        if (inside > best) {
-            best = inside;
-            hit->element = leaf->first + k;
-            hit->u = unit_clamp(a);
-            hit->v = unit_clamp(b);
-        }
+        if (inside > best) best = inside, take = k;
+        a[0] = b[0], a[1] = b[1];
     }
+    const uint32_t *c = mesh->element_vertices[leaf->first + take];
+    double p[3][2];
+    for (int i = 0; i < 3; ++i) project(mesh->vertices[c[i]], q, h, p[i]);
+    /* 0 = p0 + a (p1 - p0) + b (p2 - p0), the p less the point. */
+    double e1[2] = {p[1][0] - p[0][0], p[1][1] - p[0][1]};
+    double e2[2] = {p[2][0] - p[0][0], p[2][1] - p[0][1]};
+    double det = cross2(e1, e2);
+    hit->element = leaf->first + take;
+    hit->u = det != 0 ? unit_clamp(cross2(e2, p[0]) / det) : 0;
+    hit->v = det != 0 ? unit_clamp(cross2(p[0], e1) / det) : 0;
 }
 
 /* The element and u, v of Embree's hit of primitive `primitive` at (u, v). */
@@ -218,7 +282,7 @@ static inline void hit_element(const rad_element_rays *rays, unsigned primitive,
     if (primitive < rays->quad_count) {
         const rad_grid_quad *q = &rays->quads[primitive];
         if (q->grid) grid_locate(q, u, v, hit);
-        else tree_locate(rays->mesh, q, u, v, hit);
+        else tree_locate(rays, q, u, v, hit);
         return;
     }
     hit->element = rays->loose ? rays->loose[primitive - rays->quad_count] : primitive;
@@ -226,15 +290,49 @@ static inline void hit_element(const rad_element_rays *rays, unsigned primitive,
     hit->v = v;
 }
 
-/* Marks the elements under tree node `node`. */
-static void mark_tree(const rad_mesh *mesh, uint32_t node, int depth, uint8_t *covered) {
+/* Marks the elements under tree node `node`; returns its leaves. */
+static size_t mark_tree(const rad_mesh *mesh, uint32_t node, int depth, uint8_t *covered) {
     const rad_mesh_tree_node *n = &mesh->tree_nodes[node];
+    size_t leaves = 0;
     if (n->count == 0) {
         if (depth < 256)
-            for (uint32_t k = 0; k < 4; ++k) mark_tree(mesh, n->first + k, depth + 1, covered);
-        return;
+            for (uint32_t k = 0; k < 4; ++k) leaves += mark_tree(mesh, n->first + k, depth + 1, covered);
+        return leaves;
     }
     for (uint32_t k = 0; k < n->count; ++k) covered[n->first + k] = 1;
+    return 1;
+}
+
+/* Cells of a root's table (tree_locate): at the depth where the cells number about twice its
+ * leaves, at most TABLE_DEPTH (a quad's 4^depth cells, a triangle's twice that). */
+#define TABLE_DEPTH 9
+
+static int table_depth(size_t leaves) {
+    int depth = 0;
+    while (depth < TABLE_DEPTH && ((size_t)1 << (2 * (depth + 1))) <= 2 * leaves) ++depth;
+    return depth;
+}
+
+/* Fills a root's table: each cell's node at the table's depth, or the leaf above it. */
+static void table_fill(const rad_mesh *mesh, const rad_grid_quad *q, rad_tree_cell *cells) {
+    int depth = q->table_depth;
+    size_t n = (size_t)1 << depth;
+    for (size_t j = 0; j < n; ++j)
+        for (size_t i = 0; i < n; ++i)
+            for (int up = 0; up < (q->triangle ? 2 : 1); ++up) {
+                if (q->triangle && i + j + (size_t)up > n - 1) continue;
+                double third = up ? 2.0 / 3 : 1.0 / 3;
+                double s = q->triangle ? ((double)i + third) / (double)n : ((double)i + 0.5) / (double)n;
+                double t = q->triangle ? ((double)j + third) / (double)n : ((double)j + 0.5) / (double)n;
+                double ls, lt;
+                size_t index = tree_cell(q->triangle, depth, s, t, &ls, &lt);
+                uint32_t node = q->node, d = 0;
+                while (d < (uint32_t)depth && mesh->tree_nodes[node].count == 0) {
+                    node = descend(mesh->tree_nodes, node, q->triangle, &s, &t);
+                    ++d;
+                }
+                cells[index] = (rad_tree_cell){node, d};
+            }
 }
 
 /* The shapes Embree traces whole (the flat grids and trees), and which elements they cover. */
@@ -259,6 +357,7 @@ static rad_status shapes_make(rad_element_rays *rays, uint8_t **covered_out) {
         rays->quad_count++;
         memset(covered + grid->first, 1, (size_t)grid->nu * grid->nv);
     }
+    size_t cell_count = 0;
     for (size_t i = 0; i < mesh->tree_count; ++i) {
         const rad_mesh_tree *tree = &mesh->trees[i];
         rad_grid_quad *quad = &rays->quads[rays->quad_count];
@@ -266,9 +365,18 @@ static rad_status shapes_make(rad_element_rays *rays, uint8_t **covered_out) {
         quad->node = tree->node;
         quad->tree = tree;
         rays->quad_count++;
-        mark_tree(mesh, tree->node, 0, covered);
+        quad->table_depth = table_depth(mark_tree(mesh, tree->node, 0, covered));
+        quad->table = cell_count;
+        if (quad->table_depth > 0)
+            cell_count += ((size_t)1 << (2 * quad->table_depth)) * (quad->triangle ? 2 : 1);
     }
     *covered_out = covered;
+    if (!cell_count) return RAD_OK;
+    rays->cells = rad_alloc(rays->ctx, cell_count, sizeof *rays->cells);
+    if (!rays->cells) return rad_fail(rays->ctx, RAD_ERROR_NO_MEMORY, "out of memory for %zu cells", cell_count);
+    for (size_t q = 0; q < rays->quad_count; ++q)
+        if (!rays->quads[q].grid && rays->quads[q].table_depth > 0)
+            table_fill(mesh, &rays->quads[q], rays->cells + rays->quads[q].table);
     return RAD_OK;
 }
 

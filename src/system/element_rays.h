@@ -32,7 +32,15 @@ typedef struct rad_grid_quad {
     const rad_mesh_grid *grid;       /* the grid, or NULL for a tree */
     const rad_mesh_tree *tree;
     uint32_t node;                   /* a tree's root node */
+    int table_depth;                 /* its table's depth (0: none) */
+    size_t table;                    /* its first cell in rad_element_rays.cells */
 } rad_grid_quad;
+
+/* A cell of a tree's table (element_rays.c, tree_locate): the node at the table's depth that
+ * holds it, or the leaf above it at `depth`. */
+typedef struct rad_tree_cell {
+    uint32_t node, depth;
+} rad_tree_cell;
 
 typedef struct rad_element_rays {
     rad_context *ctx;
@@ -48,6 +56,7 @@ typedef struct rad_element_rays {
     size_t quad_count, loose_count;
     rad_grid_quad *quads;
     uint32_t *loose;
+    rad_tree_cell *cells; /* the trees' tables */
 } rad_element_rays;
 
 /* Builds the Embree scene of the mesh's elements. The mesh must outlive the result. */
