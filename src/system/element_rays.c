@@ -296,7 +296,8 @@ static size_t mark_tree(const rad_mesh *mesh, uint32_t node, int depth, uint8_t 
     size_t leaves = 0;
     if (n->count == 0) {
         if (depth < 256)
-            for (uint32_t k = 0; k < 4; ++k) leaves += mark_tree(mesh, n->first + k, depth + 1, covered);
+            for (uint32_t k = 0; k < 4; ++k)
+                leaves += mark_tree(mesh, n->first + k, depth + 1, covered);
         return leaves;
     }
     for (uint32_t k = 0; k < n->count; ++k) covered[n->first + k] = 1;
@@ -321,9 +322,9 @@ static void table_fill(const rad_mesh *mesh, const rad_grid_quad *q, rad_tree_ce
         for (size_t i = 0; i < n; ++i)
             for (int up = 0; up < (q->triangle ? 2 : 1); ++up) {
                 if (q->triangle && i + j + (size_t)up > n - 1) continue;
-                double third = up ? 2.0 / 3 : 1.0 / 3;
-                double s = q->triangle ? ((double)i + third) / (double)n : ((double)i + 0.5) / (double)n;
-                double t = q->triangle ? ((double)j + third) / (double)n : ((double)j + 0.5) / (double)n;
+                /* The cell's centre: a square's middle, a triangle's centroid. */
+                double inside = !q->triangle ? 0.5 : up ? 2.0 / 3 : 1.0 / 3;
+                double s = ((double)i + inside) / (double)n, t = ((double)j + inside) / (double)n;
                 double ls, lt;
                 size_t index = tree_cell(q->triangle, depth, s, t, &ls, &lt);
                 uint32_t node = q->node, d = 0;
@@ -373,7 +374,8 @@ static rad_status shapes_make(rad_element_rays *rays, uint8_t **covered_out) {
     *covered_out = covered;
     if (!cell_count) return RAD_OK;
     rays->cells = rad_alloc(rays->ctx, cell_count, sizeof *rays->cells);
-    if (!rays->cells) return rad_fail(rays->ctx, RAD_ERROR_NO_MEMORY, "out of memory for %zu cells", cell_count);
+    if (!rays->cells)
+        return rad_fail(rays->ctx, RAD_ERROR_NO_MEMORY, "out of memory for %zu cells", cell_count);
     for (size_t q = 0; q < rays->quad_count; ++q)
         if (!rays->quads[q].grid && rays->quads[q].table_depth > 0)
             table_fill(mesh, &rays->quads[q], rays->cells + rays->quads[q].table);
