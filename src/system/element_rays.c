@@ -304,13 +304,14 @@ static size_t mark_tree(const rad_mesh *mesh, uint32_t node, int depth, uint8_t 
     return 1;
 }
 
-/* Cells of a root's table (tree_locate): at the depth where the cells number about twice its
- * leaves, at most TABLE_DEPTH (a quad's 4^depth cells, a triangle's twice that). */
+/* Cells of a root's table (tree_locate): at the deepest depth where they number no more than
+ * its leaves, at most TABLE_DEPTH (a quad's 4^depth cells, a triangle's twice that): 8 or 16
+ * bytes a leaf at most. */
 #define TABLE_DEPTH 9
 
 static int table_depth(size_t leaves) {
     int depth = 0;
-    while (depth < TABLE_DEPTH && ((size_t)1 << (2 * (depth + 1))) <= 2 * leaves) ++depth;
+    while (depth < TABLE_DEPTH && ((size_t)1 << (2 * (depth + 1))) <= leaves) ++depth;
     return depth;
 }
 
@@ -373,10 +374,10 @@ static rad_status shapes_make(rad_element_rays *rays, uint8_t **covered_out) {
     }
     *covered_out = covered;
     if (!cell_count) return RAD_OK;
+    /* Without room for the tables, hits walk down from the roots. */
     rays->cells = rad_alloc(rays->ctx, cell_count, sizeof *rays->cells);
-    if (!rays->cells)
-        return rad_fail(rays->ctx, RAD_ERROR_NO_MEMORY, "out of memory for %zu cells", cell_count);
-    for (size_t q = 0; q < rays->quad_count; ++q)
+    for (size_t q = 0; q < rays->quad_count && !rays->cells; ++q) rays->quads[q].table_depth = 0;
+    for (size_t q = 0; q < rays->quad_count && rays->cells; ++q)
         if (!rays->quads[q].grid && rays->quads[q].table_depth > 0)
             table_fill(mesh, &rays->quads[q], rays->cells + rays->quads[q].table);
     return RAD_OK;
