@@ -223,6 +223,7 @@ static void tree_locate(const rad_element_rays *rays, const rad_grid_quad *q, do
     double s, t;
     shape_coordinates(q, u, v, &s, &t);
     uint32_t node = q->node;
+    const rad_mesh_tree_node *leaf = NULL;
     if (q->table_depth > 0) {
         double s0 = s, t0 = t;
         const rad_tree_cell *cell =
@@ -230,10 +231,13 @@ static void tree_locate(const rad_element_rays *rays, const rad_grid_quad *q, do
         node = cell->node;
         if (cell->depth < (uint32_t)q->table_depth)
             tree_cell(q->triangle, (int)cell->depth, s0, t0, &s, &t);
+        if (cell->leaf.count) leaf = &cell->leaf; /* no load of the node */
     }
-    for (int depth = 0; nodes[node].count == 0 && depth < 256; ++depth)
-        node = descend(nodes, node, q->triangle, &s, &t);
-    const rad_mesh_tree_node *leaf = &nodes[node];
+    if (!leaf) {
+        for (int depth = 0; nodes[node].count == 0 && depth < 256; ++depth)
+            node = descend(nodes, node, q->triangle, &s, &t);
+        leaf = &nodes[node];
+    }
     hit->element = leaf->first;
     hit->u = unit_clamp(s);
     hit->v = unit_clamp(t);
@@ -305,7 +309,7 @@ static size_t mark_tree(const rad_mesh *mesh, uint32_t node, int depth, uint8_t 
 }
 
 /* Cells of a root's table (tree_locate): at the deepest depth where they number no more than
- * its leaves, at most TABLE_DEPTH (a quad's 4^depth cells, a triangle's twice that): 8 or 16
+ * its leaves, at most TABLE_DEPTH (a quad's 4^depth cells, a triangle's twice that): 16 or 32
  * bytes a leaf at most. */
 #define TABLE_DEPTH 9
 
@@ -333,7 +337,7 @@ static void table_fill(const rad_mesh *mesh, const rad_grid_quad *q, rad_tree_ce
                     node = descend(mesh->tree_nodes, node, q->triangle, &s, &t);
                     ++d;
                 }
-                cells[index] = (rad_tree_cell){node, d};
+                cells[index] = (rad_tree_cell){node, d, mesh->tree_nodes[node]};
             }
 }
 

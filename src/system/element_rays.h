@@ -37,9 +37,11 @@ typedef struct rad_grid_quad {
 } rad_grid_quad;
 
 /* A cell of a tree's table (element_rays.c, tree_locate): the node at the table's depth that
- * holds it, or the leaf above it at `depth`. */
+ * holds it, or the leaf above it at `depth`, and a copy of that node (a leaf's elements read
+ * without another load). */
 typedef struct rad_tree_cell {
     uint32_t node, depth;
+    rad_mesh_tree_node leaf;
 } rad_tree_cell;
 
 typedef struct rad_element_rays {
