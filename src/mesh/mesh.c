@@ -749,6 +749,7 @@ typedef struct mesh_count {
     double vertices, elements;
     double grid; /* scratch vertex ids for the largest cell */
     uint32_t largest_side; /* the largest count on a triangle's side */
+    double triangle_grids; /* quad grids inside triangles (triangle.c) */
     double quad_elements;
     double quad_area; /* the quads' area over the element size squared */
     double triangle_floor; /* the sum of max(1, area / element size^2) over triangles */
@@ -800,6 +801,7 @@ static rad_status count_mesh(mesher *m, double element_size, uint32_t k, mesh_co
         if (cell_corners(&m->cells[i]) == 3) cut_triangle(m, &counting, &m->cells[i], NULL);
     c.vertices += (double)counting.vertices;
     c.elements = c.quad_elements + (double)counting.elements;
+    c.triangle_grids = (double)counting.grids;
     if (c.largest_side)
         c.grid = fmax(c.grid, 3.0 * (c.largest_side + 1) + (double)tri_scratch_size(c.largest_side));
     *out = c;
@@ -928,7 +930,7 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
     rad_mesh *mesh = rad_mesh_alloc(ctx, (size_t)vertices, ne);
     uint32_t *scratch = rad_alloc(ctx, (size_t)grid, sizeof *scratch);
     m.corner_vertex = rad_alloc(ctx, m.corner_count + 1, sizeof *m.corner_vertex);
-    size_t quads = 0;
+    size_t quads = (size_t)count.triangle_grids;
     for (size_t i = 0; i < m.cell_count; ++i) quads += cell_corners(&m.cells[i]) == 4;
     if (mesh && quads) mesh->grids = rad_alloc(ctx, quads, sizeof *mesh->grids);
     if (!mesh || !scratch || !m.corner_vertex || (quads && !mesh->grids)) {
@@ -951,6 +953,7 @@ rad_status rad_mesh_create(rad_context *ctx, const rad_scene *scene,
     output.mesh = mesh;
     output.k = k;
     output.element_size = o.element_size;
+    output.grid_room = (size_t)count.triangle_grids;
     if (largest_side) {
         output.scratch = scratch + 3 * ((size_t)largest_side + 1);
         output.scratch_size = tri_scratch_size(largest_side);

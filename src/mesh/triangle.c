@@ -136,6 +136,14 @@ static void cut_grid(tri_out *out, const rad_vec3 q[4], const tri_side s[4]) {
             }
             if (grid) grid[(size_t)j * (nu + 1) + i] = v;
         }
+    /* The grid, for ray queries (mesh.h): its elements follow in mesh.c's cut_quad order. */
+    out->grids++;
+    if (out->mesh && grid && out->grid_room > 0) {
+        out->grid_room--;
+        out->mesh->grids[out->mesh->grid_count++] =
+            (rad_mesh_grid){{ID(0, 0), ID(nu, 0), ID(nu, nv), ID(0, nv)},
+                            (uint32_t)out->mesh->element_count, nu, nv, k};
+    }
     for (uint32_t pj = 0; pj < nv; pj += k)
         for (uint32_t pi = 0; pi < nu; pi += k) {
             size_t first = out->elements;

@@ -27,6 +27,8 @@ typedef struct tri_out {
     size_t vertices, elements, patches;
     uint32_t *scratch; /* vertex ids; tri_scratch_size(largest side count) entries */
     size_t scratch_used, scratch_size;
+    size_t grids;      /* quad grids cut (counted with or without a mesh) */
+    size_t grid_room;  /* more of them mesh->grids has room for (mesh.h, rad_mesh_grid) */
 } tri_out;
 
 /* Appends an element (corners counter-clockwise, d == RAD_NO_VERTEX for a triangle) to the
