@@ -78,7 +78,6 @@ static int shape_make(const rad_vec3 *c, int count, double epsilon, rad_grid_qua
     out->axis_y = axis_y;
     out->grid = NULL;
     out->tree = NULL;
-    out->node = 0;
     out->table_depth = 0;
     out->table = 0;
     return 1;
@@ -222,7 +221,7 @@ static void tree_locate(const rad_element_rays *rays, const rad_grid_quad *q, do
     const rad_mesh_tree_node *nodes = mesh->tree_nodes;
     double s, t;
     shape_coordinates(q, u, v, &s, &t);
-    uint32_t node = q->node;
+    uint32_t node = q->tree->node;
     const rad_mesh_tree_node *leaf = NULL;
     if (q->table_depth > 0) {
         double s0 = s, t0 = t;
@@ -332,7 +331,7 @@ static void table_fill(const rad_mesh *mesh, const rad_grid_quad *q, rad_tree_ce
                 double s = ((double)i + inside) / (double)n, t = ((double)j + inside) / (double)n;
                 double ls, lt;
                 size_t index = tree_cell(q->triangle, depth, s, t, &ls, &lt);
-                uint32_t node = q->node, d = 0;
+                uint32_t node = q->tree->node, d = 0;
                 while (d < (uint32_t)depth && mesh->tree_nodes[node].count == 0) {
                     node = descend(mesh->tree_nodes, node, q->triangle, &s, &t);
                     ++d;
@@ -368,7 +367,6 @@ static rad_status shapes_make(rad_element_rays *rays, uint8_t **covered_out) {
         const rad_mesh_tree *tree = &mesh->trees[i];
         rad_grid_quad *quad = &rays->quads[rays->quad_count];
         if (!shape_make(tree->corner, (int)tree->corner_count, rays->epsilon, quad)) continue;
-        quad->node = tree->node;
         quad->tree = tree;
         rays->quad_count++;
         quad->table_depth = table_depth(mark_tree(mesh, tree->node, 0, covered));

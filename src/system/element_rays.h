@@ -30,8 +30,7 @@ typedef struct rad_grid_quad {
     int triangle;      /* a tree's triangle root: Embree's u, v are its barycentric coordinates */
     rad_vec3 origin, axis_x, axis_y; /* the plane's frame: corner 0 and two axes */
     const rad_mesh_grid *grid;       /* the grid, or NULL for a tree */
-    const rad_mesh_tree *tree;
-    uint32_t node;                   /* a tree's root node */
+    const rad_mesh_tree *tree;       /* the tree (its root node: tree->node), or NULL */
     int table_depth;                 /* its table's depth (0: none) */
     size_t table;                    /* its first cell in rad_element_rays.cells */
 } rad_grid_quad;
