@@ -137,6 +137,55 @@ static void test_point_polygon(void) {
     CHECK_NEAR(f, 0.5, 1e-6);
 }
 
+/* Many points at once give each point's own factor to the bit: random points below random
+ * polygons (3 to 8 corners, flat and convex, or warped) facing down, with random tilts: wholly
+ * seen, clipped by the point's plane, or behind the polygon; one to eight at a time. */
+/* A number in [0, 1) from a 64-bit linear congruential state. */
+static double uniform01(uint64_t *state) {
+    *state = *state * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*state >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static void test_point_polygon_many(void) {
+    uint64_t state = 12345;
+    int differ = 0, clipped = 0, whole = 0, behind = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+        int corners = 3 + (int)(uniform01(&state) * 6);
+        rad_vec3 polygon[8];
+        double warp = trial % 4 == 0 ? 0.2 : 0;
+        for (int k = 0; k < corners; ++k) {
+            double angle = -2 * RAD_PI * k / corners; /* clockwise from +z: its front faces -z */
+            polygon[k] = v3(cos(angle), sin(angle), 1 + warp * (uniform01(&state) - 0.5));
+        }
+        rad_vec3 front = v3(0, 0, 0);
+        for (int k = 0; k < corners; ++k)
+            front = v3_add(front, v3_cross(polygon[k], polygon[(k + 1) % corners]));
+        double nx = 2 * uniform01(&state) - 1, ny = 2 * uniform01(&state) - 1;
+        rad_vec3 points[8], n = v3_normalize(v3(nx, ny, 1));
+        int count = 1 + (int)(uniform01(&state) * 8);
+        for (int k = 0; k < count; ++k) {
+            double x = 4 * uniform01(&state) - 2, y = 4 * uniform01(&state) - 2;
+            points[k] = v3(x, y, 2.7 * uniform01(&state) - 1.5);
+        }
+        double many[8];
+        rad_ff_point_polygon_front_many(points, count, n, polygon, corners, front, many);
+        for (int k = 0; k < count; ++k) {
+            double one = rad_ff_point_polygon_front(points[k], n, polygon, corners, front);
+            differ += memcmp(&one, &many[k], sizeof one) != 0;
+            int in_front = v3_dot(front, v3_sub(points[k], polygon[0])) > 0, all_above = 1;
+            for (int i = 0; i < corners; ++i)
+                all_above &= v3_dot(n, v3_sub(polygon[i], points[k])) >= 0;
+            behind += !in_front;
+            whole += in_front && all_above;
+            clipped += in_front && !all_above;
+        }
+    }
+    printf("  many points at once: %d differ (%d whole, %d clipped, %d behind)\n", differ, whole,
+           clipped, behind);
+    CHECK(differ == 0);
+    CHECK(whole > 1000 && clipped > 1000 && behind > 1000);
+}
+
 /* Each method's face-to-face factors of the unit cube at its defaults (test_solvers uses them). */
 static double cube_factors[4][36];
 static int cube_factors_known[4];
@@ -711,6 +760,7 @@ int main(void) {
     rad_context *ctx = make_context(1);
     printf("point to polygon\n");
     test_point_polygon();
+    test_point_polygon_many();
     test_pair_kernel(ctx);
     printf("every method at its defaults\n");
     test_methods_at_defaults(ctx);

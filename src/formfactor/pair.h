@@ -106,6 +106,57 @@ static inline double rad_ff_point_polygon_front(rad_vec3 x, rad_vec3 n, const ra
     return fabs(sum) / (2 * RAD_PI);
 }
 
+/* rad_ff_point_polygon_front at each of points[0 .. count) (count at most RAD_FF_MANY), into
+ * out: the same values to the bit. The points that see the whole polygon on their side of the
+ * plane (the usual case: nothing to clip) are taken together, edge by edge across the points in
+ * the same operations and order as one point's, which the compiler vectorises; the others one at
+ * a time. A hierarchy's link asks for eight points against one source (its four quadrature
+ * points and four corners), where the single calls were 16% of the solve's samples. */
+#define RAD_FF_MANY 8
+static inline void rad_ff_point_polygon_front_many(const rad_vec3 *points, int count, rad_vec3 n,
+                                                   const rad_vec3 *polygon, int corners,
+                                                   rad_vec3 front, double *out) {
+    double px[RAD_FF_MANY], py[RAD_FF_MANY], pz[RAD_FF_MANY];
+    int slot[RAD_FF_MANY], lanes = 0;
+    for (int k = 0; k < count; ++k) {
+        out[k] = 0;
+        if (corners < 3 || corners > RAD_FF_PAIR_MAX_CORNERS) continue;
+        rad_vec3 x = points[k];
+        if (v3_dot(front, v3_sub(x, polygon[0])) <= 0) continue;
+        int whole = 1;
+        for (int i = 0; i < corners; ++i) whole &= v3_dot(n, v3_sub(polygon[i], x)) >= 0;
+        if (!whole) {
+            out[k] = rad_ff_point_polygon_front(x, n, polygon, corners, front);
+            continue;
+        }
+        px[lanes] = x.x;
+        py[lanes] = x.y;
+        pz[lanes] = x.z;
+        slot[lanes++] = k;
+    }
+    if (!lanes) return;
+    for (int l = lanes; l < RAD_FF_MANY; ++l) { /* unused lanes: a copy of the first */
+        px[l] = px[0];
+        py[l] = py[0];
+        pz[l] = pz[0];
+    }
+    double sum[RAD_FF_MANY] = {0};
+    for (int i = 0; i < corners; ++i) {
+        const rad_vec3 a = polygon[i], b = polygon[i + 1 < corners ? i + 1 : 0];
+#pragma omp simd
+        for (int l = 0; l < RAD_FF_MANY; ++l) {
+            double ax = a.x - px[l], ay = a.y - py[l], az = a.z - pz[l];
+            double bx = b.x - px[l], by = b.y - py[l], bz = b.z - pz[l];
+            double cx = ay * bz - az * by, cy = az * bx - ax * bz, cz = ax * by - ay * bx;
+            double length = sqrt(cx * cx + cy * cy + cz * cz);
+            double cosine = ax * bx + ay * by + az * bz;
+            double weight = length > 0 ? (n.x * cx + n.y * cy + n.z * cz) / length : 0;
+            sum[l] += rad_ff_angle_from(length, cosine) * weight;
+        }
+    }
+    for (int l = 0; l < lanes; ++l) out[slot[l]] = fabs(sum[l]) / (2 * RAD_PI);
+}
+
 /* The same with the front normal taken from the corners' order (pair.c). */
 double rad_ff_point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *polygon, int count);
 
@@ -170,12 +221,16 @@ static inline void rad_ff_contour_quads(const rad_vec3 *q, int m, const double *
 static inline double rad_ff_pair_mean_factor(const rad_vec3 *points, int count, rad_vec3 n,
                                              const rad_vec3 *polygon, int corners,
                                              rad_vec3 front, double *low, double *high) {
-    double sum = 0, lo = INFINITY, hi = 0;
+    double sum = 0, lo = INFINITY, hi = 0, f[RAD_FF_MANY];
     for (int k = 0; k < count; ++k) {
-        double f = rad_ff_point_polygon_front(points[k], n, polygon, corners, front);
-        sum += f;
-        lo = fmin(lo, f);
-        hi = fmax(hi, f);
+        if (k % RAD_FF_MANY == 0) {
+            int batch = count - k < RAD_FF_MANY ? count - k : RAD_FF_MANY;
+            rad_ff_point_polygon_front_many(points + k, batch, n, polygon, corners, front, f);
+        }
+        double f_k = f[k % RAD_FF_MANY];
+        sum += f_k;
+        lo = fmin(lo, f_k);
+        hi = fmax(hi, f_k);
     }
     if (low) *low = lo;
     if (high) *high = hi;

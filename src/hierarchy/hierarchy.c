@@ -437,29 +437,34 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
     if (r->polygon == s->polygon) return 0;
     rad_vec3 nr = h->normal[r->polygon], ns = h->normal[s->polygon];
     if (!any_in_front(s, r->corner[0], nr) || !any_in_front(r, s->corner[0], ns)) return 0;
-    rad_vec3 x[4], y[4];
+    rad_vec3 x[8], y[4];
     int rn = quadrature_points(r, x), sn = quadrature_points(s, y);
-    /* Lambert's contour integral from each receiver point to the source polygon. */
-    double sum = 0, lo = INFINITY, hi = 0;
-    for (int i = 0; i < rn; ++i) {
-        double f = rad_ff_point_polygon(x[i], nr, s->corner, s->corner_count);
-        sum += f;
-        lo = smaller(lo, f);
-        hi = larger(hi, f);
-    }
-    double form_factor = sum / rn;
-    if (!(form_factor > 0)) return 0;
     /* The spread also looks at the corners (pulled in a little, off neighbouring planes): the
      * kernel peaks at edges shared with the source, where the quadrature points see least. */
     rad_vec3 centre = v3_scale(v3_add(v3_add(r->corner[0], r->corner[1]),
                                       v3_add(r->corner[2], r->corner[r->corner_count - 1])), 0.25);
     if (r->corner_count == 3)
         centre = v3_scale(v3_add(v3_add(r->corner[0], r->corner[1]), r->corner[2]), 1.0 / 3);
+    for (int k = 0; k < r->corner_count; ++k) x[rn + k] = v3_lerp(r->corner[k], centre, 0.01);
+    /* Lambert's contour integral from each of those points to the source polygon, all in one
+     * call (its front from the corners' order, as rad_ff_point_polygon takes it). */
+    rad_vec3 front = v3(0, 0, 0);
+    for (int i = 0; i < s->corner_count; ++i)
+        front = v3_add(front, v3_cross(s->corner[i], s->corner[(i + 1) % s->corner_count]));
+    double f[8];
+    rad_ff_point_polygon_front_many(x, rn + r->corner_count, nr, s->corner, s->corner_count,
+                                    front, f);
+    double sum = 0, lo = INFINITY, hi = 0;
+    for (int i = 0; i < rn; ++i) {
+        sum += f[i];
+        lo = smaller(lo, f[i]);
+        hi = larger(hi, f[i]);
+    }
+    double form_factor = sum / rn;
+    if (!(form_factor > 0)) return 0;
     for (int k = 0; k < r->corner_count; ++k) {
-        double f = rad_ff_point_polygon(v3_lerp(r->corner[k], centre, 0.01), nr, s->corner,
-                                        s->corner_count);
-        lo = smaller(lo, f);
-        hi = larger(hi, f);
+        lo = smaller(lo, f[rn + k]);
+        hi = larger(hi, f[rn + k]);
     }
     /* Rays that all hit something do not prove the pair hidden (a sliver of the receiver may
      * see past the occluder): such a link carries nothing but keeps its whole factor as its
