@@ -696,6 +696,74 @@ static void test_triangulated_occluder(rad_context *ctx) {
     rad_scene_destroy(cut);
 }
 
+/* A point of quad c at bilinear (u, v). */
+static rad_vec3 quad_point(const rad_vec3 c[4], double u, double v) {
+    return v3_add(v3_add(v3_scale(c[0], (1 - u) * (1 - v)), v3_scale(c[1], u * (1 - v))),
+                  v3_add(v3_scale(c[2], u * v), v3_scale(c[3], (1 - u) * v)));
+}
+
+/* Shaft culling between two pieces of polygons (the hierarchy's links, make_link) is
+ * conservative: on the Cornell box, random pieces of two of its quads that the shaft calls clear
+ * see each other along every ray between them (a ray may end on its own target's polygon short
+ * of the point, at grazing angles: those hits are not occlusion and are not counted), and it
+ * calls clear a good share of the pairs. */
+static void test_shaft_pairs(rad_context *ctx) {
+    rad_scene *scene = NULL;
+    rad_scene_builtin(ctx, "cornell", &scene);
+    rad_ff_shaft *shaft = NULL;
+    rad_rays *rays = NULL;
+    CHECK(scene && rad_ff_shaft_create(ctx, scene, NULL, &shaft) == RAD_OK && shaft);
+    CHECK(scene && rad_rays_create(ctx, scene, &rays) == RAD_OK);
+    if (!scene || !shaft || !rays) goto done;
+    uint64_t state = 99;
+    int pairs = 0, clear = 0, wrong = 0, blocked_pairs = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        size_t p = (size_t)(uniform01(&state) * (double)scene->polygon_count);
+        size_t q = (size_t)(uniform01(&state) * (double)scene->polygon_count);
+        if (p == q || scene->polygons[p].count != 4 || scene->polygons[q].count != 4) continue;
+        rad_vec3 piece[2][4];
+        for (int side = 0; side < 2; ++side) {
+            const rad_polygon *polygon = &scene->polygons[side ? q : p];
+            rad_vec3 c[4];
+            for (int k = 0; k < 4; ++k) c[k] = rad_polygon_vertex(scene, polygon, (uint32_t)k);
+            double u0 = uniform01(&state), u1 = uniform01(&state);
+            double v0 = uniform01(&state), v1 = uniform01(&state);
+            if (u0 > u1) { double t = u0; u0 = u1; u1 = t; }
+            if (v0 > v1) { double t = v0; v0 = v1; v1 = t; }
+            piece[side][0] = quad_point(c, u0, v0);
+            piece[side][1] = quad_point(c, u1, v0);
+            piece[side][2] = quad_point(c, u1, v1);
+            piece[side][3] = quad_point(c, u0, v1);
+        }
+        ++pairs;
+        int is_clear = rad_ff_shaft_pair_clear(shaft, piece[0], 4, piece[1], 4);
+        clear += is_clear;
+        int blocked = 0;
+        for (int k = 0; k < 16; ++k) {
+            rad_vec3 a = quad_point(piece[0], uniform01(&state), uniform01(&state));
+            rad_vec3 b = quad_point(piece[1], uniform01(&state), uniform01(&state));
+            rad_vec3 d = v3_sub(b, a);
+            rad_hit hit;
+            double length = v3_length(d);
+            if (!(length > 4 * rays->epsilon) || !rad_rays_occluded(rays, a, b)) continue;
+            if (rad_rays_intersect(rays, a, d, rays->epsilon / length, 1 - rays->epsilon / length,
+                                   &hit) &&
+                hit.polygon != p && hit.polygon != q)
+                blocked = 1;
+        }
+        blocked_pairs += blocked;
+        wrong += is_clear && blocked;
+    }
+    printf("  shaft between pieces of the Cornell box's quads: %d of %d pairs clear, %d blocked, "
+           "%d clear but blocked\n", clear, pairs, blocked_pairs, wrong);
+    CHECK(wrong == 0);
+    CHECK(clear > pairs / 10 && blocked_pairs > pairs / 10);
+done:
+    rad_rays_destroy(rays);
+    rad_ff_shaft_destroy(shaft);
+    rad_scene_destroy(scene);
+}
+
 /* Every lane of a packet reaches Embree filled, used or not: some processors' Embree reads all
  * 16 whatever valid[] says, and asserts finite rays with tnear >= 0 (the packet crash on
  * scenes/room.obj). The packet starts as garbage; lanes past the count must come out as
@@ -775,6 +843,7 @@ int main(void) {
     test_occluders(ctx);
     test_triangulated_occluder(ctx);
     test_packet_lanes(ctx);
+    test_shaft_pairs(ctx);
     printf("(%.1f s)\n", rad_seconds() - start);
     printf("thread count\n");
     test_threads();

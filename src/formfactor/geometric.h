@@ -366,6 +366,16 @@ int rad_ff_shaft_clear(const rad_ff_shaft *shaft, const rad_ff_shaft_view *view,
 int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_shaft_view *view,
                              const rad_ff_patch *receiver, uint32_t polygon);
 
+/* Nonzero when no input polygon can block any segment between a point of the convex hull of
+ * a[0 .. na) and one of b[0 .. nb) (na, nb at most 4), with no view: every occluder is tested
+ * (the plane, box and shaft tests above), so the cost grows with the occluder count
+ * (rad_ff_shaft_occluders). For a hierarchy's links, whose ends are its nodes. Thread safe;
+ * a NULL shaft clears nothing. */
+int rad_ff_shaft_pair_clear(const rad_ff_shaft *shaft, const rad_vec3 *a, int na,
+                            const rad_vec3 *b, int nb);
+/* How many occluders (polygons gathered by plane) the shaft tests; 0 for NULL. */
+size_t rad_ff_shaft_occluders(const rad_ff_shaft *shaft);
+
 /* ------------------------------------------------------------------------------------------- */
 /* The frame of a row (factory.c): what analytic.c, raycast.c and montecarlo.c share around their
  * arithmetic per receiver. A row is cut into blocks of RAD_FF_BLOCK elements, one parallel task

@@ -426,3 +426,42 @@ int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_shaft_view 
     if (!shaft || !view) return 0;
     return clear_to(shaft, view, shaft->occluder_of[polygon], receiver->corners, receiver->corner_count);
 }
+
+/* The box of points p[0 .. count). */
+static void points_box(const rad_vec3 *p, int count, double lo[3], double hi[3]) {
+    for (int axis = 0; axis < 3; ++axis) {
+        lo[axis] = INFINITY;
+        hi[axis] = -INFINITY;
+    }
+    for (int k = 0; k < count; ++k)
+        for (int axis = 0; axis < 3; ++axis) {
+            double value = v3_get(p[k], axis);
+            lo[axis] = value < lo[axis] ? value : lo[axis];
+            hi[axis] = value > hi[axis] ? value : hi[axis];
+        }
+}
+
+int rad_ff_shaft_pair_clear(const rad_ff_shaft *shaft, const rad_vec3 *a, int na,
+                            const rad_vec3 *b, int nb) {
+    if (!shaft || na < 1 || nb < 1 || na > 4 || nb > 4) return 0;
+    double a_lo[3], a_hi[3], b_lo[3], b_hi[3];
+    points_box(a, na, a_lo, a_hi);
+    points_box(b, nb, b_lo, b_hi);
+    const rad_vec3 lo = v3(min2(a_lo[0], b_lo[0]), min2(a_lo[1], b_lo[1]), min2(a_lo[2], b_lo[2]));
+    const rad_vec3 hi = v3(max2(a_hi[0], b_hi[0]), max2(a_hi[1], b_hi[1]), max2(a_hi[2], b_hi[2]));
+    shaft_lines lines;
+    lines.count = -1; /* made when first needed */
+    for (size_t q = 0; q < shaft->polygon_count; ++q) {
+        if (!boxes_overlap(lo, hi, shaft->lo[q], shaft->hi[q])) continue;
+        if ((classify(shaft, q, a, na) | classify(shaft, q, b, nb)) != (SIDE_FRONT | SIDE_BACK))
+            continue;
+        if (lines.count < 0) shaft_lines_make(&lines, a_lo, a_hi, b_lo, b_hi);
+        if (outside_shaft(shaft, q, &lines)) continue;
+        return 0;
+    }
+    return 1;
+}
+
+size_t rad_ff_shaft_occluders(const rad_ff_shaft *shaft) {
+    return shaft ? shaft->polygon_count : 0;
+}

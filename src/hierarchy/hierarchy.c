@@ -20,6 +20,10 @@
 #define DEFAULT_LINK_ERROR RAD_HIER_DEFAULT_LINK_ERROR
 #define DEFAULT_MIN_AREA 1e-6
 #define MAX_DEPTH 24
+/* Polygon links test visibility with shaft culling first (make_link) on scenes of at most this
+ * many occluders (polygons gathered by plane, formfactor/shaft.c): each test visits every
+ * occluder. */
+#define SHAFT_OCCLUDERS 64
 #define PARALLEL_MIN 256 /* loops shorter than this run on one thread */
 #define LEAF_CLUSTER 4   /* roots in a leaf cluster, at most */
 #define UNKNOWN_ERROR FLT_MAX /* the bound of a link that must be refined before it is trusted */
@@ -96,6 +100,7 @@ struct rad_hier {
     uint32_t salt; /* from the context's seed, added to every link's stream (link_hash); 0 for seed 0 */
     const rad_scene *scene;
     rad_rays *rays;
+    rad_ff_shaft *shaft; /* shaft culling for polygon links (make_link); NULL on large scenes */
     rad_hier_node *nodes;
     size_t node_count, node_capacity, root_count;
     uint32_t *polygon_root_first, *polygon_root_count; /* into polygon_roots */
@@ -473,12 +478,24 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
      * where the scene puts them for every link alike. The generated office's floor tiles have
      * theirs in the shadow of their own desk, which covers a small part of the tile, and the
      * floor took 0.88 of the lamps' light (test_desk_shadows: -13%). */
-    int partial;
+    int partial = 0;
     rad_vec3 xv[4];
-    rn = visibility_points(r, link_hash(h, receiver, source, 3), xv);
-    sn = visibility_points(s, link_hash(h, receiver, source, 2), y);
     uint8_t seen[16];
-    double fraction = visible_pairs(h, xv, rn, y, sn, &partial, seen);
+    double fraction = 1;
+    /* A link that shaft culling proves clear (no polygon can block a segment between its two
+     * nodes; small scenes, h->shaft) casts no rays: they would all arrive, and its estimate
+     * below takes every pair as seen, as their rays would. Not quite all: a ray that meets its
+     * source's plane at a grazing angle can hit that polygon short of its end point, which
+     * made 62 of the 56,939 clear links of the Cornell box (at link error 5e-6) partly hidden.
+     * Its solve takes a fifth less processor time (0.74 -> 0.60 s); the render's block errors
+     * moved by 0.0005 points at most. */
+    const int clear = h->shaft && rad_ff_shaft_pair_clear(h->shaft, r->corner, r->corner_count,
+                                                          s->corner, s->corner_count);
+    if (!clear) {
+        rn = visibility_points(r, link_hash(h, receiver, source, 3), xv);
+        sn = visibility_points(s, link_hash(h, receiver, source, 2), y);
+        fraction = visible_pairs(h, xv, rn, y, sn, &partial, seen);
+    }
     out->receiver = receiver;
     out->source = source;
     out->sample = RAD_HIER_NO_NODE;
@@ -532,7 +549,12 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
             int blocked;
             rn = visibility_points(r, link_hash(h, receiver, source, 3 + 0x100u * (uint32_t)batch), xv);
             sn = visibility_points(s, link_hash(h, receiver, source, 2 + 0x100u * (uint32_t)batch), y);
-            visible_pairs(h, xv, rn, y, sn, &blocked, seen);
+            if (clear) {
+                blocked = 0;
+                memset(seen, 1, sizeof seen);
+            } else {
+                visible_pairs(h, xv, rn, y, sn, &blocked, seen);
+            }
             partial |= blocked;
             kernel_weighed(xv, rn, y, sn, nr, ns, seen, &set_all[batch], &set_visible[batch]);
             all += set_all[batch];
@@ -2614,6 +2636,11 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     }
     if (!status && h->light && o.light_split) status = split_by_light(h);
     if (!status) status = rad_rays_create(ctx, scene, &h->rays);
+    if (!status) status = rad_ff_shaft_create(ctx, scene, NULL, &h->shaft);
+    if (!status && rad_ff_shaft_occluders(h->shaft) > SHAFT_OCCLUDERS) {
+        rad_ff_shaft_destroy(h->shaft);
+        h->shaft = NULL;
+    }
     if (status) {
         rad_hier_destroy(h);
         return status;
@@ -2629,6 +2656,7 @@ void rad_hier_destroy(rad_hier *h) {
     if (!h) return;
     rad_context *ctx = h->ctx;
     rad_rays_destroy(h->rays);
+    rad_ff_shaft_destroy(h->shaft);
     rad_free(ctx, h->nodes);
     rad_free(ctx, h->polygon_root_first);
     rad_free(ctx, h->polygon_root_count);
