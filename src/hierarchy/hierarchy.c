@@ -542,9 +542,16 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
          * the same to 0.01 % in every block size (seeds 0, 1) for 8 % more processor time. */
         const double *emission = h->emission[s->polygon];
         int emits = !h->source_depth && (emission[0] > 0 || emission[1] > 0 || emission[2] > 0);
+        /* On a small scene's fine leaves (source_depth) a partly hidden link takes SEEN_BATCHES
+         * whatever its deciding set saw, for the reason emitters do not take more there: the
+         * light arrives over many small links whose noise averages out. The hierarchical
+         * Cornell render's mean and block errors came out the same to 0.001 points at seeds 0-3
+         * (8x8 0.4268% against 0.4269%) for 4% less processor time (docs/hierarchical.md,
+         * "Twenty-second session"). */
         int sets = !partial ? 2
                    : emits ? EMITTER_BATCHES
-                   : first_seen >= MOSTLY_SEEN * first_all ? SEEN_BATCHES : PARTIAL_BATCHES;
+                   : h->source_depth || first_seen >= MOSTLY_SEEN * first_all ? SEEN_BATCHES
+                                                                             : PARTIAL_BATCHES;
         double all = 0, visible = 0, set_all[EMITTER_BATCHES] = {0}, set_visible[EMITTER_BATCHES] = {0};
         for (int batch = 1; batch < sets; ++batch) {
             int blocked;
