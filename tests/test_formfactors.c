@@ -137,15 +137,15 @@ static void test_point_polygon(void) {
     CHECK_NEAR(f, 0.5, 1e-6);
 }
 
-/* Many points at once give each point's own factor to the bit: random points below random
- * polygons (3 to 8 corners, flat and convex, or warped) facing down, with random tilts: wholly
- * seen, clipped by the point's plane, or behind the polygon; one to eight at a time. */
 /* A number in [0, 1) from a 64-bit linear congruential state. */
 static double uniform01(uint64_t *state) {
     *state = *state * 6364136223846793005ull + 1442695040888963407ull;
     return (double)(*state >> 11) * (1.0 / 9007199254740992.0);
 }
 
+/* Many points at once give each point's own factor to the bit: random points below random
+ * polygons (3 to 8 corners, flat and convex, or warped) facing down, with random tilts: wholly
+ * seen, clipped by the point's plane, or behind the polygon; one to eight at a time. */
 static void test_point_polygon_many(void) {
     uint64_t state = 12345;
     int differ = 0, clipped = 0, whole = 0, behind = 0;
