@@ -157,9 +157,7 @@ static void test_point_polygon_many(void) {
             double angle = -2 * RAD_PI * k / corners; /* clockwise from +z: its front faces -z */
             polygon[k] = v3(cos(angle), sin(angle), 1 + warp * (uniform01(&state) - 0.5));
         }
-        rad_vec3 front = v3(0, 0, 0);
-        for (int k = 0; k < corners; ++k)
-            front = v3_add(front, v3_cross(polygon[k], polygon[(k + 1) % corners]));
+        rad_vec3 front = rad_ff_polygon_front(polygon, corners);
         double nx = 2 * uniform01(&state) - 1, ny = 2 * uniform01(&state) - 1;
         rad_vec3 points[8], n = v3_normalize(v3(nx, ny, 1));
         int count = 1 + (int)(uniform01(&state) * 8);
@@ -707,12 +705,16 @@ static rad_vec3 quad_point(const rad_vec3 c[4], double u, double v) {
  * see each other along every ray between them (a ray may end on its own target's polygon short
  * of the point, at grazing angles: those hits are not occlusion and are not counted), and it
  * calls clear a good share of the pairs. */
+static int shaft_made(rad_context *ctx, const rad_scene *scene, rad_ff_shaft **shaft) {
+    return rad_ff_shaft_create(ctx, scene, NULL, RAD_FF_SHAFT_OCCLUDERS, shaft) == RAD_OK && *shaft;
+}
+
 static void test_shaft_pairs(rad_context *ctx) {
     rad_scene *scene = NULL;
     rad_scene_builtin(ctx, "cornell", &scene);
     rad_ff_shaft *shaft = NULL;
     rad_rays *rays = NULL;
-    CHECK(scene && rad_ff_shaft_create(ctx, scene, NULL, &shaft) == RAD_OK && shaft);
+    CHECK(scene && shaft_made(ctx, scene, &shaft));
     CHECK(scene && rad_rays_create(ctx, scene, &rays) == RAD_OK);
     if (!scene || !shaft || !rays) goto done;
     uint64_t state = 99;

@@ -109,7 +109,8 @@ rad_status rad_ff_context_build(rad_context *ctx, const rad_scene *scene, const 
     }
     rad_status status = rad_rays_create(ctx, scene, &out->rays);
     if (!status) status = rad_ff_patches_create(ctx, mesh, &out->patches, &out->max_members);
-    if (!status && cull) status = rad_ff_shaft_create(ctx, scene, mesh, &out->shaft);
+    if (!status && cull)
+        status = rad_ff_shaft_create(ctx, scene, mesh, RAD_FF_SHAFT_OCCLUDERS, &out->shaft);
     if (!status) {
         out->element_radius = rad_alloc(ctx, mesh->element_count ? mesh->element_count : 1,
                                         sizeof *out->element_radius);

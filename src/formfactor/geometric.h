@@ -340,10 +340,13 @@ static inline void rad_ff_queue_ray(rad_ff_ray_queue *queue, const rad_rays *ray
 /* ------------------------------------------------------------------------------------------- */
 /* Shaft culling (Haines & Wallace 1991), shaft.c                                               */
 
-/* Built once per provider; NULL (and RAD_OK) when the scene has too many polygons for the
- * pairwise tables. */
+/* Built once per provider (and per hierarchy); NULL (and RAD_OK) when the scene's polygons make
+ * more than `most` occluders (polygons gathered by plane): the pairwise tables grow as its
+ * square. The row methods take RAD_FF_SHAFT_OCCLUDERS. `mesh` is needed only by
+ * rad_ff_shaft_clear. */
+#define RAD_FF_SHAFT_OCCLUDERS 512
 rad_status rad_ff_shaft_create(rad_context *ctx, const struct rad_scene *scene,
-                               const rad_mesh *mesh, rad_ff_shaft **out);
+                               const rad_mesh *mesh, size_t most, rad_ff_shaft **out);
 void rad_ff_shaft_destroy(rad_ff_shaft *shaft);
 
 /* What culling keeps for one shooting patch, one view for each row in flight. NULL without a
@@ -368,13 +371,10 @@ int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_shaft_view 
 
 /* Nonzero when no input polygon can block any segment between a point of the convex hull of
  * a[0 .. na) and one of b[0 .. nb) (na, nb at most 4), with no view: every occluder is tested
- * (the plane, box and shaft tests above), so the cost grows with the occluder count
- * (rad_ff_shaft_occluders). For a hierarchy's links, whose ends are its nodes. Thread safe;
- * a NULL shaft clears nothing. */
+ * (the plane, box and shaft tests above), so the cost grows with the occluder count. For a
+ * hierarchy's links, whose ends are its nodes. Thread safe; a NULL shaft clears nothing. */
 int rad_ff_shaft_pair_clear(const rad_ff_shaft *shaft, const rad_vec3 *a, int na,
                             const rad_vec3 *b, int nb);
-/* How many occluders (polygons gathered by plane) the shaft tests; 0 for NULL. */
-size_t rad_ff_shaft_occluders(const rad_ff_shaft *shaft);
 
 /* ------------------------------------------------------------------------------------------- */
 /* The frame of a row (factory.c): what analytic.c, raycast.c and montecarlo.c share around their

@@ -8,10 +8,7 @@
 #include <string.h>
 
 double rad_ff_point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *polygon, int count) {
-    rad_vec3 front = v3(0, 0, 0);
-    for (int i = 0; i < count; ++i)
-        front = v3_add(front, v3_cross(polygon[i], polygon[(i + 1) % count]));
-    return rad_ff_point_polygon_front(x, n, polygon, count, front);
+    return rad_ff_point_polygon_front(x, n, polygon, count, rad_ff_polygon_front(polygon, count));
 }
 
 int rad_ff_piece_quadrature(const rad_ff_piece *piece, rad_vec3 out[4]) {

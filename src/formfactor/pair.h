@@ -63,6 +63,15 @@ static inline double rad_ff_angle_from(double y, double x) {
     return x < 0 ? RAD_PI - a : a;
 }
 
+/* A polygon's front normal from its corners' order (twice its area in length when flat): the sum
+ * of v_i x v_i+1, which rad_ff_point_polygon_front takes. */
+static inline rad_vec3 rad_ff_polygon_front(const rad_vec3 *polygon, int count) {
+    rad_vec3 front = v3(0, 0, 0);
+    for (int i = 0; i < count; ++i)
+        front = v3_add(front, v3_cross(polygon[i], polygon[(i + 1) % count]));
+    return front;
+}
+
 /* F(dA at x with normal n -> polygon), the contour integral, for a polygon whose front normal
  * (any length) is known:
  *     F = 1 / (2 pi) * sum_i  angle(r_i, r_i+1) * n . unit(r_i x r_i+1),   r_i = v_i - x,
@@ -116,11 +125,11 @@ static inline double rad_ff_point_polygon_front(rad_vec3 x, rad_vec3 n, const ra
 static inline void rad_ff_point_polygon_front_many(const rad_vec3 *points, int count, rad_vec3 n,
                                                    const rad_vec3 *polygon, int corners,
                                                    rad_vec3 front, double *out) {
+    for (int k = 0; k < count; ++k) out[k] = 0;
+    if (corners < 3 || corners > RAD_FF_PAIR_MAX_CORNERS) return;
     double px[RAD_FF_MANY], py[RAD_FF_MANY], pz[RAD_FF_MANY];
     int slot[RAD_FF_MANY], lanes = 0;
     for (int k = 0; k < count; ++k) {
-        out[k] = 0;
-        if (corners < 3 || corners > RAD_FF_PAIR_MAX_CORNERS) continue;
         rad_vec3 x = points[k];
         if (v3_dot(front, v3_sub(x, polygon[0])) <= 0) continue;
         int whole = 1;
@@ -221,16 +230,16 @@ static inline void rad_ff_contour_quads(const rad_vec3 *q, int m, const double *
 static inline double rad_ff_pair_mean_factor(const rad_vec3 *points, int count, rad_vec3 n,
                                              const rad_vec3 *polygon, int corners,
                                              rad_vec3 front, double *low, double *high) {
-    double sum = 0, lo = INFINITY, hi = 0, f[RAD_FF_MANY];
-    for (int k = 0; k < count; ++k) {
-        if (k % RAD_FF_MANY == 0) {
-            int batch = count - k < RAD_FF_MANY ? count - k : RAD_FF_MANY;
-            rad_ff_point_polygon_front_many(points + k, batch, n, polygon, corners, front, f);
+    double sum = 0, lo = INFINITY, hi = 0;
+    for (int start = 0; start < count; start += RAD_FF_MANY) {
+        double f[RAD_FF_MANY];
+        int batch = count - start < RAD_FF_MANY ? count - start : RAD_FF_MANY;
+        rad_ff_point_polygon_front_many(points + start, batch, n, polygon, corners, front, f);
+        for (int k = 0; k < batch; ++k) {
+            sum += f[k];
+            lo = fmin(lo, f[k]);
+            hi = fmax(hi, f[k]);
         }
-        double f_k = f[k % RAD_FF_MANY];
-        sum += f_k;
-        lo = fmin(lo, f_k);
-        hi = fmax(hi, f_k);
     }
     if (low) *low = lo;
     if (high) *high = hi;

@@ -20,8 +20,9 @@
  * Per shooting patch (rad_ff_shaft_begin) the plane test is made against every receiving
  * occluder R as a whole, giving for each R a short list of candidate occluders; per element
  * (rad_ff_shaft_clear) the candidates of its plane are tested against the element itself. The
- * pairwise side table costs occluders^2 bytes, so scenes of more than SHAFT_MAX_OCCLUDERS planes
- * (curved meshes) skip culling and every pair is ray tested. */
+ * pairwise side table costs occluders^2 bytes, so scenes of more than RAD_FF_SHAFT_OCCLUDERS
+ * planes (curved meshes) skip culling and every pair is ray tested; a hierarchy, which tests
+ * every occluder for each link (rad_ff_shaft_pair_clear), asks for fewer. */
 #include "formfactor/geometric.h"
 
 #include "scene/scene.h"
@@ -29,7 +30,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SHAFT_MAX_OCCLUDERS 512
 #define OCCLUDER_CORNERS 64 /* at most, so planes of many polygons make several occluders */
 
 enum { SIDE_FRONT = 1, SIDE_BACK = 2 };
@@ -132,11 +132,13 @@ static int by_plane(const void *a, const void *b) {
 }
 
 rad_status rad_ff_shaft_create(rad_context *ctx, const rad_scene *scene, const rad_mesh *mesh,
-                               rad_ff_shaft **out) {
+                               size_t most, rad_ff_shaft **out) {
     *out = NULL;
     const size_t polygons = scene->polygon_count;
-    /* An occluder holds at most OCCLUDER_CORNERS / 3 polygons: more cannot fit the tables. */
-    if (polygons == 0 || polygons > (size_t)SHAFT_MAX_OCCLUDERS * (OCCLUDER_CORNERS / 3)) return RAD_OK;
+    /* An occluder holds at most OCCLUDER_CORNERS / 3 polygons: so many polygons make more
+     * occluders than `most`. */
+    const size_t per_occluder = OCCLUDER_CORNERS / 3;
+    if (polygons == 0 || (polygons + per_occluder - 1) / per_occluder > most) return RAD_OK;
     rad_vec3 scene_lo, scene_hi;
     rad_scene_bounds(scene, &scene_lo, &scene_hi);
     const double base = 1e-6 * v3_length(v3_sub(scene_hi, scene_lo));
@@ -202,7 +204,7 @@ rad_status rad_ff_shaft_create(rad_context *ctx, const rad_scene *scene, const r
         corners_in += polygon->count;
         corner_total += polygon->count;
     }
-    if (n > SHAFT_MAX_OCCLUDERS) {
+    if (n > most) {
         rad_free(ctx, fit);
         rad_free(ctx, order);
         rad_free(ctx, occluder_of);
@@ -376,6 +378,20 @@ void rad_ff_shaft_begin(const rad_ff_shaft *shaft, rad_ff_shaft_view *view,
     view->candidate_first[n] = used;
 }
 
+/* The box of points p[0 .. count). */
+static void points_box(const rad_vec3 *p, int count, double lo[3], double hi[3]) {
+    for (int axis = 0; axis < 3; ++axis) {
+        lo[axis] = INFINITY;
+        hi[axis] = -INFINITY;
+    }
+    for (int k = 0; k < count; ++k)
+        for (int axis = 0; axis < 3; ++axis) {
+            double value = v3_get(p[k], axis);
+            lo[axis] = value < lo[axis] ? value : lo[axis];
+            hi[axis] = value > hi[axis] ? value : hi[axis];
+        }
+}
+
 /* The test for a convex receiver with these corners, lying in input polygon r. */
 static int clear_to(const rad_ff_shaft *shaft, const rad_ff_shaft_view *view, uint32_t r, const rad_vec3 *corners, int count) {
     uint32_t first = view->candidate_first[r], last = view->candidate_first[r + 1];
@@ -396,14 +412,8 @@ static int clear_to(const rad_ff_shaft *shaft, const rad_ff_shaft_view *view, ui
         if (lines.count < 0) {
             double a_lo[3] = {view->patch_lo.x, view->patch_lo.y, view->patch_lo.z};
             double a_hi[3] = {view->patch_hi.x, view->patch_hi.y, view->patch_hi.z};
-            double b_lo[3] = {INFINITY, INFINITY, INFINITY};
-            double b_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-            for (int k = 0; k < count; ++k)
-                for (int axis = 0; axis < 3; ++axis) {
-                    double value = v3_get(corners[k], axis);
-                    b_lo[axis] = value < b_lo[axis] ? value : b_lo[axis];
-                    b_hi[axis] = value > b_hi[axis] ? value : b_hi[axis];
-                }
+            double b_lo[3], b_hi[3];
+            points_box(corners, count, b_lo, b_hi);
             shaft_lines_make(&lines, a_lo, a_hi, b_lo, b_hi);
         }
         if (outside_shaft(shaft, q, &lines)) continue;
@@ -427,20 +437,6 @@ int rad_ff_shaft_clear_patch(const rad_ff_shaft *shaft, const rad_ff_shaft_view 
     return clear_to(shaft, view, shaft->occluder_of[polygon], receiver->corners, receiver->corner_count);
 }
 
-/* The box of points p[0 .. count). */
-static void points_box(const rad_vec3 *p, int count, double lo[3], double hi[3]) {
-    for (int axis = 0; axis < 3; ++axis) {
-        lo[axis] = INFINITY;
-        hi[axis] = -INFINITY;
-    }
-    for (int k = 0; k < count; ++k)
-        for (int axis = 0; axis < 3; ++axis) {
-            double value = v3_get(p[k], axis);
-            lo[axis] = value < lo[axis] ? value : lo[axis];
-            hi[axis] = value > hi[axis] ? value : hi[axis];
-        }
-}
-
 int rad_ff_shaft_pair_clear(const rad_ff_shaft *shaft, const rad_vec3 *a, int na,
                             const rad_vec3 *b, int nb) {
     if (!shaft || na < 1 || nb < 1 || na > 4 || nb > 4) return 0;
@@ -460,8 +456,4 @@ int rad_ff_shaft_pair_clear(const rad_ff_shaft *shaft, const rad_vec3 *a, int na
         return 0;
     }
     return 1;
-}
-
-size_t rad_ff_shaft_occluders(const rad_ff_shaft *shaft) {
-    return shaft ? shaft->polygon_count : 0;
 }

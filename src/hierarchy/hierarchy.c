@@ -453,12 +453,9 @@ static int make_link(const rad_hier *h, uint32_t receiver, uint32_t source, rad_
     for (int k = 0; k < r->corner_count; ++k) x[rn + k] = v3_lerp(r->corner[k], centre, 0.01);
     /* Lambert's contour integral from each of those points to the source polygon, all in one
      * call (its front from the corners' order, as rad_ff_point_polygon takes it). */
-    rad_vec3 front = v3(0, 0, 0);
-    for (int i = 0; i < s->corner_count; ++i)
-        front = v3_add(front, v3_cross(s->corner[i], s->corner[(i + 1) % s->corner_count]));
     double f[8];
     rad_ff_point_polygon_front_many(x, rn + r->corner_count, nr, s->corner, s->corner_count,
-                                    front, f);
+                                    rad_ff_polygon_front(s->corner, s->corner_count), f);
     double sum = 0, lo = INFINITY, hi = 0;
     for (int i = 0; i < rn; ++i) {
         sum += f[i];
@@ -2639,11 +2636,7 @@ rad_status rad_hier_create_from(rad_context *ctx, const rad_scene *scene,
     }
     if (!status && h->light && o.light_split) status = split_by_light(h);
     if (!status) status = rad_rays_create(ctx, scene, &h->rays);
-    if (!status) status = rad_ff_shaft_create(ctx, scene, NULL, &h->shaft);
-    if (!status && rad_ff_shaft_occluders(h->shaft) > SHAFT_OCCLUDERS) {
-        rad_ff_shaft_destroy(h->shaft);
-        h->shaft = NULL;
-    }
+    if (!status) status = rad_ff_shaft_create(ctx, scene, NULL, SHAFT_OCCLUDERS, &h->shaft);
     if (status) {
         rad_hier_destroy(h);
         return status;
