@@ -1361,7 +1361,8 @@ static void test_interrupted_refinement(void) {
  * up, rho 0.5) against the exact 0.5 sum_f B_f F(tile -> f) over `count` emitting polygons
  * `corners` corners each that nothing hides from the floor (the contour integral at 8 x 8
  * points of each tile): the floor's mean over the exact mean, less 1, the tiles' RMS relative
- * error and the worst. */
+ * error and the worst; with tile_solved, each tile's solved and exact radiosity there and in
+ * tile_exact. */
 static double tiles_against_exact(const rad_hier *h, int n, rad_vec3 (*polygon)[4], int corners,
                                   const double *emission, int count, double *rms, double *worst,
                                   double *tile_solved, double *tile_exact) {
