@@ -683,8 +683,10 @@ static projection project(const rad_hier *h, uint32_t index, rad_vec3 w, double 
     return p;
 }
 
-/* Four points on a node's surfaces for visibility rays toward unit direction w, from `seed`:
- * a polygon node's jittered points; for a cluster,
+/* Points on a node's surfaces for visibility rays toward unit direction w, from `seed`, one in
+ * each of the strata first, first + stride, ... (`walks` of them, at most WALKS; stratum k is
+ * quarter k of the node or member drawn, and its point is the same whichever others are asked
+ * for): a polygon node's jittered points; for a cluster,
  * points on members reached by a fixed pseudo-random walk (seeded by the pair) down it that
  * picks each child in proportion to its projected area toward w (members facing away, whose own
  * bodies would block the rays, are not sampled), with the member (members[k]) and the
@@ -717,9 +719,7 @@ static inline float facing_weight(float f, float s) {
     return f > -s ? (f + s) * (f + s) / (4 * s) : 0;
 }
 
-/* sample_points' walks (and a polygon node's points) for strata first, first + stride, ...:
- * `walks` of them, each the very point the full set of WALKS draws for its stratum. */
-static void sample_strata(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
+static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
                           rad_vec3 *out, uint32_t *members, double *probability, float slack,
                           int walks, int first, int stride) {
     if (!is_cluster(&h->nodes[index])) {
@@ -792,11 +792,6 @@ static void sample_strata(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_
         members[k] = root[k];
         probability[k] = chance[k];
     }
-}
-
-static void sample_points(const rad_hier *h, uint32_t index, rad_vec3 w, uint32_t seed,
-                          rad_vec3 *out, uint32_t *members, double *probability, float slack) {
-    sample_strata(h, index, w, seed, out, members, probability, slack, WALKS, 0, 1);
 }
 
 /* A sampled member's projected area along `ray` (from the other end toward the member, length
@@ -968,33 +963,27 @@ static int estimate_cluster_link(const rad_hier *h, rad_vec3 w, double upper, do
     const uint32_t receiver_seed = link_hash(h, receiver, source, 1 + stream);
     const uint32_t source_seed = link_hash(h, receiver, source, 2 + stream);
     const rad_vec3 back = v3_scale(w, -1);
-    int pairs = 4;
-    if (two) {
-        /* Strata j and j + 2 of both ends (j drawn per link), the receiver's two quadrature
-         * points of a triangle drawn among its three pairs of them: each of the four pairs (or
-         * three points) is in the estimate with the same chance, so the mean is unbiased. */
-        const uint32_t bits = link_hash(h, receiver, source, 5 + stream) >> 8;
-        const int j = (int)(bits & 1);
-        pairs = 2;
-        if (is_cluster(nr))
-            sample_strata(h, receiver, w, receiver_seed, x, receiver_member, receiver_chance, 0, 2,
-                          j, 2);
-        else {
-            rad_vec3 q[4];
-            int n = quadrature_points(nr, q);
-            if (n == 4) x[0] = q[j], x[1] = q[j + 2];
-            else if (n == 3) x[0] = q[bits % 3], x[1] = q[(bits + 1) % 3];
-            else x[0] = q[0], pairs = 1;
-        }
-        sample_strata(h, source, back, source_seed, y, source_member, source_chance, (float)slack,
-                      pairs, j, 2);
-    } else {
-        if (is_cluster(nr))
-            sample_points(h, receiver, w, receiver_seed, x, receiver_member, receiver_chance, 0);
-        else
-            pairs = quadrature_points(nr, x);
-        sample_points(h, source, back, source_seed, y, source_member, source_chance, (float)slack);
+    /* With `two`, strata j and j + 2 of both ends (j drawn per link), a triangle receiver's two
+     * quadrature points drawn among its three pairs of them: each of the four pairs (or three
+     * points) is in the estimate with the same chance, so the mean is unbiased. */
+    const uint32_t bits = two ? link_hash(h, receiver, source, 5 + stream) >> 8 : 0;
+    const int first = (int)(bits & 1), stride = two ? 2 : 1, walks = two ? 2 : WALKS;
+    int pairs = walks;
+    if (is_cluster(nr))
+        sample_points(h, receiver, w, receiver_seed, x, receiver_member, receiver_chance, 0, walks,
+                      first, stride);
+    else if (!two)
+        pairs = quadrature_points(nr, x);
+    else {
+        rad_vec3 q[4];
+        int n = quadrature_points(nr, q);
+        if (n == 4) x[0] = q[first], x[1] = q[first + 2];
+        else if (n == 3) x[0] = q[bits % 3], x[1] = q[(bits + 1) % 3];
+        else x[0] = q[0], pairs = 1;
     }
+    /* Without `two` the source always takes its four points (a partly hidden link turns them). */
+    sample_points(h, source, back, source_seed, y, source_member, source_chance, (float)slack,
+                  two ? pairs : WALKS, first, stride);
     if (partial) {
         /* Receiver point k is in quarter k of its node or member (the quadrature's order,
          * visibility_point's strata), and so is source point k: paired k with k, the rays join
