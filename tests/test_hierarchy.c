@@ -21,13 +21,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-static rad_context *context(int threads) {
+/* A context of `threads` threads whose random streams start from `seed` (0: the default). */
+static rad_context *seeded_context(int threads, uint64_t seed) {
     rad_context_options options = {0};
     options.threads = threads;
+    options.seed = seed;
     rad_context *ctx = NULL;
     CHECK(rad_context_create(&options, &ctx) == RAD_OK);
     return ctx;
 }
+
+static rad_context *context(int threads) { return seeded_context(threads, 0); }
 
 /* A surface of its own material: reflectance rho, emitted radiosity b (B = pi L). */
 static uint32_t add_surface(rad_scene *scene, const char *name, double rho, double b) {
@@ -272,11 +276,7 @@ static void test_shadow_edges(void) {
 
 /* The same bits for one and two threads, through the public solver; `seed` is the context's. */
 static void solve_cornell(int threads, uint64_t seed, rad_rgb **radiosity, size_t *count, int *rounds) {
-    rad_context_options context_options = {0};
-    context_options.threads = threads;
-    context_options.seed = seed;
-    rad_context *ctx = NULL;
-    CHECK(rad_context_create(&context_options, &ctx) == RAD_OK);
+    rad_context *ctx = seeded_context(threads, seed);
     rad_scene *scene = NULL;
     CHECK(rad_builtin_geometry(ctx, "cornell", &scene) == RAD_OK);
     rad_system *system = NULL;
@@ -976,11 +976,7 @@ static void test_importance(void) {
  * over eight seeds: each within 5% of the exact mean, their mean within 2.5%. (The earlier
  * note, 16 rays 11% too dark and 64 rays 3%, came from one seed each.) */
 static double opening_floor(uint64_t seed, double link_error, size_t *links) {
-    rad_context_options context_options = {0};
-    context_options.threads = 2;
-    context_options.seed = seed;
-    rad_context *ctx = NULL;
-    CHECK(rad_context_create(&context_options, &ctx) == RAD_OK);
+    rad_context *ctx = seeded_context(2, seed);
     rad_scene *scene = NULL;
     CHECK(rad_scene_new(ctx, 1, "opening", &scene) == RAD_OK);
     uint32_t sky = add_surface(scene, "sky", 0, 10), ceiling = add_surface(scene, "ceiling", 0, 0);
@@ -1398,11 +1394,7 @@ static double tiles_against_exact(const rad_hier *h, int n, rad_vec3 (*polygon)[
  * tile). At link error `link_error` most far tiles keep links from clusters. */
 static double icosahedron_floor(uint64_t seed, double link_error, double *worst,
                                 size_t *cluster_links, double *tile_solved, double *tile_exact) {
-    rad_context_options context_options = {0};
-    context_options.threads = 2;
-    context_options.seed = seed;
-    rad_context *ctx = NULL;
-    CHECK(rad_context_create(&context_options, &ctx) == RAD_OK);
+    rad_context *ctx = seeded_context(2, seed);
     rad_scene *scene = NULL;
     CHECK(rad_scene_new(ctx, 1, "icosahedron", &scene) == RAD_OK);
     uint32_t floor_surface = add_surface(scene, "floor", 0.5, 0);
