@@ -333,6 +333,68 @@ static void test_lamp_sampling(const rad_scene *scene, const rad_system *system)
     rad_renderer_destroy(r);
 }
 
+/* The element of `surface` whose centroid is nearest `at`. */
+static uint32_t element_near_point(const rad_renderer *r, const char *surface, rad_vec3 at) {
+    uint32_t best = UINT32_MAX;
+    double nearest = INFINITY;
+    for (size_t e = 0; e < r->mesh->element_count; ++e) {
+        if (strcmp(r->system->surface_name[r->mesh->element_surface[e]], surface) != 0) continue;
+        double d = v3_length(v3_sub(r->mesh->element_centroid[e], at));
+        if (d < nearest) {
+            nearest = d;
+            best = (uint32_t)e;
+        }
+    }
+    return best;
+}
+
+/* Whether a gather ray of length `sizes` element sizes onto element e is gathered again. */
+static int regathered(const rad_renderer *r, uint32_t e, double sizes) {
+    rad_gather_origin from = {v3(0, -1, 0), 1, 4, 0, 0, 64, NULL, 4.0, NULL};
+    rad_element_hit hit = {sizes * sqrt(r->mesh->element_area[e]), e, 0.5, 0.5, 1};
+    return rad_gather_is_short(r, &from, &hit);
+}
+
+/* Short gather rays (within 4 element sizes) are gathered again at their hit only where the
+ * light varies inside the element they meet (final_gather.c): near another surface, or in a
+ * penumbra; elsewhere only within half an element. In the Cornell box the ceiling never sees
+ * the lamp (even): its element touching the back wall is near a surface, one 100 mm from the
+ * walls and the lamp is not; some floor elements lie in the blocks' penumbras. A test that
+ * only counted near surfaces, or only penumbras, fails one of the checks. */
+static void test_regather_choice(const rad_scene *scene, const rad_system *system) {
+    rad_render_options options = {0};
+    options.width = options.height = 8;
+    options.final_gather = 4;
+    rad_renderer *r = NULL;
+    CHECK(rad_renderer_create(scene, system, &options, &r) == RAD_OK);
+    if (!r) return;
+    CHECK(r->regather.by_light);
+    uint32_t open = element_near_point(r, "ceiling", v3(100, 548.8, 450));
+    uint32_t corner = element_near_point(r, "ceiling", v3(278, 548.8, 559.2));
+    CHECK(open != UINT32_MAX && corner != UINT32_MAX);
+    if (open == UINT32_MAX || corner == UINT32_MAX) {
+        rad_renderer_destroy(r);
+        return;
+    }
+    CHECK(!rad_penumbra_element_uneven(r, open) && !rad_penumbra_element_uneven(r, corner));
+    CHECK(!regathered(r, open, 2));
+    CHECK(regathered(r, open, 0.25));
+    CHECK(!regathered(r, open, 5));
+    CHECK(regathered(r, corner, 2));
+    CHECK(!regathered(r, corner, 5));
+    size_t uneven = 0, again = 0;
+    for (size_t e = 0; e < r->mesh->element_count; ++e) {
+        if (strcmp(r->system->surface_name[r->mesh->element_surface[e]], "floor") != 0) continue;
+        if (!rad_penumbra_element_uneven(r, (uint32_t)e)) continue;
+        ++uneven;
+        again += (size_t)regathered(r, (uint32_t)e, 3);
+    }
+    printf("re-gather: %zu unevenly lit floor elements, %zu gathered again from 3 sizes\n",
+           uneven, again);
+    CHECK(uneven > 0 && again == uneven);
+    rad_renderer_destroy(r);
+}
+
 /* Pixels against the outside are measured along scan lines (render.c, scan_coverage): an
  * emitting square (reflectance 0, radiance L) whose slanted edge crosses a column of pixels
  * against the black beyond shows each such pixel at L times the share of it the square covers,
@@ -857,6 +919,7 @@ int main(void) {
         test_threads(cornell);
         test_edge_pixels(cornell, system);
         test_lamp_sampling(cornell, system);
+        test_regather_choice(cornell, system);
         test_solution_view(ctx, cornell);
     }
     test_second_pass();

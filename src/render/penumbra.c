@@ -13,11 +13,15 @@
  * this test, never their weight, so the estimate stays unbiased whatever it misses (a small
  * occluder between the test points). Deterministic: the same for any thread count.
  *
- * Only the corners' elements are tested, each once, after the corners are traced (render.c,
- * mark_uneven): until arcade2 every element was, before the picture, though no other element's
- * answer was read (Sponza's 209,507 hierarchy leaves, up to 45 shadow rays each, against its
- * 19,481 pixel corners). */
+ * The final gather also asks, for the elements its short rays meet (final_gather.c: only onto
+ * unevenly lit elements, or elements near another surface, are they gathered again from afar).
+ * Each element is tested once, when first asked, and the answer kept (element_uneven): until
+ * arcade2 every element was, before the picture, though no other element's answer was read
+ * (Sponza's 209,507 hierarchy leaves, up to 45 shadow rays each, against its 19,481 pixel
+ * corners). */
 #include "render/render.h"
+
+#include <stdatomic.h>
 
 #define LAMP_GRID 3     /* lamp points per side on a one-entry table */
 #define LAMP_SPREAD RAD_PENUMBRA_LAMPS /* lamp points on a larger table */
@@ -70,3 +74,18 @@ int rad_penumbra_uneven(const rad_renderer *r, uint32_t e, const rad_vec3 *lamp,
     return 0;
 }
 
+
+rad_status rad_penumbra_prepare(rad_renderer *r) {
+    r->penumbra_lamps = rad_penumbra_lamps(r, r->penumbra_lamp);
+    r->element_uneven = rad_alloc_zero(r->ctx, r->mesh->element_count + 1, sizeof *r->element_uneven);
+    return r->element_uneven ? RAD_OK : RAD_ERROR_NO_MEMORY;
+}
+
+/* Two threads that ask at once both test and store the same answer. */
+int rad_penumbra_element_uneven(const rad_renderer *r, uint32_t e) {
+    uint8_t known = atomic_load_explicit(&r->element_uneven[e], memory_order_relaxed);
+    if (known) return known == 2;
+    int uneven = rad_penumbra_uneven(r, e, r->penumbra_lamp, r->penumbra_lamps);
+    atomic_store_explicit(&r->element_uneven[e], (uint8_t)(1 + uneven), memory_order_relaxed);
+    return uneven;
+}

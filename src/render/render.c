@@ -52,6 +52,10 @@ static void leaves_free(rad_renderer *r) {
     r->corner_radiance = NULL;
     rad_free(ctx, r->corner_collocated);
     r->corner_collocated = NULL;
+    rad_free(ctx, (void *)r->element_uneven);
+    r->element_uneven = NULL;
+    rad_free(ctx, (void *)r->element_near);
+    r->element_near = NULL;
     r->rays = r->inner_rays = NULL;
     memset(&r->emitters, 0, sizeof r->emitters);
     r->element_emitter = NULL;
@@ -92,6 +96,8 @@ static rad_status leaves_build(rad_renderer *r) {
     if (!status && r->settings.final_gather > 0)
         status = rad_element_rays_create_with(ctx, mesh, 0, &r->inner_rays);
     if (!status) status = rad_emitters_build(r);
+    if (!status) status = rad_penumbra_prepare(r);
+    if (!status) status = rad_regather_prepare(r);
     /* More lamps than the exact choice takes (a light tree, light/emitters.h): its samples find
      * their lamps less well, their noise is most of the image's, and their shadow rays are a
      * small part of the rays, so twice as many by default. Office 100000 (841 lamps), seeds
@@ -451,35 +457,16 @@ typedef struct pixel_corner {
     int uneven;  /* the emitters light its element unevenly (penumbra.c) */
 } pixel_corner;
 
-/* Marks the corners whose element the emitters light unevenly
- * (penumbra.c), testing each element once: only the elements the corners meet are tested, not
- * every element (a hierarchy's leaves, Sponza's 209,507, against its 19,481 corners), nor each
- * corner (the Cornell box's 66,049 corners meet a few hundred of its 2,500 elements). */
-static rad_status mark_uneven(const rad_renderer *r, pixel_corner *corner, size_t count) {
-    rad_vec3 lamp[RAD_PENUMBRA_LAMPS];
-    int lamps = rad_penumbra_lamps(r, lamp);
-    if (lamps == 0) return RAD_OK;
-    uint8_t *state = rad_alloc_zero(r->ctx, r->mesh->element_count + 1, sizeof *state);
-    uint32_t *tested = rad_alloc(r->ctx, count + 1, sizeof *tested);
-    if (!state || !tested) {
-        rad_free(r->ctx, state);
-        rad_free(r->ctx, tested);
-        return RAD_ERROR_NO_MEMORY;
-    }
-    long listed = 0;
-    for (size_t i = 0; i < count; ++i)
-        if (corner[i].element != UINT32_MAX && !state[corner[i].element]) {
-            state[corner[i].element] = 1;
-            tested[listed++] = corner[i].element;
-        }
-#pragma omp parallel for schedule(dynamic, 16) num_threads(rad_thread_count(r->ctx))
-    for (long k = 0; k < listed; ++k)
-        state[tested[k]] = (uint8_t)(1 + rad_penumbra_uneven(r, tested[k], lamp, lamps));
-    for (size_t i = 0; i < count; ++i)
-        corner[i].uneven = corner[i].element != UINT32_MAX && state[corner[i].element] == 2;
-    rad_free(r->ctx, state);
-    rad_free(r->ctx, tested);
-    return RAD_OK;
+/* Marks the corners whose element the emitters light unevenly (penumbra.c). Each element is
+ * tested once, when a corner or a short gather ray first meets it (rad_penumbra_element_uneven),
+ * not every element (a hierarchy's leaves, Sponza's 209,507, against its 19,481 corners), nor
+ * each corner (the Cornell box's 66,049 corners meet a few hundred of its 2,500 elements). */
+static void mark_uneven(const rad_renderer *r, pixel_corner *corner, size_t count) {
+    if (r->penumbra_lamps == 0) return;
+#pragma omp parallel for schedule(dynamic, 256) num_threads(rad_thread_count(r->ctx))
+    for (long i = 0; i < (long)count; ++i)
+        corner[i].uneven = corner[i].element != UINT32_MAX &&
+                           rad_penumbra_element_uneven(r, corner[i].element);
 }
 
 /* The (width + 1) x (height + 1) pixel corners in rows; NULL at one sample per pixel. */
@@ -511,7 +498,8 @@ static rad_status corner_polygons_make(const rad_renderer *r, pixel_corner **out
             }
             corner[y * stride + x] = c;
         }
-    return mark_uneven(r, corner, stride * rows);
+    mark_uneven(r, corner, stride * rows);
+    return RAD_OK;
 }
 
 static int same_face(const pixel_corner *a, const pixel_corner *b) {

@@ -24,6 +24,9 @@
 #include "system/solution_view.h"
 #include "system/system.h"
 
+/* The most points on the emitters penumbra.c tests an element against. */
+#define RAD_PENUMBRA_LAMPS 16
+
 typedef struct rad_render_settings {
     int width, height, samples_per_pixel;
     rad_shading shading;
@@ -111,7 +114,19 @@ struct rad_renderer {
         int levels; /* at most this many re-gathers along a path */
         int rays;   /* gather rays of one re-gather */
         int first_rays; /* ... of a first gather ray's re-gather (level 1) */
+        /* Short rays onto elements the emitters light evenly are gathered again only within
+         * EVEN_RANGE element sizes (final_gather.c): on a uniform mesh whose direct light is
+         * all the emitter table's (no point, spot or directional light, no sky). */
+        int by_light;
     } regather;
+    /* The emitters' test points (penumbra.c) and, per element, 0 not tested yet, 1 lit evenly,
+     * 2 unevenly: filled as the picture asks (rad_penumbra_element_uneven). */
+    rad_vec3 penumbra_lamp[RAD_PENUMBRA_LAMPS];
+    int penumbra_lamps;
+    _Atomic uint8_t *element_uneven;
+    /* Per element, whether another surface is near (final_gather.c): 0 not tested yet, 1 no,
+     * 2 yes; filled as short gather rays meet the elements. */
+    _Atomic uint8_t *element_near;
 
     /* The caustic map (caustics.c): the specular-first pass's landed photons; empty when none. */
     rad_photon_map caustics;
@@ -240,11 +255,15 @@ rad_status rad_reconstruct_prepare(rad_renderer *r);
 rad_status rad_emitters_build(rad_renderer *r);
 /* penumbra.c: the fixed points on the emitters the test below aims at (at most
  * RAD_PENUMBRA_LAMPS); their count, 0 without the final gather or emitters. */
-#define RAD_PENUMBRA_LAMPS 16
 int rad_penumbra_lamps(const rad_renderer *r, rad_vec3 *points);
 /* Whether the emitters light `element` unevenly, tested on those points (0 when lamps is 0 and
  * on emitters); thread-safe, deterministic. */
 int rad_penumbra_uneven(const rad_renderer *r, uint32_t element, const rad_vec3 *lamp, int lamps);
+/* The same for the renderer's own lamp points (penumbra_lamp), each element tested once, when
+ * first asked, and kept (element_uneven); thread-safe, deterministic. */
+int rad_penumbra_element_uneven(const rad_renderer *r, uint32_t element);
+/* Makes the renderer's lamp points and the empty table of answers (with the leaves). */
+rad_status rad_penumbra_prepare(rad_renderer *r);
 /* final_gather.c: the radiance leaving the diffuse point x (on element, front normal n) by
  * direct light plus gathered indirect light; first_hit: x is the camera ray's first hit, whose
  * gather the pixel's tally records. */
@@ -295,6 +314,9 @@ double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin
  * element sizes, where the solution's piecewise values are too coarse to be seen (the floor
  * just beside a block's base), so the radiance there is gathered once more instead. */
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit);
+/* The empty table of elements near other surfaces that rad_gather_is_short fills (with the
+ * leaves). */
+rad_status rad_regather_prepare(rad_renderer *r);
 /* final_gather.c: sets r->regather for a solution's kind of leaves (RAD_LEAVES_UNIFORM,
  * _COARSE or _FINE: system/solution_view.h). */
 void rad_regather_choose(rad_renderer *r, int leaves);
