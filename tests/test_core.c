@@ -435,8 +435,39 @@ static void test_team(void) {
     }
 }
 
+/* A context's first loop has its worker too: the worker started by that loop once took the
+ * loop as one it had seen and slept through it, so a small system's rows computed in one loop
+ * (shooting.c) ran on one thread. Each task waits (up to 2 s) until both threads have begun
+ * one; with the worker asleep the first task waits out the 2 s and the check fails. */
+typedef struct {
+    _Atomic int began[2];
+} first_loop_job;
+
+static void first_loop_task(void *user, long index, int worker) {
+    first_loop_job *job = user;
+    (void)index;
+    if (worker == 0 || worker == 1) atomic_store(&job->began[worker], 1);
+    double start = rad_seconds();
+    while (!(atomic_load(&job->began[0]) && atomic_load(&job->began[1])) &&
+           rad_seconds() - start < 2)
+        ;
+}
+
+static void test_team_first_loop(void) {
+    rad_context_options options = {.threads = 2};
+    rad_context *context;
+    CHECK(rad_context_create(&options, &context) == RAD_OK);
+    static first_loop_job job;
+    rad_team_for(context, 4, first_loop_task, &job);
+    printf("team: the first loop's tasks ran on the caller %s and on the worker %s\n",
+           atomic_load(&job.began[0]) ? "yes" : "no", atomic_load(&job.began[1]) ? "yes" : "no");
+    CHECK(atomic_load(&job.began[1]));
+    rad_context_destroy(context);
+}
+
 int main(void) {
     CHECK(rad_context_create(NULL, &ctx) == RAD_OK);
+    test_team_first_loop();
     test_team();
     test_jacobi_rounds();
     test_shooting_shots();

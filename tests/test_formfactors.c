@@ -480,6 +480,23 @@ static void test_threads(void) {
                    held ? "kept" : "NOT KEPT");
             CHECK(together);
             CHECK(held);
+            /* More rows than that (a small system's every row, shooting.c): one row a task,
+             * each thread in its own scratch slot; again the rows alone, and kept. */
+            enum { MANY = 40 };
+            size_t many[MANY];
+            for (int k = 0; k < MANY; ++k) many[k] = (size_t)(k * 31 + 11) % a->patch_count;
+            CHECK(b->ff->prefetch && b->ff->prefetch(b->ff, many, MANY) == RAD_OK);
+            together = held = 1;
+            for (int k = 0; k < MANY && b->ff->holds; ++k) {
+                held &= b->ff->holds(b->ff, many[k]) != 0;
+                a->ff->row(a->ff, many[k], ra);
+                b->ff->row(b->ff, many[k], rb);
+                together &= memcmp(ra, rb, n * sizeof *ra) == 0;
+            }
+            printf("  %-10s %d rows together %s the rows alone, %s\n", method_names[m], MANY,
+                   together ? "identical to" : "DIFFER from", held ? "kept" : "NOT KEPT");
+            CHECK(together);
+            CHECK(held);
         }
         free(ra);
         free(rb);

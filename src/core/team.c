@@ -12,6 +12,7 @@ typedef struct worker {
     pthread_t thread;
     struct rad_team *team;
     int index; /* 1 .. worker_count */
+    unsigned long seen; /* the loops before it started: none of them is its */
 } worker;
 
 struct rad_team {
@@ -49,7 +50,10 @@ static void *worker_main(void *argument) {
     struct rad_team *team = me->team;
     in_team_worker = 1;
     pthread_mutex_lock(&team->lock);
-    unsigned long seen = team->generation;
+    /* Not the generation now: the loop that started the team has counted itself already, and a
+     * worker that took it as seen slept through it (a context's first loop ran on the caller
+     * alone, all of it when it was the only one: shooting.c's rows of a small system). */
+    unsigned long seen = me->seen;
     for (;;) {
         while (team->generation == seen && !team->quit) pthread_cond_wait(&team->wake, &team->lock);
         if (team->quit) break;
@@ -86,6 +90,7 @@ static struct rad_team *team_start(rad_context *ctx, int workers) {
         worker *one = &team->workers[team->worker_count];
         one->team = team;
         one->index = team->worker_count + 1;
+        one->seen = team->generation;
         if (pthread_create(&one->thread, NULL, worker_main, one)) break;
         team->worker_count++;
     }

@@ -72,22 +72,9 @@ static int cache_holds(const rad_ff_provider *self, size_t patch) {
     return patch < cache->patch_count && cache->slot_of[patch] >= 0;
 }
 
-/* Rows a solver will ask for soon: those not held, computed in one go by the inner provider
- * into fresh slots. Nothing when they would not all fit beside what is kept (evicting rows to
- * make room for guesses could throw away rows still in use). */
-static rad_status cache_prefetch(rad_ff_provider *self, const size_t *patches, size_t count) {
-    cache_provider *cache = (cache_provider *)self;
-    if (!cache->inner->rows) return RAD_OK;
-    size_t wanted[rad_ff_rows_ahead];
-    float *out[rad_ff_rows_ahead];
-    size_t k = 0;
-    for (size_t i = 0; i < count && k < rad_ff_rows_ahead; ++i) {
-        if (patches[i] >= cache->patch_count || cache->slot_of[patches[i]] >= 0) continue;
-        int repeated = 0;
-        for (size_t j = 0; j < k; ++j) repeated |= wanted[j] == patches[i];
-        if (!repeated) wanted[k++] = patches[i];
-    }
-    if (!k || cache->used + k > cache->capacity) return RAD_OK;
+/* Computes the rows of wanted[0 .. k) into fresh slots (out: room for k row pointers). */
+static rad_status prefetch_kept(cache_provider *cache, const size_t *wanted, size_t k,
+                                float **out) {
     for (size_t j = 0; j < k; ++j) {
         out[j] = rad_alloc(cache->ctx, cache->element_count, sizeof *out[j]);
         if (!out[j]) { /* out of memory: keep going one row at a time */
@@ -111,6 +98,29 @@ static rad_status cache_prefetch(rad_ff_provider *self, const size_t *patches, s
         cache->slot_of[wanted[j]] = (int32_t)s;
     }
     return RAD_OK;
+}
+
+/* Rows a solver will ask for soon: those not held, computed in one go by the inner provider
+ * into fresh slots. Nothing when they would not all fit beside what is kept (evicting rows to
+ * make room for guesses could throw away rows still in use). */
+static rad_status cache_prefetch(rad_ff_provider *self, const size_t *patches, size_t count) {
+    cache_provider *cache = (cache_provider *)self;
+    if (!cache->inner->rows || !count) return RAD_OK;
+    size_t *wanted = rad_alloc(cache->ctx, count, sizeof *wanted);
+    float **out = rad_alloc(cache->ctx, count, sizeof *out);
+    size_t k = 0;
+    for (size_t i = 0; wanted && out && i < count; ++i) {
+        if (patches[i] >= cache->patch_count || cache->slot_of[patches[i]] >= 0) continue;
+        int repeated = 0;
+        for (size_t j = 0; j < k; ++j) repeated |= wanted[j] == patches[i];
+        if (!repeated) wanted[k++] = patches[i];
+    }
+    rad_status status = RAD_OK;
+    if (!wanted || !out) rad_fail(cache->ctx, RAD_OK, "%s", ""); /* rows one at a time, as asked */
+    else if (k && cache->used + k <= cache->capacity) status = prefetch_kept(cache, wanted, k, out);
+    rad_free(cache->ctx, wanted);
+    rad_free(cache->ctx, out);
+    return status;
 }
 
 static void cache_destroy(rad_ff_provider *self) {

@@ -31,7 +31,8 @@ typedef struct rad_ff_patch {
 typedef struct rad_ff_shaft rad_ff_shaft;
 typedef struct rad_ff_shaft_view rad_ff_shaft_view;
 
-/* Rows computed in one parallel loop at most (rad_ff_rows_run). */
+/* Rows computed block by block in one parallel loop at most, and scratch slots (one per row in
+ * flight, or per thread: rad_ff_rows_run). */
 #define RAD_FF_ROWS_AHEAD rad_ff_rows_ahead
 
 /* Everything a method needs; built by rad_ff_create and released with rad_ff_context_release
@@ -66,9 +67,9 @@ typedef struct rad_ff_stats {
 typedef struct rad_ff_common {
     rad_ff_provider base;
     rad_ff_context c;
-    /* Scratch of each row in flight: max_members entries for rad_ff_source_begin, and the
-     * shaft's candidates (NULL without a shaft). Slot 0 is made with the provider, the others
-     * when rad_ff_rows_run first needs them. */
+    /* Scratch of each row in flight (or of each thread, for many rows): max_members entries
+     * for rad_ff_source_begin, and the shaft's candidates (NULL without a shaft). Slot 0 is made
+     * with the provider, the others when rad_ff_rows_run first needs them. */
     struct rad_ff_element_map *maps[RAD_FF_ROWS_AHEAD];
     rad_ff_shaft_view *views[RAD_FF_ROWS_AHEAD];
     rad_ff_stats stats;
@@ -415,9 +416,10 @@ typedef void (*rad_ff_block_fn)(const rad_ff_row *row, struct rad_ff_block *bloc
  * any thread count. */
 rad_status rad_ff_row_run(rad_ff_common *common, size_t patch, rad_ff_block_fn block, float *out);
 
-/* The rows of patches[0 .. count) (count <= RAD_FF_ROWS_AHEAD) into out[0 .. count), the same
- * values as rad_ff_row_run gives each: every block of every row in one parallel loop, which
- * keeps the threads busier than a loop per row (fewer wake-ups, one tail instead of `count`). */
+/* The rows of patches[0 .. count) into out[0 .. count), the same values as rad_ff_row_run gives
+ * each. Up to RAD_FF_ROWS_AHEAD rows: every block of every row in one parallel loop, which keeps
+ * the threads busier than a loop per row (fewer wake-ups, one tail instead of `count`); more:
+ * one task a row, each thread in its own scratch slot. */
 rad_status rad_ff_rows_run(rad_ff_common *common, const size_t *patches, size_t count,
                            rad_ff_block_fn block, float *const *out);
 

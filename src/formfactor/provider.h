@@ -20,7 +20,8 @@ struct rad_ff_provider {
     rad_status (*row)(rad_ff_provider *self, size_t patch, float *row);
     void (*destroy)(rad_ff_provider *self);
     /* Optional (NULL when not offered): the rows of patches[0 .. count) into out[0 .. count),
-     * the same values as row() gives, computed together (count <= rad_ff_rows_ahead). */
+     * the same values as row() gives, computed together (any count: up to rad_ff_rows_ahead
+     * block by block, more one row a task). */
     rad_status (*rows)(rad_ff_provider *self, const size_t *patches, size_t count,
                        float *const *out);
     /* Optional, for providers that keep rows (the row cache): nonzero when the row of `patch`
@@ -31,7 +32,8 @@ struct rad_ff_provider {
     rad_status (*prefetch)(rad_ff_provider *self, const size_t *patches, size_t count);
 };
 
-/* The most rows a solver should hand to rows() or prefetch() at once. */
+/* Rows a solver hands to prefetch() as a guess of what comes next; more when it asks for every
+ * row of a small system at once (shooting.c). */
 enum { rad_ff_rows_ahead = 8 };
 
 /* The provider of a system whose form factors are given (a .ffm file or dense arrays):

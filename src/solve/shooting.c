@@ -192,11 +192,60 @@ double rad_shooting_finish(rad_solver_run *run, rad_shooting *state) {
 /* ------------------------------------------------------------------------------------------- */
 /* Plain shooting: the patch with the most unshot power goes next.                               */
 
+/* A small system (up to ALL_ROWS_ENTRIES form factors) has the rows of every patch that can be
+ * shot (emitting or reflecting) computed before the first shot, in a few parallel loops of many
+ * rows (rad_ff_rows_run, one row a task), while the row cache holds them all: guessed eight at
+ * a time, the Cornell box's (2,634 elements) woke the sleeping workers about 200 times, each
+ * waking a wait of tens of microseconds on this project's virtual machines. The loops grow to
+ * about ALL_ROWS_STEP seconds each, between them the progress callback is asked (Ctrl-C), and
+ * after ALL_ROWS_SECONDS the rest come as they are shot (costly rows: Monte Carlo with many
+ * samples). Not when an iteration count or a time budget cuts the run short. The same rows,
+ * so the same solution. */
+#define ALL_ROWS_ENTRIES (1 << 22)
+#define ALL_ROWS_STEP 0.05
+#define ALL_ROWS_SECONDS 0.5
+
+static void prefetch_all(rad_solver_run *run) {
+    rad_system *s = run->system;
+    rad_ff_provider *ff = s->ff;
+    if (!ff->prefetch || run->options->max_iterations > 0 || run->options->time_budget > 0 ||
+        (double)s->patch_count * (double)s->element_count > ALL_ROWS_ENTRIES)
+        return;
+    size_t *patches = rad_alloc(s->ctx, s->patch_count + 1, sizeof *patches), count = 0;
+    if (!patches) {
+        rad_fail(s->ctx, RAD_OK, "%s", ""); /* the rows come as they are shot */
+        return;
+    }
+    for (size_t p = 0; p < s->patch_count; ++p) {
+        int lit = 0;
+        for (size_t e = s->patch_first[p]; e < s->patch_first[p + 1] && !lit; ++e)
+            for (int c = 0; c < 3; ++c) lit |= s->emission[e][c] > 0 || s->reflectance[e][c] > 0;
+        if (lit) patches[count++] = p;
+    }
+    const double start = rad_seconds();
+    size_t chunk = rad_ff_rows_ahead;
+    for (size_t first = 0; first < count;) {
+        size_t n = count - first < chunk ? count - first : chunk;
+        /* A failure (out of memory) leaves the rows to come as they are shot. */
+        if (ff->prefetch(ff, patches + first, n)) break;
+        first += n;
+        if (rad_progress(s->ctx, "form factors", (double)first, (double)count))
+            break; /* cancelled: the solve's loop sees it at its first report */
+        double elapsed = rad_seconds() - start;
+        if (elapsed > ALL_ROWS_SECONDS) break;
+        double rows = elapsed > 0 ? (double)first * ALL_ROWS_STEP / elapsed : 1e9;
+        chunk = rows < rad_ff_rows_ahead ? rad_ff_rows_ahead : rows > 4096 ? 4096 : (size_t)rows;
+    }
+    rad_free(s->ctx, patches);
+}
+
 static rad_status shooting_begin(rad_solver_run *run) {
     rad_shooting *state = rad_alloc_zero(run->system->ctx, 1, sizeof *state);
     if (!state) return RAD_ERROR_NO_MEMORY;
     run->state = state;
-    return rad_shooting_begin(run, state);
+    rad_status status = rad_shooting_begin(run, state);
+    if (!status) prefetch_all(run);
+    return status;
 }
 
 /* When the shooter's row is not kept yet, compute it together with those of the patches
