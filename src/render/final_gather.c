@@ -69,9 +69,9 @@
  * the short ray reads it as a far one does. Each element is tested once, when a short ray first
  * meets it. Cornell 256 x 256, seeds 0-3 against the 16k-path image: 4x4 RMSE 0.663 -> 0.650 %,
  * 8x8 0.430 -> 0.422 %, 16x16 0.268 -> 0.265 % (fewer re-gathers, less of their noise), gather
- * rays 6.84 -> 6.22 M, shadow 1.80 -> 1.62 M; the generated house (128 x 96 against 1024 paths)
- * 8x8 0.17 -> 0.19 %, gather rays 1.50 -> 1.27 M (docs/rendering.md, "Re-gathers where the
- * light varies"). Without the corner test the house's upper corners were 1 % bright in 8x8
+ * rays 6.84 -> 6.22 M, shadow 1.80 -> 1.62 M; the generated house (128 x 96 against 8192 paths,
+ * seeds 0-2) 8x8 0.16-0.18 -> 0.17-0.19 %, gather rays 1.50 -> 1.27 M (docs/rendering.md,
+ * "Re-gathers where the light varies"). Without the corner test the house's upper corners were 1 % bright in 8x8
  * blocks; every short ray onto a smooth element read from the solution (EVEN_RANGE 0) made the
  * Cornell box's contact rows 5-6 % bright. */
 #define EVEN_RANGE 0.5

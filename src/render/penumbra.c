@@ -74,7 +74,6 @@ int rad_penumbra_uneven(const rad_renderer *r, uint32_t e, const rad_vec3 *lamp,
     return 0;
 }
 
-
 rad_status rad_penumbra_prepare(rad_renderer *r) {
     r->penumbra_lamps = rad_penumbra_lamps(r, r->penumbra_lamp);
     r->element_uneven = rad_alloc_zero(r->ctx, r->mesh->element_count + 1, sizeof *r->element_uneven);

@@ -194,7 +194,7 @@ double rad_shooting_finish(rad_solver_run *run, rad_shooting *state) {
 
 /* A small system (up to ALL_ROWS_ENTRIES form factors) has the rows of every patch that can be
  * shot (emitting or reflecting) computed before the first shot, in a few parallel loops of many
- * rows (rad_ff_rows_run, one row a task), while the row cache holds them all: guessed eight at
+ * rows (rad_ff_rows_run, one row a task), kept by the row cache while they fit: guessed eight at
  * a time, the Cornell box's (2,634 elements) woke the sleeping workers about 200 times, each
  * waking a wait of tens of microseconds on this project's virtual machines. The loops grow to
  * about ALL_ROWS_STEP seconds each, between them the progress callback is asked (Ctrl-C), and
