@@ -312,7 +312,9 @@ double rad_gather_emission_weight(const rad_renderer *r, const rad_gather_origin
 
 /* final_gather.c: whether a gather ray from `from` that hits `hit` is short: nearer than a few
  * element sizes, where the solution's piecewise values are too coarse to be seen (the floor
- * just beside a block's base), so the radiance there is gathered once more instead. */
+ * just beside a block's base), so the radiance there is gathered once more instead; on a
+ * uniform mesh lit by the emitter table only, beyond half an element only when the element hit
+ * is near another surface or lit unevenly (regather.by_light). */
 int rad_gather_is_short(const rad_renderer *r, const rad_gather_origin *from, const rad_element_hit *hit);
 /* The empty table of elements near other surfaces that rad_gather_is_short fills (with the
  * leaves). */
