@@ -33,6 +33,12 @@ static rad_context *seeded_context(int threads, uint64_t seed) {
 
 static rad_context *context(int threads) { return seeded_context(threads, 0); }
 
+/* RAD_TEST_QUICK set and not "0": the sanitizer run, which takes fewer seeds. */
+static int quick_run(void) {
+    const char *quick = getenv("RAD_TEST_QUICK");
+    return quick && *quick && strcmp(quick, "0") != 0;
+}
+
 /* A surface of its own material: reflectance rho, emitted radiosity b (B = pi L). */
 static uint32_t add_surface(rad_scene *scene, const char *name, double rho, double b) {
     rad_material m = {0};
@@ -1034,8 +1040,7 @@ static void test_opening(void) {
             exact += 0.5 * 10 * rad_ff_point_polygon(x, v3(0, 0, 1), hole, 4) / (200.0 * 200.0);
         }
     /* RAD_TEST_QUICK (the sanitizer run): two seeds, each within 5%. */
-    const char *quick = getenv("RAD_TEST_QUICK");
-    const int seeds = quick && *quick && strcmp(quick, "0") != 0 ? 2 : 8;
+    const int seeds = quick_run() ? 2 : 8;
     double mean = 0, worst = 0;
     size_t links = 0;
     for (int seed = 0; seed < seeds; ++seed) {
@@ -1473,8 +1478,7 @@ static void test_cluster_form_factors(void) {
  * checked. */
 static void test_cluster_tiles_unbiased(void) {
     enum { TILES = 16 * 16 };
-    const char *quick = getenv("RAD_TEST_QUICK");
-    const int seeds = quick && *quick && strcmp(quick, "0") != 0 ? 8 : 128;
+    const int seeds = quick_run() ? 8 : 128;
     static double solved[TILES], exact[TILES], sum[TILES];
     memset(sum, 0, sizeof sum);
     double one = 0;

@@ -271,6 +271,17 @@ static void test_edge_pixels(const rad_scene *scene, const rad_system *system) {
     rad_image_destroy(many);
 }
 
+/* A renderer of the solved scene with the final gather on (8 x 8 pixels: the tests below read
+ * its tables, not its picture); NULL after a failed check. */
+static rad_renderer *gathering_renderer(const rad_scene *scene, const rad_system *system) {
+    rad_render_options options = {0};
+    options.width = options.height = 8;
+    options.final_gather = 4;
+    rad_renderer *r = NULL;
+    CHECK(rad_renderer_create(scene, system, &options, &r) == RAD_OK);
+    return r;
+}
+
 /* The Cornell box's lamp, a parallelogram meshed into many elements, is one entry of the
  * renderer's emitter table (emitters_build.c): its area is the lamp's, every lamp element names
  * it, and 32 x 32 emitter samples (a stratified grid, as the pixels' nets are) estimate the
@@ -279,11 +290,7 @@ static void test_edge_pixels(const rad_scene *scene, const rad_system *system) {
  * elements the lamp lights unevenly (penumbra.c): none on the ceiling (it sees none of the
  * lamp), some on the floor (the blocks' penumbras), not all of it. */
 static void test_lamp_sampling(const rad_scene *scene, const rad_system *system) {
-    rad_render_options options = {0};
-    options.width = options.height = 8;
-    options.final_gather = 4;
-    rad_renderer *r = NULL;
-    CHECK(rad_renderer_create(scene, system, &options, &r) == RAD_OK);
+    rad_renderer *r = gathering_renderer(scene, system);
     if (!r) return;
     CHECK(r->emitters.count == 1);
     if (r->emitters.count == 1) {
@@ -362,11 +369,7 @@ static int regathered(const rad_renderer *r, uint32_t e, double sizes) {
  * walls and the lamp is not; some floor elements lie in the blocks' penumbras. A test that
  * only counted near surfaces, or only penumbras, fails one of the checks. */
 static void test_regather_choice(const rad_scene *scene, const rad_system *system) {
-    rad_render_options options = {0};
-    options.width = options.height = 8;
-    options.final_gather = 4;
-    rad_renderer *r = NULL;
-    CHECK(rad_renderer_create(scene, system, &options, &r) == RAD_OK);
+    rad_renderer *r = gathering_renderer(scene, system);
     if (!r) return;
     CHECK(r->regather.by_light);
     uint32_t open = element_near_point(r, "ceiling", v3(100, 548.8, 450));
