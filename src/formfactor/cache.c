@@ -108,13 +108,15 @@ static rad_status cache_prefetch(rad_ff_provider *self, const size_t *patches, s
     if (!cache->inner->rows || !count) return RAD_OK;
     size_t *wanted = rad_alloc(cache->ctx, count, sizeof *wanted);
     float **out = rad_alloc(cache->ctx, count, sizeof *out);
+    /* Each patch once: one listed is marked -2 in slot_of until the list is made (a small
+     * system's every row comes in lists of thousands). */
     size_t k = 0;
     for (size_t i = 0; wanted && out && i < count; ++i) {
-        if (patches[i] >= cache->patch_count || cache->slot_of[patches[i]] >= 0) continue;
-        int repeated = 0;
-        for (size_t j = 0; j < k; ++j) repeated |= wanted[j] == patches[i];
-        if (!repeated) wanted[k++] = patches[i];
+        if (patches[i] >= cache->patch_count || cache->slot_of[patches[i]] != -1) continue;
+        cache->slot_of[patches[i]] = -2;
+        wanted[k++] = patches[i];
     }
+    for (size_t j = 0; j < k; ++j) cache->slot_of[wanted[j]] = -1;
     rad_status status = RAD_OK;
     if (!wanted || !out) rad_fail(cache->ctx, RAD_OK, "%s", ""); /* rows one at a time, as asked */
     else if (k && cache->used + k <= cache->capacity) status = prefetch_kept(cache, wanted, k, out);
